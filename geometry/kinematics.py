@@ -1,0 +1,179 @@
+"""Meshing kinematics of a spur pair: line of action, path of contact, contact ratio,
+and which tooth pairs touch where as the pinion turns.
+
+Positions on the line of action (LOA) are measured as the distance ``d`` from T1,
+the point where the LOA touches the pinion's base circle, toward T2 (gear base
+circle); |T1 T2| = C' sin(alpha') at operating centre distance C' and operating
+pressure angle alpha' (C' cos(alpha') = r_b1 + r_b2). A contact at ``d`` is at pinion
+radius sqrt(r_b1^2 + d^2) (pinion roll angle d / r_b1) and at gear radius
+sqrt(r_b2^2 + (T1T2 - d)^2). Contact starts at A (gear tip circle),
+d_A = T1T2 - sqrt(r_a2^2 - r_b2^2), and ends at E (pinion tip circle),
+d_E = sqrt(r_a1^2 - r_b1^2). Neighbouring pairs are one base pitch p_b = pi m cos(alpha)
+apart, and the pinion turning by theta moves every contact by r_b1 theta.
+Transverse contact ratio epsilon = (d_E - d_A) / p_b (ISO 21771 / textbook formula).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .spec import PairSpec
+from .validation import InputError
+
+
+@dataclass(frozen=True)
+class MeshGeometry:
+    """Contact geometry of ``pair`` at centre distance ``centre_distance_m``."""
+
+    pair: PairSpec
+    centre_distance_m: float
+
+    def __post_init__(self):
+        rb_sum = sum(g.base_radius_m for g in self.pair.gears)
+        if not self.centre_distance_m > rb_sum:
+            raise InputError(f"centre distance = {self.centre_distance_m * 1e3:.6g} mm: must exceed the "
+                             f"sum of base radii {rb_sum * 1e3:.6g} mm")
+        if self.path_length_m <= 0.0:
+            raise InputError(
+                f"centre distance = {self.centre_distance_m * 1e3:.6g} mm: the tip circles no longer overlap "
+                f"the line of action (path of contact {self.path_length_m * 1e3:.4g} mm <= 0); the gears are out of mesh")
+
+    # -- scalars -----------------------------------------------------------------
+    @property
+    def pressure_angle_rad(self) -> float:
+        """Operating pressure angle alpha' = arccos((r_b1 + r_b2) / C') (paper Eq. 14)."""
+        if self.centre_distance_m == self.pair.centre_distance_m:
+            return self.pair.working_pressure_angle_rad  # bit-exact nominal value
+        return math.acos(sum(g.base_radius_m for g in self.pair.gears) / self.centre_distance_m)
+
+    @property
+    def base_pitch_m(self) -> float:
+        return self.pair.gear(0).base_pitch_m
+
+    @property
+    def line_of_action_m(self) -> float:
+        """|T1 T2| = C' sin(alpha')."""
+        return self.centre_distance_m * math.sin(self.pressure_angle_rad)
+
+    @property
+    def path_start_m(self) -> float:
+        """d_A: contact starts where the gear's tip circle crosses the LOA."""
+        g2 = self.pair.gear(1)
+        return self.line_of_action_m - math.sqrt(g2.tip_radius_m ** 2 - g2.base_radius_m ** 2)
+
+    @property
+    def path_end_m(self) -> float:
+        """d_E: contact ends where the pinion's tip circle crosses the LOA."""
+        g1 = self.pair.gear(0)
+        return math.sqrt(g1.tip_radius_m ** 2 - g1.base_radius_m ** 2)
+
+    @property
+    def path_length_m(self) -> float:
+        """Length of the path of contact g_alpha (the 'contact line length' of paper Fig. 15c)."""
+        return self.path_end_m - self.path_start_m
+
+    @property
+    def contact_ratio(self) -> float:
+        return self.path_length_m / self.base_pitch_m
+
+    @property
+    def pitch_point_m(self) -> float:
+        """d of the operating pitch point C: T1C = r_b1 tan(alpha')."""
+        return self.pair.gear(0).base_radius_m * math.tan(self.pressure_angle_rad)
+
+    @property
+    def operating_pitch_radii_m(self) -> tuple[float, float]:
+        c = math.cos(self.pressure_angle_rad)
+        return tuple(g.base_radius_m / c for g in self.pair.gears)  # type: ignore[return-value]
+
+    @property
+    def mesh_angle_rad(self) -> float:
+        """Pinion rotation per mesh period, 2 pi / z1."""
+        return 2.0 * math.pi / self.pair.teeth[0]
+
+    @property
+    def single_contact_limits_m(self) -> tuple[float, float]:
+        """(d_B, d_D): lowest and highest point of single tooth contact on the LOA.
+
+        For contact ratio >= 1: B = E - p_b, D = A + p_b. For contact ratio < 1 there
+        are gaps without contact; the pair returned is (d_A, d_E)."""
+        if self.contact_ratio >= 1.0:
+            return (self.path_end_m - self.base_pitch_m, self.path_start_m + self.base_pitch_m)
+        return (self.path_start_m, self.path_end_m)
+
+    def pinion_radius_at(self, d) -> np.ndarray:
+        return np.sqrt(self.pair.gear(0).base_radius_m ** 2 + np.asarray(d) ** 2)
+
+    def gear_radius_at(self, d) -> np.ndarray:
+        return np.sqrt(self.pair.gear(1).base_radius_m ** 2 + (self.line_of_action_m - np.asarray(d)) ** 2)
+
+    @property
+    def start_of_active_profile_m(self) -> tuple[float, float]:
+        """SAP radii (pinion, gear): lowest flank point that comes into contact."""
+        return (float(self.pinion_radius_at(self.path_start_m)), float(self.gear_radius_at(self.path_end_m)))
+
+    @property
+    def end_of_active_profile_m(self) -> tuple[float, float]:
+        """EAP radii (pinion, gear) = tip radii."""
+        return (self.pair.gear(0).tip_radius_m, self.pair.gear(1).tip_radius_m)
+
+    def contacts(self, theta_rad) -> "Contacts":
+        """Tooth pairs in contact at pinion angles ``theta_rad`` (rad).
+
+        theta = 0 when a pair enters contact at A. Returns, per angle, up to
+        ceil(epsilon) + 1 slots; slot j is the pair that entered j mesh periods
+        earlier.
+        """
+        theta = np.atleast_1d(np.asarray(theta_rad, dtype=float))
+        pb = self.base_pitch_m
+        rb1 = self.pair.gear(0).base_radius_m
+        cycles = np.floor(theta / self.mesh_angle_rad)
+        frac = theta - cycles * self.mesh_angle_rad
+        nslots = int(math.ceil(self.contact_ratio)) + 1
+        j = np.arange(nslots)
+        d = self.path_start_m + rb1 * frac[:, None] + j[None, :] * pb
+        tol = 1e-12 * pb
+        active = (d >= self.path_start_m - tol) & (d <= self.path_end_m + tol)
+        tooth = (cycles[:, None] - j[None, :]).astype(np.int64)
+        return Contacts(theta=theta, d=d, active=active, tooth=tooth, mesh=self)
+
+
+@dataclass(frozen=True)
+class Contacts:
+    """Contacts at a set of pinion angles (arrays of shape (n_angles, n_slots)).
+
+    d       position on the LOA from T1 (m)
+    active  True where that slot's pair is within the path of contact
+    tooth   pinion tooth index (counts the mesh periods since the pair entered;
+            the gear tooth in contact has the same count, with opposite sense)
+    """
+
+    theta: np.ndarray
+    d: np.ndarray
+    active: np.ndarray
+    tooth: np.ndarray
+    mesh: MeshGeometry
+
+    @property
+    def count(self) -> np.ndarray:
+        """Number of pairs in contact at each angle."""
+        return self.active.sum(axis=1)
+
+    @property
+    def pinion_radius_m(self) -> np.ndarray:
+        return self.mesh.pinion_radius_at(self.d)
+
+    @property
+    def gear_radius_m(self) -> np.ndarray:
+        return self.mesh.gear_radius_at(self.d)
+
+    @property
+    def pinion_roll_rad(self) -> np.ndarray:
+        return self.d / self.mesh.pair.gear(0).base_radius_m
+
+    @property
+    def gear_roll_rad(self) -> np.ndarray:
+        return (self.mesh.line_of_action_m - self.d) / self.mesh.pair.gear(1).base_radius_m

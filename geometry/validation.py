@@ -1,0 +1,118 @@
+"""Input validation shared by every layer.
+
+A bad input raises :class:`InputError` whose message is one line naming the key,
+the value, the unit and the allowed range, e.g.::
+
+    pair.module_mm = -5 mm: must be in (0, 100] mm
+
+Unknown keys are rejected with the nearest valid key suggested.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+from dataclasses import dataclass
+from typing import Any, Iterable, Mapping
+
+
+class InputError(ValueError):
+    """A user input is invalid; the message is a complete one-line diagnosis."""
+
+
+@dataclass(frozen=True)
+class Field:
+    """Schema entry for one scalar (or per-gear pair of scalars) input key.
+
+    lo/hi bound the value; lo_open/hi_open make the bound exclusive.
+    per_gear: the key accepts a scalar (same for both gears) or a 2-list.
+    """
+
+    unit: str = ""
+    lo: float = -math.inf
+    hi: float = math.inf
+    lo_open: bool = False
+    hi_open: bool = False
+    kind: type = float
+    per_gear: bool = False
+
+    def range_text(self) -> str:
+        left = "(" if self.lo_open or self.lo == -math.inf else "["
+        right = ")" if self.hi_open or self.hi == math.inf else "]"
+        lo = "-inf" if self.lo == -math.inf else _fmt(self.lo)
+        hi = "inf" if self.hi == math.inf else _fmt(self.hi)
+        unit = f" {self.unit}" if self.unit else ""
+        return f"{left}{lo}, {hi}{right}{unit}"
+
+
+def _fmt(v: Any) -> str:
+    if isinstance(v, float):
+        return f"{v:g}"
+    return str(v)
+
+
+def fail(key: str, value: Any, unit: str, why: str) -> InputError:
+    """Build the one-line error for ``key = value unit: why``."""
+    u = f" {unit}" if unit else ""
+    return InputError(f"{key} = {_fmt(value)}{u}: {why}")
+
+
+def check_scalar(key: str, value: Any, field: Field) -> float | int:
+    """Validate one scalar against ``field``; return it as ``field.kind``."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise fail(key, repr(value), "", f"must be a number in {field.range_text()}")
+    if field.kind is int:
+        if isinstance(value, float) and not value.is_integer():
+            raise fail(key, value, field.unit, f"must be a whole number in {field.range_text()}")
+        value = int(value)
+    else:
+        value = float(value)
+    if not math.isfinite(value):
+        raise fail(key, value, field.unit, f"must be finite, in {field.range_text()}")
+    below = value <= field.lo if field.lo_open else value < field.lo
+    above = value >= field.hi if field.hi_open else value > field.hi
+    if below or above:
+        raise fail(key, value, field.unit, f"must be in {field.range_text()}")
+    return value
+
+
+def check_value(key: str, value: Any, field: Field):
+    """Validate a scalar, or for ``per_gear`` fields a scalar or a 2-list.
+
+    Per-gear values are returned as a tuple of two.
+    """
+    if not field.per_gear:
+        return check_scalar(key, value, field)
+    if isinstance(value, (list, tuple)):
+        if len(value) != 2:
+            raise fail(key, list(value), "", "must be one value or a list of two (pinion, gear)")
+        return tuple(check_scalar(f"{key}[{i}]", v, field) for i, v in enumerate(value))
+    v = check_scalar(key, value, field)
+    return (v, v)
+
+
+def reject_unknown(table: str, given: Iterable[str], allowed: Iterable[str]) -> None:
+    """Raise for the first key of ``given`` not in ``allowed``, suggesting the nearest."""
+    allowed = list(allowed)
+    for key in given:
+        if key not in allowed:
+            full = f"{table}.{key}" if table else key
+            near = difflib.get_close_matches(key, allowed, n=1, cutoff=0.5)
+            hint = f"; did you mean {table + '.' if table else ''}{near[0]}?" if near else ""
+            options = ", ".join(sorted(allowed))
+            raise InputError(f"{full}: unknown key{hint} (allowed: {options})")
+
+
+def parse_table(table: str, data: Mapping[str, Any], schema: Mapping[str, Field],
+                defaults: Mapping[str, Any]) -> dict[str, Any]:
+    """Validate a TOML table against ``schema``; missing keys take ``defaults``."""
+    if not isinstance(data, Mapping):
+        raise InputError(f"{table}: must be a table of keys, got {type(data).__name__}")
+    reject_unknown(table, data.keys(), schema.keys())
+    out = {}
+    for key, field in schema.items():
+        raw = data.get(key, defaults.get(key))
+        if raw is None:
+            raise InputError(f"{table}.{key}: missing ({field.range_text()})")
+        out[key] = check_value(f"{table}.{key}", raw, field)
+    return out

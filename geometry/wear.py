@@ -1,0 +1,286 @@
+"""Flank wear depth and worn profiles.
+
+Both models give the depth h removed along the flank normal at each point of the
+active involute, for a gear turning N contacts (each tooth meets the mating gear once
+per revolution). Sliding at a flank point follows from the specific sliding
+
+    zeta_1 = 1 - (rho_2 / rho_1) (z_1 / z_2),   zeta_2 = 1 - (rho_1 / rho_2) (z_2 / z_1)
+
+with rho_1 = d and rho_2 = |T1T2| - d the involute curvature radii at the contact
+point d on the line of action (kinematics module). zeta = 0 at the pitch point
+(pure rolling) and |zeta| grows toward tip and root. While the Hertz band (half-width
+a) passes a flank point, the surfaces slide past each other by 2 a |zeta|.
+
+(a) Archard (default; Flodin & Andersson, Wear 207, 1997, "single point"):
+    dh = k p ds. Integrating the Hertz pressure p(x) = p0 sqrt(1 - x^2 / a^2) over one
+    passage gives h per contact = k |zeta| int p dx = k |zeta| w, with w the normal load
+    per unit face width carried by that pair. k in m^2/N (Pa^-1).
+
+(b) Paper Eq. 1 (Zhang et al. 2019, after Wang et al. 2013). Read with consistent
+    units, the square root is a / 2 with a the Hertz half-width
+    a = sqrt(4 w R / (pi E')), w = 2 T / (psi m^2 z cos(alpha)) the normal load per
+    width (T = 9.55e6 P / n is the torque in N mm from power P in kW and speed n in
+    rpm, psi m = b the face width), 1/E' = (1 - nu1^2)/E1 + (1 - nu2^2)/E2 and
+    R = 1 / (1/rho1 + 1/rho2). Eq. 1 is then h = 4 I_h mu (n t) (a / 2) = I_h (2 a |zeta|) N:
+    I_h (dimensionless "wear characteristic") is the depth removed per unit sliding
+    distance, mu the slide coefficient (= specific sliding zeta) and n t = N the
+    number of contacts (n in rpm, t in minutes).
+
+The load per pair w follows the static load sharing of the path of contact: the
+whole load in single contact, half of it in double contact (equal sharing; the
+stiffness-based sharing is the analytic stage's business). The models are linear in
+N: the profile change does not feed back into the pressure (documented limit).
+
+Named phases are defined by the maximum depth on the pinion flank (the shape comes
+from the chosen model): unworn 0, mild 10 um, severe 30 um (assumed: the paper gives
+no depths; 30 um is about 0.4 % of the 7.85 mm pitch thickness, well inside the
+"mild to moderate" range reported by Flodin & Andersson).
+The worn profile is the nominal one moved inward along the normal by h(s); h is
+tapered to zero over ``taper_m`` beyond the ends of the active profile so the worn
+flank stays continuous (a step of h at the SAP otherwise).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, Mapping
+
+import numpy as np
+
+from .kinematics import MeshGeometry
+from .profile import INVOLUTE, ToothProfile, tooth_profile
+from .spec import PairSpec
+from .validation import Field, InputError, check_scalar, fail, reject_unknown
+
+PHASE_DEPTHS_M = {"unworn": 0.0, "mild": 10e-6, "severe": 30e-6}
+WEAR_MODELS = ("archard", "paper_eq1")
+
+
+@dataclass(frozen=True)
+class WearSpec:
+    """How much wear: a named phase, an explicit maximum depth, or running hours.
+
+    Exactly one of phase / max_depth_m / hours is set. The model gives the shape
+    (and, for ``hours``, the magnitude). Loads and cycles use torque_Nm and
+    speed_rpm of the pinion (driver).
+    """
+
+    phase: str | None = None
+    max_depth_m: float | None = None
+    hours: float | None = None
+    model: str = "archard"
+    archard_k_m2_per_N: float = 5.3e-16   # Flodin & Andersson (1997), boundary-lubricated steel
+    wear_intensity: float = 1e-8          # I_h of Eq. 1 (dimensionless), assumed
+    torque_Nm: float = 40.0
+    speed_rpm: float = 1200.0
+    taper_m: float = 0.2e-3
+
+    @property
+    def is_unworn(self) -> bool:
+        if self.phase is not None:
+            return PHASE_DEPTHS_M[self.phase] == 0.0
+        if self.max_depth_m is not None:
+            return self.max_depth_m == 0.0
+        return self.hours == 0.0
+
+    @property
+    def label(self) -> str:
+        if self.phase is not None:
+            return self.phase
+        if self.max_depth_m is not None:
+            return f"{self.max_depth_m * 1e6:g}um"
+        return f"{self.hours:g}h"
+
+
+WEAR_KEYS = ("phase", "max_depth_um", "hours", "model", "archard_k_m2_per_N", "wear_intensity", "taper_mm")
+
+
+def wear_from_dict(table: Mapping[str, Any], torque_Nm: float = 40.0, speed_rpm: float = 1200.0,
+                   key: str = "effects.wear") -> WearSpec:
+    """Parse ``effects.wear`` = {phase = ...} | {max_depth_um = ...} | {hours = ...}."""
+    if isinstance(table, str):
+        table = {"phase": table}
+    reject_unknown(key, table.keys(), WEAR_KEYS)
+    given = [k for k in ("phase", "max_depth_um", "hours") if k in table]
+    if len(given) != 1:
+        raise InputError(f"{key}: give exactly one of phase, max_depth_um, hours (got {', '.join(given) or 'none'})")
+    kw: dict[str, Any] = {"torque_Nm": torque_Nm, "speed_rpm": speed_rpm}
+    if "phase" in table:
+        ph = table["phase"]
+        if ph not in PHASE_DEPTHS_M:
+            raise fail(f"{key}.phase", repr(ph), "", f"must be one of {', '.join(PHASE_DEPTHS_M)}")
+        kw["phase"] = ph
+    if "max_depth_um" in table:
+        kw["max_depth_m"] = check_scalar(f"{key}.max_depth_um", table["max_depth_um"], Field("um", 0, 20000)) * 1e-6
+    if "hours" in table:
+        kw["hours"] = check_scalar(f"{key}.hours", table["hours"], Field("h", 0, 1e7))
+    model = table.get("model", "archard")
+    if model not in WEAR_MODELS:
+        raise fail(f"{key}.model", repr(model), "", f"must be one of {', '.join(WEAR_MODELS)}")
+    kw["model"] = model
+    if "archard_k_m2_per_N" in table:
+        kw["archard_k_m2_per_N"] = check_scalar(f"{key}.archard_k_m2_per_N", table["archard_k_m2_per_N"],
+                                                Field("m^2/N", 0, 1e-9, lo_open=True))
+    if "wear_intensity" in table:
+        kw["wear_intensity"] = check_scalar(f"{key}.wear_intensity", table["wear_intensity"],
+                                            Field("", 0, 1e-2, lo_open=True))
+    if "taper_mm" in table:
+        kw["taper_m"] = check_scalar(f"{key}.taper_mm", table["taper_mm"], Field("mm", 0, 5)) * 1e-3
+    return WearSpec(**kw)
+
+
+def parse_wear_arg(text: str, torque_Nm: float = 40.0, speed_rpm: float = 1200.0) -> WearSpec:
+    """CLI form: a phase name, '<depth>um' or '<hours>h'."""
+    t = text.strip()
+    if t in PHASE_DEPTHS_M:
+        return WearSpec(phase=t, torque_Nm=torque_Nm, speed_rpm=speed_rpm)
+    try:
+        if t.endswith("um"):
+            return wear_from_dict({"max_depth_um": float(t[:-2])}, torque_Nm, speed_rpm, key="--wear")
+        if t.endswith("h"):
+            return wear_from_dict({"hours": float(t[:-1])}, torque_Nm, speed_rpm, key="--wear")
+    except ValueError:
+        pass
+    raise InputError(f"--wear = {text!r}: must be one of {', '.join(PHASE_DEPTHS_M)}, a depth like 25um, "
+                     "or running hours like 500h")
+
+
+# -- sliding and contact mechanics on the line of action --------------------------
+
+def specific_sliding(mesh: MeshGeometry, d) -> tuple[np.ndarray, np.ndarray]:
+    """(zeta_1, zeta_2) at LOA positions d (m); zero at the pitch point."""
+    d = np.asarray(d, dtype=float)
+    z1, z2 = mesh.pair.teeth
+    rho1 = d
+    rho2 = mesh.line_of_action_m - d
+    with np.errstate(divide="ignore", invalid="ignore"):
+        zeta1 = 1.0 - (rho2 / rho1) * (z1 / z2)
+        zeta2 = 1.0 - (rho1 / rho2) * (z2 / z1)
+    return zeta1, zeta2
+
+
+def load_share(mesh: MeshGeometry, d) -> np.ndarray:
+    """Fraction of the normal load carried by a pair at d: 1 in single contact,
+    1/2 in double contact (equal sharing), 0 outside the path of contact."""
+    d = np.asarray(d, dtype=float)
+    A, E, pb = mesh.path_start_m, mesh.path_end_m, mesh.base_pitch_m
+    inside = (d >= A) & (d <= E)
+    # neighbours at d +- p_b also in contact -> double contact
+    others = ((d - pb >= A) & (d - pb <= E)).astype(float) + ((d + pb >= A) & (d + pb <= E)).astype(float)
+    return np.where(inside, 1.0 / (1.0 + others), 0.0)
+
+
+def hertz_half_width(mesh: MeshGeometry, d, load_per_width_N_per_m) -> np.ndarray:
+    """Hertz line-contact half-width a = sqrt(4 w R / (pi E')) (m) at LOA position d."""
+    mat = mesh.pair.material
+    e_star = mat.youngs_modulus_Pa / (2.0 * (1.0 - mat.poisson_ratio ** 2))
+    d = np.asarray(d, dtype=float)
+    R = d * (mesh.line_of_action_m - d) / mesh.line_of_action_m
+    return np.sqrt(4.0 * np.asarray(load_per_width_N_per_m) * np.maximum(R, 0.0) / (math.pi * e_star))
+
+
+def hertz_load_integral(a, p0, n_gauss: int = 16) -> np.ndarray:
+    """int_{-a}^{a} p0 sqrt(1 - x^2/a^2) dx by Gauss-Chebyshev (2nd kind) quadrature, N/m."""
+    k = np.arange(1, n_gauss + 1)
+    xk = np.cos(k * np.pi / (n_gauss + 1))
+    wk = np.pi / (n_gauss + 1) * np.sin(k * np.pi / (n_gauss + 1)) ** 2
+    # int sqrt(1-t^2) f(t) dt with f = 1 after x = a t: a * p0 * sum(wk)
+    return np.asarray(a) * np.asarray(p0) * float(np.sum(wk * np.ones_like(xk)))
+
+
+def depth_per_contact(mesh: MeshGeometry, d, spec: WearSpec) -> tuple[np.ndarray, np.ndarray]:
+    """Wear depth (m) per contact on pinion and gear flank at LOA positions d."""
+    d = np.asarray(d, dtype=float)
+    b = mesh.pair.face_width_m
+    Fn = spec.torque_Nm / mesh.pair.gear(0).base_radius_m
+    w = Fn / b * load_share(mesh, d)
+    a = hertz_half_width(mesh, d, w)
+    zeta1, zeta2 = specific_sliding(mesh, d)
+    inside = (d >= mesh.path_start_m) & (d <= mesh.path_end_m)
+    if spec.model == "archard":
+        # p0 = 2 w / (pi a); the pressure integral over the band is w
+        with np.errstate(divide="ignore", invalid="ignore"):
+            p0 = np.where(a > 0, 2.0 * w / (math.pi * np.where(a > 0, a, 1.0)), 0.0)
+        wint = hertz_load_integral(a, p0)
+        h1 = spec.archard_k_m2_per_N * np.abs(zeta1) * wint
+        h2 = spec.archard_k_m2_per_N * np.abs(zeta2) * wint
+    else:
+        h1 = spec.wear_intensity * 2.0 * a * np.abs(zeta1)
+        h2 = spec.wear_intensity * 2.0 * a * np.abs(zeta2)
+    h1 = np.where(inside, np.nan_to_num(h1), 0.0)
+    h2 = np.where(inside, np.nan_to_num(h2), 0.0)
+    return h1, h2
+
+
+def cycles(spec: WearSpec, mesh: MeshGeometry) -> tuple[float, float]:
+    """Contacts per tooth (pinion, gear) after spec.hours at spec.speed_rpm."""
+    n1 = spec.speed_rpm * 60.0 * (spec.hours or 0.0)
+    z1, z2 = mesh.pair.teeth
+    return n1, n1 * z1 / z2
+
+
+def wear_on_line_of_action(mesh: MeshGeometry, spec: WearSpec, d) -> tuple[np.ndarray, np.ndarray]:
+    """Wear depth (m) of pinion and gear flank at LOA positions d (m) for ``spec``."""
+    d = np.asarray(d, dtype=float)
+    h1c, h2c = depth_per_contact(mesh, d, spec)
+    if spec.hours is not None:
+        n1, n2 = cycles(spec, mesh)
+        return h1c * n1, h2c * n2
+    target = PHASE_DEPTHS_M[spec.phase] if spec.phase is not None else spec.max_depth_m
+    if target == 0.0:
+        return np.zeros_like(d), np.zeros_like(d)
+    # scale so the pinion's maximum over its whole active flank equals the target
+    dd = np.linspace(mesh.path_start_m, mesh.path_end_m, 4001)
+    ref1, ref2 = depth_per_contact(mesh, dd, spec)
+    z1, z2 = mesh.pair.teeth
+    scale = target / float(np.max(ref1))
+    return h1c * scale, h2c * scale * z1 / z2
+
+
+def flank_depth(profile: ToothProfile, gear_index: int, mesh: MeshGeometry, spec: WearSpec) -> np.ndarray:
+    """Wear depth (m) at every point of ``profile`` (pinion: gear_index 0, gear: 1).
+
+    Non-zero on the active involute only, tapered linearly to zero over
+    ``spec.taper_m`` of arc length beyond its ends.
+    """
+    if spec.is_unworn:
+        return np.zeros_like(profile.s)
+    rb = profile.gear.base_radius_m
+    u = np.where(profile.region == INVOLUTE, profile.roll, np.nan)
+    d = rb * u if gear_index == 0 else mesh.line_of_action_m - rb * u
+    h1, h2 = wear_on_line_of_action(mesh, spec, np.nan_to_num(d, nan=-1.0))
+    h = h1 if gear_index == 0 else h2
+    h = np.where(np.isfinite(u), h, 0.0)
+    if spec.taper_m > 0 and np.any(h > 0):
+        active = np.flatnonzero(h > 0)
+        i0, i1 = active[0], active[-1]
+        s = profile.s
+        below = np.arange(len(s)) < i0
+        above = np.arange(len(s)) > i1
+        ramp_lo = np.clip(1.0 - (s[i0] - s) / spec.taper_m, 0.0, 1.0) * h[i0]
+        ramp_hi = np.clip(1.0 - (s - s[i1]) / spec.taper_m, 0.0, 1.0) * h[i1]
+        h = np.where(below, ramp_lo, np.where(above, ramp_hi, h))
+    return h
+
+
+def key_roll_angles(mesh: MeshGeometry, gear_index: int) -> np.ndarray:
+    """Roll angles (rad) of the path ends, single-contact limits and pitch point on a
+    flank, so profiles sample the points where the wear pattern has its extremes/jumps."""
+    d = np.array([mesh.path_start_m, *mesh.single_contact_limits_m, mesh.pitch_point_m, mesh.path_end_m])
+    if gear_index == 0:
+        return d / mesh.pair.gear(0).base_radius_m
+    return (mesh.line_of_action_m - d) / mesh.pair.gear(1).base_radius_m
+
+
+def worn_profiles(pair: PairSpec, spec: WearSpec, mesh: MeshGeometry | None = None,
+                  sag_m: float = 0.2e-6) -> tuple[tuple[ToothProfile, ToothProfile], tuple[ToothProfile, ToothProfile]]:
+    """((nominal pinion, nominal gear), (worn pinion, worn gear)) loaded flanks.
+
+    The wear pattern is computed on the nominal mesh geometry unless ``mesh`` is given.
+    """
+    mesh = mesh or MeshGeometry(pair, pair.centre_distance_m)
+    nominal = tuple(tooth_profile(g, sag_m=sag_m, extra_roll=key_roll_angles(mesh, i))
+                    for i, g in enumerate(pair.gears))
+    worn = tuple(p.worn(flank_depth(p, i, mesh, spec)) for i, p in enumerate(nominal))
+    return nominal, worn  # type: ignore[return-value]

@@ -1,0 +1,144 @@
+"""Wear depth: pure rolling at the pitch point, Archard/Hertz identities, offsets."""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.optimize import minimize_scalar
+
+from geometry.kinematics import MeshGeometry
+from geometry.profile import INVOLUTE, involute_points, tooth_profile
+from geometry.spec import default_pair
+from geometry.validation import InputError
+from geometry.wear import (WearSpec, flank_depth, hertz_half_width, hertz_load_integral, parse_wear_arg,
+                           specific_sliding, wear_from_dict, wear_on_line_of_action, worn_profiles)
+
+
+@pytest.fixture(scope="module")
+def mesh():
+    pair = default_pair()
+    return MeshGeometry(pair, pair.centre_distance_m)
+
+
+@pytest.mark.parametrize("model", ["archard", "paper_eq1"])
+def test_zero_at_pitch_point_and_growing_toward_ends(mesh, model):
+    spec = WearSpec(hours=100, model=model)
+    h1, h2 = wear_on_line_of_action(mesh, spec, np.array([mesh.pitch_point_m]))
+    assert h1[0] == 0.0 and h2[0] == 0.0
+    B, D = mesh.single_contact_limits_m
+    # within each load zone the depth grows with the distance from the pitch point
+    for lo, hi in [(mesh.path_start_m, B), (B, mesh.pitch_point_m)]:
+        d = np.linspace(lo, hi, 200)[1:-1]
+        assert np.all(np.diff(wear_on_line_of_action(mesh, spec, d)[0]) < 0)
+    for lo, hi in [(mesh.pitch_point_m, D), (D, mesh.path_end_m)]:
+        d = np.linspace(lo, hi, 200)[1:-1]
+        assert np.all(np.diff(wear_on_line_of_action(mesh, spec, d)[0]) > 0)
+    # the deepest wear is at the ends of the path (root and tip of the flank)
+    d = np.linspace(mesh.path_start_m, mesh.path_end_m, 2001)
+    h = wear_on_line_of_action(mesh, spec, d)[0]
+    assert np.argmax(h) in (0, len(d) - 1)
+
+
+def test_specific_sliding_textbook(mesh):
+    # at the tip of the pinion (E) zeta_1 = 1 - rho2/rho1 for equal gears
+    zeta1, zeta2 = specific_sliding(mesh, np.array([mesh.path_end_m]))
+    rho1 = mesh.path_end_m
+    rho2 = mesh.line_of_action_m - rho1
+    assert zeta1[0] == pytest.approx(1 - rho2 / rho1, rel=1e-14)
+    assert zeta2[0] == pytest.approx(1 - rho1 / rho2, rel=1e-14)
+
+
+def test_hertz_identities(mesh):
+    """Hertz line contact: p0 = 2 w / (pi a) and the pressure integrates to w."""
+    w = 28_000.0
+    d = np.array([mesh.pitch_point_m])
+    a = hertz_half_width(mesh, d, w)
+    E = 206e9
+    e_star = E / (2 * (1 - 0.3**2))
+    R = mesh.pitch_point_m * (mesh.line_of_action_m - mesh.pitch_point_m) / mesh.line_of_action_m
+    assert a[0] == pytest.approx(math.sqrt(4 * w * R / (math.pi * e_star)), rel=1e-14)
+    p0 = 2 * w / (math.pi * a)
+    assert hertz_load_integral(a, p0)[0] == pytest.approx(w, rel=1e-12)
+
+
+def test_monotone_and_linear_in_running_time(mesh):
+    d = np.linspace(mesh.path_start_m, mesh.path_end_m, 101)
+    h10 = wear_on_line_of_action(mesh, WearSpec(hours=10), d)[0]
+    h20 = wear_on_line_of_action(mesh, WearSpec(hours=20), d)[0]
+    assert np.all(h20 >= h10)
+    assert np.allclose(h20, 2 * h10, rtol=1e-12)
+    # Archard per contact on a single-contact point: k |zeta| w
+    spec = WearSpec(hours=1)
+    B, D = mesh.single_contact_limits_m
+    dd = 0.5 * (D + mesh.pitch_point_m)
+    n = 1200 * 60
+    w = 40.0 / default_pair().gear(0).base_radius_m / 0.02
+    z1 = specific_sliding(mesh, np.array([dd]))[0][0]
+    assert wear_on_line_of_action(mesh, spec, np.array([dd]))[0][0] == pytest.approx(5.3e-16 * abs(z1) * w * n, rel=1e-12)
+
+
+def test_phases_scale_to_their_maximum_depth(mesh):
+    pair = default_pair()
+    for phase, depth in [("mild", 10e-6), ("severe", 30e-6)]:
+        (_, _), (w1, w2) = worn_profiles(pair, WearSpec(phase=phase))
+        assert w1.depth.max() == pytest.approx(depth, rel=1e-12)
+    (_, _), (w1, _) = worn_profiles(pair, WearSpec(phase="unworn"))
+    assert not w1.is_worn
+
+
+def test_uniform_depth_turns_the_involute_by_h_over_rb():
+    """An involute moved along its normal by a constant h is the involute turned by
+    h / r_b: the arc thickness at every radius falls by h R / r_b, i.e. exactly h on
+    the base circle."""
+    pair = default_pair()
+    g = pair.gear(0)
+    nom = tooth_profile(g)
+    h = 20e-6
+    depth = np.where(nom.region == INVOLUTE, h, 0.0)
+    worn = nom.worn(depth)
+    inv = nom.region == INVOLUTE
+    R = worn.radius[inv]
+    beta_w = np.arctan2(worn.xy[inv, 0], worn.xy[inv, 1])
+    # nominal half-angle at the same radius from the exact involute equation
+    u = np.sqrt((R / g.base_radius_m) ** 2 - 1)
+    beta_n = nom.psi_b - (u - np.arctan(u))
+    # worn thickness = nominal thickness - depth (one flank worn), measured on the base circle
+    thickness_loss_on_base_circle = (beta_n - beta_w) * g.base_radius_m
+    assert np.max(np.abs(thickness_loss_on_base_circle - h)) < 1e-9
+    assert np.max(np.abs((beta_n - beta_w) * R - h * R / g.base_radius_m)) < 1e-9
+
+
+def test_worn_points_lie_at_depth_from_nominal_flank():
+    pair = default_pair()
+    (nom, _), (worn, _) = worn_profiles(pair, WearSpec(phase="severe"))
+    g = pair.gear(0)
+    inv = np.flatnonzero((nom.region == INVOLUTE) & (worn.depth > 0))
+    for i in inv[:: max(1, len(inv) // 25)]:
+        p = worn.xy[i]
+
+        def dist(u):
+            q, _ = involute_points(g.base_radius_m, nom.psi_b, np.array([u]))
+            return float(np.linalg.norm(q[0] - p))
+
+        u0 = nom.roll[i]
+        res = minimize_scalar(dist, bounds=(u0 - 0.05, u0 + 0.05), method="bounded",
+                              options={"xatol": 1e-12})
+        assert res.fun == pytest.approx(worn.depth[i], abs=1e-9)
+
+
+def test_wear_that_consumes_the_tooth_is_a_clear_error():
+    pair = default_pair()
+    with pytest.raises(InputError, match=r"wear depth = .* um: consumes the tooth"):
+        worn_profiles(pair, WearSpec(max_depth_m=12e-3))
+
+
+def test_wear_inputs():
+    assert parse_wear_arg("severe").phase == "severe"
+    assert parse_wear_arg("25um").max_depth_m == pytest.approx(25e-6)
+    assert parse_wear_arg("100h").hours == 100
+    with pytest.raises(InputError, match="--wear"):
+        parse_wear_arg("heavy")
+    with pytest.raises(InputError, match="did you mean effects.wear.phase"):
+        wear_from_dict({"phas": "mild"})
+    with pytest.raises(InputError, match=r"max_depth_um = -3 um: must be in \[0, 20000\] um"):
+        wear_from_dict({"max_depth_um": -3})
