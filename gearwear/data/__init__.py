@@ -1,0 +1,1 @@
+"""Built-in scenes (TOML), shipped as package data."""

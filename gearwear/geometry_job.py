@@ -1,0 +1,221 @@
+"""The ``gearwear geometry`` job: profile, operating geometry, wear and mesh of a pair.
+
+Pure computation (:func:`compute`) is separated from writing (:func:`write`) so a
+bad input fails before any file is touched.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from geometry.kinematics import MeshGeometry
+from geometry.operating import OperatingGeometry, operating_geometry
+from geometry.profile import REGION_NAMES, ToothProfile, gear_outline
+from geometry.wear import WearSpec, key_roll_angles, worn_profiles
+
+from . import io
+from .scene import Scene
+
+
+@dataclass
+class GeometryResult:
+    scene: Scene
+    wear: WearSpec | None
+    operating: OperatingGeometry
+    nominal: tuple[ToothProfile, ToothProfile]
+    worn: tuple[ToothProfile, ToothProfile]
+    mesh: Any = None          # geometry.mesh.GearMesh of the pinion, if built
+    mesh_build_s: float = 0.0
+    wall_s: float = 0.0
+
+    def summary(self) -> dict[str, Any]:
+        og = self.operating
+        pair = self.scene.pair
+        nominal = MeshGeometry(pair, pair.centre_distance_m)
+        per_gear = []
+        for i, g in enumerate(pair.gears):
+            prof = self.nominal[i]
+            per_gear.append({
+                "name": g.name, "teeth": g.teeth, "profile_shift": g.profile_shift,
+                "base_radius_mm": g.base_radius_m * 1e3, "pitch_radius_mm": g.pitch_radius_m * 1e3,
+                "tip_radius_mm": g.tip_radius_m * 1e3, "root_radius_mm": g.root_radius_m * 1e3,
+                "form_radius_mm": prof.form_radius_m * 1e3,
+                "start_of_active_profile_mm": og.mesh.start_of_active_profile_m[i] * 1e3,
+                "pitch_thickness_mm": float(prof.thickness_at_radius(g.pitch_radius_m)) * 1e3,
+                "undercut": prof.undercut,
+                "max_wear_depth_um": float(self.worn[i].depth.max()) * 1e6,
+                "hub_radius_mm": g.hub_radius_m * 1e3,
+            })
+        p0 = per_gear[0]
+        out = {
+            "contact_ratio": og.contact_ratio,
+            "nominal_contact_ratio": nominal.contact_ratio,
+            "base_radius_mm": p0["base_radius_mm"], "pitch_radius_mm": p0["pitch_radius_mm"],
+            "tip_radius_mm": p0["tip_radius_mm"], "root_radius_mm": p0["root_radius_mm"],
+            "centre_distance_mm": og.centre_distance_m * 1e3,
+            "nominal_centre_distance_mm": pair.centre_distance_m * 1e3,
+            "operating_pressure_angle_deg": math.degrees(og.pressure_angle_rad),
+            "backlash_um": og.backlash_m * 1e6,
+            "contact_line_length_mm": og.contact_line_length_m * 1e3,
+            "base_pitch_mm": og.mesh.base_pitch_m * 1e3,
+            "max_wear_depth_um": max(g["max_wear_depth_um"] for g in per_gear),
+            "wear": self.wear.label if self.wear else "unworn",
+            "clearance_um": og.clearance_m * 1e6,
+            "torque_Nm": og.torque_Nm,
+            "bearing_stiffness_N_per_m": og.bearing_stiffness_N_per_m,
+            "face_width_mm": pair.face_width_m * 1e3,
+            "gears": per_gear,
+            "wall_s": self.wall_s,
+        }
+        if self.mesh is not None:
+            m = self.mesh.mesh
+            out["mesh"] = {"elements": int(m.t.shape[1]), "nodes": int(m.p.shape[1]),
+                           "area_mm2": float(self.mesh.area_m2) * 1e6, "build_s": self.mesh_build_s}
+        return out
+
+
+def compute(scene: Scene, wear: WearSpec | None, clearance_m: float, torque_Nm: float,
+            build_mesh: bool = True, mesh_size_mm: float = 2.5) -> GeometryResult:
+    t0 = time.perf_counter()
+    pair = scene.pair
+    og = operating_geometry(pair, clearance_m, torque_Nm, scene.bodies.bearing_stiffness_N_per_m,
+                            scene.initial_backlash_m, scene.backlash_form)
+    spec = wear or WearSpec(phase="unworn")
+    # the wear pattern follows the contact path at the operating centre distance
+    nominal, worn = worn_profiles(pair, spec, og.mesh)
+    res = GeometryResult(scene, wear, og, nominal, worn)
+    if build_mesh:
+        t1 = time.perf_counter()
+        res.mesh = pinion_mesh(res, mesh_size_mm * 1e-3)
+        res.mesh_build_s = time.perf_counter() - t1
+    res.wall_s = time.perf_counter() - t0
+    return res
+
+
+def pinion_mesh(res: GeometryResult, global_size_m: float):
+    """P2 mesh of the whole pinion (worn flanks on every tooth if worn), refined at
+    every fillet and at the highest point of single tooth contact of tooth 0."""
+    from geometry.mesh import MeshSizes, mesh_full_gear
+    from geometry.profile import FILLET, tooth_profile
+
+    pair = res.scene.pair
+    g = pair.gear(0)
+    # The mesher takes straight segments: a coarser sampling (1 um sag) keeps the
+    # boundary from forcing tiny elements while the geometry error stays < 1 um.
+    nominal = tooth_profile(g, sag_m=1e-6, extra_roll=key_roll_angles(res.operating.mesh, 0))
+    worn = None
+    if res.worn[0].is_worn:
+        from geometry.wear import flank_depth
+        spec = res.wear or WearSpec(phase="unworn")
+        worn = nominal.worn(flank_depth(nominal, 0, res.operating.mesh, spec))
+    outline = gear_outline(nominal, worn)
+    fil = nominal.xy[nominal.region == FILLET]
+    fillet_pts = []
+    for k in range(g.teeth):
+        ang = 2 * math.pi * k / g.teeth
+        c, s = math.cos(ang), math.sin(ang)
+        rot = np.array([[c, -s], [s, c]])
+        mid = fil[len(fil) // 2]
+        fillet_pts.append(rot @ mid)
+        fillet_pts.append(rot @ (mid * np.array([-1.0, 1.0])))
+    # load point: highest point of single tooth contact (HPSTC) on tooth 0's right flank
+    d_hp = res.operating.mesh.single_contact_limits_m[1]
+    r_hp = float(res.operating.mesh.pinion_radius_at(d_hp))
+    beta = float(nominal.half_angle_at_radius(r_hp)[0])
+    load = np.array([[r_hp * math.sin(beta), r_hp * math.cos(beta)]])
+    sizes = MeshSizes(global_m=global_size_m, fillet_m=0.4e-3, load_m=0.2e-3)
+    return mesh_full_gear(outline, g.hub_radius_m, sizes, refine_points_xy=load,
+                          fillet_points_xy=np.array(fillet_pts))
+
+
+def profile_table(res: GeometryResult) -> str:
+    """CSV of both loaded flanks (nominal and worn), one row per profile point."""
+    cols = ["gear", "region", "s_mm", "x_mm", "y_mm", "normal_x", "normal_y", "radius_mm",
+            "roll_angle_deg", "wear_depth_um", "x_worn_mm", "y_worn_mm"]
+    lines = [",".join(cols)]
+    for i, (nom, worn) in enumerate(zip(res.nominal, res.worn)):
+        name = ("pinion", "gear")[i]
+        roll = np.where(np.isfinite(nom.roll), np.degrees(nom.roll), np.nan)
+        for k in range(len(nom.s)):
+            r = "" if not np.isfinite(roll[k]) else f"{roll[k]:.9g}"
+            lines.append(
+                f"{name},{REGION_NAMES[int(nom.region[k])]},{nom.s[k] * 1e3:.9f},{nom.xy[k, 0] * 1e3:.9f},"
+                f"{nom.xy[k, 1] * 1e3:.9f},{nom.normal[k, 0]:.12f},{nom.normal[k, 1]:.12f},"
+                f"{nom.radius[k] * 1e3:.9f},{r},{worn.depth[k] * 1e6:.6f},"
+                f"{worn.xy[k, 0] * 1e3:.9f},{worn.xy[k, 1] * 1e3:.9f}")
+    return "\n".join(lines) + "\n"
+
+
+def tooth_figure(res: GeometryResult):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from geometry.profile import tooth_outline
+
+    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(11, 5.2))
+    nom, worn = res.nominal[0], res.worn[0]
+    o = tooth_outline(nom)
+    ax.plot(o[:, 0] * 1e3, o[:, 1] * 1e3, "k-", lw=1.2, label="nominal")
+    if worn.is_worn:
+        w = tooth_outline(worn, nom)
+        ax.plot(w[:, 0] * 1e3, w[:, 1] * 1e3, "r-", lw=1.0, label=f"worn ({res.wear.label})")
+        exaggeration = 50.0
+        ex = nom.xy - exaggeration * worn.depth[:, None] * nom.normal
+        ax.plot(ex[:, 0] * 1e3, ex[:, 1] * 1e3, "r--", lw=0.8, label=f"worn, depth x{exaggeration:g}")
+    g = res.scene.pair.gear(0)
+    th = np.linspace(-math.pi / g.teeth, math.pi / g.teeth, 200)
+    for rad, lab in [(g.base_radius_m, "base"), (g.pitch_radius_m, "pitch"), (nom.form_radius_m, "form")]:
+        ax.plot(rad * np.sin(th) * 1e3, rad * np.cos(th) * 1e3, ":", lw=0.7)
+        ax.annotate(lab, (rad * math.sin(th[0]) * 1e3, rad * math.cos(th[0]) * 1e3), fontsize=7)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
+    ax.set_title(f"Pinion tooth: z = {g.teeth}, m = {g.module_m * 1e3:g} mm, x = {g.profile_shift:g}")
+    ax.legend(fontsize=8, loc="lower center")
+    for i, (nm, wp) in enumerate(zip(res.nominal, res.worn)):
+        mask = np.isfinite(nm.roll)
+        ax2.plot(nm.radius[mask] * 1e3, wp.depth[mask] * 1e6, ("C0-", "C1--")[i], label=("pinion", "gear")[i])
+    mesh = res.operating.mesh
+    for d, lab in [(mesh.path_start_m, "SAP"), (mesh.single_contact_limits_m[0], "LPSTC"),
+                   (mesh.pitch_point_m, "pitch"), (mesh.single_contact_limits_m[1], "HPSTC")]:
+        r = float(mesh.pinion_radius_at(d)) * 1e3
+        ax2.axvline(r, color="0.6", lw=0.6, ls="--")
+        ax2.annotate(lab, (r, 0), fontsize=7, rotation=90, va="bottom")
+    ax2.set_xlabel("radius on the flank (mm)")
+    ax2.set_ylabel("wear depth along the normal (um)")
+    ax2.set_title(f"Wear depth ({res.wear.label if res.wear else 'unworn'}, {res.wear.model if res.wear else '-'})")
+    ax2.legend(fontsize=8)
+    ax2.grid(alpha=0.3)
+    fig.tight_layout()
+    return fig
+
+
+def write(res: GeometryResult, out: Path, inputs: dict[str, Any]) -> list[Path]:
+    """Write profile CSV (+ sidecar), tooth PNG, mesh .vtu (+ sidecar) and summary JSON."""
+    import json
+
+    import matplotlib.pyplot as plt
+
+    files = []
+    csv = io.write_text(out / "profile.csv", profile_table(res))
+    files += [csv, io.sidecar(csv, inputs, "rack-generated involute + trochoid; wear " +
+                              (res.wear.model if res.wear else "none"))]
+    fig = tooth_figure(res)
+    files.append(io.write_figure(fig, out / "tooth.png"))
+    plt.close(fig)
+    if res.mesh is not None:
+        from geometry.mesh import write_mesh
+        vtu = out / "pinion_mesh.vtu"
+        write_mesh(res.mesh, path_vtu=str(vtu))
+        files += [vtu, io.sidecar(vtu, inputs, "gmsh P2 triangles, full pinion",
+                                  {"elements": int(res.mesh.mesh.t.shape[1])})]
+    summ = res.summary()
+    summ["files"] = [str(f) for f in files] + [str(out / "summary.json")]
+    files.append(io.write_text(out / "summary.json", json.dumps(summ, indent=2, sort_keys=True) + "\n"))
+    return files
