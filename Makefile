@@ -19,7 +19,7 @@ $(STAMP): pyproject.toml
 
 demo: $(STAMP)
 	@$(PY) -m gearwear.envcheck
-	$(VENV)/bin/gearwear geometry --out $(OUT)
+	$(VENV)/bin/gearwear geometry --wear severe --clearance-um 10 --out $(OUT)
 
 test: $(STAMP)
 	@$(PY) -m gearwear.envcheck
