@@ -7,6 +7,9 @@ PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed-stamp
 OUT    ?= out/demo
 
+BENCH_VENV  := .venv-bench
+BENCH_STAMP := $(BENCH_VENV)/.installed-stamp
+
 .PHONY: demo test bench venv clean
 
 venv: $(STAMP)
@@ -25,9 +28,18 @@ test: $(STAMP)
 	@$(PY) -m gearwear.envcheck
 	$(PY) -m pytest -q
 
+# ROSS (the peer for the stiffness benchmark) lives in its own venv: it is not a
+# runtime dependency. Its install is best-effort; the benchmark notes a missing peer.
+$(BENCH_STAMP):
+	$(PYTHON) -m venv $(BENCH_VENV)
+	$(BENCH_VENV)/bin/python -m pip install --quiet --upgrade pip
+	$(BENCH_VENV)/bin/python -m pip install --quiet 'ross-rotordynamics==2.3.0' 'plotly<7'
+	touch $(BENCH_STAMP)
+
 bench: $(STAMP)
+	-@$(MAKE) --no-print-directory $(BENCH_STAMP)
 	@$(PY) -m gearwear.envcheck
 	$(PY) benchmarks/run_all.py
 
 clean:
-	rm -rf $(VENV) out .pytest_cache .hypothesis
+	rm -rf $(VENV) $(BENCH_VENV) out .pytest_cache .hypothesis

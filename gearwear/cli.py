@@ -59,6 +59,62 @@ def _cmd_geometry(args: argparse.Namespace) -> int:
     return 0
 
 
+def _split_multi(values: list[str] | None) -> list[str]:
+    out: list[str] = []
+    for v in values or []:
+        out += [x for x in v.split(",") if x.strip()]
+    return out
+
+
+def _cmd_stiffness(args: argparse.Namespace) -> int:
+    import math
+
+    from geometry.wear import parse_wear_arg
+
+    from . import stiffness_job
+    from .scene import load_scene
+
+    scene = load_scene(args.pair)
+    if args.method not in stiffness_job.METHODS:
+        raise InputError(f"--method = {args.method!r}: must be one of {', '.join(stiffness_job.METHODS)}")
+    torque = scene.operating.torque_Nm if args.torque_Nm is None else _float_arg("--torque-Nm", "N m")(args.torque_Nm)
+    if not torque > 0:
+        raise InputError(f"--torque-Nm = {torque:g} N m: must be in (0, 1e7] N m")
+    try:
+        points = int(args.points)
+    except ValueError:
+        raise InputError(f"--points = {args.points!r}: must be a whole number >= 8") from None
+    if points < 8 or points > 1_000_000:
+        raise InputError(f"--points = {points}: must be a whole number in [8, 1000000]")
+    wear_args = _split_multi(args.wear)
+    wears = [parse_wear_arg(w, torque, scene.operating.speed_rpm) for w in wear_args] or [scene.wear]
+    cl_args = _split_multi(args.clearance_um)
+    clearances = ([_float_arg("--clearance-um", "um")(c) * 1e-6 for c in cl_args] or [scene.clearance_m])
+    curves = stiffness_job.compute(scene.pair, args.method, wears, clearances, torque, points)
+    inputs = {"scene": scene.name, "pair": _pair_inputs(scene), "method": args.method, "torque_Nm": torque,
+              "points": points}
+    files = stiffness_job.write(curves, Path(args.out), inputs) if args.out else []
+    summaries = [c.summary() for c in curves]
+    if args.json:
+        out = dict(summaries[0])
+        out["curves"] = summaries
+        out["files"] = [str(f) for f in files]
+        print(json.dumps(out, sort_keys=True, allow_nan=False, default=lambda o: None))
+    else:
+        hdr = f"{'method':<9}{'wear':<9}{'clear um':>9}{'mean N/m':>12}{'min N/m':>12}{'max N/m':>12}" \
+              f"{'eps':>8}{'double':>12}{'single':>12}{'wall ms':>9}"
+        print(hdr)
+        for s in summaries:
+            dz = s["double_zone_mean_N_per_m"]
+            print(f"{s['method']:<9}{s['wear']:<9}{s['clearance_um']:>9g}{s['mean_N_per_m']:>12.4e}"
+                  f"{s['min_N_per_m']:>12.4e}{s['max_N_per_m']:>12.4e}{s['contact_ratio']:>8.4f}"
+                  f"{(dz if math.isfinite(dz) else float('nan')):>12.4e}{s['single_zone_mean_N_per_m']:>12.4e}"
+                  f"{s['wall_s'] * 1e3:>9.1f}")
+        for f in files:
+            print(f"wrote {f}")
+    return 0
+
+
 def _pair_inputs(scene) -> dict:
     p = scene.pair
     return {"teeth": list(p.teeth), "module_mm": p.module_m * 1e3,
@@ -123,6 +179,22 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--out", help="output folder for profile.csv, tooth.png, pinion_mesh.vtu, summary.json")
     g.add_argument("--json", action="store_true", help="print one JSON object instead of the table")
     g.set_defaults(func=_cmd_geometry)
+
+    st = sub.add_parser("stiffness", help="time-varying mesh stiffness curves (Ishikawa, energy, ISO 6336)",
+                        description="Mesh stiffness k_h over one mesh period with load sharing at the operating "
+                                    "torque, wear gaps and tip-corner contact; loaded static transmission error. "
+                                    "Several --wear or --clearance-um values overlay the curves (paper Figs. 6, "
+                                    "16, 17).")
+    st.add_argument("pair", nargs="?", help="scene or pair TOML file (default: built-in paper pair)")
+    st.add_argument("--method", default="ishikawa", help="ishikawa (paper Eqs. 2-6, default) | energy "
+                                                         "(potential energy + Sainsot foundation) | iso6336")
+    st.add_argument("--wear", nargs="+", help="one or more of unworn, mild, severe, 25um, 500h (or comma-separated)")
+    st.add_argument("--clearance-um", nargs="+", help="one or more bearing clearances in um")
+    st.add_argument("--torque-Nm", help="pinion torque (default: scene, 40)")
+    st.add_argument("--points", default="360", help="angles per mesh period (>= 8, default 360)")
+    st.add_argument("--out", help="output folder for CSV, JSON sidecars and PNGs")
+    st.add_argument("--json", action="store_true", help="print one JSON object (first curve + 'curves')")
+    st.set_defaults(func=_cmd_stiffness)
     return p
 
 

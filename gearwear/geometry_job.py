@@ -108,7 +108,7 @@ def pinion_mesh(res: GeometryResult, global_size_m: float):
     g = pair.gear(0)
     # The mesher takes straight segments: a coarser sampling (1 um sag) keeps the
     # boundary from forcing tiny elements while the geometry error stays < 1 um.
-    nominal = tooth_profile(g, sag_m=1e-6, extra_roll=key_roll_angles(res.operating.mesh, 0))
+    nominal = tooth_profile(g, sag_m=1e-6, extra_roll=key_roll_angles(res.operating.mesh, 0, res.wear))
     worn = None
     if res.worn[0].is_worn:
         from geometry.wear import flank_depth

@@ -12,9 +12,12 @@ point d on the line of action (kinematics module). zeta = 0 at the pitch point
 a) passes a flank point, the surfaces slide past each other by 2 a |zeta|.
 
 (a) Archard (default; Flodin & Andersson, Wear 207, 1997, "single point"):
-    dh = k p ds. Integrating the Hertz pressure p(x) = p0 sqrt(1 - x^2 / a^2) over one
-    passage gives h per contact = k |zeta| int p dx = k |zeta| w, with w the normal load
-    per unit face width carried by that pair. k in m^2/N (Pa^-1).
+    dh = k p ds with ds = |zeta| dx. Integrating the Hertz pressure p(x) =
+    p0 sqrt(1 - x^2 / a^2) over one passage of the band gives h per contact =
+    k |zeta| int p dx; the integral is taken with the load sharing at the band's
+    position (Gauss-Chebyshev), so it equals k |zeta| w inside a load zone and ramps
+    over the band width 2 a where single and double contact alternate.
+    k in m^2/N (Pa^-1).
 
 (b) Paper Eq. 1 (Zhang et al. 2019, after Wang et al. 2013). Read with consistent
     units, the square root is a / 2 with a the Hertz half-width
@@ -180,32 +183,70 @@ def hertz_half_width(mesh: MeshGeometry, d, load_per_width_N_per_m) -> np.ndarra
     return np.sqrt(4.0 * np.asarray(load_per_width_N_per_m) * np.maximum(R, 0.0) / (math.pi * e_star))
 
 
-def hertz_load_integral(a, p0, n_gauss: int = 16) -> np.ndarray:
-    """int_{-a}^{a} p0 sqrt(1 - x^2/a^2) dx by Gauss-Chebyshev (2nd kind) quadrature, N/m."""
-    k = np.arange(1, n_gauss + 1)
-    xk = np.cos(k * np.pi / (n_gauss + 1))
-    wk = np.pi / (n_gauss + 1) * np.sin(k * np.pi / (n_gauss + 1)) ** 2
-    # int sqrt(1-t^2) f(t) dt with f = 1 after x = a t: a * p0 * sum(wk)
-    return np.asarray(a) * np.asarray(p0) * float(np.sum(wk * np.ones_like(xk)))
+def hertz_load_integral(a, p0) -> np.ndarray:
+    """int_{-a}^{a} p0 sqrt(1 - x^2/a^2) dx = pi a p0 / 2 (N/m)."""
+    return 0.5 * np.pi * np.asarray(a) * np.asarray(p0)
+
+
+def _semicircle_cdf(t):
+    """Fraction of a semi-elliptical (Hertz) pressure distribution on [-1, t]:
+    1/2 + (t sqrt(1 - t^2) + asin t) / pi."""
+    t = np.clip(t, -1.0, 1.0)
+    return 0.5 + (t * np.sqrt(1.0 - t * t) + np.arcsin(t)) / np.pi
+
+
+def load_share_breaks(mesh: MeshGeometry) -> np.ndarray:
+    """LOA positions where the static load sharing changes (A, E and their images
+    one or more base pitches away inside the path)."""
+    A, E, pb = mesh.path_start_m, mesh.path_end_m, mesh.base_pitch_m
+    pts = [A, E]
+    k = 1
+    while A + k * pb < E:
+        pts += [A + k * pb, E - k * pb]
+        k += 1
+    return np.unique(np.array(pts))
+
+
+def band_load_per_width(mesh: MeshGeometry, d, spec: WearSpec) -> tuple[np.ndarray, np.ndarray]:
+    """(w_bar, a): load per width that a flank point at d effectively sees while the
+    Hertz band passes over it, and the band half-width a.
+
+    While the band (half-width a, semi-elliptical pressure) travels over the point, the
+    pair's load follows the load sharing at the band's position:
+
+        int p dx = (2 / pi) int_{-1}^{1} sqrt(1 - t^2) w(d + a t) dt = w_bar.
+
+    The load sharing w is piecewise constant, so the integral is exact with the
+    semicircle CDF. This smears the single/double-contact steps over the band width
+    instead of printing them as steps into the worn profile. The band width is that of
+    the full load (it only sets the smoothing length), so w_bar is continuous in d.
+    """
+    d = np.asarray(d, dtype=float)
+    b = mesh.pair.face_width_m
+    Fn = spec.torque_Nm / mesh.pair.gear(0).base_radius_m
+    a = hertz_half_width(mesh, d, Fn / b)
+    a_safe = np.where(a > 0, a, 1e-300)
+    br = load_share_breaks(mesh)
+    w_bar = np.zeros_like(d)
+    for lo, hi in zip(br[:-1], br[1:]):
+        share = float(load_share(mesh, np.array([0.5 * (lo + hi)]))[0])
+        w_bar += share * (_semicircle_cdf((hi - d) / a_safe) - _semicircle_cdf((lo - d) / a_safe))
+    return Fn / b * w_bar, a
 
 
 def depth_per_contact(mesh: MeshGeometry, d, spec: WearSpec) -> tuple[np.ndarray, np.ndarray]:
     """Wear depth (m) per contact on pinion and gear flank at LOA positions d."""
     d = np.asarray(d, dtype=float)
-    b = mesh.pair.face_width_m
-    Fn = spec.torque_Nm / mesh.pair.gear(0).base_radius_m
-    w = Fn / b * load_share(mesh, d)
-    a = hertz_half_width(mesh, d, w)
+    w_bar, a = band_load_per_width(mesh, d, spec)
     zeta1, zeta2 = specific_sliding(mesh, d)
     inside = (d >= mesh.path_start_m) & (d <= mesh.path_end_m)
     if spec.model == "archard":
-        # p0 = 2 w / (pi a); the pressure integral over the band is w
-        with np.errstate(divide="ignore", invalid="ignore"):
-            p0 = np.where(a > 0, 2.0 * w / (math.pi * np.where(a > 0, a, 1.0)), 0.0)
-        wint = hertz_load_integral(a, p0)
-        h1 = spec.archard_k_m2_per_N * np.abs(zeta1) * wint
-        h2 = spec.archard_k_m2_per_N * np.abs(zeta2) * wint
+        # dh = k p ds with ds = |zeta| dx: h = k |zeta| int p dx = k |zeta| w_bar
+        h1 = spec.archard_k_m2_per_N * np.abs(zeta1) * w_bar
+        h2 = spec.archard_k_m2_per_N * np.abs(zeta2) * w_bar
     else:
+        # Eq. 1: I_h times the sliding distance 2 a |zeta| per contact, a at the band load
+        a = hertz_half_width(mesh, d, w_bar)
         h1 = spec.wear_intensity * 2.0 * a * np.abs(zeta1)
         h2 = spec.wear_intensity * 2.0 * a * np.abs(zeta2)
     h1 = np.where(inside, np.nan_to_num(h1), 0.0)
@@ -231,7 +272,7 @@ def wear_on_line_of_action(mesh: MeshGeometry, spec: WearSpec, d) -> tuple[np.nd
     if target == 0.0:
         return np.zeros_like(d), np.zeros_like(d)
     # scale so the pinion's maximum over its whole active flank equals the target
-    dd = np.linspace(mesh.path_start_m, mesh.path_end_m, 4001)
+    dd = np.linspace(mesh.path_start_m, mesh.path_end_m, 40001)
     ref1, ref2 = depth_per_contact(mesh, dd, spec)
     z1, z2 = mesh.pair.teeth
     scale = target / float(np.max(ref1))
@@ -264,10 +305,20 @@ def flank_depth(profile: ToothProfile, gear_index: int, mesh: MeshGeometry, spec
     return h
 
 
-def key_roll_angles(mesh: MeshGeometry, gear_index: int) -> np.ndarray:
+def wear_peaks(mesh: MeshGeometry, spec: WearSpec) -> np.ndarray:
+    """LOA positions (m) of the deepest wear on the pinion and on the gear flank."""
+    d = np.linspace(mesh.path_start_m, mesh.path_end_m, 40001)
+    h1, h2 = depth_per_contact(mesh, d, spec)
+    return np.array([d[np.argmax(h1)], d[np.argmax(h2)]])
+
+
+def key_roll_angles(mesh: MeshGeometry, gear_index: int, spec: WearSpec | None = None) -> np.ndarray:
     """Roll angles (rad) of the path ends, single-contact limits and pitch point on a
-    flank, so profiles sample the points where the wear pattern has its extremes/jumps."""
+    flank (and the wear peaks), so profiles sample where the wear pattern has its
+    extremes and ramps."""
     d = np.array([mesh.path_start_m, *mesh.single_contact_limits_m, mesh.pitch_point_m, mesh.path_end_m])
+    if spec is not None and not spec.is_unworn:
+        d = np.concatenate([d, wear_peaks(mesh, spec)])
     if gear_index == 0:
         return d / mesh.pair.gear(0).base_radius_m
     return (mesh.line_of_action_m - d) / mesh.pair.gear(1).base_radius_m
@@ -280,7 +331,7 @@ def worn_profiles(pair: PairSpec, spec: WearSpec, mesh: MeshGeometry | None = No
     The wear pattern is computed on the nominal mesh geometry unless ``mesh`` is given.
     """
     mesh = mesh or MeshGeometry(pair, pair.centre_distance_m)
-    nominal = tuple(tooth_profile(g, sag_m=sag_m, extra_roll=key_roll_angles(mesh, i))
+    nominal = tuple(tooth_profile(g, sag_m=sag_m, extra_roll=key_roll_angles(mesh, i, spec))
                     for i, g in enumerate(pair.gears))
     worn = tuple(p.worn(flank_depth(p, i, mesh, spec)) for i, p in enumerate(nominal))
     return nominal, worn  # type: ignore[return-value]

@@ -75,3 +75,34 @@ def test_bad_cli_options(tmp_path, args, message):
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and message in lines[0], r.stderr
     assert not out.exists()
+
+
+def test_stiffness_cli_overlays_and_json(tmp_path):
+    out = tmp_path / "st"
+    r = run("stiffness", "--wear", "unworn", "mild", "severe", "--points", "120", "--out", str(out), "--json")
+    assert r.returncode == 0, r.stderr
+    s = json.loads(r.stdout)
+    for key in ("mean_N_per_m", "min_N_per_m", "max_N_per_m", "contact_ratio", "points", "wall_s"):
+        assert key in s
+    means = [c["mean_N_per_m"] for c in s["curves"]]
+    assert means[0] > means[1] > means[2]
+    names = {p.name for p in out.iterdir()}
+    assert "stiffness.png" in names and "stiffness_ishikawa_severe_clearance0um.csv.json" in names
+    header = (out / "stiffness_ishikawa_mild_clearance0um.csv").read_text().splitlines()[0]
+    assert header.startswith("angle_deg,k_N_per_m,pairs_in_contact,load_pair_1_N") and "ste_um" in header
+    r = run("stiffness", "--clearance-um", "0,50,100", "--points", "60", "--out", str(out / "cl"))
+    assert r.returncode == 0, r.stderr
+    assert (out / "cl" / "mean_vs_clearance.png").exists()
+
+
+@pytest.mark.parametrize("args,message", [
+    (["--points", "4"], "--points = 4"),
+    (["--torque-Nm", "0"], "--torque-Nm = 0 N m"),
+    (["--wear", "12000um"], "wear depth"),
+    (["--method", "magic"], "--method = 'magic'"),
+])
+def test_stiffness_bad_input(tmp_path, args, message):
+    r = run("stiffness", "--out", str(tmp_path / "o"), *args)
+    assert r.returncode == 2
+    assert len(r.stderr.strip().splitlines()) == 1 and message in r.stderr, r.stderr
+    assert not (tmp_path / "o").exists()

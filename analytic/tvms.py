@@ -1,0 +1,340 @@
+"""Time-varying mesh stiffness with load sharing, wear gaps and tip-corner contact.
+
+For each pinion angle theta over one mesh period (theta = 0 when a pair enters the
+path of contact at A) every candidate tooth pair k has
+
+* a position d_k on the line of action (kinematics.MeshGeometry.contacts),
+* a linear compliance c_k = (delta_1 + delta_2)_pinion + (delta_1 + delta_2)_gear per
+  unit load (Ishikawa slices or the potential-energy method, true worn profiles),
+* a Hertzian approach: nonlinear a F^0.9 (paper Eq. 5) for ``ishikawa``, linear
+  4 (1 - nu^2) / (pi E b) F (Yang & Lin) for ``energy``,
+* an initial gap g_k along the line of action: the wear depths of both flanks at the
+  contact, h_1(d) + h_2(d) (both measured along the involute normal = the LOA).
+
+The static transmission error Delta (the approach of the gears along the LOA beyond
+the rigid, unworn position) follows from compatibility and equilibrium
+(complementarity: a pair with g_k >= Delta carries nothing):
+
+    c_k F_k + delta_H(F_k) = Delta - g_k  if Delta > g_k, else F_k = 0;   sum_k F_k = F = T / r_b1
+
+Sum F_k(Delta) is convex and increasing in Delta, so Newton's method from above
+converges monotonically; loads sum to F to ~1e-13 relative.
+
+Mesh stiffness: k_h = sum over loaded pairs of F_k / (Delta - g_k), the secant pair
+stiffness of paper Eq. 6 summed over the pairs that carry load, so the mesh force is
+F = k_h (Delta - e) with the wear excitation e = sum k_k g_k / k_h.
+
+Tip-corner contact outside the path of contact: a pair approaching A (d < d_A) touches
+first with the gear's tip corner, a receding pair (d > d_E) with the pinion's; the
+corner's separation from the mating flank is computed exactly from the involute
+functions (the two extended involutes touch at d; the corner lies on one of them at
+the tip radius). Under load these pairs take load early / keep it late, which makes
+the transmission error continuous at the zone changes. Their compliance is taken at
+the path end (d_A or d_E) and their wear gap is that of the path end.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from functools import lru_cache
+
+import numpy as np
+
+from geometry.kinematics import MeshGeometry
+from geometry.operating import operating_geometry
+from geometry.profile import ToothProfile, tooth_profile
+from geometry.spec import PairSpec
+from geometry.validation import InputError, fail
+from geometry.wear import WearSpec, flank_depth, key_roll_angles, wear_on_line_of_action
+
+from . import ishikawa
+
+METHODS = ("ishikawa", "energy")
+
+
+@dataclass(frozen=True)
+class MeshStiffness:
+    """A mesh stiffness curve over one mesh period (SI units).
+
+    angle_rad       (n,) pinion angle from the entry of a pair at A
+    k_N_per_m       (n,) mesh stiffness (sum of loaded pairs' secant stiffness)
+    ste_m           (n,) loaded static transmission error along the LOA
+    excitation_m    (n,) e with F = k_h (ste - e) (zero when unworn)
+    pair_load_N     (n, p) load of each candidate pair (zero when not in contact)
+    pair_d_m        (n, p) position of each candidate pair on the LOA
+    pair_in_path    (n, p) True inside the theoretical path of contact [A, E]
+    """
+
+    method: str
+    pair: PairSpec
+    mesh: MeshGeometry
+    torque_Nm: float
+    wear: WearSpec | None
+    angle_rad: np.ndarray
+    k_N_per_m: np.ndarray
+    ste_m: np.ndarray
+    excitation_m: np.ndarray
+    pair_load_N: np.ndarray
+    pair_d_m: np.ndarray
+    pair_in_path: np.ndarray
+    wall_s: float = 0.0
+    n_slices: int = ishikawa.DEFAULT_SLICES
+    meta: dict = field(default_factory=dict)
+
+    @property
+    def mean_N_per_m(self) -> float:
+        return float(np.mean(self.k_N_per_m))
+
+    @property
+    def min_N_per_m(self) -> float:
+        return float(np.min(self.k_N_per_m))
+
+    @property
+    def max_N_per_m(self) -> float:
+        return float(np.max(self.k_N_per_m))
+
+    @property
+    def pairs_in_contact(self) -> np.ndarray:
+        """Number of pairs carrying load at each angle."""
+        return (self.pair_load_N > 0).sum(axis=1)
+
+    @property
+    def contact_ratio(self) -> float:
+        return self.mesh.contact_ratio
+
+    @property
+    def total_load_N(self) -> float:
+        return self.torque_Nm / self.pair.gear(0).base_radius_m
+
+    def zone_masks(self) -> dict[str, np.ndarray]:
+        """Angle masks of the double-contact zone at entry (A), the single-contact
+        zone (B) and the double-contact zone at exit (C) of the theoretical path."""
+        m = self.mesh
+        rb1 = self.pair.gear(0).base_radius_m
+        d_entry = m.path_start_m + rb1 * self.angle_rad  # position of the entering pair
+        B, D = m.single_contact_limits_m
+        pb = m.base_pitch_m
+        double = d_entry + pb <= m.path_end_m
+        if m.contact_ratio < 1:
+            return {"A": np.zeros_like(double), "B": d_entry <= m.path_end_m, "C": np.zeros_like(double)}
+        half = d_entry < m.path_start_m + 0.5 * (m.path_end_m - pb - m.path_start_m) + 1e-300
+        return {"A": double & half, "B": ~double, "C": double & ~half}
+
+
+# -- profiles and compliance ---------------------------------------------------------
+
+@lru_cache(maxsize=64)
+def _profiles(pair: PairSpec, wear: WearSpec | None, centre_distance_m: float):
+    """(nominal, loaded) profiles of pinion and gear, cached: they depend only on the
+    pair, the wear and the centre distance (which sets where the wear is)."""
+    mesh = MeshGeometry(pair, centre_distance_m)
+    nominal = tuple(tooth_profile(g, extra_roll=key_roll_angles(mesh, i, wear)) for i, g in enumerate(pair.gears))
+    if wear is None or wear.is_unworn:
+        return nominal, nominal
+    loaded = []
+    for i, p in enumerate(nominal):
+        h = flank_depth(p, i, mesh, wear)
+        loaded.append(p.worn(h))
+    return nominal, tuple(loaded)
+
+
+def _tooth_compliance(method: str, loaded: ToothProfile, nominal: ToothProfile, radius_m: np.ndarray,
+                      pair: PairSpec, n_slices: int) -> np.ndarray:
+    """delta_1 + delta_2 per unit load (m/N) of one tooth at contact radii."""
+    if radius_m.size == 0:
+        return np.zeros(0)
+    if method == "ishikawa":
+        try:
+            c = ishikawa.tooth_compliance(loaded, radius_m, pair.material, pair.face_width_m, n_slices,
+                                          opposite=nominal)
+        except ValueError as exc:
+            raise fail("wear depth", float(loaded.depth.max()) * 1e6, "um",
+                       f"makes a slice of the {loaded.gear.name} tooth non-positive ({exc})") from None
+        return c.total_m_per_N
+    from . import energy
+    c = energy.tooth_compliance(loaded, radius_m, pair.material, pair.face_width_m, opposite=nominal)
+    return np.asarray(c.total_m_per_N)
+
+
+def _involute_fn(u):
+    return u - np.arctan(u)
+
+
+def corner_gap_m(mesh: MeshGeometry, d, side: str) -> np.ndarray:
+    """Separation (m) of a tip corner from the mating flank for a pair whose extended
+    involutes touch at LOA position d.
+
+    side = "entry": gear tip corner vs pinion flank (d near or below d_A);
+    side = "exit": pinion tip corner vs gear flank (d near or above d_E).
+
+    LOA frame: T1 = (0, 0), T2 = (L, 0), O1 = (0, -r_b1), O2 = (L, r_b2). On the pinion
+    flank touching the LOA at d, theta_1 - inv = pi/2 - d / r_b1 (polar angle about O1);
+    on the gear flank, theta_2 - inv = -pi/2 - (L - d) / r_b2 (about O2). Two involutes of
+    one base circle turned by dphi are r_b dphi apart along every common normal.
+    """
+    d = np.asarray(d, dtype=float)
+    g1, g2 = mesh.pair.gear(0), mesh.pair.gear(1)
+    rb1, rb2, L = g1.base_radius_m, g2.base_radius_m, mesh.line_of_action_m
+    u1 = d / rb1
+    u2 = (L - d) / rb2
+    if side == "entry":
+        ua2 = math.sqrt((g2.tip_radius_m / rb2) ** 2 - 1.0)
+        th = -0.5 * math.pi - u2 + _involute_fn(ua2)  # gear tip corner, polar angle about O2
+        qx = L + g2.tip_radius_m * np.cos(th)
+        qy = rb2 + g2.tip_radius_m * np.sin(th)
+        r = np.hypot(qx, qy + rb1)
+        ur = np.sqrt(np.maximum((r / rb1) ** 2 - 1.0, 0.0))
+        psi_q = np.arctan2(qy + rb1, qx) - _involute_fn(ur)
+        psi_flank = 0.5 * math.pi - u1
+        return rb1 * np.abs(psi_q - psi_flank)
+    ua1 = math.sqrt((g1.tip_radius_m / rb1) ** 2 - 1.0)
+    th = 0.5 * math.pi - u1 + _involute_fn(ua1)  # pinion tip corner, polar angle about O1
+    qx = g1.tip_radius_m * np.cos(th)
+    qy = -rb1 + g1.tip_radius_m * np.sin(th)
+    r = np.hypot(qx - L, qy - rb2)
+    ur = np.sqrt(np.maximum((r / rb2) ** 2 - 1.0, 0.0))
+    psi_q = np.arctan2(qy - rb2, qx - L) - _involute_fn(ur)
+    psi_flank = -0.5 * math.pi - u2
+    return rb2 * np.abs(psi_q - psi_flank)
+
+
+# -- load sharing --------------------------------------------------------------------
+
+def _pair_load(e, c, a, expo, F0=None):
+    """Solve c F + a F^expo = e for F >= 0 (F = 0 where e <= 0) by Newton's method.
+
+    The left side is increasing and concave in F: from above, one step lands below the
+    root; from below the iterates rise monotonically to it. So any start converges;
+    a warm start from the previous outer iteration needs 2-4 steps."""
+    pos = e > 0
+    F = np.where(pos, e / c, 0.0)
+    if a == 0.0:
+        return F
+    if F0 is not None:
+        F = np.where(pos & (F0 > 0), np.minimum(F0, F), F)
+    for _ in range(60):
+        Fp = np.maximum(F, 1e-300)
+        Fe = Fp ** (expo - 1.0)
+        phi = c * Fp + a * Fp * Fe - e
+        step = phi / (c + a * expo * Fe)
+        F = np.where(pos, np.maximum(F - step, 0.0), 0.0)
+        if np.all(np.abs(step[pos]) <= 1e-14 * F[pos]):
+            break
+    return F
+
+
+def share_load(total_N: float, c: np.ndarray, gap: np.ndarray, a: float, expo: float):
+    """Load sharing among candidate pairs (rows = angles, columns = pairs).
+
+    c: linear compliance (m/N), inf where the slot has no candidate; gap (m); Hertz
+    a F^expo. Returns (F (n, p), Delta (n,)). Works on the flattened candidates.
+    """
+    cand = np.isfinite(c) & np.isfinite(gap)
+    n = c.shape[0]
+    if not np.all(cand.any(axis=1)):
+        raise InputError("no tooth pair can come into contact at some angles (contact ratio far below one): "
+                         "the static transmission error is undefined there")
+    rows = np.nonzero(cand)[0]
+    cc, gg = c[cand], gap[cand]
+    # upper start: the smallest-gap pair alone carries everything; the total load is
+    # convex and increasing in Delta, so Newton from above converges monotonically
+    gfull = np.where(cand, gap, np.inf)
+    k0 = np.argmin(gfull, axis=1)
+    r = np.arange(n)
+    delta = gfull[r, k0] + c[r, k0] * total_N + a * total_N ** expo
+    F = None
+    for _ in range(100):
+        F = _pair_load(delta[rows] - gg, cc, a, expo, F)
+        T = np.bincount(rows, F, n)
+        Fp = np.maximum(F, 1e-300)
+        dF = np.where(F > 0, 1.0 / (cc + (a * expo * Fp ** (expo - 1.0) if a else 0.0)), 0.0)
+        slope = np.bincount(rows, dF, n)
+        resid = T - total_N
+        delta = delta - np.where(slope > 0, resid / np.where(slope > 0, slope, 1.0), 0.0)
+        if np.all(np.abs(resid) <= 1e-13 * total_N):
+            break
+    F = _pair_load(delta[rows] - gg, cc, a, expo, F)
+    # remove the last tiny Newton residual so the loads sum to the total exactly
+    T = np.bincount(rows, F, n)
+    F = F * (total_N / np.where(T > 0, T, 1.0))[rows]
+    out = np.zeros(c.shape)
+    out[cand] = F
+    return out, delta
+
+
+# -- the curve -----------------------------------------------------------------------
+
+def mesh_stiffness(pair: PairSpec, method: str = "ishikawa", points: int = 360, torque_Nm: float = 40.0,
+                   clearance_m: float = 0.0, wear: WearSpec | None = None,
+                   bearing_stiffness_N_per_m: float = math.inf, n_slices: int = ishikawa.DEFAULT_SLICES,
+                   corner_contact: bool = True) -> MeshStiffness:
+    """k_h(theta), pair loads and loaded STE over one mesh period at the operating point.
+
+    The centre distance follows from the bearing clearance (and the static load if a
+    finite bearing stiffness is given), paper Eq. 11; the contact path, contact ratio and
+    wear pattern are those at that centre distance.
+    """
+    t0 = time.perf_counter()
+    if method not in METHODS:
+        raise fail("--method", repr(method), "", f"must be one of {', '.join(METHODS)} (iso6336 is a constant)")
+    if not isinstance(points, (int, np.integer)) or points < 8:
+        raise fail("points", points, "", "must be a whole number >= 8")
+    if not (torque_Nm > 0 and math.isfinite(torque_Nm)):
+        raise fail("torque_Nm", torque_Nm, "N m", "must be in (0, 1e7] N m")
+    og = operating_geometry(pair, clearance_m, torque_Nm if math.isfinite(bearing_stiffness_N_per_m) else 0.0,
+                            bearing_stiffness_N_per_m)
+    mesh = og.mesh
+    nominal, loaded = _profiles(pair, wear, mesh.centre_distance_m)
+    theta = np.arange(points) * (mesh.mesh_angle_rad / points)
+    rb1, rb2 = pair.gear(0).base_radius_m, pair.gear(1).base_radius_m
+    pb, L = mesh.base_pitch_m, mesh.line_of_action_m
+    A, E = mesh.path_start_m, mesh.path_end_m
+    # candidate slots: from one pitch before entry to beyond the exit
+    nslots = int(math.ceil(mesh.contact_ratio)) + 3
+    j = np.arange(-1, nslots - 1)
+    d = A + rb1 * theta[:, None] + j[None, :] * pb
+    in_path = (d >= A - 1e-12 * pb) & (d <= E + 1e-12 * pb)
+    # extended (corner) contact is possible while the mating involute exists
+    lo = max(rb1 * math.sqrt(max((nominal[0].form_radius_m / rb1) ** 2 - 1, 0)), 1e-9)
+    hi = L - rb2 * math.sqrt(max((nominal[1].form_radius_m / rb2) ** 2 - 1, 0))
+    entry = (d < A) & (d > lo) & corner_contact
+    exit_ = (d > E) & (d < hi) & corner_contact
+    cand = in_path | entry | exit_
+    # compliances: inside the path at the contact radii; corners at the path ends
+    dc = np.clip(d, A, E)
+    r1 = np.sqrt(rb1 ** 2 + dc ** 2)
+    r2 = np.sqrt(rb2 ** 2 + (L - dc) ** 2)
+    c = np.full(d.shape, np.inf)
+    c1 = _tooth_compliance(method, loaded[0], nominal[0], r1[cand], pair, n_slices)
+    c2 = _tooth_compliance(method, loaded[1], nominal[1], r2[cand], pair, n_slices)
+    c[cand] = c1 + c2
+    if method == "ishikawa":
+        a, expo = ishikawa.hertz_coefficient(pair.material, pair.face_width_m), 0.9
+    else:
+        from . import energy
+        c[cand] += energy.hertz_compliance_linear(pair.material, pair.face_width_m)
+        a, expo = 0.0, 1.0
+    # gaps: wear inside the path, corner separation + end-of-path wear outside
+    gap = np.full(d.shape, np.inf)
+    if wear is not None and not wear.is_unworn:
+        h1, h2 = wear_on_line_of_action(mesh, wear, dc[cand])
+        wgap = h1 + h2
+    else:
+        wgap = np.zeros(int(cand.sum()))
+    gap[cand] = wgap
+    if np.any(entry):
+        gap[entry] += corner_gap_m(mesh, d[entry], "entry")
+    if np.any(exit_):
+        gap[exit_] += corner_gap_m(mesh, d[exit_], "exit")
+    total = torque_Nm / rb1
+    F, delta = share_load(total, c, gap, a, expo)
+    loaded_mask = F > 0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        k_pair = np.where(loaded_mask, F / np.maximum(delta[:, None] - gap, 1e-300), 0.0)
+    k = k_pair.sum(axis=1)
+    excitation = np.where(k > 0, (k_pair * np.where(loaded_mask, gap, 0.0)).sum(axis=1) / k, 0.0)
+    wall = time.perf_counter() - t0
+    return MeshStiffness(method, pair, mesh, torque_Nm, wear, theta, k, delta, excitation, F, d, in_path,
+                         wall, n_slices, {"clearance_m": clearance_m, "corner_contact": corner_contact})

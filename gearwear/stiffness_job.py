@@ -1,0 +1,184 @@
+"""The ``gearwear stiffness`` job: mesh stiffness curves per method, wear and clearance.
+
+Writes one CSV (+ JSON sidecar) per curve, an overlay PNG in the style of paper
+Fig. 6 (wear phases) / Fig. 17 (clearances) and, for several clearances, the
+mean-stiffness-versus-clearance PNG of paper Fig. 16.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from analytic.tvms import MeshStiffness, mesh_stiffness
+from geometry.operating import operating_geometry
+from geometry.spec import PairSpec
+from geometry.wear import WearSpec
+
+from . import io
+
+METHODS = ("ishikawa", "energy", "iso6336")
+
+
+@dataclass
+class Curve:
+    label: str
+    method: str
+    wear: WearSpec | None
+    clearance_m: float
+    result: MeshStiffness
+
+    @property
+    def slug(self) -> str:
+        w = self.wear.label if self.wear else "unworn"
+        return f"{self.method}_{w}_clearance{self.clearance_m * 1e6:g}um"
+
+    def summary(self) -> dict[str, Any]:
+        r = self.result
+        z = zone_means(r)
+        return {"method": self.method, "wear": self.wear.label if self.wear else "unworn",
+                "clearance_um": self.clearance_m * 1e6, "torque_Nm": r.torque_Nm,
+                "mean_N_per_m": r.mean_N_per_m, "min_N_per_m": r.min_N_per_m, "max_N_per_m": r.max_N_per_m,
+                "contact_ratio": r.contact_ratio, "points": int(len(r.angle_rad)), "wall_s": r.wall_s,
+                "double_zone_mean_N_per_m": z["double"], "single_zone_mean_N_per_m": z["single"],
+                "double_zone_length_deg": z["double_deg"], "single_zone_length_deg": z["single_deg"],
+                "ste_mean_um": float(np.mean(r.ste_m)) * 1e6,
+                "ste_peak_to_peak_um": float(np.ptp(r.ste_m)) * 1e6,
+                "centre_distance_mm": r.mesh.centre_distance_m * 1e3,
+                "operating_pressure_angle_deg": math.degrees(r.mesh.pressure_angle_rad)}
+
+
+def zone_means(r: MeshStiffness) -> dict[str, float]:
+    """Mean stiffness over the theoretical double- and single-contact zones of the
+    mesh period and the zones' lengths in pinion angle."""
+    m = r.mesh
+    rb1 = r.pair.gear(0).base_radius_m
+    d_entry = m.path_start_m + rb1 * r.angle_rad
+    if m.contact_ratio >= 1:
+        double = d_entry + m.base_pitch_m <= m.path_end_m
+    else:
+        double = np.zeros(len(d_entry), bool)
+    per = math.degrees(m.mesh_angle_rad)
+    frac = max(min(m.contact_ratio - 1.0, 1.0), 0.0)
+    return {"double": float(r.k_N_per_m[double].mean()) if double.any() else float("nan"),
+            "single": float(r.k_N_per_m[~double].mean()) if (~double).any() else float("nan"),
+            "double_deg": frac * per, "single_deg": (1 - frac) * per}
+
+
+def iso_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float) -> MeshStiffness:
+    """ISO 6336-1 method B as a constant curve k = c_gamma_alpha b at the operating
+    contact ratio (the standard gives no angle dependence)."""
+    from analytic.iso6336 import iso6336_stiffness
+
+    t0 = time.perf_counter()
+    og = operating_geometry(pair, clearance_m)
+    iso = iso6336_stiffness(pair, torque_Nm=torque_Nm, contact_ratio=og.contact_ratio)
+    k = np.full(points, iso.mesh_stiffness_N_per_m)
+    theta = np.arange(points) * (og.mesh.mesh_angle_rad / points)
+    F = torque_Nm / pair.gear(0).base_radius_m
+    contacts = og.mesh.contacts(theta)
+    share = np.where(contacts.active, F / np.maximum(contacts.count, 1)[:, None], 0.0)
+    return MeshStiffness("iso6336", pair, og.mesh, torque_Nm, None, theta, k, F / k, np.zeros(points),
+                         share, contacts.d, contacts.active, time.perf_counter() - t0,
+                         meta={"iso": dataclasses.asdict(iso)})
+
+
+def compute(pair: PairSpec, method: str, wears: list[WearSpec | None], clearances_m: list[float],
+            torque_Nm: float, points: int) -> list[Curve]:
+    curves = []
+    for wear in wears:
+        for c in clearances_m:
+            if method == "iso6336":
+                r = iso_curve(pair, points, torque_Nm, c)
+            else:
+                r = mesh_stiffness(pair, method=method, points=points, torque_Nm=torque_Nm, clearance_m=c,
+                                   wear=wear)
+            label = f"{wear.label if wear else 'unworn'}, clearance {c * 1e6:g} um"
+            curves.append(Curve(label, method, wear, c, r))
+    return curves
+
+
+def curve_csv(c: Curve) -> str:
+    r = c.result
+    npair = r.pair_load_N.shape[1]
+    cols = ["angle_deg", "k_N_per_m", "pairs_in_contact"] + [f"load_pair_{j + 1}_N" for j in range(npair)] + \
+           ["ste_um", "excitation_um"]
+    rows = [",".join(cols)]
+    n_in = r.pairs_in_contact
+    for i in range(len(r.angle_rad)):
+        loads = ",".join(f"{x:.9g}" for x in r.pair_load_N[i])
+        rows.append(f"{math.degrees(r.angle_rad[i]):.9g},{r.k_N_per_m[i]:.9g},{n_in[i]},{loads},"
+                    f"{r.ste_m[i] * 1e6:.9g},{r.excitation_m[i] * 1e6:.9g}")
+    return "\n".join(rows) + "\n"
+
+
+def figures(curves: list[Curve]):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    figs = {}
+    fig, (ax, ax2) = plt.subplots(2, 1, figsize=(9, 7), sharex=True)
+    for c in curves:
+        r = c.result
+        ang = np.degrees(r.angle_rad)
+        ax.plot(ang, r.k_N_per_m / 1e8, label=c.label)
+        ax2.plot(ang, r.ste_m * 1e6, label=c.label)
+    ax.set_ylabel("mesh stiffness k_h (1e8 N/m)")
+    ax2.set_ylabel("loaded static TE (um)")
+    ax2.set_xlabel("pinion angle from entry of a pair at A (deg), one mesh period")
+    m0 = curves[0].result
+    ax.set_title(f"Time-varying mesh stiffness ({curves[0].method}), T = {m0.torque_Nm:g} N m, "
+                 f"b = {m0.pair.face_width_m * 1e3:g} mm")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    ax2.grid(alpha=0.3)
+    fig.tight_layout()
+    figs["stiffness.png"] = fig
+    clearances = sorted({c.clearance_m for c in curves})
+    if len(clearances) > 1:
+        fig2, axs = plt.subplots(1, 3, figsize=(13, 4))
+        for wl in sorted({c.wear.label if c.wear else "unworn" for c in curves}):
+            sel = [c for c in curves if (c.wear.label if c.wear else "unworn") == wl]
+            sel.sort(key=lambda c: c.clearance_m)
+            x = [c.clearance_m * 1e6 for c in sel]
+            zs = [zone_means(c.result) for c in sel]
+            axs[0].plot(x, [c.result.mean_N_per_m / 1e8 for c in sel], "o-", label=wl)
+            axs[1].plot(x, [z["double_deg"] for z in zs], "o-", label=f"double ({wl})")
+            axs[1].plot(x, [z["single_deg"] for z in zs], "s--", label=f"single ({wl})")
+            axs[2].plot(x, [c.result.contact_ratio for c in sel], "o-", label=wl)
+        axs[0].set_ylabel("mean mesh stiffness (1e8 N/m)")
+        axs[1].set_ylabel("zone length per mesh period (deg)")
+        axs[2].set_ylabel("contact ratio")
+        for a in axs:
+            a.set_xlabel("bearing clearance (um)")
+            a.grid(alpha=0.3)
+            a.legend(fontsize=7)
+        fig2.suptitle("Mesh stiffness versus bearing clearance (paper Fig. 16)")
+        fig2.tight_layout()
+        figs["mean_vs_clearance.png"] = fig2
+    return figs
+
+
+def write(curves: list[Curve], out: Path, inputs: dict[str, Any]) -> list[Path]:
+    import json
+
+    import matplotlib.pyplot as plt
+
+    files = []
+    for c in curves:
+        p = io.write_text(out / f"stiffness_{c.slug}.csv", curve_csv(c))
+        files += [p, io.sidecar(p, {**inputs, "wear": c.wear.label if c.wear else "unworn",
+                                    "clearance_um": c.clearance_m * 1e6}, c.method, {"summary": c.summary()})]
+    for name, fig in figures(curves).items():
+        files.append(io.write_figure(fig, out / name))
+        plt.close(fig)
+    files.append(io.write_text(out / "stiffness_summary.json",
+                               json.dumps([c.summary() for c in curves], indent=2, sort_keys=True) + "\n"))
+    return files
