@@ -16,13 +16,7 @@ from geometry.spec import default_pair
 from geometry.wear import WearSpec, worn_profiles
 
 
-def median_time(fn, n=7):
-    ts = []
-    for _ in range(n):
-        t0 = time.perf_counter()
-        fn()
-        ts.append(time.perf_counter() - t0)
-    return statistics.median(ts)
+from _timing import median_time  # noqa: E402  (benchmarks/_timing.py)
 
 
 def polyline_error(prof):

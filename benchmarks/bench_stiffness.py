@@ -28,7 +28,6 @@ import inspect
 import json
 import math
 import os
-import statistics
 import subprocess
 import sys
 import tempfile
@@ -54,13 +53,7 @@ BENCH_VENV_HELP = ("python3 -m venv .venv-bench && "
                    ".venv-bench/bin/python -m pip install 'ross-rotordynamics==2.3.0' 'plotly<7'")
 
 
-def median_time(fn, n):
-    ts = []
-    for _ in range(n):
-        t0 = time.perf_counter()
-        fn()
-        ts.append(time.perf_counter() - t0)
-    return statistics.median(ts)
+from _timing import median_time  # noqa: E402  (benchmarks/_timing.py)
 
 
 def short_error(exc: BaseException) -> str:
@@ -209,23 +202,9 @@ def print_table(rows, ross_out):
 
 
 def write_json(path: Path, data: dict) -> None:
-    """Atomic: write a temp file next to the target, then os.replace."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            json.dump(data, fh, indent=1)
-            fh.write("\n")
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes it 0600; give it a normal file's mode
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
+    """Atomic write (temp file + rename) through the project's shared writer."""
+    from geometry.fileio import atomic_write_bytes
+    atomic_write_bytes(path, (json.dumps(data, indent=1) + "\n").encode())
 
 
 def main():

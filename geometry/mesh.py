@@ -97,7 +97,6 @@ from __future__ import annotations
 import itertools
 import math
 import os
-import tempfile
 import threading
 import time
 from contextlib import contextmanager
@@ -108,6 +107,8 @@ import gmsh
 import meshio
 import numpy as np
 import skfem
+
+from .fileio import atomic_write
 
 __all__ = [
     "MeshError",
@@ -996,27 +997,6 @@ def _to_meshio(gm: GearMesh, with_lines: bool) -> meshio.Mesh:
     return meshio.Mesh(pts, cells, cell_data=cell_data, field_data=field_data)
 
 
-def _atomic_write(path: str, writer) -> None:
-    path = os.fspath(path)
-    d = os.path.dirname(os.path.abspath(path))
-    ext = os.path.splitext(path)[1]
-    fd, tmp = tempfile.mkstemp(prefix=".tmp_mesh_", suffix=ext, dir=d)
-    os.close(fd)
-    try:
-        writer(tmp)
-        # mkstemp creates 0600; give the final file the usual umask mode
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
-
-
 def write_mesh(gm: GearMesh, path_msh: str | None = None, path_vtu: str | None = None) -> None:
     """Write ``gm`` as gmsh ``.msh`` (v2.2 ASCII, with named physical groups
     for the domain and every boundary) and/or ``.vtu`` (triangles only).
@@ -1026,9 +1006,9 @@ def write_mesh(gm: GearMesh, path_msh: str | None = None, path_vtu: str | None =
     """
     if path_msh is not None:
         mm = _to_meshio(gm, with_lines=True)
-        _atomic_write(path_msh, lambda p: meshio.write(p, mm, file_format="gmsh22", binary=False))
+        atomic_write(path_msh, lambda p: meshio.write(p, mm, file_format="gmsh22", binary=False))
     if path_vtu is not None:
         mv = _to_meshio(gm, with_lines=False)
         mv = meshio.Mesh(mv.points, mv.cells[:1],
                          cell_data={"quality": [triangle_quality(gm)]})
-        _atomic_write(path_vtu, lambda p: meshio.write(p, mv, file_format="vtu"))
+        atomic_write(path_vtu, lambda p: meshio.write(p, mv, file_format="vtu"))
