@@ -269,12 +269,17 @@ def share_load(total_N: float, c: np.ndarray, gap: np.ndarray, a: float, expo: f
 def mesh_stiffness(pair: PairSpec, method: str = "ishikawa", points: int = 360, torque_Nm: float = 40.0,
                    clearance_m: float = 0.0, wear: WearSpec | None = None,
                    bearing_stiffness_N_per_m: float = math.inf, n_slices: int = ishikawa.DEFAULT_SLICES,
-                   corner_contact: bool = True) -> MeshStiffness:
+                   corner_contact: bool = True, correction=None) -> MeshStiffness:
     """k_h(theta), pair loads and loaded STE over one mesh period at the operating point.
 
     The centre distance follows from the bearing clearance (and the static load if a
     finite bearing stiffness is given), paper Eq. 11; the contact path, contact ratio and
     wear pattern are those at that centre distance.
+
+    ``correction``: optional ((radius_m, factor), (radius_m, factor)) per gear: the
+    tooth compliance delta_1 + delta_2 at contact radius R is multiplied by the factor
+    interpolated at R (the FE calibration; see gearwear.calibrate). Plain arrays, so
+    this module never depends on the FE stage.
     """
     t0 = time.perf_counter()
     if method not in METHODS:
@@ -309,6 +314,11 @@ def mesh_stiffness(pair: PairSpec, method: str = "ishikawa", points: int = 360, 
     c = np.full(d.shape, np.inf)
     c1 = _tooth_compliance(method, loaded[0], nominal[0], r1[cand], pair, n_slices)
     c2 = _tooth_compliance(method, loaded[1], nominal[1], r2[cand], pair, n_slices)
+    if correction is not None:
+        for k, (cg, rr) in enumerate(((c1, r1[cand]), (c2, r2[cand]))):
+            if correction[k] is not None:
+                grid, factor = (np.asarray(a, dtype=float) for a in correction[k])
+                cg *= np.interp(rr, grid, factor)
     c[cand] = c1 + c2
     if method == "ishikawa":
         a, expo = ishikawa.hertz_coefficient(pair.material, pair.face_width_m), 0.9
@@ -337,4 +347,5 @@ def mesh_stiffness(pair: PairSpec, method: str = "ishikawa", points: int = 360, 
     excitation = np.where(k > 0, (k_pair * np.where(loaded_mask, gap, 0.0)).sum(axis=1) / k, 0.0)
     wall = time.perf_counter() - t0
     return MeshStiffness(method, pair, mesh, torque_Nm, wear, theta, k, delta, excitation, F, d, in_path,
-                         wall, n_slices, {"clearance_m": clearance_m, "corner_contact": corner_contact})
+                         wall, n_slices, {"clearance_m": clearance_m, "corner_contact": corner_contact,
+                                          "corrected": correction is not None})
