@@ -115,6 +115,115 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
     return 0
 
 
+def _wear_list(args, scene, torque):
+    from geometry.wear import parse_wear_arg
+    names = _split_multi(args.wear)
+    return [None if w == "unworn" else parse_wear_arg(w, torque, scene.operating.speed_rpm) for w in names]
+
+
+def _cmd_verify(args: argparse.Namespace) -> int:
+    from tqdm import tqdm
+
+    from . import verify_job
+    from .scene import load_scene
+
+    scene = load_scene(args.pair)
+    wears = _wear_list(args, scene, scene.operating.torque_Nm) or [None, None]
+    if not args.wear:
+        from geometry.wear import WearSpec
+        wears = [None, WearSpec(phase="mild"), WearSpec(phase="severe")]
+    positions = _int_arg("--positions", args.positions, 5, 201)
+    steps = len(wears) + (0 if args.no_convergence else 12)
+    with tqdm(total=steps, desc="verify", unit="run", disable=args.json or None, file=sys.stderr) as bar:
+        def progress(msg):
+            bar.set_postfix_str(msg)
+            bar.update(1)
+        v = verify_job.run(scene.pair, wears, positions, convergence=not args.no_convergence, progress=progress)
+    inputs = {"scene": scene.name, "pair": _pair_inputs(scene), "wear": [w.label if w else "unworn" for w in wears],
+              "positions": positions, "convergence": not args.no_convergence}
+    files = verify_job.write(v, Path(args.out), inputs) if args.out else []
+    js = verify_job.to_json(v)
+    js["files"] = [str(f) for f in files]
+    if args.json:
+        print(json.dumps(js, sort_keys=True, allow_nan=False, default=lambda o: None))
+    else:
+        print(f"{'wear':<9}{'FE s':>7}{'dofs':>9}{'Ishikawa-FE % (min..max)':>28}{'energy-FE % (min..max)':>26}")
+        for ph in v.phases:
+            di = 100 * (ph.ishikawa / ph.fem - 1)
+            de = 100 * (ph.energy / ph.fem - 1)
+            print(f"{ph.label:<9}{ph.fem_wall_s:>7.2f}{ph.dofs:>9}{di.min():>14.1f} .. {di.max():<11.1f}"
+                  f"{de.min():>12.1f} .. {de.max():<11.1f}")
+        if v.acceptance:
+            a = v.acceptance
+            print(f"FE convergence: two finest P2 levels differ by {a['finest_p2_change_pct']:.3f} %, default level "
+                  f"{a['default_dofs']} dofs in {a['default_wall_s']:.2f} s")
+        for f in files:
+            print(f"wrote {f}")
+    return 0
+
+
+def _cmd_calibrate(args: argparse.Namespace) -> int:
+    from . import calibrate, io, tables
+    from .scene import load_scene
+
+    scene = load_scene(args.pair)
+    torque = scene.operating.torque_Nm if args.torque_Nm is None else _float_arg("--torque-Nm", "N m")(args.torque_Nm)
+    if not torque > 0:
+        raise InputError(f"--torque-Nm = {torque:g} N m: must be in (0, 1e7] N m")
+    points = _int_arg("--points", args.points, 8, 1_000_000)
+    wears = _wear_list(args, scene, torque) or [scene.wear]
+    cl_args = _split_multi(args.clearance_um)
+    clearances = [_float_arg("--clearance-um", "um")(c) * 1e-6 for c in cl_args] or [scene.clearance_m]
+    out = Path(args.out) if args.out else None
+    rows, files = [], []
+    for w in wears:
+        cal = None
+        for c in clearances:
+            inputs = calibrate.table_inputs(scene.pair, w, c, torque, points, 21)
+            hit = None if args.refresh else tables.cached(inputs)
+            if hit is None and cal is None:
+                cal = calibrate.run_fe(scene.pair, w)
+            tab = hit or calibrate.calibrated_table(scene.pair, w, c, torque, points, calibration=cal,
+                                                    refresh=args.refresh)
+            key = tables.table_key(inputs)
+            label = f"{w.label if w else 'unworn'}_clearance{c * 1e6:g}um"
+            if out:
+                src = tables.cache_dir() / f"{key}.csv"
+                files.append(io.write_bytes(out / f"calibrated_{label}.csv", src.read_bytes()))
+                files.append(io.write_bytes(out / f"calibrated_{label}.csv.json",
+                                            Path(str(src) + ".json").read_bytes()))
+            m = tab.meta
+            rows.append({"wear": w.label if w else "unworn", "clearance_um": c * 1e6, "cache_hit": hit is not None,
+                         "mean_N_per_m": tab.mean_N_per_m, "min_N_per_m": float(tab.k_N_per_m.min()),
+                         "max_N_per_m": float(tab.k_N_per_m.max()),
+                         "uncorrected_mean_N_per_m": m.get("uncorrected_mean_N_per_m"),
+                         "check_residual": m.get("check_residual"), "fit_residual": m.get("fit_residual"),
+                         "fe_estimated_relative_error": m.get("fe_estimated_relative_error"),
+                         "input_sha256": m.get("input_sha256"), "points": int(len(tab.k_N_per_m))})
+    if args.json:
+        print(json.dumps({"tables": rows, "files": [str(f) for f in files]}, sort_keys=True,
+                         allow_nan=False, default=lambda o: None))
+    else:
+        print(f"{'wear':<9}{'clear um':>9}{'mean N/m':>12}{'analytic':>12}{'check res %':>12}{'FE err %':>9}  cache")
+        for r in rows:
+            print(f"{r['wear']:<9}{r['clearance_um']:>9g}{r['mean_N_per_m']:>12.4e}"
+                  f"{r['uncorrected_mean_N_per_m']:>12.4e}{100 * max(r['check_residual']):>12.2f}"
+                  f"{100 * r['fe_estimated_relative_error']:>9.2f}  {'hit' if r['cache_hit'] else 'new'}")
+        for f in files:
+            print(f"wrote {f}")
+    return 0
+
+
+def _int_arg(name: str, text, lo: int, hi: int) -> int:
+    try:
+        v = int(str(text))
+    except ValueError:
+        raise InputError(f"{name} = {text!r}: must be a whole number in [{lo}, {hi}]") from None
+    if not lo <= v <= hi:
+        raise InputError(f"{name} = {v}: must be a whole number in [{lo}, {hi}]")
+    return v
+
+
 def _pair_inputs(scene) -> dict:
     p = scene.pair
     return {"teeth": list(p.teeth), "module_mm": p.module_m * 1e3,
@@ -195,6 +304,35 @@ def build_parser() -> argparse.ArgumentParser:
     st.add_argument("--out", help="output folder for CSV, JSON sidecars and PNGs")
     st.add_argument("--json", action="store_true", help="print one JSON object (first curve + 'curves')")
     st.set_defaults(func=_cmd_stiffness)
+
+    v = sub.add_parser("verify", help="analytic (Ishikawa, energy) vs FE tooth compliance, FE convergence",
+                       description="FE single-tooth compliance on the full gear (bore fixed, plane stress, P2) "
+                                   "at load positions from SAP to tip, against Ishikawa delta_1 + delta_2 and the "
+                                   "energy method, per wear phase; h/p convergence with Richardson extrapolation. "
+                                   "Writes verification.md, compliance.png, convergence.png, verification.json.")
+    v.add_argument("pair", nargs="?", help="scene or pair TOML file (default: built-in paper pair)")
+    v.add_argument("--wear", nargs="+", help="phases to verify (default: unworn,mild,severe)")
+    v.add_argument("--positions", default="21", help="load positions from SAP to tip (default 21)")
+    v.add_argument("--no-convergence", action="store_true", help="skip the h/p convergence study (~1-3 min)")
+    v.add_argument("--out", help="output folder")
+    v.add_argument("--json", action="store_true", help="print one JSON object")
+    v.set_defaults(func=_cmd_verify)
+
+    c = sub.add_parser("calibrate", help="FE-calibrated mesh stiffness tables (cached by input hash)",
+                       description="Mesh stiffness tables from the Ishikawa model with the tooth compliance "
+                                   "corrected to FE (fitted on the even load positions, checked on the odd ones). "
+                                   "Tables are cached by the SHA-256 of their inputs ($GEARWEAR_CACHE or "
+                                   "~/.cache/gearwear/tables); these are what scenes with "
+                                   "mesh_stiffness.source = \"calibrated\" use.")
+    c.add_argument("pair", nargs="?", help="scene or pair TOML file (default: built-in paper pair)")
+    c.add_argument("--wear", nargs="+", help="wear phases / depths / hours (default: the scene's)")
+    c.add_argument("--clearance-um", nargs="+", help="bearing clearances in um (default: the scene's)")
+    c.add_argument("--torque-Nm", help="pinion torque (default: scene, 40)")
+    c.add_argument("--points", default="360", help="angles per mesh period (default 360)")
+    c.add_argument("--refresh", action="store_true", help="recompute even if a cached table exists")
+    c.add_argument("--out", help="copy the tables (CSV + JSON sidecar) here")
+    c.add_argument("--json", action="store_true", help="print one JSON object")
+    c.set_defaults(func=_cmd_calibrate)
     return p
 
 

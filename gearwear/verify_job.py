@@ -1,0 +1,195 @@
+"""The ``gearwear verify`` job: analytic (Ishikawa, energy) versus FE tooth compliance.
+
+Per wear phase: FE single-tooth compliance on the full gear (fem.tooth) at the load
+positions from SAP to tip, the Ishikawa delta_1 + delta_2 and the energy-method
+bending + shear + axial + foundation compliance at the same radii, their differences,
+and the wall time of each method. Plus the FE h/p convergence study with Richardson
+extrapolation (fem.convergence). Writes verification.md, PNGs and verification.json.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from analytic import energy
+from analytic.tvms import _profiles
+from geometry.spec import PairSpec
+from geometry.wear import WearSpec
+
+from . import io
+
+
+@dataclass
+class PhaseResult:
+    label: str
+    radius_mm: np.ndarray
+    roll_angle_deg: np.ndarray
+    fem: np.ndarray
+    ishikawa: np.ndarray
+    energy: np.ndarray
+    fem_wall_s: float
+    ishikawa_wall_s: float
+    energy_wall_s: float
+    dofs: int
+    elements: int
+
+    def to_json(self) -> dict[str, Any]:
+        return {"radius_mm": self.radius_mm.tolist(), "roll_angle_deg": self.roll_angle_deg.tolist(),
+                "fem_compliance_um_per_N_per_mm": self.fem.tolist(),
+                "ishikawa_compliance_um_per_N_per_mm": self.ishikawa.tolist(),
+                "energy_compliance_um_per_N_per_mm": self.energy.tolist(),
+                "ishikawa_difference_percent": (100 * (self.ishikawa / self.fem - 1)).tolist(),
+                "energy_difference_percent": (100 * (self.energy / self.fem - 1)).tolist(),
+                "wall_s": self.fem_wall_s, "ishikawa_wall_s": self.ishikawa_wall_s,
+                "energy_wall_s": self.energy_wall_s, "fem_dofs": self.dofs, "fem_elements": self.elements}
+
+
+@dataclass
+class Verification:
+    pair: PairSpec
+    phases: list[PhaseResult]
+    convergence: list[dict] | None
+    acceptance: dict | None
+    wall_s: float = 0.0
+    meta: dict = field(default_factory=dict)
+
+
+def run_phase(pair: PairSpec, wear: WearSpec | None, positions: int = 21) -> PhaseResult:
+    from analytic.ishikawa import tooth_compliance as ishikawa_compliance
+    from fem.tooth import single_tooth_compliance
+
+    fe = single_tooth_compliance(pair, gear_index=0, wear=wear, positions=positions)
+    b_mm = pair.face_width_m * 1e3
+    nominal, loaded = _profiles(pair, wear, pair.centre_distance_m)
+    t0 = time.perf_counter()
+    ish = ishikawa_compliance(loaded[0], fe.radius_m, pair.material, pair.face_width_m, opposite=nominal[0])
+    t1 = time.perf_counter()
+    en = energy.tooth_compliance(loaded[0], fe.radius_m, pair.material, pair.face_width_m, opposite=nominal[0])
+    t2 = time.perf_counter()
+    return PhaseResult(wear.label if wear else "unworn", fe.radius_mm, fe.roll_angle_deg,
+                       fe.fem_compliance_um_per_N_per_mm, ish.total_m_per_N * 1e6 * b_mm,
+                       en.total_m_per_N * 1e6 * b_mm, fe.wall_s, t1 - t0, t2 - t1, int(fe.ndofs),
+                       int(fe.n_elements))
+
+
+def run(pair: PairSpec, wears: list[WearSpec | None], positions: int = 21, convergence: bool = True,
+        progress=None) -> Verification:
+    t0 = time.perf_counter()
+    phases = []
+    for w in wears:
+        phases.append(run_phase(pair, w, positions))
+        if progress:
+            progress(f"FE compliance, wear {phases[-1].label}")
+    conv = acc = None
+    if convergence:
+        from fem.convergence import acceptance, convergence_table
+        conv = convergence_table(pair, None, positions=positions,
+                                 progress=(lambda row: progress(f"convergence P{row['order']} scale "
+                                                                f"{row['mesh_scale']:.3f}")) if progress else None)
+        acc = acceptance(conv)
+    return Verification(pair, phases, conv, acc, time.perf_counter() - t0)
+
+
+def figures(v: Verification):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    figs = {}
+    fig, (ax, ax2) = plt.subplots(2, 1, figsize=(9, 8), sharex=True)
+    for i, ph in enumerate(v.phases):
+        col = f"C{i}"
+        ax.plot(ph.radius_mm, ph.fem, "o-", color=col, ms=4, label=f"FE ({ph.label})")
+        ax.plot(ph.radius_mm, ph.ishikawa, "--", color=col, label=f"Ishikawa ({ph.label})")
+        ax.plot(ph.radius_mm, ph.energy, ":", color=col, label=f"energy ({ph.label})")
+        ax2.plot(ph.radius_mm, 100 * (ph.ishikawa / ph.fem - 1), "--", color=col, label=f"Ishikawa ({ph.label})")
+        ax2.plot(ph.radius_mm, 100 * (ph.energy / ph.fem - 1), ":", color=col, label=f"energy ({ph.label})")
+    ax.set_ylabel("tooth compliance (um per N/mm)")
+    ax.set_title("Single-tooth compliance: FE (full gear, bore fixed) vs analytic bending+shear+foundation")
+    ax.legend(fontsize=7, ncol=3)
+    ax.grid(alpha=0.3)
+    ax2.axhline(0, color="k", lw=0.6)
+    ax2.set_ylabel("analytic - FE (% of FE)")
+    ax2.set_xlabel("load radius (mm), start of active profile to tip")
+    ax2.legend(fontsize=7, ncol=2)
+    ax2.grid(alpha=0.3)
+    fig.tight_layout()
+    figs["compliance.png"] = fig
+    return figs
+
+
+def markdown(v: Verification, files: dict[str, str]) -> str:
+    p = v.pair
+    lines = ["# Verification: analytic tooth compliance against FE", "",
+             f"Pair: z = {p.teeth[0]}/{p.teeth[1]}, m = {p.module_m * 1e3:g} mm, alpha = "
+             f"{np.degrees(p.pressure_angle_rad):g} deg, b = {p.face_width_m * 1e3:g} mm, E = "
+             f"{p.material.youngs_modulus_Pa / 1e9:g} GPa, nu = {p.material.poisson_ratio:g}, bore radius "
+             f"{p.hub_radius_m[0] * 1e3:g} mm. FE: full gear (all teeth), bore fixed, plane stress, P2 "
+             "triangles, load along the line of action as a Hertzian pressure patch; the deflection is the "
+             "displacement of the tooth centre line at the load radius projected on the load direction. "
+             "Compliance = deflection per load per unit face width (um per N/mm). Analytic: Ishikawa/Weber "
+             "delta_1 + delta_2 (paper Eqs. 2-4) and the potential-energy method (bending + shear + axial + "
+             "Sainsot foundation), without the Hertz term.", ""]
+    if "compliance.png" in files:
+        lines += [f"![compliance]({files['compliance.png']})", ""]
+    for ph in v.phases:
+        lines += [f"## Wear: {ph.label}", "",
+                  f"FE: {ph.dofs} dofs, {ph.elements} elements, {ph.fem_wall_s:.2f} s for {len(ph.radius_mm)} "
+                  f"positions; Ishikawa {ph.ishikawa_wall_s * 1e3:.2f} ms; energy {ph.energy_wall_s * 1e3:.2f} ms.",
+                  "", "| radius (mm) | roll (deg) | FE | Ishikawa | diff % | energy | diff % |",
+                  "|---|---|---|---|---|---|---|"]
+        for k in range(len(ph.radius_mm)):
+            lines.append(f"| {ph.radius_mm[k]:.3f} | {ph.roll_angle_deg[k]:.2f} | {ph.fem[k]:.5f} | "
+                         f"{ph.ishikawa[k]:.5f} | {100 * (ph.ishikawa[k] / ph.fem[k] - 1):+.1f} | "
+                         f"{ph.energy[k]:.5f} | {100 * (ph.energy[k] / ph.fem[k] - 1):+.1f} |")
+        lines.append("")
+    if v.convergence:
+        from fem.convergence import format_table
+        lines += ["## FE convergence (unworn, h- and p-refinement, Richardson extrapolation)", "",
+                  "```", format_table(v.convergence), "```", ""]
+        if "convergence.png" in files:
+            lines += [f"![convergence]({files['convergence.png']})", ""]
+        a = v.acceptance or {}
+        lines += [f"Default level: {a.get('default_dofs')} dofs, {a.get('default_wall_s', float('nan')):.2f} s; "
+                  f"change to the next finer P2 level {a.get('default_vs_finer_change_pct', float('nan')):.3f} %; "
+                  f"two finest P2 levels differ by {a.get('finest_p2_change_pct', float('nan')):.3f} %; "
+                  f"error vs extrapolation {a.get('default_error_vs_extrapolation_pct', float('nan')):.3f} %.", ""]
+    lines.append(f"Total wall time: {v.wall_s:.1f} s.")
+    return "\n".join(lines) + "\n"
+
+
+def write(v: Verification, out: Path, inputs: dict[str, Any]) -> list[Path]:
+    import matplotlib.pyplot as plt
+
+    files: list[Path] = []
+    names: dict[str, str] = {}
+    for name, fig in figures(v).items():
+        files.append(io.write_figure(fig, out / name))
+        names[name] = name
+        plt.close(fig)
+    if v.convergence:
+        from fem.convergence import plot_convergence
+        tmp = out / ".convergence.png.tmp.png"
+        plot_convergence(v.convergence, tmp)
+        files.append(io.write_bytes(out / "convergence.png", tmp.read_bytes()))
+        tmp.unlink()
+        names["convergence.png"] = "convergence.png"
+    files.append(io.write_text(out / "verification.md", markdown(v, names)))
+    js = to_json(v)
+    files.append(io.write_text(out / "verification.json", json.dumps(js, indent=1, sort_keys=True) + "\n"))
+    files.append(io.sidecar(out / "verification.json", inputs, "fem.tooth vs analytic.ishikawa / analytic.energy"))
+    return files
+
+
+def to_json(v: Verification) -> dict[str, Any]:
+    out: dict[str, Any] = {"phases": {ph.label: ph.to_json() for ph in v.phases}, "wall_s": v.wall_s}
+    if v.convergence is not None:
+        out["convergence"] = [{k: val for k, val in r.items() if k != "timings"} for r in v.convergence]
+        out["acceptance"] = v.acceptance
+    return out
