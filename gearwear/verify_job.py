@@ -102,7 +102,7 @@ def figures(v: Verification):
     import matplotlib.pyplot as plt
 
     figs = {}
-    fig, (ax, ax2) = plt.subplots(2, 1, figsize=(9, 8), sharex=True)
+    fig, (ax, ax2, ax3) = plt.subplots(3, 1, figsize=(9, 11), sharex=True)
     for i, ph in enumerate(v.phases):
         col = f"C{i}"
         ax.plot(ph.radius_mm, ph.fem, "o-", color=col, ms=4, label=f"FE ({ph.label})")
@@ -116,9 +116,22 @@ def figures(v: Verification):
     ax.grid(alpha=0.3)
     ax2.axhline(0, color="k", lw=0.6)
     ax2.set_ylabel("analytic - FE (% of FE)")
-    ax2.set_xlabel("load radius (mm), start of active profile to tip")
     ax2.legend(fontsize=7, ncol=2)
     ax2.grid(alpha=0.3)
+    base = next((ph for ph in v.phases if ph.label == "unworn"), None)
+    if base is not None:
+        for i, ph in enumerate(v.phases):
+            if ph is base:
+                continue
+            col = f"C{i}"
+            ax3.plot(ph.radius_mm, 100 * (ph.fem / base.fem - 1), "o-", ms=3, color=col, label=f"FE ({ph.label})")
+            ax3.plot(ph.radius_mm, 100 * (ph.ishikawa / base.ishikawa - 1), "--", color=col,
+                     label=f"Ishikawa ({ph.label})")
+            ax3.plot(ph.radius_mm, 100 * (ph.energy / base.energy - 1), ":", color=col, label=f"energy ({ph.label})")
+        ax3.legend(fontsize=7, ncol=3)
+    ax3.set_ylabel("compliance change by wear (% of unworn)")
+    ax3.set_xlabel("load radius (mm), start of active profile to tip")
+    ax3.grid(alpha=0.3)
     fig.tight_layout()
     figs["compliance.png"] = fig
     return figs
@@ -182,8 +195,12 @@ def write(v: Verification, out: Path, inputs: dict[str, Any]) -> list[Path]:
         names["convergence.png"] = "convergence.png"
     files.append(io.write_text(out / "verification.md", markdown(v, names)))
     js = to_json(v)
+    # a JSON result carries its provenance inside instead of a .json.json sidecar
+    from . import __version__
+    js["provenance"] = {"software": "gearwear", "version": __version__, "inputs": inputs,
+                        "input_sha256": io.input_hash(inputs),
+                        "method": "fem.tooth vs analytic.ishikawa / analytic.energy"}
     files.append(io.write_text(out / "verification.json", json.dumps(js, indent=1, sort_keys=True) + "\n"))
-    files.append(io.sidecar(out / "verification.json", inputs, "fem.tooth vs analytic.ishikawa / analytic.energy"))
     return files
 
 
