@@ -1,12 +1,20 @@
 """Calibrated mesh-stiffness tables: the analytic (Ishikawa) model corrected to FE.
 
-For each gear the FE single-tooth compliance c_FE(R) (full gear, bore fixed, Hertz
-patch load, centre-line deflection; fem.tooth) and the Ishikawa delta_1 + delta_2
-c_A(R) are computed at the same load radii from SAP to tip. The correction factor
-r(R) = c_FE / c_A is fitted by a quadratic in the normalised radius on the even
-positions and checked on the odd ones (the residual is reported). The time-varying
-mesh stiffness is then the analytic one (load sharing, Hertz Eq. 5, wear gaps,
-tip-corner contact) with every tooth compliance multiplied by r(R).
+Two stages, each fitted on some FE positions and checked on the others:
+
+1. Tooth compliance. For each gear the FE single-tooth compliance c_FE(R) (full
+   gear, bore fixed, Hertz patch load, centre-line deflection; fem.tooth) and the
+   Ishikawa delta_1 + delta_2 c_A(R) at the same load radii from SAP to tip give
+   r(R) = c_FE / c_A, fitted by a quadratic in the normalised radius on the even
+   positions and checked on the odd ones. The analytic TVMS (load sharing, Hertz
+   Eq. 5, wear gaps, tip-corner contact) is evaluated with every tooth compliance
+   multiplied by r(R).
+2. Pair level. What a per-tooth model cannot hold -- the coupling of neighbouring
+   teeth through the rim and the local contact approach consistent with the FE
+   reading (Weber) -- comes from the full-body FE pair contact (fem.pair) at
+   ``pair_positions`` angles: s = k_FE / k_stage1 is averaged separately where one
+   and where two or more pairs carry load (stage 1), over the even FE positions, and
+   checked on the odd ones; the table is k_stage1(theta) s(theta).
 
 Tables are cached by the SHA-256 of all inputs (gearwear.tables).
 """
@@ -28,6 +36,7 @@ from geometry.wear import WearSpec
 from . import tables
 
 FIT_DEGREE = 2
+PAIR_POSITIONS = 24
 
 
 @dataclass
@@ -84,6 +93,47 @@ class Calibration:
     wall_s: float
 
 
+@dataclass
+class PairCorrection:
+    """Stage 2: zone factors k_FE / k_stage1 from the FE pair contact."""
+
+    double: float
+    single: float
+    check_residual: float     # max |k_stage1 s / k_FE - 1| on the odd (held-out) FE positions
+    check_rms: float          # rms of the same
+    fit_residual: float       # the same on the even (fitting) positions
+    fe_mean_N_per_m: float
+    stage1_mean_at_fe_N_per_m: float
+    fe_wall_s: float
+
+
+def _double_mask(result) -> np.ndarray:
+    """Angles where two or more pairs carry load: only there can the rim couple them."""
+    return (result.pair_load_N > 0).sum(axis=1) >= 2
+
+
+def pair_correction(pair: PairSpec, wear: WearSpec | None, clearance_m: float, torque_Nm: float,
+                    corr: tuple, positions: int = 24) -> PairCorrection:
+    """Fit the per-zone pair factor on the even FE positions, check on the odd ones."""
+    from fem.pair import pair_contact
+
+    fe = pair_contact(pair, wear=wear, positions=positions, torque_Nm=torque_Nm, clearance_m=clearance_m)
+    st1 = mesh_stiffness(pair, method="ishikawa", points=positions, torque_Nm=torque_Nm, clearance_m=clearance_m,
+                         wear=wear, correction=corr)
+    ratio = fe.k_N_per_m / st1.k_N_per_m
+    dbl = _double_mask(st1)
+    even = np.arange(positions) % 2 == 0
+    factors = {}
+    for name, zone in (("double", dbl), ("single", ~dbl)):
+        sel = zone & even
+        factors[name] = float(np.mean(ratio[sel])) if sel.any() else float(np.mean(ratio[zone])) if zone.any() else 1.0
+    s = np.where(dbl, factors["double"], factors["single"])
+    res = np.abs(s / ratio - 1.0)
+    return PairCorrection(factors["double"], factors["single"], float(res[~even].max()),
+                          float(np.sqrt(np.mean(res[~even] ** 2))), float(res[even].max()),
+                          fe.mean_N_per_m, st1.mean_N_per_m, float(fe.timings.get("total_s", float("nan"))))
+
+
 def run_fe(pair: PairSpec, wear: WearSpec | None, positions: int = 21, estimate_error: bool = True) -> Calibration:
     """FE single-tooth compliance of both gears and the fitted corrections.
 
@@ -113,7 +163,9 @@ def table_inputs(pair: PairSpec, wear: WearSpec | None, clearance_m: float, torq
     return {"kind": "calibrated mesh stiffness", "pair": _pair_inputs(pair), "wear": _wear_inputs(wear),
             "clearance_m": clearance_m, "torque_Nm": torque_Nm, "points": points,
             "fe": {"positions": positions, "order": 2, "plane": "stress", "mesh_scale": 1.0,
-                   "sizes": dataclasses.asdict(tooth.mesh_sizes(1.0)), "fit_degree": FIT_DEGREE}}
+                   "sizes": dataclasses.asdict(tooth.mesh_sizes(1.0)), "fit_degree": FIT_DEGREE},
+            "fe_pair": {"positions": PAIR_POSITIONS, "order": 2, "plane": "stress", "contact_plane": "strain",
+                        "local_contact": "weber", "coupling": True, "zone_factors": True}}
 
 
 def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float = 0.0, torque_Nm: float = 40.0,
@@ -129,7 +181,13 @@ def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float =
     corr = tuple(c.grid() for c in cal.corrections)
     r = mesh_stiffness(pair, method="ishikawa", points=points, torque_Nm=torque_Nm, clearance_m=clearance_m,
                        wear=wear, correction=corr)
-    tab = tables.StiffnessTable(r.angle_rad, r.k_N_per_m, r.excitation_m, r.ste_m, r.pairs_in_contact, {})
+    pc = pair_correction(pair, wear, clearance_m, torque_Nm, corr, PAIR_POSITIONS)
+    s = np.where(_double_mask(r), pc.double, pc.single)
+    k = r.k_N_per_m * s
+    F = torque_Nm / pair.gear(0).base_radius_m
+    # F = k (ste - e): keep the wear excitation, rescale the elastic part
+    ste = r.excitation_m + F / k
+    tab = tables.StiffnessTable(r.angle_rad, k, r.excitation_m, ste, r.pairs_in_contact, {})
     fe0 = cal.fe[0]
     csv = tables.store(tab, inputs, "ishikawa slices corrected to FE single-tooth compliance (fem.tooth)", extra={
         "fe_mesh": {"dofs": int(fe0.ndofs), "elements": int(fe0.n_elements), "order": fe0.order,
@@ -138,6 +196,11 @@ def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float =
         "fit_residual": [c.fit_residual for c in cal.corrections],
         "check_residual": [c.check_residual for c in cal.corrections],
         "correction_ratio_range": [[float(c.ratio.min()), float(c.ratio.max())] for c in cal.corrections],
+        "stage1_mean_N_per_m": r.mean_N_per_m,
+        "pair_zone_factors": {"double": pc.double, "single": pc.single},
+        "pair_check_residual": pc.check_residual, "pair_check_rms": pc.check_rms,
+        "pair_fit_residual": pc.fit_residual,
+        "fe_pair_mean_N_per_m": pc.fe_mean_N_per_m, "fe_pair_wall_s": pc.fe_wall_s,
         "uncorrected_mean_N_per_m": mesh_stiffness(pair, points=points, torque_Nm=torque_Nm,
                                                    clearance_m=clearance_m, wear=wear).mean_N_per_m,
     })

@@ -80,12 +80,9 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
     torque = scene.operating.torque_Nm if args.torque_Nm is None else _float_arg("--torque-Nm", "N m")(args.torque_Nm)
     if not torque > 0:
         raise InputError(f"--torque-Nm = {torque:g} N m: must be in (0, 1e7] N m")
-    try:
-        points = int(args.points)
-    except ValueError:
-        raise InputError(f"--points = {args.points!r}: must be a whole number >= 8") from None
-    if points < 8 or points > 1_000_000:
-        raise InputError(f"--points = {points}: must be a whole number in [8, 1000000]")
+    if args.points is None:
+        args.points = "24" if args.method == "fem" else "360"  # FE: 24 positions take ~10-20 s
+    points = _int_arg("--points", args.points, 8, 1_000_000)
     wear_args = _split_multi(args.wear)
     wears = [parse_wear_arg(w, torque, scene.operating.speed_rpm) for w in wear_args] or [scene.wear]
     cl_args = _split_multi(args.clearance_um)
@@ -296,11 +293,12 @@ def build_parser() -> argparse.ArgumentParser:
                                     "16, 17).")
     st.add_argument("pair", nargs="?", help="scene or pair TOML file (default: built-in paper pair)")
     st.add_argument("--method", default="ishikawa", help="ishikawa (paper Eqs. 2-6, default) | energy "
-                                                         "(potential energy + Sainsot foundation) | iso6336")
+                                                         "(potential energy + Sainsot foundation) | iso6336 | fem "
+                                                         "(full-body FE tooth-pair contact, ~10-20 s)")
     st.add_argument("--wear", nargs="+", help="one or more of unworn, mild, severe, 25um, 500h (or comma-separated)")
     st.add_argument("--clearance-um", nargs="+", help="one or more bearing clearances in um")
     st.add_argument("--torque-Nm", help="pinion torque (default: scene, 40)")
-    st.add_argument("--points", default="360", help="angles per mesh period (>= 8, default 360)")
+    st.add_argument("--points", help="angles per mesh period (>= 8; default 360, 24 for fem)")
     st.add_argument("--out", help="output folder for CSV, JSON sidecars and PNGs")
     st.add_argument("--json", action="store_true", help="print one JSON object (first curve + 'curves')")
     st.set_defaults(func=_cmd_stiffness)

@@ -23,7 +23,7 @@ from geometry.wear import WearSpec
 
 from . import io
 
-METHODS = ("ishikawa", "energy", "iso6336")
+METHODS = ("ishikawa", "energy", "iso6336", "fem")
 
 
 @dataclass
@@ -89,6 +89,18 @@ def iso_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float)
                          meta={"iso": dataclasses.asdict(iso)})
 
 
+def fem_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float,
+              wear: WearSpec | None) -> MeshStiffness:
+    """Full-body FE tooth-pair contact (fem.pair) as a MeshStiffness curve."""
+    from fem.pair import pair_contact
+
+    fe = pair_contact(pair, wear=wear, positions=points, torque_Nm=torque_Nm, clearance_m=clearance_m)
+    og = operating_geometry(pair, clearance_m)
+    return MeshStiffness("fem", pair, og.mesh, torque_Nm, wear, fe.angle_rad, fe.k_N_per_m, fe.ste_m,
+                         fe.excitation_m, fe.pair_load_N, fe.pair_d_m, fe.pair_in_path,
+                         float(fe.timings.get("total_s", float("nan"))), meta={"fe": dict(fe.meta)})
+
+
 def compute(pair: PairSpec, method: str, wears: list[WearSpec | None], clearances_m: list[float],
             torque_Nm: float, points: int) -> list[Curve]:
     curves = []
@@ -96,6 +108,8 @@ def compute(pair: PairSpec, method: str, wears: list[WearSpec | None], clearance
         for c in clearances_m:
             if method == "iso6336":
                 r = iso_curve(pair, points, torque_Nm, c)
+            elif method == "fem":
+                r = fem_curve(pair, points, torque_Nm, c, wear)
             else:
                 r = mesh_stiffness(pair, method=method, points=points, torque_Nm=torque_Nm, clearance_m=c,
                                    wear=wear)
