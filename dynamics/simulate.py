@@ -1,0 +1,241 @@
+"""Time integration driver: builds the specialised kernel call, samples on a uniform grid.
+
+Output grid: the discarded transient is rounded *up* to a whole number of mesh periods
+and the kept window is a whole number ``M`` of mesh periods (``M = floor((duration -
+discard) f_m)``), sampled at ``samples_per_mesh_period`` points per period (default
+``steps_per_mesh_period``), so the mesh harmonics fall exactly on FFT bins. The RK4
+output is the integrator state at the grid points (cubic Hermite between steps when the
+grid is not a subset of the steps); the adaptive output is its dense output.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from geometry.validation import InputError
+
+from . import kernels
+from .model import STATE_NAMES, GearDynamics, derived, has_flank_law, mesh_state, static_equilibrium
+
+__all__ = ["SimResult", "simulate", "kernel_switches", "compute_signals"]
+
+ENERGY_NAMES = ("W_in", "D", "W_k", "W_e")
+
+
+@dataclass
+class SimResult:
+    t: np.ndarray                     # sample times (s), uniform, whole mesh periods
+    signals: dict                     # name -> array on t
+    fm_Hz: float
+    fs_Hz: float
+    steps: int                        # accepted steps
+    rejected: int
+    events: int                       # located switching events (adaptive only)
+    wall_s: float                     # integration wall time (compilation excluded)
+    compile_s: float                  # compilation / cache load in this call (0 if warm)
+    separation_fraction: float        # fraction of samples with |s| <= b
+    backside_fraction: float          # fraction of samples with s < -b
+    bearing_contact_fraction: dict    # "pinion"/"gear": fraction with |y| > b_b or |x| > b_b
+    method: str
+    states: np.ndarray                # (N, 10) sampled states
+    energy: dict | None               # accumulated W_in, D, W_k, W_e on t (track_energy)
+    n_periods: int
+    stats: dict                       # name -> dict(mean, rms, rms_ac, p2p)
+    periodic_with: int                # smallest p (mesh periods) with a p-periodic tail, 0 if none
+    z_end: np.ndarray                 # final state
+    switches: tuple = field(default=())
+
+    def harmonics(self, name: str = "F_m", n: int = 10) -> np.ndarray:
+        """Amplitudes of the mesh harmonics k f_m, k = 1..n, of signal ``name``."""
+        from .analysis import harmonics
+        return harmonics(self.signals[name], self.fs_Hz, self.fm_Hz, n)
+
+    def spectrum(self, name: str = "F_m"):
+        """Single-sided amplitude spectrum (f, A) of signal ``name``."""
+        from .analysis import spectrum
+        return spectrum(self.signals[name], self.fs_Hz)
+
+
+def kernel_switches(model: GearDynamics, track_energy: bool = False) -> tuple:
+    """The effect switches as kernel arguments: ``True`` (present) or ``None`` (absent)."""
+    on = lambda b: True if b else None  # noqa: E731
+    return (on(model.tvms), on(has_flank_law(model)),
+            on(model.bearing_half_clearance_m is not None), on(model.te_excitation),
+            on(model.centre_distance == "dynamic"), on(track_energy))
+
+
+def _gidx(model: GearDynamics) -> np.ndarray:
+    idx = []
+    if has_flank_law(model):
+        idx += [0, 1]
+    if model.bearing_half_clearance_m is not None:
+        idx += list(range(2, 10))
+    return np.array(idx, dtype=np.int64)
+
+
+_WARM: set = set()
+
+
+def _run(method, model, z0, t_end, t_out0, dt_out, n_out, steps_per_period, rtol, atol_vec,
+         sw, max_steps):
+    par, phi, phx, kx, ex = derived(model)
+    Pt = 1.0 / model.mesh_frequency_Hz
+    if method == "rk4":
+        h = Pt / steps_per_period
+        n_steps = int(math.ceil(t_end / h - 1e-9))
+        n_steps = max(n_steps, 0)
+        return kernels.rk4(z0, h, n_steps, t_out0, dt_out, n_out, par, phi, phx, kx, ex, *sw)
+    h0 = Pt / 256.0
+    hmax = Pt / 4.0
+    return kernels.dopri5(z0, t_end, t_out0, dt_out, n_out, rtol, atol_vec, h0, hmax,
+                          max_steps, _gidx(model), par, phi, phx, kx, ex, *sw)
+
+
+def compute_signals(model: GearDynamics, t: np.ndarray, Z: np.ndarray) -> dict:
+    """Signals from sampled states: displacements, velocities, delta, delta', s, k_h, F_m."""
+    ms = mesh_state(model, t, Z[:, :10])
+    sig = {name: Z[:, i].copy() for i, name in enumerate(STATE_NAMES)}
+    sig.update(delta=ms["delta"], delta_dot=ms["delta_dot"], s=ms["s"], k_h=ms["k_h"],
+               F_m=ms["F_m"], mode=ms["mode"], b=ms["b"])
+    if model.centre_distance == "dynamic":
+        sig["alpha_op"] = np.arctan2(ms["sin_a"], ms["cos_a"])
+    return sig
+
+
+def _periodic_with(x: np.ndarray, S: int, M: int, max_p: int = 8, tol: float = 1e-6) -> int:
+    """Smallest p <= max_p with x(t + p T_m) = x(t) over the last max(p, 2) periods
+    to ``tol`` of the signal range; 0 if none (non-periodic, or not yet settled)."""
+    rng = float(np.ptp(x)) if x.size else 0.0
+    if rng == 0.0:
+        return 1
+    for p in range(1, max_p + 1):
+        span = max(p, 2) * S
+        if (p + max(p, 2)) * S > x.size:
+            break
+        a = x[-span:]
+        b = x[-span - p * S:-p * S]
+        if np.max(np.abs(a - b)) <= tol * rng:
+            return p
+    return 0
+
+
+def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, method: str = "auto",
+             steps_per_mesh_period: int = 256, rtol: float = 1e-8, atol=None, y0=None,
+             samples_per_mesh_period: int | None = None, track_energy: bool = False,
+             max_steps: int = 50_000_000) -> SimResult:
+    """Integrate the model over [0, duration_s] and sample the kept window.
+
+    method: "rk4" (fixed step, ``steps_per_mesh_period``), "dopri5" (adaptive, rtol/atol,
+    event location), "auto" (RK4 when there is neither backlash nor bearing clearance,
+    else dopri5). atol: None -> rtol times the static-deflection scale for displacements
+    (and times that scale times the mesh natural angular frequency for velocities); a
+    scalar is the displacement atol (velocities scaled the same way); or 10 values.
+    y0: initial state (10 values); default the static equilibrium under the mean stiffness.
+    """
+    if not (isinstance(duration_s, (int, float)) and math.isfinite(duration_s) and duration_s > 0):
+        raise InputError(f"solver.duration_s = {duration_s} s: must be > 0")
+    if not (math.isfinite(discard_s) and 0 <= discard_s < duration_s):
+        raise InputError(f"solver.discard_s = {discard_s} s: must be in [0, duration_s)")
+    if method not in ("auto", "rk4", "dopri5"):
+        raise InputError(f"solver.method = {method!r}: must be 'rk4', 'dopri5' or 'auto'")
+    if int(steps_per_mesh_period) != steps_per_mesh_period or steps_per_mesh_period < 4:
+        raise InputError(f"solver.steps_per_mesh_period = {steps_per_mesh_period}: must be a "
+                         f"whole number >= 4")
+    if not (0 < rtol < 1):
+        raise InputError(f"solver.rtol = {rtol}: must be in (0, 1)")
+    nonsmooth = has_flank_law(model) or model.bearing_half_clearance_m is not None
+    if method == "auto":
+        method = "dopri5" if nonsmooth else "rk4"
+    fm = model.mesh_frequency_Hz
+    Pt = 1.0 / fm
+    n_d = int(math.ceil(discard_s * fm - 1e-9))
+    t0 = n_d * Pt
+    M = int(math.floor((duration_s - t0) * fm + 1e-9))
+    if M < 1:
+        raise InputError(f"solver.duration_s = {duration_s} s: must exceed discard_s rounded up "
+                         f"to whole mesh periods ({t0:.6g} s) by at least one mesh period "
+                         f"({Pt:.6g} s)")
+    S = int(samples_per_mesh_period or steps_per_mesh_period)
+    n_out = M * S
+    dt = Pt / S
+    t_end = t0 + (n_out - 1) * dt
+
+    z0 = static_equilibrium(model) if y0 is None else np.asarray(y0, float).ravel()
+    if z0.shape != (10,) or not np.all(np.isfinite(z0)):
+        raise InputError("solver.y0: must be 10 finite values (y_p, x_p, y_g, x_g, q and velocities)")
+    nz = 14 if track_energy else 10
+    z0 = np.concatenate([z0, np.zeros(nz - 10)])
+
+    k_ref = max(model.k_mean, 1e-300)
+    x_ref = abs(model.F_s) / k_ref + 2 * abs(model.F_s) / model.k_b
+    if x_ref == 0:
+        x_ref = float(np.max(np.abs(z0[:5]))) or 1e-6
+    w_ref = math.sqrt((k_ref + model.k_b) / min(model.m_e, model.m_p, model.m_g))
+    if atol is None:
+        atol_vec = np.r_[np.full(5, rtol * x_ref), np.full(5, rtol * x_ref * w_ref)]
+    elif np.ndim(atol) == 0:
+        atol_vec = np.r_[np.full(5, float(atol)), np.full(5, float(atol) * w_ref)]
+    else:
+        atol_vec = np.asarray(atol, float).ravel()
+        if atol_vec.shape != (10,):
+            raise InputError("solver.atol: must be None, a scalar or 10 values")
+    if np.any(atol_vec <= 0):
+        raise InputError("solver.atol: must be > 0")
+
+    sw = kernel_switches(model, track_energy)
+    key = (method, sw)
+    compile_s = 0.0
+    if key not in _WARM:
+        # compile (or load from numba's disk cache) on a tiny problem, so wall_s is pure run
+        tc = time.perf_counter()
+        _run(method, model, z0.copy(), 4 * Pt / steps_per_mesh_period, 0.0, Pt / S, 1,
+             steps_per_mesh_period, rtol, atol_vec, sw, 1000)
+        compile_s = time.perf_counter() - tc
+        _WARM.add(key)
+    tw = time.perf_counter()
+    out, counters, z_end = _run(method, model, z0, t_end, t0, dt, n_out, steps_per_mesh_period,
+                                rtol, atol_vec, sw, max_steps)
+    wall = time.perf_counter() - tw
+    ko = int(counters[3])
+    if ko < n_out:
+        if ko == 0 or not np.all(np.isfinite(out[:ko])):
+            raise FloatingPointError(f"dynamics: the solution diverged (non-finite state) before "
+                                     f"t = {t_end:.6g} s ({method})")
+        raise RuntimeError(f"dynamics: {method} stopped after {counters[0] + counters[1]} steps "
+                           f"before the end of the window (max_steps = {max_steps})")
+    if not np.all(np.isfinite(out)):
+        raise FloatingPointError(f"dynamics: the solution diverged (non-finite state), {method}")
+    t = t0 + dt * np.arange(n_out)
+    sig = compute_signals(model, t, out)
+    mode = sig["mode"]
+    if has_flank_law(model):
+        sep = float(np.mean(mode == 0))
+        back = float(np.mean((mode == -1) | (mode == 2)))
+    else:
+        sep = 0.0
+        back = 0.0
+    if model.bearing_half_clearance_m is not None:
+        bb = model.bearing_half_clearance_m
+        bc = {"pinion": float(np.mean((np.abs(out[:, 0]) > bb) | (np.abs(out[:, 1]) > bb))),
+              "gear": float(np.mean((np.abs(out[:, 2]) > bb) | (np.abs(out[:, 3]) > bb)))}
+    else:
+        bc = {"pinion": 1.0, "gear": 1.0}
+    stats = {}
+    for name in ("y_p", "x_p", "y_g", "x_g", "q", "delta", "F_m"):
+        x = sig[name]
+        stats[name] = dict(mean=float(np.mean(x)), rms=float(np.sqrt(np.mean(x * x))),
+                           rms_ac=float(np.std(x)), p2p=float(np.ptp(x)))
+    energy = None
+    if track_energy:
+        energy = {name: out[:, 10 + i].copy() for i, name in enumerate(ENERGY_NAMES)}
+    return SimResult(t=t, signals=sig, fm_Hz=fm, fs_Hz=S * fm, steps=int(counters[0]),
+                     rejected=int(counters[1]), events=int(counters[2]), wall_s=wall,
+                     compile_s=compile_s, separation_fraction=sep, backside_fraction=back,
+                     bearing_contact_fraction=bc, method=method, states=out[:, :10].copy(),
+                     energy=energy, n_periods=M, stats=stats,
+                     periodic_with=_periodic_with(sig["delta"], S, M), z_end=z_end[:10].copy(),
+                     switches=sw)
