@@ -156,6 +156,52 @@ def load_scene(path: str | Path | None = None) -> Scene:
     return scene_from_dict(load_toml(p), name=p.stem)
 
 
+def builtin_scene_dict(name: str) -> dict[str, Any]:
+    """The raw TOML document of a built-in scene."""
+    import tomllib
+    names = builtin_scene_names()
+    if name not in names:
+        raise InputError(f"built-in scene {name!r}: unknown (available: {', '.join(names)})")
+    return tomllib.loads(resources.files("gearwear.data").joinpath(f"{name}.toml").read_text())
+
+
+def apply_overrides(data: dict[str, Any], overrides: list[str]) -> dict[str, Any]:
+    """Apply ``--set key.path=value`` overrides to a raw scene document (a copy).
+
+    The value is read as a TOML value (numbers, strings in quotes, arrays, booleans,
+    inline tables); a bare word is taken as a string. The result is validated like a
+    file, so a bad override gets the same one-line error."""
+    import copy
+    import tomllib
+    out = copy.deepcopy(data)
+    for item in overrides or []:
+        if "=" not in item:
+            raise InputError(f"--set {item!r}: must be KEY=VALUE with a dotted key, e.g. operating.speed_rpm=6000")
+        key, text = item.split("=", 1)
+        key = key.strip()
+        try:
+            value = tomllib.loads(f"v = {text.strip()}")["v"]
+        except tomllib.TOMLDecodeError:
+            value = text.strip()
+        parts = key.split(".")
+        node = out
+        for part in parts[:-1]:
+            nxt = node.setdefault(part, {})
+            if not isinstance(nxt, dict):
+                raise InputError(f"--set {key}: {part} is not a table")
+            node = nxt
+        node[parts[-1]] = value
+    return out
+
+
+def load_scene_dict(path: str | Path | None, default: str = "paper-default") -> tuple[dict[str, Any], str]:
+    """(raw document, name) of a scene file, or of a built-in scene when path is None."""
+    if path is None:
+        return builtin_scene_dict(default), default
+    p = Path(path)
+    return load_toml(p), p.stem
+
+
 def builtin_scene_names() -> list[str]:
     return sorted(f.name[:-5] for f in resources.files("gearwear.data").iterdir() if f.name.endswith(".toml"))
 

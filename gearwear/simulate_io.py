@@ -1,0 +1,87 @@
+"""Files and text of the ``simulate`` command: signals (NPZ + CSV), PNGs in the style
+of paper Figs. 7, 9, 11, 13 (time trace and spectrum), summary JSON."""
+
+from __future__ import annotations
+
+import io as _io
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from . import io
+from .simulate_job import SIGNAL_UNITS, SimulationRun
+
+
+def signals_csv(run: SimulationRun) -> str:
+    r = run.result
+    names = run.output["signals"]
+    cols = ["t_s"] + [f"{n}_{SIGNAL_UNITS[n][0]}" for n in names]
+    data = np.column_stack([r.t] + [r.signals[n] * SIGNAL_UNITS[n][1] for n in names])
+    buf = _io.StringIO()
+    np.savetxt(buf, data, delimiter=",", header=",".join(cols), comments="", fmt="%.10g")
+    return buf.getvalue()
+
+
+def figure(run: SimulationRun):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    r = run.result
+    names = run.output["signals"]
+    fig, axes = plt.subplots(len(names), 2, figsize=(12, 2.4 * len(names)), squeeze=False)
+    n_show = max(1, int(round(5 * r.fs_Hz / r.fm_Hz)))  # five mesh periods
+    for i, n in enumerate(names):
+        unit, scale = SIGNAL_UNITS[n]
+        ax, ax2 = axes[i]
+        ax.plot(r.t[:n_show] * 1e3, r.signals[n][:n_show] * scale, lw=0.9)
+        ax.set_ylabel(f"{n} ({unit})")
+        ax.grid(alpha=0.3)
+        f, A = r.spectrum(n)
+        keep = (f >= 0.5 * r.fm_Hz) & (f <= 12 * r.fm_Hz)  # the mean (DC) would dwarf the harmonics
+        ax2.plot(f[keep], A[keep] * scale, lw=0.8)
+        for k in range(1, 11):
+            ax2.axvline(k * r.fm_Hz, color="0.85", lw=0.5, zorder=0)
+        ax2.set_ylabel(f"|{n}| ({unit})")
+        ax2.grid(alpha=0.3)
+    axes[-1][0].set_xlabel("time (ms), five mesh periods after the discarded transient")
+    axes[-1][1].set_xlabel("frequency (Hz), mean removed; grey lines: k f_m")
+    sc = run.scene
+    fig.suptitle(f"{sc.name}: {sc.operating.speed_rpm:g} rpm, {sc.operating.torque_Nm:g} N m, f_m = "
+                 f"{r.fm_Hz:g} Hz, effects: {', '.join(sorted(sc.effects)) or 'none'}", fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+def write(run: SimulationRun, out: Path, inputs: dict[str, Any]) -> list[Path]:
+    import matplotlib.pyplot as plt
+
+    files = []
+    r = run.result
+    buf = _io.BytesIO()
+    np.savez_compressed(buf, t_s=r.t, **{n: r.signals[n] for n in run.output["signals"]})
+    files.append(io.write_bytes(out / "signals.npz", buf.getvalue()))
+    csv = io.write_text(out / "signals.csv", signals_csv(run))
+    files += [csv, io.sidecar(csv, inputs, f"dynamics.simulate ({r.method})")]
+    fig = figure(run)
+    files.append(io.write_figure(fig, out / "response.png"))
+    plt.close(fig)
+    files.append(io.write_text(out / "summary.json", json.dumps(run.summary(), indent=2, sort_keys=True) + "\n"))
+    return files
+
+
+def print_summary(s: dict[str, Any]) -> None:
+    print(f"scene {s['scene']}: f_m = {s['fm_Hz']:g} Hz, method {s['method']}, {s['steps']} steps "
+          f"({s['events']} events), {s['wall_s']:.2f} s wall (integration {s['integration_wall_s']:.3f} s, "
+          f"compile {s['compile_s']:.2f} s)")
+    print(f"effects: {', '.join(s['effects']) or 'none'}; mesh stiffness {s['stiffness_source']}, mean "
+          f"{s['mean_mesh_stiffness_N_per_m']:.4e} N/m")
+    print(f"tooth separation {100 * s['separation_fraction']:.2f} % of the time, back-side contact "
+          f"{100 * s['backside_fraction']:.2f} %")
+    print(f"{'signal':<12}{'rms':>12}{'p-p':>12}   harmonics k f_m, k = 1..{len(next(iter(s['harmonics'].values())))}")
+    for key, h in s["harmonics"].items():
+        print(f"{key:<12}{s['rms'][key]:>12.4g}{s['peak_to_peak'][key]:>12.4g}   " + " ".join(f"{x:.3g}" for x in h))
+    for f in s.get("files", []):
+        print(f"wrote {f}")

@@ -1,0 +1,210 @@
+"""Scene -> dynamic model -> simulation: the composition of the ``simulate`` command.
+
+Only what the scene's ``[effects]`` names is modelled:
+
+* ``mesh_stiffness``: time-varying k_h(phi) from ``source`` = analytic (Ishikawa, load
+  sharing at the scene torque), calibrated (FE-corrected, cached tables), fem (FE pair
+  contact) or constant (``value_N_per_m``, else the analytic mean). Absent: a constant
+  spring of the analytic mean stiffness.
+* ``wear``: changes the stiffness table (thinner teeth, wear gaps in the load sharing).
+* ``transmission_error``: the wear excitation e(phi) enters the mesh force
+  F = k_h f(delta - e). Absent: e = 0.
+* ``backlash``: dead zone of half-width j_n / 2 (paper Eq. 20, typo fixed), j_n the
+  total normal backlash (initial_um plus the change from the centre distance).
+  Absent: a two-sided linear mesh spring.
+* ``bearing_clearance``: dead zones of half-width BC / 2 in every bearing (Eqs. 7-10).
+* ``centre_distance``: "static": the operating geometry (alpha', backlash, contact path
+  and stiffness table) at C' from the bearing clearance (Eq. 11 clearance terms; the
+  elastic bearing deflection is a state of the model itself, so it is not added
+  twice); "dynamic": alpha' and the backlash follow the instantaneous centre distance.
+  Absent: the nominal geometry.
+
+Inertias (not given in the paper): J = m r^2 / 2 of a solid disc with the pitch
+radius (assumed, listed in the README). Damping from the ratios:
+c_h = 2 zeta_m sqrt(k_mean m_e), c_b = 2 zeta_b sqrt(k_b m).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from dynamics import GearDynamics, simulate
+from geometry.operating import backlash, centre_distance
+from geometry.spec import PairSpec
+from geometry.validation import Field, InputError, check_value, reject_unknown
+
+from .scene import Scene
+
+SIGNAL_UNITS = {"y_p": ("um", 1e6), "x_p": ("um", 1e6), "y_g": ("um", 1e6), "x_g": ("um", 1e6),
+                "q": ("um", 1e6), "delta": ("um", 1e6), "F_m": ("N", 1.0)}
+SOLVER_SCHEMA = {
+    "method": None,
+    "steps_per_mesh_period": Field("", 8, 65536, kind=int),
+    "duration_s": Field("s", 0, 100, lo_open=True),
+    "discard_s": Field("s", 0, 100),
+    "rtol": Field("", 1e-14, 1e-2),
+    "atol": Field("", 0, 1, lo_open=True),
+}
+SOLVER_DEFAULTS = {"method": "auto", "steps_per_mesh_period": 256, "duration_s": 0.5, "discard_s": 0.3,
+                   "rtol": 1e-8}
+
+
+@dataclass
+class StiffnessInput:
+    phi: np.ndarray
+    k: np.ndarray
+    e: np.ndarray
+    source: str
+    mean_N_per_m: float
+    wall_s: float
+
+
+def solver_options(scene: Scene) -> dict[str, Any]:
+    raw = dict(scene.solver)
+    reject_unknown("solver", raw.keys(), SOLVER_SCHEMA.keys())
+    out: dict[str, Any] = {}
+    for key, field in SOLVER_SCHEMA.items():
+        v = raw.get(key, SOLVER_DEFAULTS.get(key))
+        if key == "method":
+            if v not in ("auto", "rk4", "dopri5"):
+                raise InputError(f"solver.method = {v!r}: must be one of auto, rk4, dopri5")
+            out[key] = v
+        elif v is not None:
+            out[key] = check_value(f"solver.{key}", v, field)
+    if out["discard_s"] >= out["duration_s"]:
+        raise InputError(f"solver.discard_s = {out['discard_s']:g} s: must be below solver.duration_s = "
+                         f"{out['duration_s']:g} s")
+    return out
+
+
+def output_options(scene: Scene) -> dict[str, Any]:
+    sig = scene.output.get("signals", ["y_p", "x_p", "delta", "F_m"])
+    if not isinstance(sig, list) or not all(isinstance(x, str) for x in sig):
+        raise InputError(f"output.signals = {sig!r}: must be a list of names from {', '.join(SIGNAL_UNITS)}")
+    for name in sig:
+        if name not in SIGNAL_UNITS:
+            import difflib
+            near = difflib.get_close_matches(name, list(SIGNAL_UNITS), n=1)
+            hint = f"; did you mean {near[0]}?" if near else ""
+            raise InputError(f"output.signals: unknown signal {name!r}{hint} (allowed: {', '.join(SIGNAL_UNITS)})")
+    n = check_value("output.harmonics", scene.output.get("harmonics", 10), Field("", 1, 100, kind=int))
+    return {"signals": sig, "harmonics": n}
+
+
+def operating_centre_distance(scene: Scene) -> float:
+    """C' used for the static geometry: nominal unless centre_distance is modelled."""
+    pair = scene.pair
+    if "centre_distance" in scene.effects and "bearing_clearance" in scene.effects:
+        return centre_distance(pair, scene.clearance_m)
+    return pair.centre_distance_m
+
+
+def stiffness_input(scene: Scene, points: int = 360) -> StiffnessInput:
+    """The k_h(phi), e(phi) tables the scene asks for (arrays over one mesh period)."""
+    from analytic.tvms import mesh_stiffness
+
+    t0 = time.perf_counter()
+    pair, T = scene.pair, scene.operating.torque_Nm
+    Cp = operating_centre_distance(scene)
+    clearance_geo = scene.clearance_m if Cp != pair.centre_distance_m else 0.0
+    ms = scene.effects.get("mesh_stiffness")
+    source = ms["source"] if ms else "constant"
+    wear = scene.wear
+    if source == "calibrated":
+        from .calibrate import calibrated_table
+        tab = calibrated_table(pair, wear, clearance_geo, T, points)
+        phi, k, e = tab.angle_rad, tab.k_N_per_m, tab.excitation_m
+    elif source == "fem":
+        from .stiffness_job import fem_curve
+        r = fem_curve(pair, 24, T, clearance_geo, wear)
+        phi, k, e = r.angle_rad, r.k_N_per_m, r.excitation_m
+    else:
+        r = mesh_stiffness(pair, points=points, torque_Nm=T, clearance_m=clearance_geo, wear=wear)
+        phi, k, e = r.angle_rad, r.k_N_per_m, r.excitation_m
+        if source == "constant":
+            value = (ms or {}).get("value_N_per_m", r.mean_N_per_m)
+            k = np.full_like(k, value)
+    return StiffnessInput(np.asarray(phi), np.asarray(k), np.asarray(e), source, float(np.mean(k)),
+                          time.perf_counter() - t0)
+
+
+def build_model(scene: Scene, stiff: StiffnessInput) -> GearDynamics:
+    pair: PairSpec = scene.pair
+    b = scene.bodies
+    m_p, m_g = b.mass_kg
+    g1, g2 = pair.gears
+    J_p = 0.5 * m_p * g1.pitch_radius_m ** 2
+    J_g = 0.5 * m_g * g2.pitch_radius_m ** 2
+    R_p, R_g = g1.base_radius_m, g2.base_radius_m
+    Cp = operating_centre_distance(scene)
+    alpha = math.acos((R_p + R_g) / Cp) if Cp != pair.centre_distance_m else pair.working_pressure_angle_rad
+    m_e = 1.0 / (R_p ** 2 / J_p + R_g ** 2 / J_g)
+    c_h = 2.0 * b.mesh_damping_ratio * math.sqrt(stiff.mean_N_per_m * m_e)
+    c_b = (2.0 * b.bearing_damping_ratio * math.sqrt(b.bearing_stiffness_N_per_m * m_p),
+           2.0 * b.bearing_damping_ratio * math.sqrt(b.bearing_stiffness_N_per_m * m_g))
+    eff = scene.effects
+    half_backlash = None
+    if "backlash" in eff:
+        jn = backlash(pair, Cp, scene.initial_backlash_m, scene.backlash_form)
+        half_backlash = 0.5 * jn
+    half_clear = 0.5 * scene.clearance_m if "bearing_clearance" in eff else None
+    tvms = "mesh_stiffness" in eff and eff["mesh_stiffness"]["source"] != "constant"
+    coupling = eff.get("centre_distance", {}).get("coupling", "static")
+    te = "transmission_error" in eff and bool(np.any(stiff.e != 0))
+    return GearDynamics(
+        m_p=m_p, m_g=m_g, J_p=J_p, J_g=J_g, R_p=R_p, R_g=R_g, alpha=alpha, k_b=b.bearing_stiffness_N_per_m,
+        c_b=c_b, c_h=c_h, T_p=scene.operating.torque_Nm, omega_p=scene.operating.speed_rpm * 2 * math.pi / 60,
+        z_p=pair.teeth[0], phi_table=stiff.phi, k_table=stiff.k, e_table=stiff.e if te else None, tvms=tvms,
+        backlash_half_m=half_backlash, bearing_half_clearance_m=half_clear, te_excitation=te,
+        centre_distance=coupling if "centre_distance" in eff else "static", C0_m=pair.centre_distance_m,
+        k_constant=None if tvms else stiff.mean_N_per_m)
+
+
+@dataclass
+class SimulationRun:
+    scene: Scene
+    model: GearDynamics
+    stiffness: StiffnessInput
+    result: Any
+    solver: dict
+    output: dict
+    wall_s: float
+
+    def summary(self) -> dict[str, Any]:
+        r = self.result
+        n = self.output["harmonics"]
+        harm, rms, p2p = {}, {}, {}
+        for name in self.output["signals"]:
+            unit, scale = SIGNAL_UNITS[name]
+            key = f"{name}_{unit}"
+            harm[key] = (r.harmonics(name, n) * scale).tolist()
+            st = r.stats[name]
+            rms[key] = st["rms"] * scale
+            p2p[key] = st["p2p"] * scale
+        return {"scene": self.scene.name, "fm_Hz": r.fm_Hz, "harmonics": harm, "rms": rms, "peak_to_peak": p2p,
+                "separation_fraction": r.separation_fraction, "backside_fraction": r.backside_fraction,
+                "bearing_contact_fraction": r.bearing_contact_fraction, "steps": int(r.steps),
+                "rejected_steps": int(r.rejected), "events": int(r.events), "method": r.method,
+                "periodic_with_mesh_periods": int(r.periodic_with), "wall_s": self.wall_s,
+                "integration_wall_s": r.wall_s, "compile_s": r.compile_s, "stiffness_source": self.stiffness.source,
+                "mean_mesh_stiffness_N_per_m": self.stiffness.mean_N_per_m,
+                "effects": sorted(self.scene.effects)}
+
+
+def run(scene: Scene) -> SimulationRun:
+    t0 = time.perf_counter()
+    solver = solver_options(scene)
+    output = output_options(scene)
+    stiff = stiffness_input(scene)
+    model = build_model(scene, stiff)
+    kw = {"method": solver["method"], "steps_per_mesh_period": solver["steps_per_mesh_period"],
+          "rtol": solver["rtol"]}
+    if "atol" in solver:
+        kw["atol"] = solver["atol"]
+    res = simulate(model, solver["duration_s"], solver["discard_s"], **kw)
+    return SimulationRun(scene, model, stiff, res, solver, output, time.perf_counter() - t0)
