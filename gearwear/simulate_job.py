@@ -97,9 +97,12 @@ def output_options(scene: Scene) -> dict[str, Any]:
 
 
 def operating_centre_distance(scene: Scene) -> float:
-    """C' used for the static geometry: nominal unless centre_distance is modelled."""
+    """C' used for the static geometry: nominal unless the static centre-distance coupling
+    is modelled (the dynamic coupling starts from the nominal geometry and lets the
+    instantaneous centre positions move it)."""
     pair = scene.pair
-    if "centre_distance" in scene.effects and "bearing_clearance" in scene.effects:
+    cd = scene.effects.get("centre_distance")
+    if cd is not None and cd["coupling"] == "static" and "bearing_clearance" in scene.effects:
         return centre_distance(pair, scene.clearance_m)
     return pair.centre_distance_m
 
