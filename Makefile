@@ -22,7 +22,9 @@ $(STAMP): pyproject.toml
 
 demo: $(STAMP)
 	@$(PY) -m gearwear.envcheck
-	$(VENV)/bin/gearwear geometry --wear severe --clearance-um 10 --out $(OUT)
+	$(VENV)/bin/gearwear geometry --wear severe --clearance-um 10 --out $(OUT)/geometry
+	$(VENV)/bin/gearwear stiffness --wear unworn mild severe --out $(OUT)/stiffness
+	$(VENV)/bin/gearwear simulate --out $(OUT)/simulate
 
 test: $(STAMP)
 	@$(PY) -m gearwear.envcheck
