@@ -10,7 +10,7 @@ OUT    ?= out/demo
 BENCH_VENV  := .venv-bench
 BENCH_STAMP := $(BENCH_VENV)/.installed-stamp
 
-.PHONY: demo test bench venv clean
+.PHONY: demo test bench report venv clean
 
 venv: $(STAMP)
 
@@ -42,6 +42,15 @@ bench: $(STAMP)
 	-@$(MAKE) --no-print-directory $(BENCH_STAMP)
 	@$(PY) -m gearwear.envcheck
 	$(PY) benchmarks/run_all.py
+
+# Regenerate the committed reports/ (see reports/README.md); a few minutes.
+report: $(STAMP)
+	@$(PY) -m gearwear.envcheck
+	$(VENV)/bin/gearwear verify --out reports/verification
+	$(VENV)/bin/gearwear stiffness --wear unworn mild severe --out reports/stiffness_wear
+	$(VENV)/bin/gearwear stiffness --clearance-um 0 25 50 75 100 --out reports/stiffness_clearance
+	$(VENV)/bin/gearwear stiffness --method fem --wear unworn mild severe --out reports/stiffness_fem
+	GEARWEAR_CACHE=$(CURDIR)/.gearwear-cache $(VENV)/bin/gearwear calibrate --wear unworn mild severe --out reports/calibrated
 
 clean:
 	rm -rf $(VENV) $(BENCH_VENV) out .pytest_cache .hypothesis
