@@ -34,7 +34,7 @@ OPERATING_DEFAULTS = {"speed_rpm": 1200.0, "torque_Nm": 40.0}
 EFFECT_KEYS: dict[str, tuple[str, ...]] = {
     "mesh_stiffness": ("source", "value_N_per_m"),
     "wear": ("phase", "max_depth_um", "hours", "model", "archard_k_m2_per_N", "wear_intensity", "taper_mm"),
-    "backlash": ("initial_um", "form"),
+    "backlash": ("initial_um", "form", "damping_in_gap"),
     "bearing_clearance": ("clearance_um",),
     "centre_distance": ("coupling",),
     "transmission_error": (),
@@ -113,6 +113,11 @@ def _effects(raw: Mapping[str, Any]) -> dict[str, dict[str, Any]]:
             if form not in ("consistent", "printed"):
                 raise fail("effects.backlash.form", repr(form), "", "must be one of consistent, printed")
             o["form"] = form
+            gap_damping = opts.get("damping_in_gap", False)
+            if not isinstance(gap_damping, bool):
+                raise fail("effects.backlash.damping_in_gap", repr(gap_damping), "",
+                           "must be true (paper Eq. 19 literally: c_h delta' acts in the gap) or false (default)")
+            o["damping_in_gap"] = gap_damping
         elif name == "bearing_clearance":
             o["clearance_m"] = check_value("effects.bearing_clearance.clearance_um", opts.get("clearance_um", 0.0),
                                            Field("um", 0, 1e4)) * 1e-6

@@ -10,8 +10,10 @@ Only what the scene's ``[effects]`` names is modelled:
 * ``transmission_error``: the wear excitation e(phi) enters the mesh force
   F = k_h f(delta - e). Absent: e = 0.
 * ``backlash``: dead zone of half-width j_n / 2 (paper Eq. 20, typo fixed), j_n the
-  total normal backlash (initial_um plus the change from the centre distance).
-  Absent: a two-sided linear mesh spring.
+  total normal backlash (initial_um plus the change from the centre distance). In the
+  gap no force acts; ``damping_in_gap = true`` keeps c_h delta' on there (paper Eq. 19
+  read literally, which pulls the teeth together through the gap). Absent: a
+  two-sided linear mesh spring.
 * ``bearing_clearance``: dead zones of half-width BC / 2 in every bearing (Eqs. 7-10).
 * ``centre_distance``: "static": the operating geometry (alpha', backlash, contact path
   and stiffness table) at C' from the bearing clearance (Eq. 11 clearance terms; the
@@ -165,6 +167,7 @@ def build_model(scene: Scene, stiff: StiffnessInput) -> GearDynamics:
         z_p=pair.teeth[0], phi_table=stiff.phi, k_table=stiff.k, e_table=stiff.e if te else None, tvms=tvms,
         backlash_half_m=half_backlash, bearing_half_clearance_m=half_clear, te_excitation=te,
         centre_distance=coupling if "centre_distance" in eff else "static", C0_m=pair.centre_distance_m,
+        mesh_damping="paper" if eff.get("backlash", {}).get("damping_in_gap") else "off-when-separated",
         k_constant=None if tvms else stiff.mean_N_per_m)
 
 
