@@ -46,6 +46,7 @@ bench: $(STAMP)
 # Regenerate the committed reports/ (see reports/README.md); a few minutes.
 report: $(STAMP)
 	@$(PY) -m gearwear.envcheck
+	GEARWEAR_CACHE=$(CURDIR)/.gearwear-cache $(VENV)/bin/gearwear report paper --out reports/paper
 	$(VENV)/bin/gearwear verify --out reports/verification
 	$(VENV)/bin/gearwear stiffness --wear unworn mild severe --out reports/stiffness_wear
 	$(VENV)/bin/gearwear stiffness --clearance-um 0 25 50 75 100 --out reports/stiffness_clearance

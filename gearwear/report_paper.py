@@ -1,0 +1,414 @@
+"""``gearwear report paper``: regenerate every numerical figure of Zhang et al. (2019)
+with this tool, and compare each of the paper's trend claims with our result.
+
+Stiffness comes from the FE-calibrated tables (gearwear.calibrate); the dynamic
+responses from the built-in paper scenes with ``mesh_stiffness.source = "calibrated"``.
+Figures are named after the paper's (fig06_..., fig25_...).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+from geometry.operating import operating_geometry
+from geometry.spec import default_pair
+from geometry.wear import PHASE_DEPTHS_M, WearSpec
+
+from . import io
+
+PHASES = ("unworn", "mild", "severe")
+CLEARANCES_UM = (0.0, 20.0, 40.0, 60.0, 80.0, 100.0)
+SIGNALS = (("y_p", "um", 1e6, "Y displacement of the pinion"), ("x_p", "um", 1e6, "X displacement of the pinion"),
+           ("delta", "um", 1e6, "relative displacement delta"), ("F_m", "N", 1.0, "mesh force F_m"))
+WEAR_FIGS = {"y_p": (7, 8), "x_p": (9, 10), "delta": (11, 12), "F_m": (13, 14)}
+CLEAR_FIGS = {"y_p": (18, 19), "x_p": (20, 21), "delta": (22, 23), "F_m": (24, 25)}
+
+
+# -- trend classification -----------------------------------------------------------
+
+def classify(y) -> str:
+    """increase | decrease | decrease-then-increase | increase-then-decrease | nonlinear | flat."""
+    y = np.asarray(y, dtype=float)
+    scale = max(np.max(np.abs(y)), 1e-300)
+    span = float(np.ptp(y))
+    # "flat": the whole change is below 0.5 % of the mean level AND of no consequence;
+    # quantities with a large offset (centre distance) are judged by their own span
+    if span <= 1e-9 * scale:
+        return "flat"
+    d = np.diff(y)
+    tol = 1e-3 * span
+    if np.all(d > -tol):
+        return "increase"
+    if np.all(d < tol):
+        return "decrease"
+    k = int(np.argmin(y))
+    if 0 < k < len(y) - 1 and np.all(d[:k] < tol) and np.all(d[k:] > -tol):
+        return "decrease-then-increase"
+    k = int(np.argmax(y))
+    if 0 < k < len(y) - 1 and np.all(d[:k] > -tol) and np.all(d[k:] < tol):
+        return "increase-then-decrease"
+    return "nonlinear"
+
+
+def agrees(claim: str, found: str) -> str:
+    if claim == found:
+        return "agree"
+    if claim == "nonlinear" and found in ("decrease-then-increase", "increase-then-decrease", "nonlinear"):
+        return "agree"
+    if claim in ("increase", "decrease") and found == "flat":
+        return "disagree (flat)"
+    return "disagree"
+
+
+def change_text(y) -> str:
+    y = np.asarray(y, dtype=float)
+    if len(y) > 7:  # long sweeps: ends and a few points between
+        idx = np.unique(np.linspace(0, len(y) - 1, 6).round().astype(int))
+        return " -> ".join(f"{y[i]:.5g}" for i in idx)
+    return " -> ".join(f"{v:.4g}" for v in y)
+
+
+# -- computation -----------------------------------------------------------------------
+
+def _scene(base: str, sets: list[str]):
+    from .scene import apply_overrides, builtin_scene_dict, scene_from_dict
+    return scene_from_dict(apply_overrides(builtin_scene_dict(base), sets), name=base)
+
+
+def compute(progress: Callable[[str], None] | None = None) -> dict[str, Any]:
+    from .calibrate import calibrated_table, run_fe
+    from .simulate_job import run
+
+    say = progress or (lambda msg: None)
+    pair = default_pair()
+    T = 40.0
+    wears = {p: (None if p == "unworn" else WearSpec(phase=p)) for p in PHASES}
+    cal = {}
+    for p in PHASES:
+        cal[p] = run_fe(pair, wears[p], estimate_error=False)
+        say(f"FE single-tooth compliance ({p})")
+    # wear study: the built-in wear scenes (10 um clearance, static coupling)
+    tabs_wear, sims_wear = {}, {}
+    for p in PHASES:
+        tabs_wear[p] = calibrated_table(pair, wears[p], 10e-6, T, 360, calibration=cal[p])
+        say(f"calibrated table + FE pair ({p})")
+        sims_wear[p] = run(_scene(f"paper-wear-{p}", ['effects.mesh_stiffness={source = "calibrated"}']))
+        say(f"simulation, wear {p}")
+    tabs_cl, sims_cl = {}, {}
+    for c in CLEARANCES_UM:
+        tabs_cl[c] = calibrated_table(pair, None, c * 1e-6, T, 360, calibration=cal["unworn"])
+        say(f"calibrated table + FE pair (clearance {c:g} um)")
+        sims_cl[c] = run(_scene("paper-clearance", ['effects.mesh_stiffness={source = "calibrated"}',
+                                                    f"effects.bearing_clearance.clearance_um={c}"]))
+        say(f"simulation, clearance {c:g} um")
+    cl_fine = np.linspace(0.0, 100.0, 21)
+    geo = [operating_geometry(pair, c * 1e-6, T, 2.6e8, 50e-6) for c in cl_fine]
+    return {"pair": pair, "tabs_wear": tabs_wear, "sims_wear": sims_wear, "tabs_cl": tabs_cl,
+            "sims_cl": sims_cl, "cl_fine": cl_fine, "geo": geo, "cal": cal}
+
+
+# -- figures ---------------------------------------------------------------------------
+
+def _plt():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def _stiffness_fig(tabs: dict, labeler, title: str, zoom: bool = False):
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(8.5, 4.2))
+    for key, tab in tabs.items():
+        ang = np.degrees(tab.angle_rad)
+        per = 360.0 / 30
+        a2 = np.concatenate([ang, ang + per])
+        k2 = np.concatenate([tab.k_N_per_m, tab.k_N_per_m])
+        ax.plot(a2, k2 / 1e8, label=labeler(key))
+    ax.set_xlabel("pinion angle (deg), two mesh periods; 0 = a pair enters at A")
+    ax.set_ylabel("mesh stiffness k_h (1e8 N/m)")
+    ax.set_title(title)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
+def _response_fig(sims: dict, name: str, unit: str, scale: float, labeler, title: str):
+    plt = _plt()
+    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(12, 4))
+    for key, run in sims.items():
+        r = run.result
+        n = int(round(3 * r.fs_Hz / r.fm_Hz))
+        ax.plot((r.t[:n] - r.t[0]) * 1e3, r.signals[name][:n] * scale, lw=0.9, label=labeler(key))
+        f, A = r.spectrum(name)
+        keep = (f >= 0.5 * r.fm_Hz) & (f <= 10.5 * r.fm_Hz)
+        ax2.plot(f[keep], A[keep] * scale, lw=0.8, label=labeler(key))
+    ax.set_xlabel("time (ms), three mesh periods")
+    ax.set_ylabel(f"{name} ({unit})")
+    ax2.set_xlabel("frequency (Hz), mean removed")
+    ax2.set_ylabel(f"amplitude ({unit})")
+    for a in (ax, ax2):
+        a.grid(alpha=0.3)
+        a.legend(fontsize=8)
+    fig.suptitle(title)
+    fig.tight_layout()
+    return fig
+
+
+def _harmonics_fig(x, xlabel, H: np.ndarray, unit: str, name: str, title: str, xticklabels=None):
+    """H: (n_points, n_harmonics)."""
+    plt = _plt()
+    nh = H.shape[1]
+    ncol = 5 if nh > 4 else 4
+    nrow = math.ceil(nh / ncol)
+    fig, axs = plt.subplots(nrow, ncol, figsize=(3.1 * ncol, 2.7 * nrow), squeeze=False)
+    for k in range(nh):
+        a = axs[k // ncol][k % ncol]
+        a.plot(x, H[:, k], "o-", ms=4)
+        a.set_title(f"{k + 1} x fm at 40 N m", fontsize=9)
+        a.set_xlabel(xlabel, fontsize=8)
+        a.set_ylabel(f"{name} ({unit})", fontsize=8)
+        if xticklabels is not None:
+            a.set_xticks(x)
+            a.set_xticklabels(xticklabels, fontsize=8)
+        a.grid(alpha=0.3)
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+def figures(res: dict[str, Any]) -> dict[str, Any]:
+    plt = _plt()
+    figs: dict[str, Any] = {}
+    figs["fig06_stiffness_wear.png"] = _stiffness_fig(
+        res["tabs_wear"], lambda p: f"{p} ({PHASE_DEPTHS_M[p] * 1e6:g} um max depth)",
+        "Fig. 6: mesh stiffness per wear phase (FE-calibrated, 40 N m, 10 um clearance)")
+    xw = np.arange(3)
+    for name, unit, scale, desc in SIGNALS:
+        f1, f2 = WEAR_FIGS[name]
+        figs[f"fig{f1:02d}_{name}_wear.png"] = _response_fig(
+            res["sims_wear"], name, unit, scale, lambda p: p, f"Fig. {f1}: {desc} per wear phase")
+        H = np.array([res["sims_wear"][p].result.harmonics(name, 4) * scale for p in PHASES])
+        figs[f"fig{f2:02d}_{name}_harmonics_wear.png"] = _harmonics_fig(
+            xw, "wear phase", H, unit, name, f"Fig. {f2}: harmonics of {desc} versus wear phase",
+            xticklabels=list(PHASES))
+    # Fig. 15: operating geometry versus clearance
+    geo, c = res["geo"], res["cl_fine"]
+    fig, axs = plt.subplots(1, 4, figsize=(15, 3.6))
+    data = [("centre distance (mm)", [g.centre_distance_m * 1e3 for g in geo]),
+            ("operating pressure angle (deg)", [math.degrees(g.pressure_angle_rad) for g in geo]),
+            ("contact line length (mm)", [g.contact_line_length_m * 1e3 for g in geo]),
+            ("contact ratio", [g.contact_ratio for g in geo])]
+    for a, (lab, y) in zip(axs, data):
+        a.plot(c, y, "o-", ms=3)
+        a.set_xlabel("bearing clearance (um)")
+        a.set_ylabel(lab)
+        a.grid(alpha=0.3)
+    fig.suptitle("Fig. 15: operating geometry versus bearing clearance (Eq. 11 with 40 N m, k_b = 2.6e8 N/m)")
+    fig.tight_layout()
+    figs["fig15_geometry_clearance.png"] = fig
+    cl = np.array(CLEARANCES_UM)
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.plot(cl, [res["tabs_cl"][x].mean_N_per_m / 1e8 for x in CLEARANCES_UM], "o-")
+    ax.set_xlabel("bearing clearance (um)")
+    ax.set_ylabel("mean mesh stiffness (1e8 N/m)")
+    ax.set_title("Fig. 16: average mesh stiffness versus clearance")
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    figs["fig16_mean_stiffness_clearance.png"] = fig
+    figs["fig17_stiffness_clearance.png"] = _stiffness_fig(
+        res["tabs_cl"], lambda x: f"clearance {x:g} um", "Fig. 17: mesh stiffness versus bearing clearance")
+    sel = {x: res["sims_cl"][x] for x in (CLEARANCES_UM[0], CLEARANCES_UM[len(CLEARANCES_UM) // 2], CLEARANCES_UM[-1])}
+    for name, unit, scale, desc in SIGNALS:
+        f1, f2 = CLEAR_FIGS[name]
+        figs[f"fig{f1:02d}_{name}_clearance.png"] = _response_fig(
+            sel, name, unit, scale, lambda x: f"{x:g} um", f"Fig. {f1}: {desc} versus bearing clearance")
+        nh = 10 if name == "F_m" else 4
+        H = np.array([res["sims_cl"][x].result.harmonics(name, nh) * scale for x in CLEARANCES_UM])
+        figs[f"fig{f2:02d}_{name}_harmonics_clearance.png"] = _harmonics_fig(
+            cl, "bearing clearance (um)", H, unit, name, f"Fig. {f2}: harmonics of {desc} versus bearing clearance")
+    return figs
+
+
+# -- trends ------------------------------------------------------------------------------
+
+def trends(res: dict[str, Any]) -> list[dict[str, str]]:
+    rows: list[dict[str, str]] = []
+    sw, sc = res["sims_wear"], res["sims_cl"]
+
+    def add(where, claim_text, claim, values, ours_note="", why=""):
+        found = classify(values)
+        rows.append({"where": where, "paper": claim_text, "claim": claim, "ours": f"{found}: {change_text(values)}"
+                     + (f" {ours_note}" if ours_note else ""), "verdict": agrees(claim, found), "why": why})
+
+    tw = res["tabs_wear"]
+    means = [tw[p].mean_N_per_m for p in PHASES]
+    add("3.1.1, Fig. 6", "mesh stiffness decreases from unworn to severe wear", "decrease", means, "(mean, N/m)",
+        "thinner teeth and, above all, wear gaps: the entering and leaving pairs carry no load until the elastic "
+        "approach closes their 10-40 um gaps")
+    add("Conclusion 2", "mesh stiffness increases gradually with wear depth", "increase", means, "(mean, N/m)",
+        "contradicts the paper's own section 3.1.1; the physics gives a decrease")
+    # where the drop is largest: double zone vs single zone
+    base = tw["unworn"]
+    dbl = (base.pairs_in_contact >= 2)
+    for p in ("mild", "severe"):
+        drop = 1 - tw[p].k_N_per_m / base.k_N_per_m
+        rows.append({"where": "3.1.1, Fig. 6", "paper": f"change largest in the double-tooth zone A, weak in the single-"
+                     f"tooth zone B ({p})", "claim": "double > single",
+                     "ours": f"mean drop double zone {100 * drop[dbl].mean():.1f} %, single zone {100 * drop[~dbl].mean():.2f} %",
+                     "verdict": "agree" if drop[dbl].mean() > drop[~dbl].mean() else "disagree",
+                     "why": "wear depth is largest near root and tip (large sliding), which are in contact only in "
+                            "the double zone; at the pitch point (single zone) it is zero"})
+    claims_wear = {
+        "y_p": ("Fig. 8", {1: "increase", 2: "increase", 3: "decrease", 4: "increase"}),
+        "x_p": ("Fig. 10", {1: "increase", 2: "increase", 3: "decrease", 4: "increase"}),
+        "delta": ("Fig. 12", {1: "increase", 2: "increase", 3: "decrease-then-increase", 4: "increase"}),
+        "F_m": ("Fig. 14", {1: "decrease-then-increase", 3: "decrease-then-increase", 4: "decrease-then-increase"}),
+    }
+    for name, (fig, cl) in claims_wear.items():
+        unit, scale = dict((s[0], (s[1], s[2])) for s in SIGNALS)[name]
+        for k, claim in cl.items():
+            vals = [sw[p].result.harmonics(name, 4)[k - 1] * scale for p in PHASES]
+            add(f"3.1, {fig}", f"{k} x fm of {name} {claim.replace('-', ' ')} with wear", claim, vals, f"({unit})",
+                _why_harmonic(name, k))
+    vals = [sw[p].result.harmonics("F_m", 4)[2] for p in PHASES]
+    add("3.1.4, Fig. 14", "3 x fm of F_m is enlarged with wear (the same paragraph also lists it as V-shaped)",
+        "increase", vals, "(N)", "the paper contradicts itself on this harmonic")
+    for name, unit, scale, desc in SIGNALS:
+        vals = [sw[p].result.stats[name]["p2p"] * scale for p in PHASES]
+        add("3.1, Figs. 7-13; Conclusion 2", f"amplitude of {name} is enlarged with wear", "increase", vals,
+            f"(peak-to-peak, {unit})", "the worn mesh's stiffness fluctuation is stronger (entering pair unloaded), "
+                                       "so the forced response grows" )
+    # clearance: geometry
+    geo, c = res["geo"], res["cl_fine"]
+    add("3.2.1, Fig. 15a", "centre distance increases linearly with clearance", "increase",
+        [g.centre_distance_m * 1e3 for g in geo], "(mm)", "Eq. 11: C' grows with BC at slope ~1")
+    add("3.2.1, Fig. 15b", "operating pressure angle increases", "increase",
+        [math.degrees(g.pressure_angle_rad) for g in geo], "(deg)", "cos a' = (r_b1 + r_b2) / C'")
+    add("3.2.1, Fig. 15c", "contact line length decreases", "decrease", [g.contact_line_length_m * 1e3 for g in geo],
+        "(mm)", "tip circles fixed, C' sin a' grows")
+    add("3.2.1, Fig. 15d", "contact ratio decreases", "decrease", [g.contact_ratio for g in geo], "", "")
+    add("Conclusion 1", "backlash increases linearly with clearance", "increase", [g.backlash_m * 1e6 for g in geo],
+        "(um)", "2 (r_b1 + r_b2)(inv a' - inv a) grows with C'")
+    tc = res["tabs_cl"]
+    add("3.2.1, Fig. 17; Conclusion 3", "time-varying mesh stiffness increases with clearance", "increase",
+        [tc[x].k_N_per_m.max() for x in CLEARANCES_UM], "(maximum, N/m)",
+        "contacts move toward the tips where teeth are more compliant; contradicts the paper's own Fig. 16 text")
+    add("3.2.1, Fig. 16", "average mesh stiffness decreases linearly with clearance", "decrease",
+        [tc[x].mean_N_per_m for x in CLEARANCES_UM], "(mean, N/m)", "the double-contact zone shortens")
+    dz = [float((tc[x].pairs_in_contact >= 2).mean()) for x in CLEARANCES_UM]
+    add("3.2.1, Fig. 17; Conclusion 3", "double-tooth zone shrinks (single-tooth zone grows)", "decrease", dz,
+        "(fraction of the period with two loaded pairs)", "lower contact ratio")
+    ymean = [abs(sc[x].result.stats["y_p"]["mean"]) * 1e6 for x in CLEARANCES_UM]
+    add("3.2.2, Fig. 18", "larger clearance, larger Y shift", "increase", ymean, "(|mean y_p|, um)",
+        "the shaft moves through the dead zone BC/2 before the bearing carries")
+    dmean = [sc[x].result.stats["delta"]["mean"] * 1e6 for x in CLEARANCES_UM]
+    add("3.2.3, Fig. 22", "relative displacement curve moves upwards", "increase", dmean, "(mean delta, um)",
+        "delta = j_n/2 + F/k at contact, and the backlash grows with C'")
+    claims_cl = {
+        "y_p": ("Fig. 19", {1: "increase", 2: "increase", 3: "decrease", 4: "nonlinear"}),
+        "x_p": ("Fig. 21", {1: "increase", 2: "increase", 3: "decrease", 4: "nonlinear"}),
+        "delta": ("Fig. 23", {1: "increase", 2: "decrease", 3: "increase", 4: "nonlinear"}),
+        "F_m": ("Fig. 25", {1: "decrease-then-increase", 2: "decrease", 3: "increase", 4: "increase",
+                            5: "decrease", 6: "increase", 8: "decrease", 9: "decrease", 10: "decrease"}),
+    }
+    for name, (fig, cl) in claims_cl.items():
+        unit, scale = dict((s[0], (s[1], s[2])) for s in SIGNALS)[name]
+        for k, claim in cl.items():
+            vals = [sc[x].result.harmonics(name, 10)[k - 1] * scale for x in CLEARANCES_UM]
+            add(f"3.2, {fig}", f"{k} x fm of {name} {claim.replace('-', ' ')} with clearance", claim, vals,
+                f"({unit})", _why_harmonic(name, k))
+    for name, unit, scale, desc in SIGNALS:
+        vals = [sc[x].result.stats[name]["p2p"] * scale for x in CLEARANCES_UM]
+        add("Conclusion 3", f"amplitude of {name} increases with clearance", "increase", vals,
+            f"(peak-to-peak, {unit})", "at 40 N m the bearings stay pressed into the clearance (contact fraction 1): "
+                                       "the clearance shifts the shafts but barely changes the dynamics")
+    for fig, sims, lab in (("3.1.4, Fig. 13", sw, "wear"), ("3.2.4, Fig. 24", sc, "clearance")):
+        r = next(iter(sims.values())).result
+        h = r.harmonics("F_m", 10)
+        top = sorted(range(10), key=lambda k: -h[k])[:3]
+        rows.append({"where": fig, "paper": "8th-10th harmonics of F_m much higher than the others (resonance)",
+                     "claim": "8-10 highest", "ours": f"largest: {', '.join(f'{k + 1} x fm' for k in top)}",
+                     "verdict": "agree" if set(top) & {7, 8, 9} else "disagree",
+                     "why": "our largest harmonics sit near the 4080 Hz mode of the 6-DOF model (k = 6-7 at 600 Hz); "
+                            "the paper's resonance depends on its unstated masses, inertias and damping"})
+    return rows
+
+
+def _why_harmonic(name: str, k: int) -> str:
+    return ("harmonic amplitudes depend on the stiffness-fluctuation spectrum and on how close k fm lies to the "
+            "model's modes (1037, 1325, 4080 Hz); the paper's inertias and damping are not given, so individual "
+            "harmonic trends are not transferable")
+
+
+# -- markdown ---------------------------------------------------------------------------
+
+def markdown(res: dict[str, Any], rows: list[dict[str, str]], figs: list[str], wall_s: float) -> str:
+    pair = res["pair"]
+    n_agree = sum(r["verdict"] == "agree" for r in rows)
+    L = ["# Reproduction of Zhang et al. (2019) with gearwear", "",
+         "Every numerical figure of the paper regenerated with this tool (`gearwear report paper`). Stiffness: "
+         "FE-calibrated tables (Ishikawa model with the tooth compliance corrected to the full-gear FE and a "
+         "per-contact-state factor from the FE tooth-pair contact); dynamics: the 6-DOF model with the paper's "
+         "typos fixed. Wear study: built-in scenes `paper-wear-unworn|mild|severe` (40 N m, 1200 rpm, 10 um "
+         "clearance, 50 um initial backlash, static centre distance); clearance study: `paper-clearance` "
+         f"(unworn) at {', '.join(f'{c:g}' for c in CLEARANCES_UM)} um.", "",
+         f"Trend claims: {len(rows)}, of which {n_agree} agree with this tool. Run time {wall_s:.0f} s.", "",
+         "## Trends: the paper versus this tool", "",
+         "| where | paper says | this tool finds | verdict | why |", "|---|---|---|---|---|"]
+    for r in rows:
+        L.append(f"| {r['where']} | {r['paper']} | {r['ours']} | {r['verdict']} | {r['why']} |")
+    L += ["", "## Assumed parameters (not given in the paper)", "",
+          "| quantity | value |", "|---|---|",
+          f"| face width | {pair.face_width_m * 1e3:g} mm |",
+          f"| Young's modulus, Poisson, density | {pair.material.youngs_modulus_Pa / 1e9:g} GPa, "
+          f"{pair.material.poisson_ratio:g}, {pair.material.density_kg_per_m3:g} kg/m^3 |",
+          f"| basic rack | h_a* {pair.addendum_coefficient:g}, h_f* {pair.dedendum_coefficient:g}, "
+          f"rho_f* {pair.rack_tip_radius_coefficient:g} |",
+          f"| hub (bore) radius | {pair.hub_radius_m[0] * 1e3:g} mm |",
+          "| wear phases (max depth on the pinion flank, Archard shape) | unworn 0, mild 10 um, severe 30 um |",
+          "| damping ratios | mesh 0.05, bearings 0.02 |",
+          "| inertia | J = m r^2 / 2 (solid disc at the pitch radius) |",
+          "| initial backlash | 50 um (total normal) |",
+          "| bearing clearance in the wear study | 10 um (total radial play BC) |", "",
+          "## Corrections to the paper's equations", "",
+          "* Eq. 2 (garbled): read as Castigliano on the slice cantilever, including the sin^2 w x_F^2 term.",
+          "* Eq. 1: the square root is half the Hertz contact width; Eq. 1 = I_h (2 a |zeta|) N.",
+          "* Eq. 11: BC is the total radial play of each bearing (dead zones of half-width BC/2 in Eqs. 7-10).",
+          "* Eq. 15: normal backlash 2 C cos(a)(inv a' - inv a); the printed form uses C' (switch `form = \"printed\"`).",
+          "* Eq. 17: the gear's torsion uses the output torque T_g = T_p R_g / R_p and R_g.",
+          "* Eq. 19: no damping force through a backlash gap (switch `damping_in_gap = true` for the literal form).",
+          "* Eq. 20: the third branch is delta < -b.", "", "## Figures", ""]
+    for f in figs:
+        L += [f"![{f}]({f})", ""]
+    return "\n".join(L) + "\n"
+
+
+def run_report(out: Path, progress: bool = True) -> list[Path]:
+    from tqdm import tqdm
+
+    t0 = time.perf_counter()
+    steps = 3 + 2 * len(PHASES) + 2 * len(CLEARANCES_UM)
+    with tqdm(total=steps, desc="report paper", unit="step", disable=not progress) as bar:
+        def say(msg):
+            bar.set_postfix_str(msg[:40])
+            bar.update(1)
+        res = compute(say)
+    figs = figures(res)
+    rows = trends(res)
+    plt = _plt()
+    files = []
+    for name, fig in figs.items():
+        files.append(io.write_figure(fig, out / name, dpi=110))
+        plt.close(fig)
+    wall = time.perf_counter() - t0
+    files.append(io.write_text(out / "README.md", markdown(res, rows, list(figs), wall)))
+    files.append(io.write_text(out / "trends.json", json.dumps(rows, indent=1) + "\n"))
+    return files
