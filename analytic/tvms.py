@@ -54,34 +54,10 @@ from . import ishikawa
 METHODS = ("ishikawa", "energy")
 
 
-@dataclass(frozen=True)
-class MeshStiffness:
-    """A mesh stiffness curve over one mesh period (SI units).
-
-    angle_rad       (n,) pinion angle from the entry of a pair at A
-    k_N_per_m       (n,) mesh stiffness (sum of loaded pairs' secant stiffness)
-    ste_m           (n,) loaded static transmission error along the LOA
-    excitation_m    (n,) e with F = k_h (ste - e) (zero when unworn)
-    pair_load_N     (n, p) load of each candidate pair (zero when not in contact)
-    pair_d_m        (n, p) position of each candidate pair on the LOA
-    pair_in_path    (n, p) True inside the theoretical path of contact [A, E]
-    """
-
-    method: str
-    pair: PairSpec
-    mesh: MeshGeometry
-    torque_Nm: float
-    wear: WearSpec | None
-    angle_rad: np.ndarray
-    k_N_per_m: np.ndarray
-    ste_m: np.ndarray
-    excitation_m: np.ndarray
-    pair_load_N: np.ndarray
-    pair_d_m: np.ndarray
-    pair_in_path: np.ndarray
-    wall_s: float = 0.0
-    n_slices: int = ishikawa.DEFAULT_SLICES
-    meta: dict = field(default_factory=dict)
+class CurveStats:
+    """Statistics shared by every mesh-stiffness curve over one mesh period (this
+    module's analytic curves and fem.pair's FE curves): needs ``pair``, ``mesh``,
+    ``torque_Nm``, ``angle_rad``, ``k_N_per_m`` and ``pair_load_N``."""
 
     @property
     def mean_N_per_m(self) -> float:
@@ -114,13 +90,42 @@ class MeshStiffness:
         m = self.mesh
         rb1 = self.pair.gear(0).base_radius_m
         d_entry = m.path_start_m + rb1 * self.angle_rad  # position of the entering pair
-        B, D = m.single_contact_limits_m
         pb = m.base_pitch_m
         double = d_entry + pb <= m.path_end_m
         if m.contact_ratio < 1:
             return {"A": np.zeros_like(double), "B": d_entry <= m.path_end_m, "C": np.zeros_like(double)}
         half = d_entry < m.path_start_m + 0.5 * (m.path_end_m - pb - m.path_start_m) + 1e-300
         return {"A": double & half, "B": ~double, "C": double & ~half}
+
+
+@dataclass(frozen=True)
+class MeshStiffness(CurveStats):
+    """A mesh stiffness curve over one mesh period (SI units).
+
+    angle_rad       (n,) pinion angle from the entry of a pair at A
+    k_N_per_m       (n,) mesh stiffness (sum of loaded pairs' secant stiffness)
+    ste_m           (n,) loaded static transmission error along the LOA
+    excitation_m    (n,) e with F = k_h (ste - e) (zero when unworn)
+    pair_load_N     (n, p) load of each candidate pair (zero when not in contact)
+    pair_d_m        (n, p) position of each candidate pair on the LOA
+    pair_in_path    (n, p) True inside the theoretical path of contact [A, E]
+    """
+
+    method: str
+    pair: PairSpec
+    mesh: MeshGeometry
+    torque_Nm: float
+    wear: WearSpec | None
+    angle_rad: np.ndarray
+    k_N_per_m: np.ndarray
+    ste_m: np.ndarray
+    excitation_m: np.ndarray
+    pair_load_N: np.ndarray
+    pair_d_m: np.ndarray
+    pair_in_path: np.ndarray
+    wall_s: float = 0.0
+    n_slices: int = ishikawa.DEFAULT_SLICES
+    meta: dict = field(default_factory=dict)
 
 
 # -- profiles and compliance ---------------------------------------------------------

@@ -114,6 +114,7 @@ from geometry.wear import (WearSpec, flank_depth, hertz_half_width, key_roll_ang
                            wear_on_line_of_action)
 from analytic.ishikawa import hertz_approach_m
 from analytic.loading import load_points
+from analytic.tvms import CurveStats
 
 from .contact import solve_contact
 from .elasticity import assemble
@@ -130,7 +131,7 @@ N_PATCH = 8  # Gauss-Chebyshev points of the Hertzian pressure patch
 
 
 @dataclass
-class PairFE:
+class PairFE(CurveStats):
     """FE mesh stiffness over one mesh period (SI units).
 
     angle_rad          (n,) pinion angle, 0 when a pair enters at A (as analytic.tvms)
@@ -159,31 +160,6 @@ class PairFE:
     pair_in_path: np.ndarray
     timings: dict = field(default_factory=dict)
     meta: dict = field(default_factory=dict)
-
-    @property
-    def mean_N_per_m(self) -> float:
-        return float(np.mean(self.k_N_per_m))
-
-    @property
-    def total_load_N(self) -> float:
-        return self.torque_Nm / self.pair.gear(0).base_radius_m
-
-    @property
-    def pairs_in_contact(self) -> np.ndarray:
-        return (self.pair_load_N > 0).sum(axis=1)
-
-    def zone_masks(self) -> dict[str, np.ndarray]:
-        """Theoretical zones (as analytic.tvms.MeshStiffness.zone_masks): "A" double
-        contact at entry, "B" single contact, "C" double contact at exit."""
-        m = self.mesh
-        rb1 = self.pair.gear(0).base_radius_m
-        d_entry = m.path_start_m + rb1 * self.angle_rad
-        pb = m.base_pitch_m
-        double = d_entry + pb <= m.path_end_m
-        if m.contact_ratio < 1:
-            return {"A": np.zeros_like(double), "B": d_entry <= m.path_end_m, "C": np.zeros_like(double)}
-        half = d_entry < m.path_start_m + 0.5 * (m.path_end_m - pb - m.path_start_m)
-        return {"A": double & half, "B": ~double, "C": double & ~half}
 
     def zone_means(self) -> dict[str, float]:
         z = self.zone_masks()
