@@ -202,7 +202,7 @@ def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float =
         "pair_zone_factors": {"double": pc.double, "single": pc.single},
         "pair_check_residual": pc.check_residual, "pair_check_rms": pc.check_rms,
         "pair_fit_residual": pc.fit_residual,
-        "fe_pair_mean_N_per_m": pc.fe_mean_N_per_m, "fe_pair_wall_s": pc.fe_wall_s,
+        "fe_pair_mean_N_per_m": pc.fe_mean_N_per_m,
         "uncorrected_mean_N_per_m": mesh_stiffness(pair, points=points, torque_Nm=torque_Nm,
                                                    clearance_m=clearance_m, wear=wear).mean_N_per_m,
     })

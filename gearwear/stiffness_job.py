@@ -188,8 +188,10 @@ def write(curves: list[Curve], out: Path, inputs: dict[str, Any]) -> list[Path]:
     files = []
     for c in curves:
         p = io.write_text(out / f"stiffness_{c.slug}.csv", curve_csv(c))
+        # no wall times in a sidecar: the same inputs give the same bytes
+        summary = {k: v for k, v in c.summary().items() if k != "wall_s"}
         files += [p, io.sidecar(p, {**inputs, "wear": c.wear.label if c.wear else "unworn",
-                                    "clearance_um": c.clearance_m * 1e6}, c.method, {"summary": c.summary()})]
+                                    "clearance_um": c.clearance_m * 1e6}, c.method, {"summary": summary})]
     for name, fig in figures(curves).items():
         files.append(io.write_figure(fig, out / name))
         plt.close(fig)

@@ -106,3 +106,12 @@ def test_stiffness_bad_input(tmp_path, args, message):
     assert r.returncode == 2
     assert len(r.stderr.strip().splitlines()) == 1 and message in r.stderr, r.stderr
     assert not (tmp_path / "o").exists()
+
+
+def test_same_inputs_give_the_same_bytes(tmp_path):
+    for k in (1, 2):
+        r = run("stiffness", "--wear", "mild", "--points", "64", "--out", str(tmp_path / f"r{k}"))
+        assert r.returncode == 0, r.stderr
+    for name in ("stiffness_ishikawa_mild_clearance0um.csv", "stiffness_ishikawa_mild_clearance0um.csv.json",
+                 "stiffness.png"):
+        assert (tmp_path / "r1" / name).read_bytes() == (tmp_path / "r2" / name).read_bytes(), name
