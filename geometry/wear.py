@@ -47,6 +47,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Any, Mapping
 
 import numpy as np
@@ -272,10 +273,8 @@ def wear_on_line_of_action(mesh: MeshGeometry, spec: WearSpec, d) -> tuple[np.nd
     if target == 0.0:
         return np.zeros_like(d), np.zeros_like(d)
     # scale so the pinion's maximum over its whole active flank equals the target
-    dd = np.linspace(mesh.path_start_m, mesh.path_end_m, 40001)
-    ref1, ref2 = depth_per_contact(mesh, dd, spec)
     z1, z2 = mesh.pair.teeth
-    scale = target / float(np.max(ref1))
+    scale = target / _flank_reference(mesh, spec)[0]
     return h1c * scale, h2c * scale * z1 / z2
 
 
@@ -305,11 +304,19 @@ def flank_depth(profile: ToothProfile, gear_index: int, mesh: MeshGeometry, spec
     return h
 
 
-def wear_peaks(mesh: MeshGeometry, spec: WearSpec) -> np.ndarray:
-    """LOA positions (m) of the deepest wear on the pinion and on the gear flank."""
+@lru_cache(maxsize=64)
+def _flank_reference(mesh: MeshGeometry, spec: WearSpec) -> tuple[float, float, float]:
+    """(largest pinion depth per contact, LOA position of the pinion's and of the gear's
+    deepest wear) on a dense grid over the path of contact. Cached: it depends only on
+    the (hashable, frozen) mesh and wear spec, and every worn stiffness curve needs it."""
     d = np.linspace(mesh.path_start_m, mesh.path_end_m, 40001)
     h1, h2 = depth_per_contact(mesh, d, spec)
-    return np.array([d[np.argmax(h1)], d[np.argmax(h2)]])
+    return float(np.max(h1)), float(d[np.argmax(h1)]), float(d[np.argmax(h2)])
+
+
+def wear_peaks(mesh: MeshGeometry, spec: WearSpec) -> np.ndarray:
+    """LOA positions (m) of the deepest wear on the pinion and on the gear flank."""
+    return np.array(_flank_reference(mesh, spec)[1:])
 
 
 def key_roll_angles(mesh: MeshGeometry, gear_index: int, spec: WearSpec | None = None) -> np.ndarray:
