@@ -141,7 +141,7 @@ def weber_foundation(loaded: ToothProfile, y_axis_m, w_rad, material: Material, 
 def hertz_approach_m(force_N, material: Material, face_width_m: float) -> np.ndarray:
     """Nonlinear Hertzian approach of the pair, paper Eq. 5: 1.275 F^0.9 / (E^0.9 b^0.8) (m)."""
     F = np.maximum(np.asarray(force_N, dtype=float), 0.0)
-    return 1.275 * F ** 0.9 / (material.youngs_modulus_Pa ** 0.9 * face_width_m ** 0.8)
+    return hertz_coefficient(material, face_width_m) * F ** 0.9
 
 
 def hertz_coefficient(material: Material, face_width_m: float) -> float:

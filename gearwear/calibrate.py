@@ -72,11 +72,6 @@ def fit_correction(radius_m: np.ndarray, fem: np.ndarray, analytic: np.ndarray) 
     return Correction(np.asarray(radius_m), ratio, coeffs, r0, r1, float(res[fit].max()), float(res[check].max()))
 
 
-def _pair_inputs(pair: PairSpec) -> dict[str, Any]:
-    d = dataclasses.asdict(pair)
-    return d
-
-
 def _wear_inputs(wear: WearSpec | None) -> dict[str, Any] | None:
     return None if wear is None or wear.is_unworn else dataclasses.asdict(wear)
 
@@ -162,7 +157,7 @@ def table_inputs(pair: PairSpec, wear: WearSpec | None, clearance_m: float, torq
                  positions: int) -> dict[str, Any]:
     from fem import tooth
 
-    return {"kind": "calibrated mesh stiffness", "pair": _pair_inputs(pair), "wear": _wear_inputs(wear),
+    return {"kind": "calibrated mesh stiffness", "pair": dataclasses.asdict(pair), "wear": _wear_inputs(wear),
             "clearance_m": clearance_m, "torque_Nm": torque_Nm, "points": points,
             "fe": {"positions": positions, "order": 2, "plane": "stress", "mesh_scale": 1.0,
                    "sizes": dataclasses.asdict(tooth.mesh_sizes(1.0)), "fit_degree": FIT_DEGREE},

@@ -125,10 +125,9 @@ def _cmd_verify(args: argparse.Namespace) -> int:
     from .scene import load_scene
 
     scene = load_scene(args.pair)
-    wears = _wear_list(args, scene, scene.operating.torque_Nm) or [None, None]
-    if not args.wear:
-        from geometry.wear import WearSpec
-        wears = [None, WearSpec(phase="mild"), WearSpec(phase="severe")]
+    from geometry.wear import WearSpec
+    wears = _wear_list(args, scene, scene.operating.torque_Nm) or [None, WearSpec(phase="mild"),
+                                                                   WearSpec(phase="severe")]
     positions = _int_arg("--positions", args.positions, 5, 201)
     steps = len(wears) + (0 if args.no_convergence else 12)
     with tqdm(total=steps, desc="verify", unit="run", disable=args.json or None, file=sys.stderr) as bar:

@@ -58,12 +58,8 @@ def zone_means(r: MeshStiffness) -> dict[str, float]:
     """Mean stiffness over the theoretical double- and single-contact zones of the
     mesh period and the zones' lengths in pinion angle."""
     m = r.mesh
-    rb1 = r.pair.gear(0).base_radius_m
-    d_entry = m.path_start_m + rb1 * r.angle_rad
-    if m.contact_ratio >= 1:
-        double = d_entry + m.base_pitch_m <= m.path_end_m
-    else:
-        double = np.zeros(len(d_entry), bool)
+    z = r.zone_masks()
+    double = z["A"] | z["C"]
     per = math.degrees(m.mesh_angle_rad)
     frac = max(min(m.contact_ratio - 1.0, 1.0), 0.0)
     return {"double": float(r.k_N_per_m[double].mean()) if double.any() else float("nan"),
