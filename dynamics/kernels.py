@@ -4,23 +4,44 @@ Specialisation mechanism
 ------------------------
 Every effect switch is passed to the kernels as an argument that is either ``None``
 (effect absent) or ``True`` (effect present): ``sw_tv`` (time-varying stiffness),
-``sw_bl`` (backlash), ``sw_cl`` (bearing clearance), ``sw_te`` (transmission-error
-excitation), ``sw_dyn`` (dynamic centre distance), ``sw_en`` (energy accumulators).
-Numba compiles one specialisation per argument *type* signature, so each effect set
-gets its own machine code; inside it every ``if sw is not None:`` test is on a
-``NoneType`` or ``bool`` argument and numba's dead-branch pruning removes the disabled
-branches before type inference (absent effects cost nothing, not even a test). The
-specialisations are cached on disk by numba (``cache=True``), one entry per signature
-in the same index, so a later process loads them instead of compiling.
+``sw_bl`` (backlash / two-flank law), ``sw_cl`` (bearing clearance), ``sw_te``
+(transmission-error excitation), ``sw_dyn`` (dynamic centre distance), ``sw_en``
+(energy accumulators). Numba compiles one specialisation per argument *type*
+signature, so each effect set gets its own machine code; inside it every
+``if sw is not None:`` test is on a ``NoneType`` or ``bool`` argument and numba's
+dead-branch pruning removes the disabled branches before type inference (absent
+effects cost nothing, not even a test). The specialisations are cached on disk
+(``cache=True``).
 
-(A closure factory capturing boolean constants was tried first: numba keys its disk
-cache on the pickled closure cells, and a closure that captures another jitted function
-pickles differently in every process, so those kernels were recompiled on every run.
-Type-level specialisation gives the same pruned code and a working disk cache.)
+Speed structure
+---------------
+The right-hand side works on scalars: the state is a 10-tuple, the parameters a
+tuple of floats, and the result a tuple. Tuples are values in numba (no reference
+counting, no heap), so LLVM inlines the whole right-hand side into the integrator
+loop; that is what brings the RK4 step within a small factor of a plain C loop
+(``benchmarks/bench_dynamics.py`` times both in one run).
 
-State vector ``z``: y_p, x_p, y_g, x_g, q, then their velocities; with the energy
-switch four quadrature states follow: input work int F_s q' dt, dissipated energy,
-parametric stiffness work int 1/2 (dk/dt) f^2 dt and excitation work -int k f de/dt dt.
+The stiffness contract
+----------------------
+The solver sees the periodic linear interpolant of the table, at the exact time of
+every stage:
+
+* RK4 (fixed step ``h = T_m / N`` from t = 0): the step grid repeats every mesh
+  period, so ``model.rk4_schedule`` builds one period's grid once, before integrating:
+  steps that contain table nodes are split into sub-steps ending on them (RK4 across
+  a kink of the interpolant drops to second order), and k, e are sampled exactly at
+  each sub-step's three stage times. The loop reads them by index (no interpolation
+  in the hot loop; any table length, any N; 4th order throughout).
+* Dormand-Prince: every step ends on the next table node (the interpolant's kinks
+  are at known times), so each step integrates a polynomial right-hand side; inside
+  a step the table segment is fixed and evaluated at each stage time.
+
+State ``z``: y_p, x_p, y_g, x_g, q, then their velocities; with the energy switch four
+quadrature states follow: input work int F_s q' dt, dissipated energy, parametric
+stiffness work int 1/2 (dk/dt) f^2 dt and excitation work -int k f de/dt dt.
+
+Status codes returned by the integrators: 0 finished, 1 step budget exhausted,
+2 step size below the minimum, 3 diverged (non-finite or unbounded state).
 """
 
 from __future__ import annotations
@@ -31,7 +52,7 @@ import numpy as np
 from numba import njit
 
 from .model import (P_B, P_BB, P_C0, P_CA, P_CBG, P_CBP, P_CH, P_DPHI, P_FS, P_INV0, P_KB,
-                    P_KC, P_ME, P_MG, P_MP, P_OM, P_PAPER, P_PER, P_PHI0, P_RS, P_SA, P_UNI)  # noqa: F401
+                    P_KC, P_ME, P_MG, P_MP, P_OM, P_PAPER, P_PER, P_PHI0, P_RS, P_SA, P_UNI)
 
 # Dormand-Prince 5(4) tableau and Shampine's 4th-order continuous extension (as scipy RK45)
 _C = np.array([0.0, 1 / 5, 3 / 10, 4 / 5, 8 / 9, 1.0])
@@ -53,18 +74,332 @@ _PD = np.array([
     [0, 40617522 / 29380423, -110615467 / 29380423, 69997945 / 29380423]])
 
 NG = 10  # switching functions: s-b, -s-b, then +-u_j - b_b for y_p, x_p, y_g, x_g
+ST_OK, ST_BUDGET, ST_HMIN, ST_DIVERGED = 0, 1, 2, 3
+
+
+# ------------------------------------------------------------------------------------
+# scalar physics (tuples in, tuples out)
+# ------------------------------------------------------------------------------------
+@njit(cache=True)
+def _kin(z, p, sw_dyn):
+    """Mesh kinematics: (delta, delta', b, G0..G3, Gb0..Gb3), G = d delta/d(y_p, x_p,
+    y_g, x_g) (d delta/dq = 1), Gb = d b/d(...) (dynamic coupling only)."""
+    Y = z[0] - z[2]
+    if sw_dyn is not None:
+        dx = p[P_C0] + z[3] - z[1]
+        dy = z[2] - z[0]
+        C = math.sqrt(dx * dx + dy * dy)
+        ca = p[P_RS] / C
+        if ca > 1.0:
+            ca = 1.0
+        sa = math.sqrt(1.0 - ca * ca)
+        b = p[P_B] + p[P_RS] * (sa / ca - math.atan2(sa, ca) - p[P_INV0])
+        iC = 1.0 / C
+        c0 = -dy * iC
+        c1 = -dx * iC
+        w = -Y * ca * iC
+        G0 = ca + w * c0
+        G1 = w * c1
+        G2 = -ca - w * c0
+        G3 = -w * c1
+        Gb0 = sa * c0
+        Gb1 = sa * c1
+        delta = z[4] + Y * ca
+    else:
+        sa = p[P_SA]
+        ca = p[P_CA]
+        b = p[P_B]
+        G0 = ca
+        G1 = sa
+        G2 = -ca
+        G3 = -sa
+        Gb0 = 0.0
+        Gb1 = 0.0
+        delta = z[4] + (z[1] - z[3]) * sa + Y * ca
+    dd = z[9] + G0 * z[5] + G1 * z[6] + G2 * z[7] + G3 * z[8]
+    return delta, dd, b, G0, G1, G2, G3, Gb0, Gb1
 
 
 @njit(cache=True)
-def _segment(tseg, par, phx):
+def _dead(u, bb):
+    if u > bb:
+        return u - bb
+    if u < -bb:
+        return u + bb
+    return 0.0
+
+
+@njit(cache=True)
+def _dead_mode(u, m, bb):
+    if m == 1:
+        return u - bb
+    if m == -1:
+        return u + bb
+    return 0.0
+
+
+@njit(cache=True)
+def _rhs(z, k, e, dk, de, p, modes, sw_bl, sw_cl, sw_dyn, sw_en):
+    """Right-hand side of the reduced 5-DOF model (``dynamics.model``).
+
+    z: 10-tuple of states; k, e: mesh stiffness (N/m) and excitation (m) at this time,
+    dk, de their time derivatives (energy accumulators only). modes: ``None`` (contact
+    states from z: a plain piecewise function, RK4) or a 6-tuple (drive flank, back
+    flank, y_p, x_p, y_g, x_g) frozen over an adaptive step (flank flags in {0, 1},
+    bearing modes in {-1, 0, 1}). Returns (dz 10-tuple, F_m, energy rates 4-tuple)."""
+    delta, dd, b, G0, G1, G2, G3, Gb0, Gb1 = _kin(z, p, sw_dyn)
+    s = delta - e
+    if sw_bl is not None:
+        if modes is None:
+            drv = s > b
+            bck = s < -b
+        else:
+            drv = modes[0] == 1
+            bck = modes[1] == 1
+        fdv = s - b if drv else 0.0
+        fbk = s + b if bck else 0.0
+        fd = p[P_CH] * dd if (drv or bck or p[P_PAPER] > 0.5) else 0.0
+    else:
+        fdv = s
+        fbk = 0.0
+        fd = p[P_CH] * dd
+    F = fd + k * (fdv + fbk)
+    Q0 = -F * G0
+    Q1 = -F * G1
+    Q2 = -F * G2
+    Q3 = -F * G3
+    if sw_dyn is not None:
+        kf = k * (fdv - fbk)
+        Q0 += kf * Gb0
+        Q1 += kf * Gb1
+        Q2 -= kf * Gb0
+        Q3 -= kf * Gb1
+    if sw_cl is not None:
+        bb = p[P_BB]
+        if modes is None:
+            f0 = _dead(z[0], bb)
+            f1 = _dead(z[1], bb)
+            f2 = _dead(z[2], bb)
+            f3 = _dead(z[3], bb)
+        else:
+            f0 = _dead_mode(z[0], modes[2], bb)
+            f1 = _dead_mode(z[1], modes[3], bb)
+            f2 = _dead_mode(z[2], modes[4], bb)
+            f3 = _dead_mode(z[3], modes[5], bb)
+    else:
+        f0 = z[0]
+        f1 = z[1]
+        f2 = z[2]
+        f3 = z[3]
+    kb = p[P_KB]
+    cbp = p[P_CBP]
+    cbg = p[P_CBG]
+    dz = (z[5], z[6], z[7], z[8], z[9],
+          (Q0 - cbp * z[5] - kb * f0) / p[P_MP],
+          (Q1 - cbp * z[6] - kb * f1) / p[P_MP],
+          (Q2 - cbg * z[7] - kb * f2) / p[P_MG],
+          (Q3 - cbg * z[8] - kb * f3) / p[P_MG],
+          (p[P_FS] - F) / p[P_ME])
+    if sw_en is not None:
+        w = (p[P_FS] * z[9],
+             cbp * (z[5] * z[5] + z[6] * z[6]) + cbg * (z[7] * z[7] + z[8] * z[8]) + fd * dd,
+             0.5 * dk * (fdv * fdv + fbk * fbk),
+             -k * (fdv + fbk) * de)
+    else:
+        w = (0.0, 0.0, 0.0, 0.0)
+    return dz, F, w
+
+
+@njit(cache=True)
+def _gvals(z, e, p, sw_bl, sw_cl, sw_dyn):
+    """Switching functions (a function is 'active', in contact, when > 0)."""
+    g0 = 0.0
+    g1 = 0.0
+    if sw_bl is not None:
+        delta, dd, b, G0, G1, G2, G3, Gb0, Gb1 = _kin(z, p, sw_dyn)
+        s = delta - e
+        g0 = s - b
+        g1 = -s - b
+    if sw_cl is not None:
+        bb = p[P_BB]
+        return (g0, g1, z[0] - bb, -z[0] - bb, z[1] - bb, -z[1] - bb,
+                z[2] - bb, -z[2] - bb, z[3] - bb, -z[3] - bb)
+    return (g0, g1, -1.0, -1.0, -1.0, -1.0, -1.0, -1.0, -1.0, -1.0)
+
+
+@njit(cache=True)
+def _axpy(z, a, d):
+    return (z[0] + a * d[0], z[1] + a * d[1], z[2] + a * d[2], z[3] + a * d[3], z[4] + a * d[4],
+            z[5] + a * d[5], z[6] + a * d[6], z[7] + a * d[7], z[8] + a * d[8], z[9] + a * d[9])
+
+
+@njit(cache=True)
+def _rk4_comb(z, h6, d1, d2, d3, d4):
+    return (z[0] + h6 * (d1[0] + 2.0 * (d2[0] + d3[0]) + d4[0]),
+            z[1] + h6 * (d1[1] + 2.0 * (d2[1] + d3[1]) + d4[1]),
+            z[2] + h6 * (d1[2] + 2.0 * (d2[2] + d3[2]) + d4[2]),
+            z[3] + h6 * (d1[3] + 2.0 * (d2[3] + d3[3]) + d4[3]),
+            z[4] + h6 * (d1[4] + 2.0 * (d2[4] + d3[4]) + d4[4]),
+            z[5] + h6 * (d1[5] + 2.0 * (d2[5] + d3[5]) + d4[5]),
+            z[6] + h6 * (d1[6] + 2.0 * (d2[6] + d3[6]) + d4[6]),
+            z[7] + h6 * (d1[7] + 2.0 * (d2[7] + d3[7]) + d4[7]),
+            z[8] + h6 * (d1[8] + 2.0 * (d2[8] + d3[8]) + d4[8]),
+            z[9] + h6 * (d1[9] + 2.0 * (d2[9] + d3[9]) + d4[9]))
+
+
+@njit(cache=True)
+def _tup(a):
+    return (a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7], a[8], a[9])
+
+
+@njit(cache=True)
+def _put(dst, z, w, sw_en):
+    for i in range(10):
+        dst[i] = z[i]
+    if sw_en is not None:
+        for i in range(4):
+            dst[10 + i] = w[i]
+
+
+@njit(cache=True)
+def _bounded(z, zlim):
+    return abs(z[4]) < zlim and abs(z[0]) < zlim and abs(z[2]) < zlim
+
+
+@njit(cache=True)
+def _hermite10(z0, f0, z1, f1, th, h, dst):
+    t2 = th * th
+    t3 = t2 * th
+    h00 = 2 * t3 - 3 * t2 + 1
+    h10 = (t3 - 2 * t2 + th) * h
+    h01 = -2 * t3 + 3 * t2
+    h11 = (t3 - t2) * h
+    for i in range(10):
+        dst[i] = h00 * z0[i] + h10 * f0[i] + h01 * z1[i] + h11 * f1[i]
+
+
+# ------------------------------------------------------------------------------------
+# fixed-step RK4
+# ------------------------------------------------------------------------------------
+@njit(cache=True)
+def rk4(z0, h, n_steps, t_out, zlim, p, hs, toff, kq, eq, dkq, deq, ends,
+        sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en):
+    """Classical RK4 on the fixed grid h = T_m / N from t = 0, split at table kinks.
+
+    (hs, toff, kq, eq, dkq, deq, ends) is one mesh period's schedule
+    (``model.rk4_schedule``): sub-step lengths, their end times within the period, k and
+    e at each sub-step's three stage times, their slopes, and which sub-steps end on a
+    step boundary. The schedule repeats every period, so every stage reads the exact
+    table value. Samples at the sorted times ``t_out``: the sub-step state where a
+    sample falls on a sub-step end (step boundaries and table nodes), else cubic
+    Hermite inside the sub-step.
+    Returns (out (n_out, 10 or 14), counters [steps, sub-steps, 0, samples, status], z_end)."""
+    nz = z0.shape[0]
+    n_out = t_out.shape[0]
+    out = np.empty((n_out, nz))
+    p_kc = p[P_KC]
+    z = _tup(z0)
+    W = (0.0, 0.0, 0.0, 0.0)
+    if sw_en is not None:
+        W = (z0[10], z0[11], z0[12], z0[13])
+    Q = hs.shape[0]
+    T = toff[Q - 1]
+    tol = 1e-9 * h
+    ko = 0
+    q = 0
+    status = ST_OK
+    n_done = 0
+    n_sub = 0
+    n_per = 0
+    t_prev = 0.0
+    fa = np.empty(10)
+    fb = np.empty(10)
+    za = np.empty(10)
+    zc = np.empty(10)
+    while ko < n_out and t_out[ko] <= tol:
+        _put(out[ko], z, W, sw_en)
+        ko += 1
+    while n_done < n_steps:
+        hq = hs[q]
+        ka = p_kc
+        km = p_kc
+        kc = p_kc
+        ea = 0.0
+        em = 0.0
+        ec = 0.0
+        dk = 0.0
+        de = 0.0
+        if sw_tv is not None:
+            ka = kq[3 * q]
+            km = kq[3 * q + 1]
+            kc = kq[3 * q + 2]
+            dk = dkq[q]
+        if sw_te is not None:
+            ea = eq[3 * q]
+            em = eq[3 * q + 1]
+            ec = eq[3 * q + 2]
+            de = deq[q]
+        d1, F1, w1 = _rhs(z, ka, ea, dk, de, p, None, sw_bl, sw_cl, sw_dyn, sw_en)
+        d2, F2, w2 = _rhs(_axpy(z, 0.5 * hq, d1), km, em, dk, de, p, None, sw_bl, sw_cl, sw_dyn, sw_en)
+        d3, F3, w3 = _rhs(_axpy(z, 0.5 * hq, d2), km, em, dk, de, p, None, sw_bl, sw_cl, sw_dyn, sw_en)
+        d4, F4, w4 = _rhs(_axpy(z, hq, d3), kc, ec, dk, de, p, None, sw_bl, sw_cl, sw_dyn, sw_en)
+        h6 = hq / 6.0
+        z1 = _rk4_comb(z, h6, d1, d2, d3, d4)
+        if sw_en is not None:
+            W = (W[0] + h6 * (w1[0] + 2.0 * (w2[0] + w3[0]) + w4[0]),
+                 W[1] + h6 * (w1[1] + 2.0 * (w2[1] + w3[1]) + w4[1]),
+                 W[2] + h6 * (w1[2] + 2.0 * (w2[2] + w3[2]) + w4[2]),
+                 W[3] + h6 * (w1[3] + 2.0 * (w2[3] + w3[3]) + w4[3]))
+        n_sub += 1
+        t1 = n_per * T + toff[q]
+        tol_t = tol + 8.9e-16 * t1     # 4 ulp of t: the grids are computed differently
+        while ko < n_out and t_out[ko] <= t1 + tol_t:
+            if t_out[ko] >= t1 - tol_t:
+                _put(out[ko], z1, W, sw_en)
+            else:
+                # inside a sub-step (the output grid is not on the sub-step grid): cubic
+                # Hermite with the exact f at both ends (k is linear inside a sub-step)
+                fB, _, _ = _rhs(z1, kc, ec, 0.0, 0.0, p, None, sw_bl, sw_cl, sw_dyn, sw_en)
+                for i in range(10):
+                    za[i] = z[i]
+                    fa[i] = d1[i]
+                    zc[i] = z1[i]
+                    fb[i] = fB[i]
+                _hermite10(za, fa, zc, fb, max((t_out[ko] - t_prev) / hq, 0.0), hq, out[ko])
+                if sw_en is not None:
+                    for i in range(4):
+                        out[ko, 10 + i] = W[i]
+            ko += 1
+        z = z1
+        t_prev = t1
+        if ends[q] != 0:
+            n_done += 1
+            if not _bounded(z, zlim):
+                status = ST_DIVERGED
+                break
+        q += 1
+        if q == Q:
+            q = 0
+            n_per += 1
+    zend = np.empty(nz)
+    _put(zend, z, W, sw_en)
+    counters = np.array([n_done, n_sub, 0, ko, status], dtype=np.int64)
+    return out, counters, zend
+
+
+# ------------------------------------------------------------------------------------
+# adaptive Dormand-Prince 5(4) with event location
+# ------------------------------------------------------------------------------------
+@njit(cache=True)
+def _segment(tseg, p, phx):
     """Table segment index (in the periodic-extended table) and period count at tseg."""
-    P = par[P_PER]
-    ph = par[P_OM] * tseg
+    P = p[P_PER]
+    ph = p[P_OM] * tseg
     m = math.floor(ph / P)
     u = ph - m * P
     n2 = phx.shape[0]
-    if par[P_UNI] > 0.5:
-        i = int(math.floor((u - par[P_PHI0]) / par[P_DPHI])) + 1
+    if p[P_UNI] > 0.5:
+        i = int(math.floor((u - p[P_PHI0]) / p[P_DPHI])) + 1
     else:
         i = int(np.searchsorted(phx, u, side="right")) - 1
     if i < 0:
@@ -75,172 +410,57 @@ def _segment(tseg, par, phx):
 
 
 @njit(cache=True)
-def _mesh(t, tseg, z, par, phx, kx, ex, sw_tv, sw_te, sw_dyn):
-    """Mesh kinematics: (b, s = delta - e, delta', k, dk/dt, de/dt, G0..G4, Gb0..Gb3).
-
-    G = d delta / d(y_p, x_p, y_g, x_g, q), Gb = d b / d(y_p, x_p, y_g, x_g) (dynamic only)."""
-    Y = z[0] - z[2]
-    if sw_dyn is not None:
-        dx = par[P_C0] + z[3] - z[1]
-        dy = z[2] - z[0]
-        C = math.sqrt(dx * dx + dy * dy)
-        ca = par[P_RS] / C
-        if ca > 1.0:
-            ca = 1.0
-        sa = math.sqrt(1.0 - ca * ca)
-        b = par[P_B] + par[P_RS] * (sa / ca - math.atan2(sa, ca) - par[P_INV0])
-        c0 = -dy / C
-        c1 = -dx / C
-        c2 = dy / C
-        c3 = dx / C
-        w = -Y * ca / C
-        G0 = ca + w * c0
-        G1 = w * c1
-        G2 = -ca + w * c2
-        G3 = w * c3
-        Gb0 = sa * c0
-        Gb1 = sa * c1
-        Gb2 = sa * c2
-        Gb3 = sa * c3
-        delta = z[4] + Y * ca
-    else:
-        sa = par[P_SA]
-        ca = par[P_CA]
-        b = par[P_B]
-        G0 = ca
-        G1 = sa
-        G2 = -ca
-        G3 = -sa
-        Gb0 = 0.0
-        Gb1 = 0.0
-        Gb2 = 0.0
-        Gb3 = 0.0
-        delta = z[4] + (z[1] - z[3]) * sa + Y * ca
-    dd = z[9] + G0 * z[5] + G1 * z[6] + G2 * z[7] + G3 * z[8]
-    k = par[P_KC]
-    dk = 0.0
+def _table_at(t, i, m, p, phx, kx, ex, sw_tv, sw_te):
+    """(k, e, dk/dt, de/dt) at time t on the held table segment i of period m."""
+    k = p[P_KC]
     e = 0.0
+    dk = 0.0
     de = 0.0
     if sw_tv is not None or sw_te is not None:
-        i, m = _segment(tseg, par, phx)
-        u = par[P_OM] * t - m * par[P_PER]
+        u = p[P_OM] * t - m * p[P_PER]
         wd = phx[i + 1] - phx[i]
         if sw_tv is not None:
             sl = (kx[i + 1] - kx[i]) / wd
             k = kx[i] + sl * (u - phx[i])
-            dk = sl * par[P_OM]
+            dk = sl * p[P_OM]
         if sw_te is not None:
             sl = (ex[i + 1] - ex[i]) / wd
             e = ex[i] + sl * (u - phx[i])
-            de = sl * par[P_OM]
-    return b, delta - e, dd, k, dk, de, G0, G1, G2, G3, Gb0, Gb1, Gb2, Gb3
+            de = sl * p[P_OM]
+    return k, e, dk, de
 
 
 @njit(cache=True)
-def _bear(u, mj, from_state, bb):
-    if from_state:
-        mj = 1 if u > bb else (-1 if u < -bb else 0)
-    if mj == 1:
-        return u - bb
-    if mj == -1:
-        return u + bb
-    return 0.0
+def _eval_arr(t, i, m, za, modes, dst, p, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en):
+    k, e, dk, de = _table_at(t, i, m, p, phx, kx, ex, sw_tv, sw_te)
+    dz, F, w = _rhs(_tup(za), k, e, dk, de, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
+    _put(dst, dz, w, sw_en)
 
 
 @njit(cache=True)
-def _eval(t, tseg, z, modes, from_state, dz, par, phx, kx, ex,
-          sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en):
-    """Right-hand side. modes = (drive flank, back flank, y_p, x_p, y_g, x_g): flank
-    contact flags in {0, 1}, bearing modes in {-1, 0, 1}; with from_state they are taken
-    from z (plain piecewise function, used by RK4). Returns the mesh force F_m."""
-    b, s, dd, k, dk, de, G0, G1, G2, G3, Gb0, Gb1, Gb2, Gb3 = _mesh(
-        t, tseg, z, par, phx, kx, ex, sw_tv, sw_te, sw_dyn)
-    ch = par[P_CH]
-    if sw_bl is not None:
-        if from_state:
-            drv = s > b
-            bck = s < -b
-        else:
-            drv = modes[0] == 1
-            bck = modes[1] == 1
-        fdv = s - b if drv else 0.0
-        fbk = s + b if bck else 0.0
-        fd = ch * dd if (drv or bck or par[P_PAPER] > 0.5) else 0.0
-    else:
-        fdv = s
-        fbk = 0.0
-        fd = ch * dd
-    F = fd + k * (fdv + fbk)
-    Q0 = -F * G0
-    Q1 = -F * G1
-    Q2 = -F * G2
-    Q3 = -F * G3
-    if sw_dyn is not None:
-        kf = k * (fdv - fbk)
-        Q0 += kf * Gb0
-        Q1 += kf * Gb1
-        Q2 += kf * Gb2
-        Q3 += kf * Gb3
-    kb = par[P_KB]
-    if sw_cl is not None:
-        bb = par[P_BB]
-        f0 = _bear(z[0], modes[2], from_state, bb)
-        f1 = _bear(z[1], modes[3], from_state, bb)
-        f2 = _bear(z[2], modes[4], from_state, bb)
-        f3 = _bear(z[3], modes[5], from_state, bb)
-    else:
-        f0 = z[0]
-        f1 = z[1]
-        f2 = z[2]
-        f3 = z[3]
-    cbp = par[P_CBP]
-    cbg = par[P_CBG]
-    dz[0] = z[5]
-    dz[1] = z[6]
-    dz[2] = z[7]
-    dz[3] = z[8]
-    dz[4] = z[9]
-    dz[5] = (Q0 - cbp * z[5] - kb * f0) / par[P_MP]
-    dz[6] = (Q1 - cbp * z[6] - kb * f1) / par[P_MP]
-    dz[7] = (Q2 - cbg * z[7] - kb * f2) / par[P_MG]
-    dz[8] = (Q3 - cbg * z[8] - kb * f3) / par[P_MG]
-    dz[9] = (par[P_FS] - F) / par[P_ME]
-    if sw_en is not None:
-        dz[10] = par[P_FS] * z[9]
-        dz[11] = cbp * (z[5] * z[5] + z[6] * z[6]) + cbg * (z[7] * z[7] + z[8] * z[8]) + fd * dd
-        dz[12] = 0.5 * dk * (fdv * fdv + fbk * fbk)
-        dz[13] = -k * (fdv + fbk) * de
-    return F
+def _g_arr(t, i, m, za, g, p, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn):
+    k, e, dk, de = _table_at(t, i, m, p, phx, kx, ex, sw_tv, sw_te)
+    gv = _gvals(_tup(za), e, p, sw_bl, sw_cl, sw_dyn)
+    for q in range(NG):
+        g[q] = gv[q]
 
 
 @njit(cache=True)
-def _gfun(t, tseg, z, g, par, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn):
-    """Switching functions; a function is 'active' (flank / bearing in contact) when > 0."""
-    if sw_bl is not None:
-        b, s, dd, k, dk, de, G0, G1, G2, G3, Gb0, Gb1, Gb2, Gb3 = _mesh(
-            t, tseg, z, par, phx, kx, ex, sw_tv, sw_te, sw_dyn)
-        g[0] = s - b
-        g[1] = -s - b
-    if sw_cl is not None:
-        bb = par[P_BB]
-        for j in range(4):
-            g[2 + 2 * j] = z[j] - bb
-            g[3 + 2 * j] = -z[j] - bb
+def _bmode(up, down):
+    return 1 if up else (-1 if down else 0)
 
 
 @njit(cache=True)
-def _modes_from_act(act, modes):
-    modes[0] = 1 if act[0] else 0
-    modes[1] = 1 if act[1] else 0
-    for j in range(4):
-        modes[2 + j] = 1 if act[2 + 2 * j] else (-1 if act[3 + 2 * j] else 0)
+def _modes_tuple(act):
+    return (1 if act[0] else 0, 1 if act[1] else 0, _bmode(act[2], act[3]), _bmode(act[4], act[5]),
+            _bmode(act[6], act[7]), _bmode(act[8], act[9]))
 
 
 @njit(cache=True)
-def _next_node_time(t, par, phi):
+def _next_node_time(t, p, phi):
     """Time of the first table node strictly after t (the linear table's kinks)."""
-    P = par[P_PER]
-    om = par[P_OM]
+    P = p[P_PER]
+    om = p[P_OM]
     n = phi.shape[0]
     ph = om * t
     m = math.floor(ph / P)
@@ -256,113 +476,41 @@ def _next_node_time(t, par, phi):
 
 
 @njit(cache=True)
-def _hermite(y0, f0, y1, f1, th, h, out):
-    t2 = th * th
-    t3 = t2 * th
-    h00 = 2 * t3 - 3 * t2 + 1
-    h10 = t3 - 2 * t2 + th
-    h01 = -2 * t3 + 3 * t2
-    h11 = t3 - t2
-    for i in range(y0.shape[0]):
-        out[i] = h00 * y0[i] + h10 * h * f0[i] + h01 * y1[i] + h11 * h * f1[i]
-
-
-@njit(cache=True)
-def rk4(z0, h, n_steps, t_out0, dt_out, n_out, par, phi, phx, kx, ex,
-        sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en):
-    """Classical RK4 with fixed step h from t = 0; samples at t_out0 + k dt_out by cubic
-    Hermite interpolation (exact at the step points). Returns (out, counters, z_end)."""
-    nz = z0.shape[0]
-    out = np.empty((n_out, nz))
-    z = z0.copy()
-    z1 = np.empty(nz)
-    zt = np.empty(nz)
-    k1 = np.empty(nz)
-    k2 = np.empty(nz)
-    k3 = np.empty(nz)
-    k4 = np.empty(nz)
-    k1n = np.empty(nz)
-    modes = np.zeros(6, dtype=np.int64)
-    _eval(0.0, 0.5 * h, z, modes, True, k1, par, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en)
-    ko = 0
-    t = 0.0
-    for n in range(n_steps):
-        t1 = (n + 1) * h
-        tm = t + 0.5 * h
-        for i in range(nz):
-            zt[i] = z[i] + 0.5 * h * k1[i]
-        _eval(tm, tm, zt, modes, True, k2, par, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en)
-        for i in range(nz):
-            zt[i] = z[i] + 0.5 * h * k2[i]
-        _eval(tm, tm, zt, modes, True, k3, par, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en)
-        for i in range(nz):
-            zt[i] = z[i] + h * k3[i]
-        _eval(t1, tm, zt, modes, True, k4, par, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en)
-        for i in range(nz):
-            z1[i] = z[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
-        # k1 of the next step (segment chosen by the next step's midpoint)
-        _eval(t1, t1 + 0.5 * h, z1, modes, True, k1n, par, phx, kx, ex,
-              sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en)
-        while ko < n_out:
-            to = t_out0 + ko * dt_out
-            if to > t1 + 1e-9 * h:
-                break
-            th = (to - t) / h
-            if th < 0.0:
-                th = 0.0
-            if th > 1.0:
-                th = 1.0
-            if th <= 1e-12:
-                out[ko, :] = z
-            elif th >= 1.0 - 1e-12:
-                out[ko, :] = z1
-            else:
-                _hermite(z, k1, z1, k1n, th, h, out[ko])
-            ko += 1
-        for i in range(nz):
-            z[i] = z1[i]
-            k1[i] = k1n[i]
-        t = t1
-        if not np.isfinite(z[4]):
-            break
-    counters = np.array([n_steps, 0, 0, ko], dtype=np.int64)
-    return out, counters, z
-
-
-@njit(cache=True)
 def _dense(z, K, h, th, PD, out, nz):
     """Dormand-Prince continuous extension at theta in [0, 1]."""
     t2 = th * th
     t3 = t2 * th
     t4 = t3 * th
+    b0 = PD[0, 0] * th + PD[0, 1] * t2 + PD[0, 2] * t3 + PD[0, 3] * t4
+    b2 = PD[2, 0] * th + PD[2, 1] * t2 + PD[2, 2] * t3 + PD[2, 3] * t4
+    b3 = PD[3, 0] * th + PD[3, 1] * t2 + PD[3, 2] * t3 + PD[3, 3] * t4
+    b4 = PD[4, 0] * th + PD[4, 1] * t2 + PD[4, 2] * t3 + PD[4, 3] * t4
+    b5 = PD[5, 0] * th + PD[5, 1] * t2 + PD[5, 2] * t3 + PD[5, 3] * t4
+    b6 = PD[6, 0] * th + PD[6, 1] * t2 + PD[6, 2] * t3 + PD[6, 3] * t4
     for i in range(nz):
-        acc = 0.0
-        for s in range(7):
-            c = PD[s, 0] * th + PD[s, 1] * t2 + PD[s, 2] * t3 + PD[s, 3] * t4
-            acc += c * K[s, i]
-        out[i] = z[i] + h * acc
+        out[i] = z[i] + h * (b0 * K[0, i] + b2 * K[2, i] + b3 * K[3, i] + b4 * K[4, i]
+                             + b5 * K[5, i] + b6 * K[6, i])
 
 
 @njit(cache=True)
-def _stages(t, h, tseg, z, K, zt, znew, modes, A, C, par, phx, kx, ex,
+def _stages(t, h, i, m, z, K, zt, znew, modes, A, C, p, phx, kx, ex,
             sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en):
     nz = z.shape[0]
     for s in range(1, 7):
-        for i in range(nz):
+        for r in range(nz):
             acc = 0.0
-            for r in range(s):
-                acc += A[s, r] * K[r, i]
-            zt[i] = z[i] + h * acc
+            for q in range(s):
+                acc += A[s, q] * K[q, r]
+            zt[r] = z[r] + h * acc
         ts = t + C[s] * h if s < 6 else t + h
         if s == 6:
-            for i in range(nz):
-                znew[i] = zt[i]
-        _eval(ts, tseg, zt, modes, False, K[s], par, phx, kx, ex,
-              sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en)
+            for r in range(nz):
+                znew[r] = zt[r]
+        _eval_arr(ts, i, m, zt, modes, K[s], p, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en)
 
 
 @njit(cache=True)
-def _illinois(t, h, tseg, z, K, PD, gi, act_i, a, fa, bq, fb, zs, gs, par, phx, kx, ex,
+def _illinois(t, h, i, m, z, K, PD, gi, act_i, a, fa, bq, fb, zs, gs, p, phx, kx, ex,
               sw_tv, sw_bl, sw_cl, sw_te, sw_dyn):
     """Crossing of switching function gi on the dense output inside [a, bq] (theta units);
     a is on the current side, bq on the other. Returns the new-side end of the final
@@ -381,7 +529,7 @@ def _illinois(t, h, tseg, z, K, PD, gi, act_i, a, fa, bq, fb, zs, gs, par, phx, 
         if not (c > a and c < bq):
             c = 0.5 * (a + bq)
         _dense(z, K, h, c, PD, zs, nz)
-        _gfun(t + c * h, tseg, zs, gs, par, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn)
+        _g_arr(t + c * h, i, m, zs, gs, p, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn)
         gc = gs[gi]
         if (gc > 0.0) == act_i:
             a = c
@@ -399,8 +547,8 @@ def _illinois(t, h, tseg, z, K, PD, gi, act_i, a, fa, bq, fb, zs, gs, par, phx, 
 
 
 @njit(cache=True)
-def dopri5(z0, t_end, t_out0, dt_out, n_out, rtol, atol, h0, hmax, max_steps, gidx,
-           par, phi, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en):
+def dopri5(z0, t_end, t_out, rtol, atol, h0, hmax, hmin, max_steps, zlim, gidx,
+           p, phi, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en):
     """Adaptive Dormand-Prince 5(4) from t = 0 with event location.
 
     The contact modes are frozen during a step (each mode's right-hand side is smooth).
@@ -409,10 +557,13 @@ def dopri5(z0, t_end, t_out0, dt_out, n_out, rtol, atol, h0, hmax, max_steps, gi
     located on the interpolant by the Illinois method to ~1e-13 s, the step is redone
     to end exactly there, the crossed function's mode flips, and integration restarts.
     With time-varying tables, steps also end on the table nodes (kinks of the linear
-    interpolant). Returns (out, counters [accepted, rejected, events, samples], z_end).
-    """
+    interpolant). Guards: at most ``max_steps`` steps (accepted + rejected), a step
+    proposed below ``hmin`` stops (status 2), a state beyond ``zlim`` stops (status 3).
+    Returns (out, counters [accepted, rejected, events, samples, status, events per
+    1000 steps averaged over the last ~1000 steps], z at the stop)."""
     nz = z0.shape[0]
     nerr = 10
+    n_out = t_out.shape[0]
     out = np.empty((n_out, nz))
     A = _A
     C = _C
@@ -423,7 +574,6 @@ def dopri5(z0, t_end, t_out0, dt_out, n_out, rtol, atol, h0, hmax, max_steps, gi
     znew = np.empty(nz)
     zt = np.empty(nz)
     zd = np.empty(nz)
-    modes = np.zeros(6, dtype=np.int64)
     act = np.zeros(NG, dtype=np.bool_)
     g = np.zeros(NG)
     gs = np.zeros(NG)
@@ -434,21 +584,26 @@ def dopri5(z0, t_end, t_out0, dt_out, n_out, rtol, atol, h0, hmax, max_steps, gi
     t = 0.0
     clip = (sw_tv is not None) or (sw_te is not None)
     hp = h0                      # step proposed by the error controller
-    tn = _next_node_time(t, par, phi) if clip else 1e300
-    tseg = 0.5 * min(hp, tn) if clip else 0.0
+    tn = _next_node_time(t, p, phi) if clip else 1e300
+    si, sm = _segment(0.5 * min(hp, tn), p, phx) if clip else (0, 0)
     if ng > 0:
-        _gfun(t, tseg, z, gcur, par, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn)
+        _g_arr(t, si, sm, z, gcur, p, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn)
         for q in range(ng):
             act[gidx[q]] = gcur[gidx[q]] > 0.0
-        _modes_from_act(act, modes)
-    _eval(t, tseg, z, modes, False, K[0], par, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en)
+    modes = _modes_tuple(act)
+    _eval_arr(t, si, sm, z, modes, K[0], p, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en)
     ko = 0
     n_acc = 0
     n_rej = 0
     n_ev = 0
     n_zero = 0
+    ev_rate = 0.0                # moving average of events per step (chatter diagnosis)
+    status = ST_OK
     skip_events = False
-    while t < t_end and n_acc + n_rej < max_steps:
+    while t < t_end:
+        if n_acc + n_rej >= max_steps:
+            status = ST_BUDGET
+            break
         h = min(hp, hmax)
         clipped = False
         last = False
@@ -458,22 +613,23 @@ def dopri5(z0, t_end, t_out0, dt_out, n_out, rtol, atol, h0, hmax, max_steps, gi
             clipped = True
         if clip:
             if tn <= t:
-                tn = _next_node_time(t, par, phi)
+                tn = _next_node_time(t, p, phi)
             if t + h >= tn:
                 h = tn - t
                 clipped = True
                 last = tn >= t_end
         hit_node = clip and (t + h >= tn)
-        tseg = t + 0.5 * h
-        _stages(t, h, tseg, z, K, zt, znew, modes, A, C, par, phx, kx, ex,
+        if clip:
+            si, sm = _segment(t + 0.5 * h, p, phx)
+        _stages(t, h, si, sm, z, K, zt, znew, modes, A, C, p, phx, kx, ex,
                 sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en)
         en = 0.0
-        for i in range(nerr):
+        for r in range(nerr):
             ei = 0.0
             for s in range(7):
-                ei += E[s] * K[s, i]
+                ei += E[s] * K[s, r]
             ei *= h
-            sc = atol[i] + rtol * max(abs(z[i]), abs(znew[i]))
+            sc = atol[r] + rtol * max(abs(z[r]), abs(znew[r]))
             en += (ei / sc) ** 2
         en = math.sqrt(en / nerr)
         if not np.isfinite(en):
@@ -481,6 +637,9 @@ def dopri5(z0, t_end, t_out0, dt_out, n_out, rtol, atol, h0, hmax, max_steps, gi
         if en > 1.0:
             n_rej += 1
             hp = h * max(0.2, 0.9 * en ** -0.2)
+            if hp < hmin:
+                status = ST_HMIN
+                break
             continue
         # ---- event detection on the dense output ----
         h_used = h
@@ -496,19 +655,19 @@ def dopri5(z0, t_end, t_out0, dt_out, n_out, rtol, atol, h0, hmax, max_steps, gi
             for sidx in range(1, 5):
                 th = 0.25 * sidx
                 if sidx == 4:
-                    for i in range(nz):
-                        zd[i] = znew[i]
+                    for r in range(nz):
+                        zd[r] = znew[r]
                 else:
                     _dense(z, K, h, th, PD, zd, nz)
-                _gfun(t + th * h, tseg, zd, g, par, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn)
+                _g_arr(t + th * h, si, sm, zd, g, p, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn)
                 for q in range(ng):
                     gi = gidx[q]
                     if (g[gi] > 0.0) != act[gi]:
-                        r = _illinois(t, h, tseg, z, K, PD, gi, act[gi], thp, gprev[gi], th, g[gi],
-                                      zt, gs, par, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn)
-                        roots[gi] = r
-                        if r < best:
-                            best = r
+                        rt = _illinois(t, h, si, sm, z, K, PD, gi, act[gi], thp, gprev[gi], th, g[gi],
+                                       zt, gs, p, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn)
+                        roots[gi] = rt
+                        if rt < best:
+                            best = rt
                 if best <= 1.0:
                     break
                 for q in range(ng):
@@ -519,8 +678,7 @@ def dopri5(z0, t_end, t_out0, dt_out, n_out, rtol, atol, h0, hmax, max_steps, gi
                 h_ev = best * h
                 if h_ev > (1e-15 + 4e-16 * abs(t)):
                     if best < 1.0:
-                        tseg = t + 0.5 * h_ev
-                        _stages(t, h_ev, tseg, z, K, zt, znew, modes, A, C, par, phx, kx, ex,
+                        _stages(t, h_ev, si, sm, z, K, zt, znew, modes, A, C, p, phx, kx, ex,
                                 sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en)
                         last = False
                         hit_node = False
@@ -534,12 +692,13 @@ def dopri5(z0, t_end, t_out0, dt_out, n_out, rtol, atol, h0, hmax, max_steps, gi
                     gi = gidx[q]
                     if roots[gi] <= best + tolf:
                         act[gi] = not act[gi]
-                _modes_from_act(act, modes)
+                modes = _modes_tuple(act)
                 n_ev += 1
         skip_events = False
+        ev_rate = 0.999 * ev_rate + (0.001 if event else 0.0)
         if h_used > 0.0:
             while ko < n_out:
-                to = t_out0 + ko * dt_out
+                to = t_out[ko]
                 if to > t + h_used * (1.0 + 1e-12):
                     break
                 th = (to - t) / h_used
@@ -556,37 +715,52 @@ def dopri5(z0, t_end, t_out0, dt_out, n_out, rtol, atol, h0, hmax, max_steps, gi
                 t = tn
             else:
                 t = t + h_used
-            for i in range(nz):
-                z[i] = znew[i]
+            for r in range(nz):
+                z[r] = znew[r]
             n_acc += 1
-        if not np.isfinite(z[4]):
+        if not (np.isfinite(z[4]) and abs(z[4]) < zlim and abs(z[0]) < zlim and abs(z[2]) < zlim):
+            status = ST_DIVERGED
             break
         if clip and t >= tn:
-            tn = _next_node_time(t, par, phi)
+            tn = _next_node_time(t, p, phi)
         if event or (hit_node and (sw_en is not None)):
             # restart: the right-hand side changed (mode flip, or a new table segment
             # whose slope enters the energy integrands)
             hn = min(hp, tn - t) if clip else hp
-            _eval(t, t + 0.5 * hn, z, modes, False, K[0], par, phx, kx, ex,
-                  sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en)
+            if clip:
+                si, sm = _segment(t + 0.5 * hn, p, phx)
+            _eval_arr(t, si, sm, z, modes, K[0], p, phx, kx, ex,
+                      sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en)
             if ng > 0:
-                _gfun(t, t + 0.5 * hn, z, gcur, par, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn)
+                _g_arr(t, si, sm, z, gcur, p, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn)
             if n_zero > 20:
                 skip_events = True
                 n_zero = 0
         else:
-            for i in range(nz):
-                K[0, i] = K[6, i]
+            for r in range(nz):
+                K[0, r] = K[6, r]
             if ran:
                 for q in range(ng):
                     gcur[gidx[q]] = g[gidx[q]]
             elif ng > 0:
-                _gfun(t, t, z, gcur, par, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn)
+                _g_arr(t, si, sm, z, gcur, p, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn)
         if not event:
             fac = 5.0 if en < 1e-10 else min(5.0, max(0.2, 0.9 * en ** -0.2))
             if clipped:
                 hp = max(hp, h * fac) if fac >= 1.0 else min(hp, h * fac)
             else:
                 hp = h * fac
-    counters = np.array([n_acc, n_rej, n_ev, ko], dtype=np.int64)
+    counters = np.array([n_acc, n_rej, n_ev, ko, status, int(1000.0 * ev_rate)], dtype=np.int64)
     return out, counters, z
+
+
+@njit(cache=True)
+def rhs_at(t, z, p, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en):
+    """The compiled right-hand side at time t with the contact modes from the state
+    (what RK4 integrates), as a 14-array (10 states, 4 energy rates): for tests."""
+    i, m = _segment(t, p, phx)
+    k, e, dk, de = _table_at(t, i, m, p, phx, kx, ex, sw_tv, sw_te)
+    dz, F, w = _rhs(_tup(z), k, e, dk, de, p, None, sw_bl, sw_cl, sw_dyn, sw_en)
+    out = np.zeros(14)
+    _put(out, dz, w, sw_en)
+    return out

@@ -301,6 +301,68 @@ def _table_eval(model: GearDynamics, t, which: str):
     return val, slope
 
 
+def _is_kink(phx, v, rel: float = 1e-12) -> np.ndarray:
+    """Per table node (phx[1:-1]): does the slope of the periodic interpolant jump there?"""
+    sl = np.diff(v) / np.diff(phx)
+    scale = float(np.max(np.abs(sl))) or 1.0
+    return np.abs(np.diff(sl)) > rel * scale
+
+
+def rk4_schedule(model: GearDynamics, steps_per_period: int, snap: float = 1e-9):
+    """The fixed-step RK4 grid of one mesh period, split at the table's kinks.
+
+    Steps are h = T_m / N from t = 0, so the grid repeats every mesh period. The
+    periodic linear interpolant has a kink at every table node; RK4 across a kink is
+    only second-order accurate (Simpson's rule on a function with a slope jump), so a
+    step that contains nodes is split into sub-steps that end on them. Each sub-step
+    then sees a linear k(t) and e(t), sampled exactly at its three stage times (start,
+    middle, end), and RK4 keeps its 4th order for any table length and any N. A node
+    within ``snap`` steps of a step boundary is taken as on it (its error is
+    O(snap h^2)).
+
+    Returns (hs, toff, kq, eq, dkq, deq, ends): sub-step lengths in s (Q,), the time of
+    each sub-step's end from the start of the period (Q,), k and e at the 3Q stage
+    times (start, middle, end of each sub-step), the slopes dk/dt, de/dt on each
+    sub-step (Q,) and a 0/1 flag per sub-step that ends on a step boundary."""
+    par, phi, phx, kx, ex = derived(model)
+    P = par[P_PER]
+    N = int(steps_per_period)
+    dph = P / N
+    bounds = np.arange(N + 1) * dph
+    nodes = np.asarray(phi, float)
+    nodes = nodes[_is_kink(phx, kx) | _is_kink(phx, ex)]   # collinear nodes need no split
+    rel = nodes / dph
+    off = np.abs(rel - np.rint(rel)) < snap
+    pts = np.union1d(bounds, nodes[~off])
+    a, b = pts[:-1], pts[1:]
+    mid = 0.5 * (a + b)
+    stage = np.column_stack([a, mid, b]).ravel()
+    stage_mod = np.where(stage >= P, stage - P, stage)
+    seg = np.clip(np.searchsorted(phx, mid, side="right") - 1, 0, phx.size - 2)
+    w = model.omega_p
+    out = [np.diff(pts) / w, b / w]
+    for v in (kx, ex):
+        out.append(np.interp(stage_mod, phx, v))
+    for v in (kx, ex):
+        out.append((v[seg + 1] - v[seg]) / (phx[seg + 1] - phx[seg]) * w)
+    on_bound = np.abs(b / dph - np.rint(b / dph)) < 1e-12 * N
+    out.append(on_bound.astype(np.int64))
+    return tuple(out)
+
+
+def table_node_times(model: GearDynamics, t0: float, t1: float) -> np.ndarray:
+    """Times in (t0, t1) at which the pinion angle passes a table node (the kinks of the
+    linear k and e tables); empty when neither table varies."""
+    if not (model.tvms or model.te_excitation):
+        return np.empty(0)
+    P = model.mesh_period_rad
+    w = model.omega_p
+    phi = derived(model)[1]
+    m = np.arange(np.floor(w * t0 / P) - 1, np.ceil(w * t1 / P) + 1)
+    t = ((phi[None, :] + P * m[:, None]) / w).ravel()
+    return np.sort(t[(t > t0) & (t < t1)])
+
+
 def mesh_geometry(model: GearDynamics, z):
     """Mesh kinematics for states z (..., >= 10), vectorised.
 
@@ -532,13 +594,32 @@ def static_equilibrium(model: GearDynamics) -> np.ndarray:
 
 
 def linear_eigenfrequencies(model: GearDynamics) -> np.ndarray:
-    """Natural frequencies (Hz, ascending) of the linearised 5-DOF model: mean mesh
-    stiffness, no backlash, no bearing clearance, operating pressure angle alpha."""
+    """Natural frequencies (Hz, ascending) of the linearised, undamped 5-DOF model: mean
+    mesh stiffness, no backlash, no bearing clearance, operating pressure angle alpha."""
     from scipy.linalg import eigh
 
-    ca, sa = math.cos(model.alpha), math.sin(model.alpha)
-    g = np.array([ca, sa, -ca, -sa, 1.0])
-    K = np.diag([model.k_b] * 4 + [0.0]) + model.k_mean * np.outer(g, g)
-    M = np.diag([model.m_p, model.m_p, model.m_g, model.m_g, model.m_e])
+    M, _, K = _linear_matrices(model, model.k_mean)
     lam = eigh(K, M, eigvals_only=True)
     return np.sqrt(np.clip(lam, 0, None)) / (2 * math.pi)
+
+
+def _linear_matrices(model: GearDynamics, k: float):
+    """M, C, K of the linearised 5-DOF model (mesh spring k and damper c_h on the line of
+    action g = d delta / d(y_p, x_p, y_g, x_g, q), bearings k_b and c_b, no dead zones)."""
+    ca, sa = math.cos(model.alpha), math.sin(model.alpha)
+    g = np.array([ca, sa, -ca, -sa, 1.0])
+    cbp, cbg = model.c_b
+    K = np.diag([model.k_b] * 4 + [0.0]) + k * np.outer(g, g)
+    C = np.diag([cbp, cbp, cbg, cbg, 0.0]) + model.c_h * np.outer(g, g)
+    M = np.diag([model.m_p, model.m_p, model.m_g, model.m_g, model.m_e])
+    return M, C, K
+
+
+def max_linear_rate(model: GearDynamics, k: float | None = None) -> float:
+    """Largest |eigenvalue| (rad/s) of the linearised first-order system
+    z' = [[0, I], [-M^-1 K, -M^-1 C]] z at mesh stiffness k (default: the mean). It sets
+    the step an explicit integrator can take: RK4 is stable for h |lambda| up to ~2.8."""
+    M, C, K = _linear_matrices(model, model.k_mean if k is None else k)
+    Mi = np.diag(1.0 / np.diag(M))
+    A = np.block([[np.zeros((5, 5)), np.eye(5)], [-Mi @ K, -Mi @ C]])
+    return float(np.max(np.abs(np.linalg.eigvals(A))))

@@ -19,7 +19,8 @@ import numpy as np
 from geometry.validation import InputError
 
 from . import kernels
-from .model import STATE_NAMES, GearDynamics, derived, has_flank_law, mesh_state, static_equilibrium
+from .model import (STATE_NAMES, GearDynamics, derived, has_flank_law, max_linear_rate, mesh_state,
+                    rk4_schedule, static_equilibrium, table_node_times)
 
 __all__ = ["SimResult", "simulate", "kernel_switches", "compute_signals"]
 
@@ -48,11 +49,22 @@ class SimResult:
     periodic_with: int                # smallest p (mesh periods) with a p-periodic tail, 0 if none
     z_end: np.ndarray                 # final state
     switches: tuple = field(default=())
+    model: GearDynamics | None = None  # the model that produced it (exact harmonics)
+    t_dense: np.ndarray | None = None  # the sample times plus the table nodes and the window end
+    states_dense: np.ndarray | None = None  # (len(t_dense), 10) states there
 
     def harmonics(self, name: str = "F_m", n: int = 10) -> np.ndarray:
-        """Amplitudes of the mesh harmonics k f_m, k = 1..n, of signal ``name``."""
-        from .analysis import harmonics
-        return harmonics(self.signals[name], self.fs_Hz, self.fm_Hz, n)
+        """Amplitudes of the mesh harmonics k f_m, k = 1..n, of signal ``name``: exact
+        Fourier integrals over the whole window (:func:`dynamics.analysis.window_harmonics`),
+        free of the aliasing that sampling a linear stiffness table's kinks causes."""
+        return self.harmonics_of([name], n)[name]
+
+    def harmonics_of(self, names, n: int = 10) -> dict:
+        """``harmonics`` for several signals in one pass over the window."""
+        from .analysis import harmonics, window_harmonics
+        if self.model is None or self.t_dense is None:
+            return {name: harmonics(self.signals[name], self.fs_Hz, self.fm_Hz, n) for name in names}
+        return window_harmonics(self, list(names), n)
 
     def spectrum(self, name: str = "F_m"):
         """Single-sided amplitude spectrum (f, A) of signal ``name``."""
@@ -78,21 +90,58 @@ def _gidx(model: GearDynamics) -> np.ndarray:
 
 
 _WARM: set = set()
+OUTPUT_BYTES_PER_SAMPLE_STATE = 8 * 40   # states plus the ~25 derived signal arrays, float64
 
 
-def _run(method, model, z0, t_end, t_out0, dt_out, n_out, steps_per_period, rtol, atol_vec,
-         sw, max_steps):
+class SolverError(InputError):
+    """The integration could not finish; the message says what was happening."""
+
+
+def rk4_stability_number(model: GearDynamics, steps_per_mesh_period: int) -> tuple[float, float]:
+    """(h * omega_max, omega_max): omega_max is the largest |eigenvalue| (rad/s) of the
+    linearised first-order system at the largest table stiffness (mesh and bearing
+    springs engaged, both dampers on); RK4's stability region reaches about 2.8 on the
+    imaginary axis and 2.8 on the negative real axis, so h omega_max <= 2.5 leaves a margin."""
+    k = float(np.max(model.k_table)) if model.tvms else model.k_mean
+    w = max_linear_rate(model, k)
+    return w / (model.mesh_frequency_Hz * steps_per_mesh_period), w
+
+
+def _run(method, model, z0, t_end, t_out, steps_per_period, rtol, atol_vec, sw, max_steps, zlim):
     par, phi, phx, kx, ex = derived(model)
+    p = tuple(par.tolist())
     Pt = 1.0 / model.mesh_frequency_Hz
     if method == "rk4":
         h = Pt / steps_per_period
-        n_steps = int(math.ceil(t_end / h - 1e-9))
-        n_steps = max(n_steps, 0)
-        return kernels.rk4(z0, h, n_steps, t_out0, dt_out, n_out, par, phi, phx, kx, ex, *sw)
+        n_steps = max(int(math.ceil(t_end / h - 1e-9)), 0)
+        sched = rk4_schedule(model, steps_per_period)
+        out, counters, z = kernels.rk4(z0, h, n_steps, t_out, zlim, p, *sched, *sw)
+        return out, counters, z, counters[0] * h
     h0 = Pt / 256.0
     hmax = Pt / 4.0
-    return kernels.dopri5(z0, t_end, t_out0, dt_out, n_out, rtol, atol_vec, h0, hmax,
-                          max_steps, _gidx(model), par, phi, phx, kx, ex, *sw)
+    hmin = 1e-9 * Pt
+    out, counters, z = kernels.dopri5(z0, t_end, t_out, rtol, atol_vec, h0, hmax, hmin,
+                                      max_steps, zlim, _gidx(model), p, phi, phx, kx, ex, *sw)
+    return out, counters, z, None
+
+
+def _diagnose(method, counters, t_stop, t_end, max_steps, zlim, model) -> str:
+    """One line on why an integration stopped early."""
+    status = int(counters[4])
+    where = f"t = {t_stop:.6g} s of {t_end:.6g} s" if t_stop is not None else f"before t = {t_end:.6g} s"
+    if status == kernels.ST_DIVERGED:
+        return (f"dynamics: {method} diverged at {where}: a displacement exceeded {zlim:.3g} m "
+                f"(non-finite or unbounded state); the model is unstable for these parameters "
+                f"(check damping, stiffness and speed), or the step is too large")
+    rate = int(counters[5]) if counters.shape[0] > 5 else 0
+    why = (f"chattering contact: {rate} contact events per 1000 steps just before the stop "
+           f"(impacts with vanishing rebound; more mesh or bearing damping, or "
+           f"effects.backlash.damping_in_gap, ends them)" if rate >= 50 else
+           "the step size collapsed without contact events (a very stiff or diverging response)")
+    if status == kernels.ST_HMIN:
+        return f"dynamics: {method} step size fell below {1e-9:g} mesh periods at {where}: {why}"
+    return (f"dynamics: {method} used its whole budget of {max_steps} steps by {where}: {why}; "
+            f"raise max_steps or shorten duration_s")
 
 
 def compute_signals(model: GearDynamics, t: np.ndarray, Z: np.ndarray) -> dict:
@@ -126,7 +175,8 @@ def _periodic_with(x: np.ndarray, S: int, M: int, max_p: int = 8, tol: float = 1
 def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, method: str = "auto",
              steps_per_mesh_period: int = 256, rtol: float = 1e-8, atol=None, y0=None,
              samples_per_mesh_period: int | None = None, track_energy: bool = False,
-             max_steps: int = 50_000_000) -> SimResult:
+             max_steps: int | None = None, max_output_bytes: float = 2 * 2 ** 30,
+             on_compile=None) -> SimResult:
     """Integrate the model over [0, duration_s] and sample the kept window.
 
     method: "rk4" (fixed step, ``steps_per_mesh_period``), "dopri5" (adaptive, rtol/atol,
@@ -135,6 +185,14 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
     (and times that scale times the mesh natural angular frequency for velocities); a
     scalar is the displacement atol (velocities scaled the same way); or 10 values.
     y0: initial state (10 values); default the static equilibrium under the mean stiffness.
+
+    Guards (each raises one-line errors): RK4 is refused beyond its stability limit
+    (h omega_max > 2.5, :func:`rk4_stability_number`); the output is sized before the
+    run and refused above ``max_output_bytes``; dopri5 has a step budget (``max_steps``,
+    default 20 000 per mesh period) and a minimum step (1e-9 mesh periods) and stops
+    with a diagnosis (chattering contact, collapse, divergence) instead of running on.
+    ``on_compile(message)`` is called once if compiling the kernels for this effect set
+    takes noticeable time (first run only; numba caches them on disk).
     """
     if not (isinstance(duration_s, (int, float)) and math.isfinite(duration_s) and duration_s > 0):
         raise InputError(f"solver.duration_s = {duration_s} s: must be > 0")
@@ -160,9 +218,35 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
                          f"to whole mesh periods ({t0:.6g} s) by at least one mesh period "
                          f"({Pt:.6g} s)")
     S = int(samples_per_mesh_period or steps_per_mesh_period)
-    n_out = M * S
     dt = Pt / S
-    t_end = t0 + (n_out - 1) * dt
+    # output: the uniform grid of the kept window (M periods, S per period, plus its end
+    # point) and every table node inside it, so the signals between output points are
+    # free of table kinks (exact harmonics, analysis.window_harmonics)
+    t_uni = t0 + dt * np.arange(M * S + 1)
+    nodes = table_node_times(model, t_uni[0], t_uni[-1])
+    if nodes.size:
+        r = (nodes - t0) / dt
+        nodes = nodes[np.abs(r - np.rint(r)) > 1e-9]
+    n_out = t_uni.size + nodes.size
+    need = n_out * OUTPUT_BYTES_PER_SAMPLE_STATE
+    if need > max_output_bytes:
+        raise InputError(f"solver.duration_s = {duration_s:g} s: the kept window of {M} mesh periods "
+                         f"x {S} samples needs about {need / 2 ** 30:.3g} GiB of output (limit "
+                         f"{max_output_bytes / 2 ** 30:.3g} GiB); shorten duration_s - discard_s or "
+                         f"lower the speed")
+    t_out = np.union1d(t_uni, nodes) if nodes.size else t_uni
+    uni = np.searchsorted(t_out, t_uni) if nodes.size else np.arange(t_uni.size)
+    t_end = float(t_uni[-1])
+    if method == "rk4":
+        hw, w = rk4_stability_number(model, steps_per_mesh_period)
+        if hw > 2.5:
+            n_min = int(math.ceil(w / (2.5 * fm)))
+            raise InputError(f"solver.steps_per_mesh_period = {steps_per_mesh_period}: RK4 is unstable "
+                             f"here (h omega_max = {hw:.3g} > 2.5, omega_max = {w:.4g} rad/s of the "
+                             f"linearised model); use >= {n_min} steps per mesh period or "
+                             f"solver.method = dopri5")
+    if max_steps is None:
+        max_steps = int(20_000 * (t_end * fm + 1)) + 100_000
 
     z0 = static_equilibrium(model) if y0 is None else np.asarray(y0, float).ravel()
     if z0.shape != (10,) or not np.all(np.isfinite(z0)):
@@ -185,32 +269,45 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
             raise InputError("solver.atol: must be None, a scalar or 10 values")
     if np.any(atol_vec <= 0):
         raise InputError("solver.atol: must be > 0")
+    # a displacement this far beyond every physical scale means divergence, not dynamics
+    zlim = 1e4 * (x_ref + (model.backlash_half_m or 0.0) + (model.bearing_half_clearance_m or 0.0)
+                  + float(np.max(np.abs(z0[:5]))))
 
     sw = kernel_switches(model, track_energy)
     key = (method, sw)
     compile_s = 0.0
     if key not in _WARM:
         # compile (or load from numba's disk cache) on a tiny problem, so wall_s is pure run
+        timer = None
+        if on_compile is not None:
+            import threading
+            timer = threading.Timer(1.0, on_compile,
+                                    ("compiling solver kernels for this effect set, first run only",))
+            timer.daemon = True
+            timer.start()
         tc = time.perf_counter()
-        _run(method, model, z0.copy(), 4 * Pt / steps_per_mesh_period, 0.0, Pt / S, 1,
-             steps_per_mesh_period, rtol, atol_vec, sw, 1000)
+        try:
+            _run(method, model, z0.copy(), 4 * Pt / steps_per_mesh_period, np.array([0.0]),
+                 steps_per_mesh_period, rtol, atol_vec, sw, 1000, zlim)
+        finally:
+            if timer is not None:
+                timer.cancel()
         compile_s = time.perf_counter() - tc
         _WARM.add(key)
     tw = time.perf_counter()
-    out, counters, z_end = _run(method, model, z0, t_end, t0, dt, n_out, steps_per_mesh_period,
-                                rtol, atol_vec, sw, max_steps)
+    out, counters, z_end, t_stop = _run(method, model, z0, t_end, t_out, steps_per_mesh_period,
+                                        rtol, atol_vec, sw, max_steps, zlim)
     wall = time.perf_counter() - tw
     ko = int(counters[3])
-    if ko < n_out:
-        if ko == 0 or not np.all(np.isfinite(out[:ko])):
-            raise FloatingPointError(f"dynamics: the solution diverged (non-finite state) before "
-                                     f"t = {t_end:.6g} s ({method})")
-        raise RuntimeError(f"dynamics: {method} stopped after {counters[0] + counters[1]} steps "
-                           f"before the end of the window (max_steps = {max_steps})")
-    if not np.all(np.isfinite(out)):
-        raise FloatingPointError(f"dynamics: the solution diverged (non-finite state), {method}")
-    t = t0 + dt * np.arange(n_out)
-    sig = compute_signals(model, t, out)
+    if int(counters[4]) != kernels.ST_OK or ko < n_out or not np.all(np.isfinite(out)):
+        if int(counters[4]) == kernels.ST_OK:
+            if np.all(np.isfinite(out[:ko])):
+                raise RuntimeError(f"dynamics: {method} finished with {ko} of {n_out} output samples "
+                                   f"(output grid not reached: a bug, please report)")
+            counters[4] = kernels.ST_DIVERGED
+        raise SolverError(_diagnose(method, counters, t_stop, t_end, max_steps, zlim, model))
+    t_win, Z_win = t_uni[:-1], out[uni[:-1]]
+    sig = compute_signals(model, t_win, Z_win)
     mode = sig["mode"]
     if has_flank_law(model):
         sep = float(np.mean(mode == 0))
@@ -220,8 +317,8 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
         back = 0.0
     if model.bearing_half_clearance_m is not None:
         bb = model.bearing_half_clearance_m
-        bc = {"pinion": float(np.mean((np.abs(out[:, 0]) > bb) | (np.abs(out[:, 1]) > bb))),
-              "gear": float(np.mean((np.abs(out[:, 2]) > bb) | (np.abs(out[:, 3]) > bb)))}
+        bc = {"pinion": float(np.mean((np.abs(Z_win[:, 0]) > bb) | (np.abs(Z_win[:, 1]) > bb))),
+              "gear": float(np.mean((np.abs(Z_win[:, 2]) > bb) | (np.abs(Z_win[:, 3]) > bb)))}
     else:
         bc = {"pinion": 1.0, "gear": 1.0}
     stats = {}
@@ -231,11 +328,11 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
                            rms_ac=float(np.std(x)), p2p=float(np.ptp(x)))
     energy = None
     if track_energy:
-        energy = {name: out[:, 10 + i].copy() for i, name in enumerate(ENERGY_NAMES)}
-    return SimResult(t=t, signals=sig, fm_Hz=fm, fs_Hz=S * fm, steps=int(counters[0]),
+        energy = {name: Z_win[:, 10 + i].copy() for i, name in enumerate(ENERGY_NAMES)}
+    return SimResult(t=t_win, signals=sig, fm_Hz=fm, fs_Hz=S * fm, steps=int(counters[0]),
                      rejected=int(counters[1]), events=int(counters[2]), wall_s=wall,
                      compile_s=compile_s, separation_fraction=sep, backside_fraction=back,
-                     bearing_contact_fraction=bc, method=method, states=out[:, :10].copy(),
+                     bearing_contact_fraction=bc, method=method, states=Z_win[:, :10].copy(),
                      energy=energy, n_periods=M, stats=stats,
                      periodic_with=_periodic_with(sig["delta"], S, M), z_end=z_end[:10].copy(),
-                     switches=sw)
+                     switches=sw, model=model, t_dense=t_out, states_dense=out[:, :10])

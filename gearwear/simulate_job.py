@@ -185,10 +185,11 @@ class SimulationRun:
         r = self.result
         n = self.output["harmonics"]
         harm, rms, p2p = {}, {}, {}
+        amps = r.harmonics_of(self.output["signals"], n)
         for name in self.output["signals"]:
             unit, scale = SIGNAL_UNITS[name]
             key = f"{name}_{unit}"
-            harm[key] = (r.harmonics(name, n) * scale).tolist()
+            harm[key] = (amps[name] * scale).tolist()
             st = r.stats[name]
             rms[key] = st["rms"] * scale
             p2p[key] = st["p2p"] * scale
