@@ -560,7 +560,7 @@ def dopri5(z0, t_end, t_out, rtol, atol, h0, hmax, hmin, max_steps, zlim, gidx,
     interpolant). Guards: at most ``max_steps`` steps (accepted + rejected), a step
     proposed below ``hmin`` stops (status 2), a state beyond ``zlim`` stops (status 3).
     Returns (out, counters [accepted, rejected, events, samples, status, events per
-    1000 steps averaged over the last ~1000 steps], z at the stop)."""
+    1000 steps averaged over the last ~1000 steps], z and t at the stop)."""
     nz = z0.shape[0]
     nerr = 10
     n_out = t_out.shape[0]
@@ -751,7 +751,7 @@ def dopri5(z0, t_end, t_out, rtol, atol, h0, hmax, hmin, max_steps, zlim, gidx,
             else:
                 hp = h * fac
     counters = np.array([n_acc, n_rej, n_ev, ko, status, int(1000.0 * ev_rate)], dtype=np.int64)
-    return out, counters, z
+    return out, counters, z, t
 
 
 @njit(cache=True)

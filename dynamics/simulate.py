@@ -120,27 +120,26 @@ def _run(method, model, z0, t_end, t_out, steps_per_period, rtol, atol_vec, sw, 
     h0 = Pt / 256.0
     hmax = Pt / 4.0
     hmin = 1e-9 * Pt
-    out, counters, z = kernels.dopri5(z0, t_end, t_out, rtol, atol_vec, h0, hmax, hmin,
-                                      max_steps, zlim, _gidx(model), p, phi, phx, kx, ex, *sw)
-    return out, counters, z, None
+    return kernels.dopri5(z0, t_end, t_out, rtol, atol_vec, h0, hmax, hmin,
+                          max_steps, zlim, _gidx(model), p, phi, phx, kx, ex, *sw)
 
 
 def _diagnose(method, counters, t_stop, t_end, max_steps, zlim, model) -> str:
     """One line on why an integration stopped early."""
     status = int(counters[4])
-    where = f"t = {t_stop:.6g} s of {t_end:.6g} s" if t_stop is not None else f"before t = {t_end:.6g} s"
+    where = f"t = {t_stop:.6g} s of {t_end:.6g} s"
     if status == kernels.ST_DIVERGED:
         return (f"dynamics: {method} diverged at {where}: a displacement exceeded {zlim:.3g} m "
                 f"(non-finite or unbounded state); the model is unstable for these parameters "
                 f"(check damping, stiffness and speed), or the step is too large")
     rate = int(counters[5]) if counters.shape[0] > 5 else 0
-    why = (f"chattering contact: {rate} contact events per 1000 steps just before the stop "
-           f"(impacts with vanishing rebound; more mesh or bearing damping, or "
-           f"effects.backlash.damping_in_gap, ends them)" if rate >= 50 else
-           "the step size collapsed without contact events (a very stiff or diverging response)")
+    chatter = (f"chattering contact: {rate} contact events per 1000 steps just before the stop "
+               f"(impacts with vanishing rebound; more mesh or bearing damping ends them)")
     if status == kernels.ST_HMIN:
-        return f"dynamics: {method} step size fell below {1e-9:g} mesh periods at {where}: {why}"
-    return (f"dynamics: {method} used its whole budget of {max_steps} steps by {where}: {why}; "
+        why = chatter if rate >= 50 else "the response is too stiff or is diverging"
+        return f"dynamics: {method} step size fell below 1e-9 mesh periods at {where}: {why}"
+    why = chatter if rate >= 50 else f"{int(counters[2])} contact events so far"
+    return (f"dynamics: {method} used its whole budget of {max_steps} steps by {where} ({why}); "
             f"raise max_steps or shorten duration_s")
 
 

@@ -21,9 +21,13 @@ Only what the scene's ``[effects]`` names is modelled:
   twice); "dynamic": alpha' and the backlash follow the instantaneous centre distance.
   Absent: the nominal geometry.
 
-Inertias (not given in the paper): J = m r^2 / 2 of a solid disc with the pitch
-radius (assumed, listed in the README). Damping from the ratios:
+Inertias (not given in the paper): ``bodies.inertia_kg_m2``, else J = m r^2 / 2 of a
+solid disc with the pitch radius (assumed, listed in the README). Damping:
+``bodies.mesh_damping_N_s_per_m`` / ``bearing_damping_N_s_per_m``, else from the ratios
 c_h = 2 zeta_m sqrt(k_mean m_e), c_b = 2 zeta_b sqrt(k_b m).
+
+``mesh_stiffness.source = "table"`` takes k_h(phi) (and e(phi) from an
+``excitation_um`` column) from the user's CSV (``scene.read_stiffness_table``).
 """
 
 from __future__ import annotations
@@ -35,7 +39,7 @@ from typing import Any
 
 import numpy as np
 
-from dynamics import GearDynamics, simulate
+from dynamics import GearDynamics, damping_from_ratios, simulate
 from geometry.operating import backlash, centre_distance
 from geometry.spec import PairSpec
 from geometry.validation import Field, InputError, check_value, reject_unknown
@@ -120,7 +124,10 @@ def stiffness_input(scene: Scene, points: int = 360) -> StiffnessInput:
     ms = scene.effects.get("mesh_stiffness")
     source = ms["source"] if ms else "constant"
     wear = scene.wear
-    if source == "calibrated":
+    if source == "table":
+        phi, k = ms["angle_rad"], ms["k_N_per_m"]
+        e = ms["excitation_m"] if ms["excitation_m"] is not None else np.zeros_like(k)
+    elif source == "calibrated":
         from .calibrate import calibrated_table
         tab = calibrated_table(pair, wear, clearance_geo, T, points)
         phi, k, e = tab.angle_rad, tab.k_N_per_m, tab.excitation_m
@@ -134,8 +141,17 @@ def stiffness_input(scene: Scene, points: int = 360) -> StiffnessInput:
         if source == "constant":
             value = (ms or {}).get("value_N_per_m", r.mean_N_per_m)
             k = np.full_like(k, value)
-    return StiffnessInput(np.asarray(phi), np.asarray(k), np.asarray(e), source, float(np.mean(k)),
+    return StiffnessInput(np.asarray(phi), np.asarray(k), np.asarray(e), source, _period_mean(phi, k, pair.teeth[0]),
                           time.perf_counter() - t0)
+
+
+def _period_mean(phi, k, z1: int) -> float:
+    """Mean over one mesh period of the periodic linear interpolant (a non-uniform user
+    table would be misweighted by a plain average of its rows)."""
+    P = 2 * math.pi / z1
+    phi = np.append(phi, phi[0] + P)
+    k = np.append(k, k[0])
+    return float(np.sum(0.5 * (k[1:] + k[:-1]) * np.diff(phi)) / P)
 
 
 def build_model(scene: Scene, stiff: StiffnessInput) -> GearDynamics:
@@ -143,15 +159,21 @@ def build_model(scene: Scene, stiff: StiffnessInput) -> GearDynamics:
     b = scene.bodies
     m_p, m_g = b.mass_kg
     g1, g2 = pair.gears
-    J_p = 0.5 * m_p * g1.pitch_radius_m ** 2
-    J_g = 0.5 * m_g * g2.pitch_radius_m ** 2
+    if b.inertia_kg_m2 is not None:
+        J_p, J_g = b.inertia_kg_m2
+    else:
+        J_p = 0.5 * m_p * g1.pitch_radius_m ** 2
+        J_g = 0.5 * m_g * g2.pitch_radius_m ** 2
     R_p, R_g = g1.base_radius_m, g2.base_radius_m
     Cp = operating_centre_distance(scene)
     alpha = math.acos((R_p + R_g) / Cp) if Cp != pair.centre_distance_m else pair.working_pressure_angle_rad
     m_e = 1.0 / (R_p ** 2 / J_p + R_g ** 2 / J_g)
-    c_h = 2.0 * b.mesh_damping_ratio * math.sqrt(stiff.mean_N_per_m * m_e)
-    c_b = (2.0 * b.bearing_damping_ratio * math.sqrt(b.bearing_stiffness_N_per_m * m_p),
-           2.0 * b.bearing_damping_ratio * math.sqrt(b.bearing_stiffness_N_per_m * m_g))
+    c_h, c_b = damping_from_ratios(b.mesh_damping_ratio, b.bearing_damping_ratio, stiff.mean_N_per_m, m_e,
+                                   b.bearing_stiffness_N_per_m, m_p, m_g)
+    if b.mesh_damping_N_s_per_m is not None:
+        c_h = b.mesh_damping_N_s_per_m
+    if b.bearing_damping_N_s_per_m is not None:
+        c_b = b.bearing_damping_N_s_per_m
     eff = scene.effects
     half_backlash = None
     if "backlash" in eff:

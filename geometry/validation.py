@@ -104,14 +104,18 @@ def reject_unknown(table: str, given: Iterable[str], allowed: Iterable[str]) -> 
 
 
 def parse_table(table: str, data: Mapping[str, Any], schema: Mapping[str, Field],
-                defaults: Mapping[str, Any]) -> dict[str, Any]:
-    """Validate a TOML table against ``schema``; missing keys take ``defaults``."""
+                defaults: Mapping[str, Any], optional: Iterable[str] = ()) -> dict[str, Any]:
+    """Validate a TOML table against ``schema``; missing keys take ``defaults``; a missing
+    key listed in ``optional`` is left out of the result."""
     if not isinstance(data, Mapping):
         raise InputError(f"{table}: must be a table of keys, got {type(data).__name__}")
     reject_unknown(table, data.keys(), schema.keys())
     out = {}
+    optional = set(optional)
     for key, field in schema.items():
         raw = data.get(key, defaults.get(key))
+        if raw is None and key in optional:
+            continue
         if raw is None:
             raise InputError(f"{table}.{key}: missing ({field.range_text()})")
         out[key] = check_value(f"{table}.{key}", raw, field)
