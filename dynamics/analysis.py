@@ -83,7 +83,6 @@ def window_harmonics(result, names, n: int = 10, chunk: int = 200_000) -> dict:
     F = np.hstack([Z[:, 5:10], _accelerations(model, t, Z)])
     span = t[-1] - t[0]
     acc = {name: np.zeros(n, complex) for name in names}
-    k = np.arange(1, n + 1)[:, None]
     for c0 in range(0, t.size - 1, chunk):
         tb = t[c0:c0 + chunk + 1]
         tq, wq = gauss_grid(tb)
@@ -96,7 +95,11 @@ def window_harmonics(result, names, n: int = 10, chunk: int = 200_000) -> dict:
         h11 = (th ** 3 - th ** 2) * dt
         Zq = h00 * Z[i] + h10 * F[i] + h01 * Z[i + 1] + h11 * F[i + 1]
         sig = compute_signals(model, tq, Zq)
-        ph = np.exp(-2j * np.pi * result.fm_Hz * k * tq[None, :])
+        # e^{-i k theta} for k = 1..n by repeated products (one complex exp per point)
+        ph = np.empty((n, tq.size), complex)
+        ph[0] = np.exp(-2j * np.pi * result.fm_Hz * tq)
+        for j in range(1, n):
+            np.multiply(ph[j - 1], ph[0], out=ph[j])
         for name in names:
             acc[name] += ph @ (wq * sig[name])
     return {name: 2.0 * np.abs(v) / span for name, v in acc.items()}

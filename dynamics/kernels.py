@@ -17,9 +17,9 @@ Speed structure
 ---------------
 The right-hand side works on scalars: the state is a 10-tuple, the parameters a
 tuple of floats, and the result a tuple. Tuples are values in numba (no reference
-counting, no heap), so LLVM inlines the whole right-hand side into the integrator
-loop; that is what brings the RK4 step within a small factor of a plain C loop
-(``benchmarks/bench_dynamics.py`` times both in one run).
+counting, no heap). ``_rhs`` is inlined at numba's IR level (``inline="always"``):
+left to LLVM it stayed a call that copied the 23-value parameter tuple four times per
+step (1.33x a plain C loop; inlined 0.95x, ``benchmarks/bench_rk4_vs_c.py``).
 
 The stiffness contract
 ----------------------
@@ -54,16 +54,8 @@ from numba import njit
 from .model import (P_B, P_BB, P_C0, P_CA, P_CBG, P_CBP, P_CH, P_DPHI, P_FS, P_INV0, P_KB,
                     P_KC, P_ME, P_MG, P_MP, P_OM, P_PAPER, P_PER, P_PHI0, P_RS, P_SA, P_UNI)
 
-# Dormand-Prince 5(4) tableau and Shampine's 4th-order continuous extension (as scipy RK45)
-_C = np.array([0.0, 1 / 5, 3 / 10, 4 / 5, 8 / 9, 1.0])
-_A = np.zeros((7, 6))
-_A[1, :1] = [1 / 5]
-_A[2, :2] = [3 / 40, 9 / 40]
-_A[3, :3] = [44 / 45, -56 / 15, 32 / 9]
-_A[4, :4] = [19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729]
-_A[5, :5] = [9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656]
-_A[6, :6] = [35 / 384, 0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84]
-_E = np.array([-71 / 57600, 0, 71 / 16695, -71 / 1920, 17253 / 339200, -22 / 525, 1 / 40])
+# Shampine's 4th-order continuous extension of Dormand-Prince 5(4) (as scipy RK45); the
+# tableau itself is unrolled in _dp_stages
 _PD = np.array([
     [1, -8048581381 / 2820520608, 8663915743 / 2820520608, -12715105075 / 11282082432],
     [0, 0, 0, 0],
@@ -138,7 +130,7 @@ def _dead_mode(u, m, bb):
     return 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _rhs(z, k, e, dk, de, p, modes, sw_bl, sw_cl, sw_dyn, sw_en):
     """Right-hand side of the reduced 5-DOF model (``dynamics.model``).
 
@@ -387,6 +379,143 @@ def rk4(z0, h, n_steps, t_out, zlim, p, hs, toff, kq, eq, dkq, deq, ends,
     return out, counters, zend
 
 
+# Tuple linear combinations z + h sum a_j k_j of 1..6 stage derivatives (Dormand-Prince
+# stages): unrolled so that LLVM keeps every stage in registers.
+@njit(cache=True)
+def _lc1(z, h, a0, k0):
+    return (z[0] + h * (a0 * k0[0]),
+            z[1] + h * (a0 * k0[1]),
+            z[2] + h * (a0 * k0[2]),
+            z[3] + h * (a0 * k0[3]),
+            z[4] + h * (a0 * k0[4]),
+            z[5] + h * (a0 * k0[5]),
+            z[6] + h * (a0 * k0[6]),
+            z[7] + h * (a0 * k0[7]),
+            z[8] + h * (a0 * k0[8]),
+            z[9] + h * (a0 * k0[9]))
+
+
+@njit(cache=True)
+def _lc2(z, h, a0, k0, a1, k1):
+    return (z[0] + h * (a0 * k0[0] + a1 * k1[0]),
+            z[1] + h * (a0 * k0[1] + a1 * k1[1]),
+            z[2] + h * (a0 * k0[2] + a1 * k1[2]),
+            z[3] + h * (a0 * k0[3] + a1 * k1[3]),
+            z[4] + h * (a0 * k0[4] + a1 * k1[4]),
+            z[5] + h * (a0 * k0[5] + a1 * k1[5]),
+            z[6] + h * (a0 * k0[6] + a1 * k1[6]),
+            z[7] + h * (a0 * k0[7] + a1 * k1[7]),
+            z[8] + h * (a0 * k0[8] + a1 * k1[8]),
+            z[9] + h * (a0 * k0[9] + a1 * k1[9]))
+
+
+@njit(cache=True)
+def _lc3(z, h, a0, k0, a1, k1, a2, k2):
+    return (z[0] + h * (a0 * k0[0] + a1 * k1[0] + a2 * k2[0]),
+            z[1] + h * (a0 * k0[1] + a1 * k1[1] + a2 * k2[1]),
+            z[2] + h * (a0 * k0[2] + a1 * k1[2] + a2 * k2[2]),
+            z[3] + h * (a0 * k0[3] + a1 * k1[3] + a2 * k2[3]),
+            z[4] + h * (a0 * k0[4] + a1 * k1[4] + a2 * k2[4]),
+            z[5] + h * (a0 * k0[5] + a1 * k1[5] + a2 * k2[5]),
+            z[6] + h * (a0 * k0[6] + a1 * k1[6] + a2 * k2[6]),
+            z[7] + h * (a0 * k0[7] + a1 * k1[7] + a2 * k2[7]),
+            z[8] + h * (a0 * k0[8] + a1 * k1[8] + a2 * k2[8]),
+            z[9] + h * (a0 * k0[9] + a1 * k1[9] + a2 * k2[9]))
+
+
+@njit(cache=True)
+def _lc4(z, h, a0, k0, a1, k1, a2, k2, a3, k3):
+    return (z[0] + h * (a0 * k0[0] + a1 * k1[0] + a2 * k2[0] + a3 * k3[0]),
+            z[1] + h * (a0 * k0[1] + a1 * k1[1] + a2 * k2[1] + a3 * k3[1]),
+            z[2] + h * (a0 * k0[2] + a1 * k1[2] + a2 * k2[2] + a3 * k3[2]),
+            z[3] + h * (a0 * k0[3] + a1 * k1[3] + a2 * k2[3] + a3 * k3[3]),
+            z[4] + h * (a0 * k0[4] + a1 * k1[4] + a2 * k2[4] + a3 * k3[4]),
+            z[5] + h * (a0 * k0[5] + a1 * k1[5] + a2 * k2[5] + a3 * k3[5]),
+            z[6] + h * (a0 * k0[6] + a1 * k1[6] + a2 * k2[6] + a3 * k3[6]),
+            z[7] + h * (a0 * k0[7] + a1 * k1[7] + a2 * k2[7] + a3 * k3[7]),
+            z[8] + h * (a0 * k0[8] + a1 * k1[8] + a2 * k2[8] + a3 * k3[8]),
+            z[9] + h * (a0 * k0[9] + a1 * k1[9] + a2 * k2[9] + a3 * k3[9]))
+
+
+@njit(cache=True)
+def _lc5(z, h, a0, k0, a1, k1, a2, k2, a3, k3, a4, k4):
+    return (z[0] + h * (a0 * k0[0] + a1 * k1[0] + a2 * k2[0] + a3 * k3[0] + a4 * k4[0]),
+            z[1] + h * (a0 * k0[1] + a1 * k1[1] + a2 * k2[1] + a3 * k3[1] + a4 * k4[1]),
+            z[2] + h * (a0 * k0[2] + a1 * k1[2] + a2 * k2[2] + a3 * k3[2] + a4 * k4[2]),
+            z[3] + h * (a0 * k0[3] + a1 * k1[3] + a2 * k2[3] + a3 * k3[3] + a4 * k4[3]),
+            z[4] + h * (a0 * k0[4] + a1 * k1[4] + a2 * k2[4] + a3 * k3[4] + a4 * k4[4]),
+            z[5] + h * (a0 * k0[5] + a1 * k1[5] + a2 * k2[5] + a3 * k3[5] + a4 * k4[5]),
+            z[6] + h * (a0 * k0[6] + a1 * k1[6] + a2 * k2[6] + a3 * k3[6] + a4 * k4[6]),
+            z[7] + h * (a0 * k0[7] + a1 * k1[7] + a2 * k2[7] + a3 * k3[7] + a4 * k4[7]),
+            z[8] + h * (a0 * k0[8] + a1 * k1[8] + a2 * k2[8] + a3 * k3[8] + a4 * k4[8]),
+            z[9] + h * (a0 * k0[9] + a1 * k1[9] + a2 * k2[9] + a3 * k3[9] + a4 * k4[9]))
+
+
+@njit(cache=True)
+def _lc6(z, h, a0, k0, a1, k1, a2, k2, a3, k3, a4, k4, a5, k5):
+    return (z[0] + h * (a0 * k0[0] + a1 * k1[0] + a2 * k2[0] + a3 * k3[0] + a4 * k4[0] + a5 * k5[0]),
+            z[1] + h * (a0 * k0[1] + a1 * k1[1] + a2 * k2[1] + a3 * k3[1] + a4 * k4[1] + a5 * k5[1]),
+            z[2] + h * (a0 * k0[2] + a1 * k1[2] + a2 * k2[2] + a3 * k3[2] + a4 * k4[2] + a5 * k5[2]),
+            z[3] + h * (a0 * k0[3] + a1 * k1[3] + a2 * k2[3] + a3 * k3[3] + a4 * k4[3] + a5 * k5[3]),
+            z[4] + h * (a0 * k0[4] + a1 * k1[4] + a2 * k2[4] + a3 * k3[4] + a4 * k4[4] + a5 * k5[4]),
+            z[5] + h * (a0 * k0[5] + a1 * k1[5] + a2 * k2[5] + a3 * k3[5] + a4 * k4[5] + a5 * k5[5]),
+            z[6] + h * (a0 * k0[6] + a1 * k1[6] + a2 * k2[6] + a3 * k3[6] + a4 * k4[6] + a5 * k5[6]),
+            z[7] + h * (a0 * k0[7] + a1 * k1[7] + a2 * k2[7] + a3 * k3[7] + a4 * k4[7] + a5 * k5[7]),
+            z[8] + h * (a0 * k0[8] + a1 * k1[8] + a2 * k2[8] + a3 * k3[8] + a4 * k4[8] + a5 * k5[8]),
+            z[9] + h * (a0 * k0[9] + a1 * k1[9] + a2 * k2[9] + a3 * k3[9] + a4 * k4[9] + a5 * k5[9]))
+
+
+@njit(cache=True)
+def _dp_stages(t, h, i, m, z, k1, w1, p, modes, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en):
+    """Stages 2-7 of Dormand-Prince 5(4) on tuples (k1 = f(t, z) given, FSAL).
+    Returns (z_new, (k2..k7), (w2..w7), error estimate tuple h sum E_s k_s)."""
+    kt, et, dkt, det = _table_at(t + 0.2 * h, i, m, p, phx, kx, ex, sw_tv, sw_te)
+    k2, F, w2 = _rhs(_lc1(z, h, 0.2, k1), kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
+    kt, et, dkt, det = _table_at(t + 0.3 * h, i, m, p, phx, kx, ex, sw_tv, sw_te)
+    k3, F, w3 = _rhs(_lc2(z, h, 3 / 40, k1, 9 / 40, k2), kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
+    kt, et, dkt, det = _table_at(t + 0.8 * h, i, m, p, phx, kx, ex, sw_tv, sw_te)
+    k4, F, w4 = _rhs(_lc3(z, h, 44 / 45, k1, -56 / 15, k2, 32 / 9, k3), kt, et, dkt, det, p, modes,
+                     sw_bl, sw_cl, sw_dyn, sw_en)
+    kt, et, dkt, det = _table_at(t + 8 / 9 * h, i, m, p, phx, kx, ex, sw_tv, sw_te)
+    k5, F, w5 = _rhs(_lc4(z, h, 19372 / 6561, k1, -25360 / 2187, k2, 64448 / 6561, k3, -212 / 729, k4),
+                     kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
+    kt, et, dkt, det = _table_at(t + h, i, m, p, phx, kx, ex, sw_tv, sw_te)
+    k6, F, w6 = _rhs(_lc5(z, h, 9017 / 3168, k1, -355 / 33, k2, 46732 / 5247, k3, 49 / 176, k4,
+                          -5103 / 18656, k5), kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
+    zn = _lc5(z, h, 35 / 384, k1, 500 / 1113, k3, 125 / 192, k4, -2187 / 6784, k5, 11 / 84, k6)
+    k7, F, w7 = _rhs(zn, kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
+    zero = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    err = _lc6(zero, h, -71 / 57600, k1, 71 / 16695, k3, -71 / 1920, k4, 17253 / 339200, k5,
+               -22 / 525, k6, 1 / 40, k7)
+    return zn, (k2, k3, k4, k5, k6, k7), (w2, w3, w4, w5, w6, w7), err
+
+
+@njit(cache=True)
+def _f_first(t, i, m, z, p, modes, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en):
+    """f(t, z) and the energy rates at a (re)start of the adaptive integration."""
+    kt, et, dkt, det = _table_at(t, i, m, p, phx, kx, ex, sw_tv, sw_te)
+    k1, F1, w1 = _rhs(_tup(z), kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
+    return k1, w1
+
+
+@njit(cache=True)
+def _dp_store(K, k1, w1, ks, ws, zn, znew, sw_en):
+    """Stage derivatives into K (dense output, event location), z_new into znew[:10]."""
+    _put(K[0], k1, w1, sw_en)
+    for s in range(6):
+        _put(K[s + 1], ks[s], ws[s], sw_en)
+    for r in range(10):
+        znew[r] = zn[r]
+
+
+@njit(cache=True)
+def _dp_energy(z, K, h, znew):
+    """Energy quadratures: the 5th-order weights of the states (A[6]) on their rates."""
+    for r in range(10, z.shape[0]):
+        znew[r] = z[r] + h * (35 / 384 * K[0, r] + 500 / 1113 * K[2, r] + 125 / 192 * K[3, r]
+                              - 2187 / 6784 * K[4, r] + 11 / 84 * K[5, r])
+
+
 # ------------------------------------------------------------------------------------
 # adaptive Dormand-Prince 5(4) with event location
 # ------------------------------------------------------------------------------------
@@ -428,13 +557,6 @@ def _table_at(t, i, m, p, phx, kx, ex, sw_tv, sw_te):
             e = ex[i] + sl * (u - phx[i])
             de = sl * p[P_OM]
     return k, e, dk, de
-
-
-@njit(cache=True)
-def _eval_arr(t, i, m, za, modes, dst, p, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en):
-    k, e, dk, de = _table_at(t, i, m, p, phx, kx, ex, sw_tv, sw_te)
-    dz, F, w = _rhs(_tup(za), k, e, dk, de, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
-    _put(dst, dz, w, sw_en)
 
 
 @njit(cache=True)
@@ -493,23 +615,6 @@ def _dense(z, K, h, th, PD, out, nz):
 
 
 @njit(cache=True)
-def _stages(t, h, i, m, z, K, zt, znew, modes, A, C, p, phx, kx, ex,
-            sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en):
-    nz = z.shape[0]
-    for s in range(1, 7):
-        for r in range(nz):
-            acc = 0.0
-            for q in range(s):
-                acc += A[s, q] * K[q, r]
-            zt[r] = z[r] + h * acc
-        ts = t + C[s] * h if s < 6 else t + h
-        if s == 6:
-            for r in range(nz):
-                znew[r] = zt[r]
-        _eval_arr(ts, i, m, zt, modes, K[s], p, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en)
-
-
-@njit(cache=True)
 def _illinois(t, h, i, m, z, K, PD, gi, act_i, a, fa, bq, fb, zs, gs, p, phx, kx, ex,
               sw_tv, sw_bl, sw_cl, sw_te, sw_dyn):
     """Crossing of switching function gi on the dense output inside [a, bq] (theta units);
@@ -565,14 +670,11 @@ def dopri5(z0, t_end, t_out, rtol, atol, h0, hmax, hmin, max_steps, zlim, gidx,
     nerr = 10
     n_out = t_out.shape[0]
     out = np.empty((n_out, nz))
-    A = _A
-    C = _C
-    E = _E
     PD = _PD
     K = np.empty((7, nz))
     z = z0.copy()
     znew = np.empty(nz)
-    zt = np.empty(nz)
+    zt = np.empty(nz)           # scratch for the event root finder
     zd = np.empty(nz)
     act = np.zeros(NG, dtype=np.bool_)
     g = np.zeros(NG)
@@ -591,7 +693,7 @@ def dopri5(z0, t_end, t_out, rtol, atol, h0, hmax, hmin, max_steps, zlim, gidx,
         for q in range(ng):
             act[gidx[q]] = gcur[gidx[q]] > 0.0
     modes = _modes_tuple(act)
-    _eval_arr(t, si, sm, z, modes, K[0], p, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en)
+    k1, w1 = _f_first(t, si, sm, z, p, modes, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en)
     ko = 0
     n_acc = 0
     n_rej = 0
@@ -621,16 +723,12 @@ def dopri5(z0, t_end, t_out, rtol, atol, h0, hmax, hmin, max_steps, zlim, gidx,
         hit_node = clip and (t + h >= tn)
         if clip:
             si, sm = _segment(t + 0.5 * h, p, phx)
-        _stages(t, h, si, sm, z, K, zt, znew, modes, A, C, p, phx, kx, ex,
-                sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en)
+        zn, ks, ws, errt = _dp_stages(t, h, si, sm, _tup(z), k1, w1, p, modes, phx, kx, ex,
+                                      sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en)
         en = 0.0
         for r in range(nerr):
-            ei = 0.0
-            for s in range(7):
-                ei += E[s] * K[s, r]
-            ei *= h
-            sc = atol[r] + rtol * max(abs(z[r]), abs(znew[r]))
-            en += (ei / sc) ** 2
+            sc = atol[r] + rtol * max(abs(z[r]), abs(zn[r]))
+            en += (errt[r] / sc) ** 2
         en = math.sqrt(en / nerr)
         if not np.isfinite(en):
             en = 1e10
@@ -641,6 +739,9 @@ def dopri5(z0, t_end, t_out, rtol, atol, h0, hmax, hmin, max_steps, zlim, gidx,
                 status = ST_HMIN
                 break
             continue
+        _dp_store(K, k1, w1, ks, ws, zn, znew, sw_en)
+        if sw_en is not None:
+            _dp_energy(z, K, h, znew)
         # ---- event detection on the dense output ----
         h_used = h
         event = False
@@ -678,8 +779,11 @@ def dopri5(z0, t_end, t_out, rtol, atol, h0, hmax, hmin, max_steps, zlim, gidx,
                 h_ev = best * h
                 if h_ev > (1e-15 + 4e-16 * abs(t)):
                     if best < 1.0:
-                        _stages(t, h_ev, si, sm, z, K, zt, znew, modes, A, C, p, phx, kx, ex,
-                                sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en)
+                        zn, ks, ws, errt = _dp_stages(t, h_ev, si, sm, _tup(z), k1, w1, p, modes, phx, kx,
+                                                      ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en)
+                        _dp_store(K, k1, w1, ks, ws, zn, znew, sw_en)
+                        if sw_en is not None:
+                            _dp_energy(z, K, h_ev, znew)
                         last = False
                         hit_node = False
                     h_used = h_ev
@@ -729,16 +833,15 @@ def dopri5(z0, t_end, t_out, rtol, atol, h0, hmax, hmin, max_steps, zlim, gidx,
             hn = min(hp, tn - t) if clip else hp
             if clip:
                 si, sm = _segment(t + 0.5 * hn, p, phx)
-            _eval_arr(t, si, sm, z, modes, K[0], p, phx, kx, ex,
-                      sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en)
+            k1, w1 = _f_first(t, si, sm, z, p, modes, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en)
             if ng > 0:
                 _g_arr(t, si, sm, z, gcur, p, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn)
             if n_zero > 20:
                 skip_events = True
                 n_zero = 0
         else:
-            for r in range(nz):
-                K[0, r] = K[6, r]
+            k1 = ks[5]
+            w1 = ws[5]
             if ran:
                 for q in range(ng):
                     gcur[gidx[q]] = g[gidx[q]]

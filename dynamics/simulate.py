@@ -52,6 +52,7 @@ class SimResult:
     model: GearDynamics | None = None  # the model that produced it (exact harmonics)
     t_dense: np.ndarray | None = None  # the sample times plus the table nodes and the window end
     states_dense: np.ndarray | None = None  # (len(t_dense), 10) states there
+    _harmonics_memo: dict = field(default_factory=dict, repr=False)
 
     def harmonics(self, name: str = "F_m", n: int = 10) -> np.ndarray:
         """Amplitudes of the mesh harmonics k f_m, k = 1..n, of signal ``name``: exact
@@ -64,7 +65,11 @@ class SimResult:
         from .analysis import harmonics, window_harmonics
         if self.model is None or self.t_dense is None:
             return {name: harmonics(self.signals[name], self.fs_Hz, self.fm_Hz, n) for name in names}
-        return window_harmonics(self, list(names), n)
+        missing = [name for name in names if (name, n) not in self._harmonics_memo]
+        if missing:
+            for name, amp in window_harmonics(self, missing, n).items():
+                self._harmonics_memo[(name, n)] = amp
+        return {name: self._harmonics_memo[(name, n)].copy() for name in names}
 
     def spectrum(self, name: str = "F_m"):
         """Single-sided amplitude spectrum (f, A) of signal ``name``."""

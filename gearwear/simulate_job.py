@@ -225,7 +225,9 @@ class SimulationRun:
                 "effects": sorted(self.scene.effects)}
 
 
-def run(scene: Scene) -> SimulationRun:
+def run(scene: Scene, on_compile=None) -> SimulationRun:
+    """Simulate a scene. ``on_compile(message)`` is called once when the solver kernels
+    for this effect set must be compiled (first run only)."""
     t0 = time.perf_counter()
     solver = solver_options(scene)
     output = output_options(scene)
@@ -235,5 +237,5 @@ def run(scene: Scene) -> SimulationRun:
           "rtol": solver["rtol"]}
     if "atol" in solver:
         kw["atol"] = solver["atol"]
-    res = simulate(model, solver["duration_s"], solver["discard_s"], **kw)
+    res = simulate(model, solver["duration_s"], solver["discard_s"], on_compile=on_compile, **kw)
     return SimulationRun(scene, model, stiff, res, solver, output, time.perf_counter() - t0)
