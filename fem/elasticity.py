@@ -92,8 +92,10 @@ class ElasticModel:
 
 
 def assemble(mesh, material: Material, thickness_m: float, fixed_facets: np.ndarray,
-             plane: str = "stress", order: int = 2) -> ElasticModel:
-    """Assemble K for a P1/P2 mesh, fix the dofs on ``fixed_facets`` and factorize."""
+             plane: str = "stress", order: int = 2, factorize: bool = True) -> ElasticModel:
+    """Assemble K for a P1/P2 mesh, fix the dofs on ``fixed_facets`` and factorize
+    (``factorize=False``: no factorization, ``lu`` is None; fem.pair_body condenses
+    the matrix itself)."""
     t0 = time.perf_counter()
     m = linear_mesh(mesh)
     elem = ElementVector(ElementTriP2() if order == 2 else ElementTriP1())
@@ -103,6 +105,9 @@ def assemble(mesh, material: Material, thickness_m: float, fixed_facets: np.ndar
     fixed = basis.get_dofs(facets=np.asarray(fixed_facets)).all()
     free = np.setdiff1d(np.arange(basis.N), fixed)
     t1 = time.perf_counter()
+    if not factorize:
+        return ElasticModel(m, basis, K.tocsr(), free, fixed, None, thickness_m, plane, order,
+                            {"assemble_s": t1 - t0})
     Kff = K[free][:, free].tocsc()
     # K_ff is symmetric positive definite: a symmetric fill-reducing ordering of
     # A^T + A without pivoting gives ~40 % fewer factor nonzeros than COLAMD with

@@ -1,128 +1,111 @@
-"""Tooth-pair contact of a spur pair by FE influence coefficients: loaded static
-transmission error and mesh stiffness over one mesh period, nominal and worn.
+"""Spur-pair mesh stiffness by resolved FE contact of the two gear bodies: loaded
+static transmission error and mesh stiffness over one mesh period, any pair
+(unequal teeth, profile shift, wear, clearance-shifted centre distance).
 
 Model (SI units: m, N, rad, Pa)
 -------------------------------
-Both gears are full FE bodies (Gmsh P2 triangles, scikit-fem, plane stress by
-default, thickness = face width b) with the bore fixed. The driver torque T gives
-the total normal force F = T / r_b1 along the line of action (LOA). With the bores
-fixed, the rigid-body unknown is the hub rotation: r_b1 theta_1 (driver turned, the
-driven hub held) is the approach delta of the pair along the LOA = the loaded static
-transmission error (STE), measured from the rigid, unworn position.
+Each distinct gear is one full FE body (fem.pair_body: all z teeth, P2 triangles,
+plane stress by default, thickness = face width b, bore fixed) whose tooth 0 has
+its drive flank refined to the contact element size h_c = a_ref / 2.5 (a_ref: Hertz
+half-width of one pair at the pitch point under the full load, 64 um for the paper
+pair at 40 N m) over the whole candidate range, from below the start of active
+profile up to and including the tip corner. The flexibility G of those flank nodes
+(and of the neighbouring teeth's drive flanks) comes from one sparse factorization
+per body by static condensation; rotational periodicity maps every engaged tooth to
+tooth 0 (a load on tooth t_l read on tooth t_k = a load on tooth 0 read on tooth
+t_k - t_l). No analytic local (Hertz/Weber) term enters: the contact zone is
+resolved by the mesh.
 
-The deformation of a tooth pair k at LOA position d_k is split in three parts
-(Weber 1949; Cornell 1981; the split used by the analytic single-tooth models):
+Kinematics. Fixed frame: pinion centre O1 = 0, its base-circle tangency point
+T1 = (0, r_b1), line of action (LOA) along +x to T2 = (L, r_b1), gear centre
+O2 = (L, r_b1 + r_b2). A tooth pair at LOA position d (the position analytic.tvms
+uses) is placed rigidly so that both nominal flanks pass through (d, r_b1): pinion
+tooth frame turned by gamma_1 = psi_b1 - d / r_b1, gear tooth frame by
+gamma_2 = psi_b2 - (L - d) / r_b2 - pi (psi_b: half angular thickness on the base
+circle; the involute is beta = psi_b - (u - atan u)). Pinion slot j sits on tooth
+-j, gear slot j on tooth +j (as analytic.tvms); pairs one base pitch apart are then
+exactly one tooth apart. The driven gear is held; the pinion turns by the extra
+angle dtheta, and the loaded STE is delta = r_b1 dtheta.
 
-(i)  body deflection: FE influence coefficients of each gear body. A unit load is
-     applied on the loaded flank of tooth 0 as a Hertzian pressure patch (semi-
-     ellipse of the static-share Hertz half-width a, 8-point Gauss-Chebyshev, each
-     point's consistent P2 nodal load P^T f) at the contact point of radius R; the
-     displacement is read at the point where the load line crosses the tooth centre
-     line, y_c = y_F - x_F tan w (distance h = x_F / cos w from the contact,
-     analytic.loading), and projected on the load direction. Read there the
-     displacement stays finite under mesh refinement (the log-singular Hertz field
-     is excluded) and includes bending, shear, rim/foundation and the rotation of
-     the rim. It is the point where Weber's h in (ii) ends, so (i) + (ii) add up to
-     the approach of the contact point; a rigid rotation of the tooth moves all
-     points of the load line equally along it. fem.tooth reads at (0, R) instead
-     (the centre line at the load radius): that point lies 0.7-1.3 mm off the load
-     line and adds the tooth rotation times that offset plus part of the local
-     field, +6 to +13 % compliance on the paper pinion (``read_at="radius"``
-     reproduces it; the mean mesh stiffness drops by 6.7 %). Cross terms (a load on one
-     tooth moves the neighbouring tooth through the rim) are read at the centre-line
-     points of the neighbouring teeth. Rotational periodicity of the gear body makes
-     one loaded tooth enough: the coefficient between a load on tooth t_j and the
-     reading on tooth t_i equals that of a load on tooth 0 read on tooth t_i - t_j.
-     So only tooth 0's active flank is refined, every load case sits on it, and one
-     factorization per gear serves all positions (for identical unworn gears the
-     pinion model is reused for the gear).
-(ii) local contact approach between the two centre-line points, 2D Hertz/Weber
-     (Weber 1949; Weber & Banaschek 1953), plane strain:
+Gaps from the exact profiles (node-to-surface). For each tooth pair the "slave" is
+the gear whose tip is nearer the contact (the pinion for d past mid-path, else the
+gear): its flank nodes within +-3 a_ref of arc length of the kinematic contact
+point (the tip corner when d lies beyond the path) are the candidates; the
+"master" is the mating flank as an exact involute. Involutes of one base circle
+are parallel curves, so a point Y (master tooth frame, radius r, half-angle beta,
+u = sqrt(r^2 / r_b^2 - 1)) is at the normal distance
 
-         delta_W(F) = 2 F (1 - nu^2) / (pi E b) [ln(2 h1 / a) + ln(2 h2 / a) - nu / (1 - nu)]
-         a = sqrt(4 (F / b) R* / (pi E*)),   1/E* = 2 (1 - nu^2) / E,
-         R* = rho1 rho2 / (rho1 + rho2),   rho1 = d, rho2 = |T1T2| - d.
+    g = r_b (beta + u - atan u - psi_b)          (> 0 outside the master tooth)
 
-     Nonlinear in F (log); it enters the contact solve as a secant compliance
-     delta_W(F_k) / F_k, iterated to a fixed point (relative change < 1e-13).
-     ``contact_plane="stress"`` uses the plane-stress form (E, nu replaced by
-     E (1 + 2 nu) / (1 + nu)^2, nu / (1 + nu) in the plane-strain formula).
-(iii) load sharing among the pairs by the complementarity solve of fem.contact
-     (the solver verified on the Hertz cylinders): with C the sum of both gears'
-     influence matrices (i) plus diag(delta_W(F_k) / F_k), initial gaps g_k from
-     wear (geometry.wear.wear_on_line_of_action: h1 + h2 at d_k, along the involute
-     normal = the LOA) and sum F_k = F:
+from the master flank; the foot of the normal has roll u_F = u - g / r_b and
+outward normal (cos beta_T, -sin beta_T), beta_T = psi_b - u_F. The slave point is
+the exact flank point at the node's radius (the corner itself for the corner
+node), so corner (extended) contact outside the kinematic path is included: a
+slave's tip corner meets the master flank below its start of active profile.
 
-         gap_k = g_k + (C F)_k - STE >= 0,  F_k >= 0,  F_k gap_k = 0.
+Wear enters as initial gaps: g += h_slave(R_node) + h_master(R_foot), with h the
+wear depth of geometry.wear.flank_depth along the nominal normal; the FE bodies
+keep the nominal flanks. Why: the depths (<= 30 um) are 1e-3 of the tooth
+thickness, so they change the body compliance by 0.01-0.1 % (fem.tooth, morph
+study) while they change the gaps at first order (tens of um against a 1-2 um
+elastic approach); a nominal body lets one factorization serve every wear state
+and keeps mesh changes out of the wear effect. The gap g(s) keeps the worn
+profile's shape along the flank (including its changed curvature), which is what
+the contact zone sees.
 
-Mesh stiffness, same definition as analytic.tvms: k = sum over loaded pairs of
-F_k / (STE - g_k) (secant; F / STE when unworn), so F = k (STE - e) with the wear
-excitation e = sum k_k g_k / k. The tangent stiffness dF/dSTE (central difference of
-the whole solve at F (1 +- 1e-3)) is returned as well.
+Contact problem per position (frictionless; fem.contact's exact active-set
+solver). Candidate i (force f_i >= 0 along the master normal e_i, +e_i on the slave
+node, -e_i on the master at the foot point, with P2 edge weights):
 
-Why this method (and not a resolved Hertz zone at every position): a ~ 0.06-0.1 mm
-at 40 N m needs elements of ~a/10 at each contact point, i.e. a new mesh and
-factorization per position (24 positions x 2 gears), and the contact zone would have
-to be re-meshed as the contact moves along the flank. The split (i)+(ii) needs one
-factorization per gear: the Hertz near field enters through Weber's closed form,
-which is the same local solution the Hertz-cylinder test of fem.contact verifies, and
-the FE part is read where it converges (0.02 % from the extrapolated limit at the
-default sizes, :func:`default_sizes`). The same complementarity solver that
-reproduces the Hertz cylinders (fem.contact) shares the load. A full-gear mesh
-(all z teeth) is used, so no sector cut conditions are needed. Tip-corner contact
-outside the theoretical path of contact [A, E] is not modelled: the candidate pairs
-are those inside the path, as analytic.tvms with corner_contact=False.
+    gap_i = g_i + (C f)_i - w_i delta >= 0,  f_i >= 0,  f_i gap_i = 0,
+    sum_i w_i f_i = T / r_b1,                 C = sum over both bodies a_i^T G a_j
 
-Wear: the loaded (right) flanks of all teeth of the FE bodies are the worn profiles
-(geometry.wear.worn_profiles shape and depth), so each gear has its own mesh; the
-contact point and centre-line point are those of the worn flank at the nominal
-contact radius (as analytic.loading does).
+with w_i = -(d g_i / d dtheta) / r_b1 (the lever arm of e_i about O1 over r_b1;
+1 on the LOA) from the exact gap function. With q = w f the problem is
+fem.contact's form (C' = W^-1 C W^-1, g' = g / w, sum q = T / r_b1), so the loads
+sum to T / r_b1 exactly and delta is the multiplier.
 
-Result for the paper pair (default_pair, 40 N m, 24 positions, defaults: plane
-stress bodies, plane-strain Weber, P2, mesh_scale 1; 7-16 s wall on 2 cores)
---------------------------------------------------------------------------------
-              mean k (N/m)  single    double    mean STE   Ishikawa mean (no corner / corner)
-   unworn     3.482e8       2.589e8   3.928e8   1.69 um    4.319e8 (-19.4 %) / 4.400e8 (-20.9 %)
-   mild       2.668e8       2.589e8   2.708e8   5.95 um    3.135e8 (-14.9 %) / 3.135e8
-   severe     2.569e8       2.589e8   2.560e8   13.47 um   2.934e8 (-12.4 %) / 2.934e8
+Mesh stiffness, as analytic.tvms: k = sum over loaded pairs of F_k / (delta - g_k)
+with F_k = sum of q_i of the pair and g_k its rigid gap (the smallest g'_i over a
+dense sampling of its slave flank: wear gap, corner clearance); F = k (delta - e)
+with e = sum k_k g_k / k. The tangent dF / d delta is a central difference of the
+whole solve at F (1 +- 1e-3).
 
-The FE mean is 19 % below Ishikawa for the unworn pair. Switching the FE model's
-extra physics off one by one (``coupling``, ``local_contact``, ``plane``) accounts
-for all of it: without the coupling of neighbouring teeth through the rim (which
-the slice model does not have) -11.1 %; then with paper Eq. 5 instead of Weber's
-2D contact approach -4.5 %; then plane strain instead of plane stress +1.0 % (single
-contact +0.2 %, double +1.2 %). So the FE body compliance agrees with Ishikawa's
-delta_1 + delta_2; the difference is the rim coupling (double contact only: -21.6 %
-vs -12.0 % in single contact), Weber's contact law being ~25 % more compliant than
-Eq. 5 at this load, and plane stress.
+Results, paper pair (40 N m, plane stress, 24 positions): see the README and
+benchmarks/bench_fem_pair.py for the measured figures and timings.
 """
 
 from __future__ import annotations
 
 import math
 import time
+from collections import OrderedDict
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from geometry.kinematics import MeshGeometry
-from geometry.mesh import MeshSizes, mesh_full_gear
-from geometry.operating import operating_geometry
-from geometry.profile import FILLET, INVOLUTE, ToothProfile, tooth_outline, tooth_profile
-from geometry.spec import PairSpec
-from geometry.wear import (WearSpec, flank_depth, hertz_half_width, key_roll_angles, load_share,
-                           wear_on_line_of_action)
-from analytic.ishikawa import hertz_approach_m
 from analytic.loading import load_points
 from analytic.tvms import CurveStats
+from geometry.kinematics import MeshGeometry
+from geometry.operating import operating_geometry
+from geometry.profile import INVOLUTE, tooth_profile
+from geometry.spec import PairSpec
+from geometry.validation import fail
+from geometry.wear import WearSpec, flank_depth, hertz_half_width, key_roll_angles
 
 from .contact import solve_contact
-from .elasticity import assemble
+from .pair_body import BodySizes, GearBody, build_body, involute_point, rot
 
-__all__ = ["PairFE", "GearBody", "pair_contact", "compare_with_analytic", "weber_approach_m",
-           "build_gear_body", "default_sizes"]
+__all__ = ["PairFE", "PairModel", "pair_contact", "pair_model", "solve_position", "compare_with_analytic",
+           "weber_approach_m", "body_sizes", "extended_contact_widths", "consistency", "write_fields"]
 
-N_PATCH = 8  # Gauss-Chebyshev points of the Hertzian pressure patch
+ELEMENTS_PER_HALF_WIDTH = 2.5   # h_c = a_ref / 2.5 at contact_scale 1
+WINDOW_HALF_WIDTHS = 3.0        # candidate window: +-3 a_ref of arc length (+ 2 h_c)
+EXTENSION_PITCHES = 0.08        # pairs considered up to 0.08 p_b beyond A and E (corner contact)
+DENSE_GAP_POINTS = 401          # samples of a pair's slave flank for its rigid gap g_k
+ROTATION_STEP_RAD = 1e-7        # central difference of the gaps for the lever arms w_i
+_BODY_CACHE: "OrderedDict[tuple, GearBody]" = OrderedDict()
+_BODY_CACHE_SIZE = 4
 
 
 # ---------------------------------------------------------------------------
@@ -138,12 +121,13 @@ class PairFE(CurveStats):
     k_N_per_m          (n,) secant mesh stiffness sum_k F_k / (STE - g_k)
     k_tangent_N_per_m  (n,) dF / dSTE
     ste_m              (n,) loaded static transmission error (approach along the LOA)
-    excitation_m       (n,) e with F = k (STE - e) (0 when unworn)
-    pair_load_N        (n, p) load of each candidate slot (columns as analytic.tvms)
+    excitation_m       (n,) e with F = k (STE - e)
+    pair_load_N        (n, p) load of each slot (torque-equivalent: sums to T / r_b1)
     pair_d_m           (n, p) LOA position of each slot
     pair_in_path       (n, p) slot inside the path of contact [A, E]
+    half_width_m       (n, p) half the loaded arc length of each pair (resolved Hertz a)
     timings            wall times (s) of the stages
-    meta               mesh sizes, element counts, options
+    meta               sizes, element counts, options, extended-contact widths
     """
 
     pair: PairSpec
@@ -158,6 +142,7 @@ class PairFE(CurveStats):
     pair_load_N: np.ndarray
     pair_d_m: np.ndarray
     pair_in_path: np.ndarray
+    half_width_m: np.ndarray
     timings: dict = field(default_factory=dict)
     meta: dict = field(default_factory=dict)
 
@@ -169,7 +154,7 @@ class PairFE(CurveStats):
 
 
 # ---------------------------------------------------------------------------
-# local (Weber) contact approach
+# Weber's local approach (the analytic model being verified, not used in the solve)
 # ---------------------------------------------------------------------------
 
 
@@ -179,7 +164,7 @@ def _plane_constants(E: float, nu: float, plane: str) -> tuple[float, float]:
         return E, nu
     if plane == "stress":
         return E * (1 + 2 * nu) / (1 + nu) ** 2, nu / (1 + nu)
-    raise ValueError(f"plane = {plane!r}: must be 'stress' or 'strain'")
+    raise fail("plane", repr(plane), "", "must be 'stress' or 'strain'")
 
 
 def weber_approach_m(F_N, h1_m, h2_m, R_star_m, E_Pa: float, nu: float, b_m: float,
@@ -187,7 +172,8 @@ def weber_approach_m(F_N, h1_m, h2_m, R_star_m, E_Pa: float, nu: float, b_m: flo
     """Weber (1949) approach of the two centre-line points of a line contact (m):
     2 F (1 - nu^2)/(pi E b) [ln(2 h1/a) + ln(2 h2/a) - nu/(1 - nu)] with the Hertz
     half-width a = sqrt(4 (F/b) R* / (pi E*)), 1/E* = 2 (1 - nu^2)/E (plane strain;
-    ``plane="stress"`` converts E, nu). Zero for F <= 0."""
+    ``plane="stress"`` converts E, nu). h1, h2: contact point to the centre-line
+    points along the load line. Zero for F <= 0."""
     Ep, nup = _plane_constants(E_Pa, nu, plane)
     F = np.maximum(np.asarray(F_N, dtype=float), 0.0)
     E_star = Ep / (2.0 * (1.0 - nup ** 2))
@@ -198,417 +184,522 @@ def weber_approach_m(F_N, h1_m, h2_m, R_star_m, E_Pa: float, nu: float, b_m: flo
 
 
 # ---------------------------------------------------------------------------
-# gear body: outline, mesh, model
+# the pair model: bodies + exact geometry
 # ---------------------------------------------------------------------------
 
 
-def default_sizes(module_m: float, mesh_scale: float = 1.0) -> dict:
-    """Element sizes (m) of the gear bodies, proportional to the module m: global
-    0.3 m, fillets of the loaded and the two neighbouring teeth on each side 0.05 m,
-    the loaded flank of tooth 0 0.025 m (about 2 a at 40 N m: the patch need not be
-    resolved, only the field at the centre line h ~ 3-4 mm away), outline spacing of
-    the other teeth 0.125 m. Measured convergence of the mean stiffness of the paper
-    pair (extrapolated limit 3.4812e8 N/m): mesh_scale 4 +1.9 %, 2 +0.24 %, 1 +0.02 %;
-    the error falls roughly as h^3."""
-    s = float(mesh_scale)
-    if not (s > 0 and math.isfinite(s)):
-        raise ValueError(f"mesh_scale = {mesh_scale!r}: must be finite and > 0")
-    return {"global_m": 0.3 * module_m * s, "fillet_m": 0.05 * module_m * s,
-            "load_m": 0.025 * module_m * s, "far_tooth_m": 0.125 * module_m * s}
+def _positive(key: str, value, unit: str = "") -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise fail(key, repr(value), unit, "must be a finite number > 0") from None
+    if not (math.isfinite(v) and v > 0):
+        raise fail(key, value, unit, "must be a finite number > 0")
+    return v
 
 
-def _resample(profile: ToothProfile, spacing: np.ndarray) -> ToothProfile:
-    """Subset of the dense profile points with arc-length steps of about ``spacing``
-    (per point). The ends, the start of the involute (form circle) and the tip corner
-    are kept; a step shorter than half the spacing before a kept point is merged into
-    the previous one (a very short outline edge would force slivers in the mesh)."""
-    s = profile.s
-    n = len(s)
-    keep = np.zeros(n, dtype=bool)
-    keep[0] = keep[-1] = True
-    inv = np.flatnonzero(profile.region == INVOLUTE)
-    if inv.size:
-        keep[inv[0]] = keep[inv[-1]] = True
-    out = [0]
-    i = 0
-    while i < n - 1:
-        # farthest point within the local spacing, but never past a kept point
-        j = int(np.searchsorted(s, s[i] + spacing[i], side="right")) - 1
-        j = max(j, i + 1)
-        nxt = np.flatnonzero(keep[i + 1: j + 1])
-        if nxt.size:
-            j = i + 1 + int(nxt[0])
-            if len(out) > 1 and not keep[out[-1]] and s[j] - s[i] < 0.5 * spacing[i]:
-                out.pop()
-        out.append(j)
-        i = j
-    idx = np.asarray(out)
-    kw = {k: getattr(profile, k)[idx] for k in ("xy", "normal", "s", "radius", "roll", "region")}
-    if profile.depth is not None:
-        kw["depth"] = profile.depth[idx]
-    return replace(profile, **kw)
+def body_sizes(pair: PairSpec, torque_Nm: float = 40.0, contact_scale: float = 1.0,
+               mesh_scale: float = 1.0) -> tuple[BodySizes, float]:
+    """Element sizes of the pair bodies and a_ref (m). h_c = a_ref / 2.5 x
+    contact_scale, a_ref the Hertz half-width (plane strain) of one pair at the pitch
+    point under T / r_b1 on the nominal geometry; the rest scales with the module
+    (near teeth 0.125 m, far teeth 0.3 m, fillets 0.05 m, interior 0.4 m) x mesh_scale."""
+    cs = _positive("contact_scale", contact_scale)
+    ms = _positive("mesh_scale", mesh_scale)
+    mg = MeshGeometry(pair, pair.centre_distance_m)
+    F = torque_Nm / pair.gear(0).base_radius_m
+    a_ref = float(hertz_half_width(mg, np.array([mg.pitch_point_m]), F / pair.face_width_m)[0])
+    m = pair.module_m
+    return BodySizes(contact_m=a_ref / ELEMENTS_PER_HALF_WIDTH * cs, near_m=0.125 * m * ms, far_m=0.3 * m * ms,
+                     fillet_m=0.05 * m * ms, global_m=0.4 * m * ms), a_ref
 
 
 @dataclass
-class GearBody:
-    """One gear's FE model with its loaded profile (tooth 0 frame: tooth axis +y,
-    loaded flank x > 0)."""
+class PairModel:
+    """Everything a position solve needs (built once per pair, torque and clearance)."""
 
-    index: int
-    profile: ToothProfile          # loaded flank (worn or nominal), dense
-    nominal: ToothProfile
-    model: object                  # fem.elasticity.ElasticModel
-    flank_xy: np.ndarray           # tooth-0 loaded flank polyline as meshed
-    n_elements: int
-    ndofs: int
+    pair: PairSpec
+    mesh: MeshGeometry
+    bodies: tuple
+    wear: WearSpec | None
+    depth: tuple          # per gear: (radius, depth) arrays of the drive flank, or None
+    window_m: float       # candidate half-window (arc length)
+    a_ref_m: float
+    sizes: BodySizes
+    plane: str
     timings: dict
 
+    @property
+    def psi_b(self) -> tuple[float, float]:
+        return tuple(g.pitch_thickness_m / (2 * g.pitch_radius_m) + math.tan(g.pressure_angle_rad)
+                     - g.pressure_angle_rad for g in self.pair.gears)
 
-def build_gear_body(pair: PairSpec, index: int, loaded: ToothProfile, nominal: ToothProfile,
-                    mesh: MeshGeometry, mesh_scale: float = 1.0, order: int = 2,
-                    plane: str = "stress") -> GearBody:
-    """Mesh a full gear (all loaded flanks = ``loaded``; tooth 0's active flank and the
-    fillets of teeth -2..2 refined), fix the bore, assemble and factorize."""
-    g = pair.gear(index)
-    z = g.teeth
-    sz = default_sizes(pair.module_m, mesh_scale)
+
+def _candidate_radius_range(mesh: MeshGeometry, gi: int, window_m: float) -> float:
+    """Lowest flank radius a contact can reach on gear gi: its start of active profile
+    moved EXTENSION_PITCHES p_b along the LOA plus the candidate window (arc length)."""
+    g = mesh.pair.gear(gi)
+    rb = g.base_radius_m
+    ext = EXTENSION_PITCHES * mesh.base_pitch_m
+    d = mesh.path_start_m - ext if gi == 0 else mesh.line_of_action_m - (mesh.path_end_m + ext)
+    s = rb * (max(d, 0.0) / rb) ** 2 / 2.0 - window_m
+    u = math.sqrt(max(2.0 * s / rb, 0.0))
+    return max(rb * math.sqrt(1.0 + u * u), rb * 1.0001)
+
+
+def _body_key(g, pair, sizes, r_lo, nb, cy, plane):
+    return (replace(g, name=""), pair.material, pair.face_width_m, sizes, round(r_lo, 9), nb,
+            tuple(round(c, 9) for c in cy), plane)
+
+
+def pair_model(pair: PairSpec, wear: WearSpec | None = None, torque_Nm: float = 40.0, clearance_m: float = 0.0,
+               contact_scale: float = 1.0, mesh_scale: float = 1.0, plane: str = "stress") -> PairModel:
+    """Bodies (cached in-process: wear states share them) and exact geometry."""
     t0 = time.perf_counter()
-    # active flank radii of this gear (plus a margin of two fine elements)
-    r_sap = mesh.start_of_active_profile_m[index]
-    in_active = (loaded.region == INVOLUTE) & (loaded.radius >= r_sap - 2 * sz["load_m"])
-    fil = loaded.region == FILLET
-    far = np.full(len(loaded.s), sz["far_tooth_m"])
-    near = np.where(fil, sz["fillet_m"], sz["far_tooth_m"])
-    loaded0 = np.where(in_active, sz["load_m"], near)
-    near_n = np.where(nominal.region == FILLET, sz["fillet_m"], sz["far_tooth_m"])
-    far_n = np.full(len(nominal.s), sz["far_tooth_m"])
-    out_far = tooth_outline(_resample(loaded, far), _resample(nominal, far_n))
-    out_near = tooth_outline(_resample(loaded, near), _resample(nominal, near_n))
-    out_0 = tooth_outline(_resample(loaded, loaded0), _resample(nominal, near_n))
-    pieces = []
-    for k in range(z):
-        kk = k if k <= z // 2 else k - z  # signed tooth index
-        base = out_0 if kk == 0 else (out_near if abs(kk) <= 2 else out_far)
-        ang = 2.0 * math.pi * k / z
-        c, s = math.cos(ang), math.sin(ang)
-        pts = base @ np.array([[c, -s], [s, c]]).T
-        pieces.append(pts if not pieces else pts[1:])
-    outline = np.vstack(pieces)[:-1]
-    flank = _resample(loaded, loaded0)
-    flank_xy = flank.xy[flank.region == INVOLUTE]
-    refine = flank_xy[flank.radius[flank.region == INVOLUTE] >= r_sap - 2 * sz["load_m"]]
-    fillets = []
-    for kk in range(-2, 3):
-        ang = 2.0 * math.pi * kk / z
-        c, s = math.cos(ang), math.sin(ang)
-        rot = np.array([[c, -s], [s, c]])
-        for prof, sign in ((loaded, 1.0), (nominal, -1.0)):
-            pts = prof.xy[prof.region == FILLET] * np.array([sign, 1.0])
-            fillets.append(pts[:: max(1, len(pts) // 12)] @ rot.T)
-    sizes = MeshSizes(global_m=sz["global_m"], fillet_m=sz["fillet_m"], load_m=sz["load_m"],
-                      load_dist_m=2.0 * sz["load_m"], fillet_dist_m=2.0 * sz["fillet_m"], growth=0.25)
-    gm = mesh_full_gear(outline, g.hub_radius_m, sizes, refine_points_xy=refine,
-                        fillet_points_xy=np.vstack(fillets), order=order)
-    t1 = time.perf_counter()
-    model = assemble(gm.mesh, pair.material, pair.face_width_m, gm.boundaries["bore"], plane=plane, order=order)
-    timings = {"mesh_s": t1 - t0, **model.timings}
-    return GearBody(index, loaded, nominal, model, flank_xy, gm.n_elements, model.ndofs, timings)
-
-
-def _rot(angle: float) -> np.ndarray:
-    c, s = math.cos(angle), math.sin(angle)
-    return np.array([[c, -s], [s, c]])
-
-
-def _project_on_polyline(pts: np.ndarray, poly: np.ndarray) -> np.ndarray:
-    """Nearest points of the polyline to ``pts``."""
-    a, b = poly[:-1], poly[1:]
-    ab = b - a
-    L2 = np.einsum("ij,ij->i", ab, ab)
-    out = np.empty_like(pts)
-    for i, p in enumerate(pts):
-        t = np.clip(np.einsum("ij,ij->i", p - a, ab) / L2, 0.0, 1.0)
-        q = a + t[:, None] * ab
-        k = int(np.argmin(np.einsum("ij,ij->i", q - p, q - p)))
-        out[i] = q[k]
-    return out
-
-
-def _probe(model, pts: np.ndarray, chunk: int = 64):
-    """model.probe in chunks (skfem's element finder falls back to a search over all
-    elements for a whole call when one point is not among the nearest centroids)."""
-    import scipy.sparse as sp
-
-    blocks = [model.probe(pts[i: i + chunk]) for i in range(0, len(pts), chunk)]
-    return sp.vstack(blocks).tocsr()
-
-
-def _contact_data(body: GearBody, radius_m: np.ndarray, read_at: str = "load_line"):
-    """Contact point, load direction (unit force on this gear) and centre-line reading
-    point in the tooth-0 frame, and h (contact point to centre line along the load
-    line). read_at "load_line": (0, y_c), where the load line crosses the centre line;
-    "radius": (0, R), the centre-line point at the load radius (fem.tooth)."""
-    lp = load_points(body.profile, radius_m)
-    c = np.column_stack([lp.x_m, lp.y_m])
-    e = -np.column_stack([np.cos(lp.w_rad), np.sin(lp.w_rad)])
-    # (0, R) at a tip contact is the tip-land vertex: keep the probe 1 um inside
-    yq = lp.y_axis_m if read_at == "load_line" else np.minimum(lp.radius_m, body.profile.gear.tip_radius_m - 1e-6)
-    q = np.column_stack([np.zeros_like(yq), yq])
-    h = lp.x_m / np.cos(lp.w_rad)
-    return c, e, q, h
-
-
-def _patch_loads(body: GearBody, c: np.ndarray, e: np.ndarray, a: np.ndarray) -> np.ndarray:
-    """Load vectors (N, n) of unit resultant Hertzian patches centred at c along e."""
-    k = np.arange(1, N_PATCH + 1)
-    xi = np.cos(k * math.pi / (N_PATCH + 1))
-    wts = np.sin(k * math.pi / (N_PATCH + 1)) ** 2
-    wts = wts / wts.sum()  # Gauss-Chebyshev (2nd kind) for the semi-ellipse, unit total
-    t = np.column_stack([-e[:, 1], e[:, 0]])  # flank tangent (perpendicular to the load)
-    n = len(c)
-    pts = (c[:, None, :] + (a[:, None] * xi[None, :])[:, :, None] * t[:, None, :]).reshape(-1, 2)
-    pts = _project_on_polyline(pts, body.flank_xy)
-    # move the points 1 nm (1e-5 of the flank element size) into the body so that
-    # the element finder sees them inside; the consistent load changes by ~1e-5
-    pts = pts + 1e-9 * np.repeat(e, N_PATCH, axis=0)
-    Pm = _probe(body.model, pts)
-    f = np.zeros((2 * n * N_PATCH, n))
-    rows = np.arange(n * N_PATCH)
-    cols = np.repeat(np.arange(n), N_PATCH)
-    w = np.tile(wts, n)
-    f[2 * rows, cols] = w * np.repeat(e[:, 0], N_PATCH)
-    f[2 * rows + 1, cols] = w * np.repeat(e[:, 1], N_PATCH)
-    return np.asarray(Pm.T @ f)
+    _positive("torque_Nm", torque_Nm, "N m")
+    if not (math.isfinite(clearance_m) and clearance_m >= 0):
+        raise fail("clearance_m", clearance_m, "m", "must be finite and >= 0")
+    if plane not in ("stress", "strain"):
+        raise fail("plane", repr(plane), "", "must be 'stress' or 'strain'")
+    og = operating_geometry(pair, clearance_m)
+    mesh = og.mesh
+    sizes, a_ref = body_sizes(pair, torque_Nm, contact_scale, mesh_scale)
+    window = WINDOW_HALF_WIDTHS * a_ref + 2.0 * sizes.contact_m
+    nb = int(math.ceil(mesh.contact_ratio + 2 * EXTENSION_PITCHES)) + 1
+    bodies, depth, tim = [], [], {}
+    for gi, g in enumerate(pair.gears):
+        nominal = tooth_profile(g, extra_roll=key_roll_angles(mesh, gi))
+        r_lo = _candidate_radius_range(mesh, gi, window)
+        lp = load_points(nominal, np.array([max(r_lo, nominal.form_radius_m), g.tip_radius_m * (1 - 1e-9)]))
+        cy = (float(lp.y_axis_m.min()) - 1.0 * pair.module_m * 0.2, float(lp.y_axis_m.max()) + 0.2 * pair.module_m)
+        key = _body_key(g, pair, sizes, r_lo, nb, cy, plane)
+        if key in _BODY_CACHE:  # identical gears, or another wear state of the same pair
+            body = _BODY_CACHE[key]
+            _BODY_CACHE.move_to_end(key)
+        else:
+            body = build_body(g, pair.material, pair.face_width_m, nominal, sizes, r_lo, nb, cy, plane)
+            _BODY_CACHE[key] = body
+            while len(_BODY_CACHE) > _BODY_CACHE_SIZE:
+                _BODY_CACHE.popitem(last=False)
+            for k2, v in body.timings.items():
+                tim[f"gear{gi}_{k2}"] = v
+        bodies.append(body)
+        if wear is not None and not wear.is_unworn:
+            h = flank_depth(nominal, gi, mesh, wear)
+            inv = nominal.region == INVOLUTE
+            depth.append((nominal.radius[inv], h[inv]))
+        else:
+            depth.append(None)
+    tim["model_s"] = time.perf_counter() - t0
+    return PairModel(pair, mesh, tuple(bodies), wear, tuple(depth), window, a_ref, sizes, plane, tim)
 
 
 # ---------------------------------------------------------------------------
-# the pair solve
+# one position
 # ---------------------------------------------------------------------------
 
 
-def _profiles(pair: PairSpec, wear: WearSpec | None, mesh: MeshGeometry):
-    """(nominal, loaded) profiles of both gears, as analytic.tvms builds them."""
-    nominal = tuple(tooth_profile(g, extra_roll=key_roll_angles(mesh, i, wear)) for i, g in enumerate(pair.gears))
-    if wear is None or wear.is_unworn:
-        return nominal, nominal
-    loaded = tuple(p.worn(flank_depth(p, i, mesh, wear)) for i, p in enumerate(nominal))
-    return nominal, loaded
+def _frames(pm: PairModel, d: float, dtheta: float = 0.0):
+    """(gamma_1, gamma_2, O2): rotations of the pinion and gear tooth frames of the pair
+    at LOA position d (pinion turned by the extra angle dtheta) and the gear centre."""
+    rb1, rb2 = (g.base_radius_m for g in pm.pair.gears)
+    L = pm.mesh.line_of_action_m
+    p1, p2 = pm.psi_b
+    return p1 - d / rb1 - dtheta, p2 - (L - d) / rb2 - math.pi, np.array([L, rb1 + rb2])
 
 
-def _influence(body: GearBody, z: int, radii_load: np.ndarray, a_load: np.ndarray,
-               reads: list[tuple[int, float]], read_at: str = "load_line") -> tuple[np.ndarray, dict]:
-    """Influence coefficients (m/N): rows = reads (relative tooth, radius), columns =
-    unit loads on tooth 0 at radii_load. One multi-RHS solve on the factorized body."""
-    t0 = time.perf_counter()
-    c, e, _, _ = _contact_data(body, radii_load)
-    Fm = _patch_loads(body, c, e, a_load)
-    t1 = time.perf_counter()
-    U = body.model.solve(Fm)
-    t2 = time.perf_counter()
-    rel = np.array([r[0] for r in reads])
-    rr = np.array([r[1] for r in reads])
-    _, er, qr, _ = _contact_data(body, rr, read_at)
-    pts = np.empty_like(qr)
-    dirs = np.empty_like(er)
-    for t in np.unique(rel):
-        m = rel == t
-        R = _rot(2.0 * math.pi * t / z)
-        pts[m] = qr[m] @ R.T
-        dirs[m] = er[m] @ R.T
-    Pm = _probe(body.model, pts)
-    uv = np.asarray(Pm @ U)  # (2 nread, nload)
-    Cr = uv[0::2] * dirs[:, 0:1] + uv[1::2] * dirs[:, 1:2]
-    return Cr, {"load_vectors_s": t1 - t0, "solve_s": t2 - t1, "read_s": time.perf_counter() - t2}
+def _depth(pm: PairModel, gi: int, R: np.ndarray) -> np.ndarray:
+    dd = pm.depth[gi]
+    if dd is None:
+        return np.zeros_like(R)
+    return np.interp(R, dd[0], dd[1], left=0.0, right=0.0)
 
 
-def _solve_position(Cb: np.ndarray, gaps: np.ndarray, F: float, weber) -> tuple[np.ndarray, float]:
-    """Contact solve with the nonlinear Weber term as a secant compliance, iterated."""
-    n = len(gaps)
-    Fk = np.full(n, F / n)
-    s = weber(Fk) / Fk
-    for _ in range(200):
-        sol = solve_contact(Cb + np.diag(s), gaps, total_force_N=F)
-        Fnew = sol.force_N
-        # unloaded pairs keep a secant at the mean load: it only steers the active set
-        s_new = np.where(Fnew > 0, weber(np.where(Fnew > 0, Fnew, 1.0)) / np.where(Fnew > 0, Fnew, 1.0), s)
-        if np.max(np.abs(Fnew - Fk)) <= 1e-13 * F and np.all(np.abs(s_new - s) <= 1e-13 * np.abs(s)):
-            return Fnew, sol.approach_m
-        Fk, s = Fnew, s_new
-    raise RuntimeError("Weber secant iteration did not converge")
+def _gap(pm: PairModel, slave: int, R: np.ndarray, d: float, dtheta: float = 0.0):
+    """Initial normal gap of the exact slave flank points at radii R against the exact
+    master involute (+ wear of both flanks): (gap, foot radius, master outward normal in
+    the master tooth frame, the same in the fixed frame)."""
+    g1, g2, O2 = _frames(pm, d, dtheta)
+    master = 1 - slave
+    gs, gm = pm.pair.gear(slave), pm.pair.gear(master)
+    X = involute_point(gs, R)
+    if slave == 0:
+        Y = (X @ rot(g1).T - O2) @ rot(-g2).T
+        gam_m = g2
+    else:
+        Y = (X @ rot(g2).T + O2) @ rot(-g1).T
+        gam_m = g1
+    rbm = gm.base_radius_m
+    r = np.hypot(Y[:, 0], Y[:, 1])
+    u = np.sqrt(np.maximum((r / rbm) ** 2 - 1.0, 0.0))
+    kappa = np.arctan2(Y[:, 0], Y[:, 1]) + u - np.arctan(u)
+    gap = rbm * (kappa - pm.psi_b[master])
+    uF = u - gap / rbm
+    rF = rbm * np.sqrt(1.0 + uF * uF)
+    bT = pm.psi_b[master] - uF
+    n_loc = np.column_stack([np.cos(bT), -np.sin(bT)])
+    gap = gap + _depth(pm, slave, R) + _depth(pm, master, rF)
+    # a foot past the master's tip or below its condensed flank: that slave point faces
+    # the master's corner or fillet, not its flank; it cannot be loaded here
+    out = (rF > gm.tip_radius_m) | (rF < pm.bodies[master].flank_r[0][0]) | (r <= rbm)
+    gap = np.where(out, np.inf, gap)
+    return gap, rF, n_loc, n_loc @ rot(gam_m).T
+
+
+@dataclass
+class PositionSolution:
+    """Resolved contact at one pinion angle (SI).
+
+    d_m, teeth (slots in contact candidates), loads_N per slot (torque-equivalent),
+    ste_m, gaps_m per slot (rigid gap g_k), cand (per slot: dict with slave, node
+    radii, foot radii, forces, reps), half_width_m per slot."""
+
+    theta_rad: float
+    d_m: np.ndarray
+    slots: np.ndarray
+    loads_N: np.ndarray
+    ste_m: float
+    gaps_m: np.ndarray
+    half_width_m: np.ndarray
+    cand: list
+    C: np.ndarray
+    g: np.ndarray
+    w: np.ndarray
+
+
+def _slot_layout(pm: PairModel, theta: float):
+    m = pm.mesh
+    nslots = int(math.ceil(m.contact_ratio)) + 3
+    j = np.arange(-1, nslots - 1)
+    d = m.path_start_m + m.pair.gear(0).base_radius_m * theta + j * m.base_pitch_m
+    return j, d
+
+
+def _candidates(pm: PairModel, d: float, j: int) -> dict | None:
+    """Candidate nodes, gaps, lever arms and load/read representations of the pair in
+    slot j at LOA position d, or None when no node can reach the mating flank."""
+    mid = 0.5 * (pm.mesh.path_start_m + pm.mesh.path_end_m)
+    slave = 0 if d >= mid else 1
+    gs = pm.pair.gear(slave)
+    rb = gs.base_radius_m
+    L = pm.mesh.line_of_action_m
+    u_kin = d / rb if slave == 0 else (L - d) / rb
+    u_a = math.sqrt((gs.tip_radius_m / rb) ** 2 - 1.0)
+    s_c = rb * min(max(u_kin, 0.0), u_a) ** 2 / 2.0
+    body = pm.bodies[slave]
+    r_nodes = body.flank_r[0]
+    s_nodes = rb * ((r_nodes / rb) ** 2 - 1.0) / 2.0
+    sel = np.flatnonzero(np.abs(s_nodes - s_c) <= pm.window_m)
+    if sel.size == 0:
+        return None
+    R = r_nodes[sel]
+    gap, rF, n_loc, e_fix = _gap(pm, slave, R, d)
+    gp, _, _, _ = _gap(pm, slave, R, d, ROTATION_STEP_RAD)
+    gm_, _, _, _ = _gap(pm, slave, R, d, -ROTATION_STEP_RAD)
+    ok = np.isfinite(gap) & np.isfinite(gp) & np.isfinite(gm_)
+    if not ok.any():
+        return None
+    sel, R, gap, rF, n_loc, e_fix, gp, gm_ = (x[ok] for x in (sel, R, gap, rF, n_loc, e_fix, gp, gm_))
+    w = -(gp - gm_) / (2 * ROTATION_STEP_RAD) / pm.pair.gear(0).base_radius_m
+    # rigid gap of the pair: dense sampling of the slave flank over the window
+    u_lo = math.sqrt(max(2 * (s_c - pm.window_m) / rb, 0.0))
+    u_hi = math.sqrt(2 * min(s_c + pm.window_m, rb * u_a ** 2 / 2) / rb)
+    Rd = rb * np.sqrt(1.0 + np.linspace(u_lo, u_hi, DENSE_GAP_POINTS) ** 2)
+    gd, _, _, _ = _gap(pm, slave, Rd, d)
+    gd_p, _, _, _ = _gap(pm, slave, Rd, d, ROTATION_STEP_RAD)
+    gd_m, _, _, _ = _gap(pm, slave, Rd, d, -ROTATION_STEP_RAD)
+    wd = -(gd_p - gd_m) / (2 * ROTATION_STEP_RAD) / pm.pair.gear(0).base_radius_m
+    with np.errstate(invalid="ignore"):
+        g_pair = float(np.nanmin(np.where(np.isfinite(gd) & (wd > 0), gd / wd, np.inf)))
+    g1, g2, _ = _frames(pm, d)
+    gam = (g1, g2)
+    master = 1 - slave
+    # directions in each body's tooth frame: +e on the slave node, -e on the master foot
+    dir_s = e_fix @ rot(-gam[slave]).T
+    dir_m = -n_loc
+    return {"slave": slave, "nodes": sel, "R": R, "rF": rF, "gap": gap, "w": w, "g_pair": g_pair,
+            "dirs": {slave: dir_s, master: dir_m}, "j": j, "d": d,
+            "teeth": (-j, j)}
+
+
+def _reps(body: GearBody, c: dict, gi: int, delta_tooth: int):
+    """(B positions (n, 6), coefficients (n, 6)) of the candidates of c on body gi,
+    read or loaded on the body's tooth ``delta_tooth`` (relative to the load tooth)."""
+    z = body.gear.teeth
+    ang = 2.0 * math.pi * delta_tooth / z
+    dirs = c["dirs"][gi] @ rot(ang).T
+    if gi == c["slave"] and delta_tooth == 0:
+        b = body.flank_b[0][c["nodes"]]
+        idx = np.column_stack([b, b, b])
+        wts = np.zeros((len(b), 3))
+        wts[:, 0] = 1.0
+    else:
+        R = c["R"] if gi == c["slave"] else c["rF"]
+        idx, wts = body.edge_weights(delta_tooth, R)
+    idx6 = np.concatenate([idx, idx + 1], axis=1)
+    coef6 = np.concatenate([wts * dirs[:, :1], wts * dirs[:, 1:]], axis=1)
+    return idx6, coef6
+
+
+def _flexibility(pm: PairModel, cands: list) -> np.ndarray:
+    """C (n, n) of all candidates: sum over both bodies of a_i^T G a_j, with the read
+    on the tooth t_i - t_j relative to the load (rotational periodicity)."""
+    sizes = [len(c["R"]) for c in cands]
+    off = np.concatenate([[0], np.cumsum(sizes)])
+    C = np.zeros((off[-1], off[-1]))
+    for gi, body in enumerate(pm.bodies):
+        for a, ca in enumerate(cands):
+            for b, cb in enumerate(cands):
+                dt = ca["teeth"][gi] - cb["teeth"][gi]
+                ia, wa = _reps(body, ca, gi, dt)
+                ib, wb = _reps(body, cb, gi, 0)
+                Gs = body.G[np.ix_(ia.ravel(), ib.ravel())].reshape(ia.shape[0], 6, ib.shape[0], 6)
+                C[off[a]:off[a + 1], off[b]:off[b + 1]] += np.einsum("ia,iajb,jb->ij", wa, Gs, wb)
+    return 0.5 * (C + C.T)
+
+
+def solve_position(pm: PairModel, theta: float, total_N: float) -> PositionSolution:
+    """Resolved contact at pinion angle theta (rad from the entry of a pair at A; any
+    value, also outside one mesh period) under the torque-equivalent load total_N."""
+    j, d = _slot_layout(pm, theta)
+    A, E = pm.mesh.path_start_m, pm.mesh.path_end_m
+    ext = EXTENSION_PITCHES * pm.mesh.base_pitch_m
+    cands, slots = [], []
+    for k in np.flatnonzero((d >= A - ext) & (d <= E + ext)):
+        c = _candidates(pm, float(d[k]), int(j[k]))
+        if c is not None:
+            cands.append(c)
+            slots.append(k)
+    if not cands:
+        raise RuntimeError(f"no tooth pair can touch at theta = {theta!r} rad")
+    C = _flexibility(pm, cands)
+    g = np.concatenate([c["gap"] for c in cands])
+    w = np.concatenate([c["w"] for c in cands])
+    if np.any(w <= 0):
+        raise RuntimeError("a candidate's lever arm about the pinion centre is not positive")
+    sol = solve_contact(C / np.outer(w, w), g / w, total_force_N=total_N)
+    q = sol.force_N
+    loads = np.zeros(len(d))
+    hw = np.zeros(len(d))
+    gaps = np.full(len(d), np.inf)
+    off = 0
+    for k, c in zip(slots, cands):
+        n = len(c["R"])
+        qc = q[off:off + n]
+        c["force_N"] = qc / c["w"]
+        loads[k] = qc.sum()
+        gaps[k] = c["g_pair"]
+        on = np.flatnonzero(qc > 0)
+        if on.size:
+            rb = pm.pair.gear(c["slave"]).base_radius_m
+            s = rb * ((c["R"] / rb) ** 2 - 1.0) / 2.0
+            ds = np.diff(s).mean() if len(s) > 1 else 0.0
+            hw[k] = 0.5 * (s[on].max() - s[on].min() + ds)
+            c["window_hit"] = bool(on[0] == 0 and s[0] > s.min() - 1) and (on[0] == 0 or on[-1] == n - 1)
+        off += n
+    return PositionSolution(float(theta), d, np.asarray(slots), loads, float(sol.approach_m), gaps, hw, cands,
+                            C, g, w)
+
+
+# ---------------------------------------------------------------------------
+# the cycle
+# ---------------------------------------------------------------------------
 
 
 def pair_contact(pair: PairSpec, wear: WearSpec | None = None, positions: int = 24, torque_Nm: float = 40.0,
-                 clearance_m: float = 0.0, order: int = 2, mesh_scale: float = 1.0,
-                 plane: str = "stress", contact_plane: str = "strain", coupling: bool = True,
-                 local_contact: str = "weber", read_at: str = "load_line") -> PairFE:
+                 clearance_m: float = 0.0, contact_scale: float = 1.0, mesh_scale: float = 1.0,
+                 plane: str = "stress", extended: bool = True) -> PairFE:
     """FE static transmission error and mesh stiffness at ``positions`` pinion angles
     theta = i (2 pi / z1) / positions (theta = 0 when a pair enters at A).
 
-    The centre distance follows from the bearing clearance as in analytic.tvms
-    (rigid bearings). ``plane``: state of the FE gear bodies; ``contact_plane``: state
-    of the local Weber term (plane strain: the Hertz zone, a << b, is constrained
-    along the face width). See the module docstring for the method.
-
-    Diagnostics (to attribute differences to the analytic model, not for use):
-    ``coupling=False`` drops the cross terms between teeth (each pair sees only its
-    own teeth, as the analytic model assumes); ``local_contact="eq5"`` replaces
-    Weber's centre-line approach by the analytic Hertz law 1.275 F^0.9 / (E^0.9 b^0.8)
-    (paper Eq. 5; a surface approach, so it is not consistent with the centre-line
-    reading); ``read_at="radius"`` reads the body displacement at the centre-line
-    point (0, R) at the load radius (the fem.tooth extraction) instead of where the
-    load line crosses the centre line (Weber's h ends there, so only "load_line"
-    makes (i) + (ii) additive).
-    """
+    The centre distance follows from the bearing clearance as in analytic.tvms (rigid
+    bearings). ``contact_scale`` multiplies the contact element size h_c (the
+    h-refinement of the contact zone), ``mesh_scale`` the other sizes. ``extended``:
+    also locate where loaded corner contact begins and ends (bisection, meta
+    "extended_contact_deg"). See the module docstring for the method."""
     t_start = time.perf_counter()
-    if not isinstance(positions, (int, np.integer)) or positions < 2:
-        raise ValueError(f"positions = {positions!r}: must be a whole number >= 2")
-    if not (torque_Nm > 0 and math.isfinite(torque_Nm)):
-        raise ValueError(f"torque_Nm = {torque_Nm!r}: must be finite and > 0")
-    if local_contact not in ("weber", "eq5"):
-        raise ValueError(f"local_contact = {local_contact!r}: must be 'weber' or 'eq5'")
-    if read_at not in ("load_line", "radius"):
-        raise ValueError(f"read_at = {read_at!r}: must be 'load_line' or 'radius'")
-    og = operating_geometry(pair, clearance_m)
-    mesh = og.mesh
-    worn = wear is not None and not wear.is_unworn
-    nominal, loaded = _profiles(pair, wear, mesh)
-    rb1, rb2 = pair.gear(0).base_radius_m, pair.gear(1).base_radius_m
-    L, pb = mesh.line_of_action_m, mesh.base_pitch_m
-    A, E = mesh.path_start_m, mesh.path_end_m
+    if isinstance(positions, bool) or not isinstance(positions, (int, np.integer)) or positions < 2:
+        raise fail("positions", positions, "", "must be a whole number >= 2")
+    pm = pair_model(pair, wear, torque_Nm, clearance_m, contact_scale, mesh_scale, plane)
+    t_model = time.perf_counter()
+    mesh = pm.mesh
+    F = torque_Nm / pair.gear(0).base_radius_m
     theta = np.arange(positions) * (mesh.mesh_angle_rad / positions)
-    nslots = int(math.ceil(mesh.contact_ratio)) + 3
-    j = np.arange(-1, nslots - 1)  # the slot layout of analytic.tvms
-    d = A + rb1 * theta[:, None] + j[None, :] * pb
-    in_path = (d >= A - 1e-12 * pb) & (d <= E + 1e-12 * pb)
-    F = torque_Nm / rb1
-    mat = pair.material
-    b = pair.face_width_m
-    t_prof = time.perf_counter()
-
-    # -- bodies (identical unworn gears share one model)
-    same = (not worn) and pair.gear(0).teeth == pair.gear(1).teeth and \
-        replace(pair.gear(0), name="") == replace(pair.gear(1), name="")
-    bodies = [build_gear_body(pair, 0, loaded[0], nominal[0], mesh, mesh_scale, order, plane)]
-    bodies.append(bodies[0] if same else build_gear_body(pair, 1, loaded[1], nominal[1], mesh, mesh_scale,
-                                                         order, plane))
-    t_bodies = time.perf_counter()
-
-    # -- contact geometry of every candidate (position, slot)
-    pos_idx, slot_idx = np.nonzero(in_path)
-    dc = d[pos_idx, slot_idx]
-    R = [np.sqrt(rb1 ** 2 + dc ** 2), np.sqrt(rb2 ** 2 + (L - dc) ** 2)]
-    # pinion slot j sits on tooth -j, gear slot j on tooth +j (tooth 0 frame of each
-    # gear, loaded flank x > 0): then all simultaneous loads share one LOA direction
-    tooth = [-j[slot_idx], j[slot_idx]]
-    Rstar = dc * (L - dc) / L
-    a_patch = hertz_half_width(mesh, dc, F * load_share(mesh, dc) / b)
-    h, dirs = [], []
-    for gi in (0, 1):
-        _, ee, _, hh = _contact_data(bodies[gi], R[gi])
-        h.append(hh)
-        # load direction in the gear's fixed frame (tooth t = tooth 0 turned by 2 pi t / z)
-        ang = 2.0 * math.pi * tooth[gi] / pair.gear(gi).teeth
-        c_, s_ = np.cos(ang), np.sin(ang)
-        dirs.append(np.column_stack([c_ * ee[:, 0] - s_ * ee[:, 1], s_ * ee[:, 0] + c_ * ee[:, 1]]))
-    # self-check of the slot -> tooth mapping: simultaneous loads share one LOA direction
-    mismatch = 0.0
-    for gi in (0, 1):
-        for p_ in range(positions):
-            m_ = pos_idx == p_
-            if m_.sum() > 1:
-                dd = dirs[gi][m_]
-                mismatch = max(mismatch, float(np.max(np.abs(np.arctan2(
-                    dd[:, 1] * dd[0, 0] - dd[:, 0] * dd[0, 1], dd @ dd[0])))))
-    if worn:
-        h1w, h2w = wear_on_line_of_action(mesh, wear, dc)
-        gap_all = h1w + h2w
-    else:
-        gap_all = np.zeros(len(dc))
-
-    # -- influence coefficients per gear: loads on tooth 0 at every candidate radius,
-    # reads at (relative tooth, radius) of every other candidate of the same position
-    C_pos = [np.zeros((positions, len(j), len(j))) for _ in (0, 1)]
-    tim_inf = {}
-    groups = [np.flatnonzero(pos_idx == p) for p in range(positions)]
-    work = {}
-    for gi in (0, 1):
-        body = bodies[gi]
-        work.setdefault(id(body), []).append(gi)
-    for key, gis in work.items():
-        body = bodies[gis[0]]
-        loads_R, loads_a, reads, entries = [], [], [], []
-        for gi in gis:
-            base = len(loads_R)
-            loads_R.extend(R[gi])
-            loads_a.extend(a_patch)
-            for p, grp in enumerate(groups):
-                for ii in grp:
-                    for jj in grp:
-                        reads.append((int(tooth[gi][ii] - tooth[gi][jj]), float(R[gi][ii])))
-                        entries.append((gi, p, slot_idx[ii], slot_idx[jj], base + jj))
-        Cr, tinf = _influence(body, pair.gear(gis[0]).teeth, np.asarray(loads_R), np.asarray(loads_a), reads,
-                              read_at)
-        for (gi, p, si, sj, col), row in zip(entries, range(len(reads))):
-            C_pos[gi][p, si, sj] = Cr[row, col]
-        for k2, v in tinf.items():
-            tim_inf[k2] = tim_inf.get(k2, 0.0) + v
-    t_inf = time.perf_counter()
-
-    # -- contact solve per position
+    j, d0 = _slot_layout(pm, 0.0)
+    d = np.vstack([_slot_layout(pm, t)[1] for t in theta])
+    in_path = (d >= mesh.path_start_m - 1e-12 * mesh.base_pitch_m) & (d <= mesh.path_end_m + 1e-12 * mesh.base_pitch_m)
     loads = np.zeros(d.shape)
+    gaps = np.full(d.shape, np.inf)
+    hw = np.zeros(d.shape)
     ste = np.zeros(positions)
     ktan = np.zeros(positions)
-    asym = 0.0
-    for p, grp in enumerate(groups):
-        sl = slot_idx[grp]
-        Cb = C_pos[0][p][np.ix_(sl, sl)] + C_pos[1][p][np.ix_(sl, sl)]
-        asym = max(asym, float(np.max(np.abs(Cb - Cb.T)) / np.max(np.abs(Cb))))
-        # loads act on the flank, displacements are read on the centre line, so C is
-        # not exactly reciprocal (asymmetry ~1e-3 of the largest entry, in meta);
-        # its symmetric part is used (the solver's QP form needs a symmetric C)
-        Cb = 0.5 * (Cb + Cb.T)
-        if not coupling:
-            Cb = np.diag(np.diag(Cb))
-
-        if local_contact == "weber":
-            def weber(Fk, grp=grp):
-                return weber_approach_m(Fk, h[0][grp], h[1][grp], Rstar[grp], mat.youngs_modulus_Pa,
-                                        mat.poisson_ratio, b, contact_plane)
-        else:
-            def weber(Fk):
-                return hertz_approach_m(Fk, mat, b)
-
-        Fk, delta = _solve_position(Cb, gap_all[grp], F, weber)
-        loads[p, sl] = Fk
-        ste[p] = delta
+    n_cand, hits, iters = [], 0, 0
+    t_lcp = 0.0
+    t_asm = 0.0
+    for p, th in enumerate(theta):
+        ta = time.perf_counter()
+        ps = solve_position(pm, float(th), F)
+        tb = time.perf_counter()
+        loads[p], gaps[p], hw[p], ste[p] = ps.loads_N, ps.gaps_m, ps.half_width_m, ps.ste_m
+        n_cand.append(len(ps.g))
+        hits += sum(bool(c.get("window_hit")) for c in ps.cand)
         eps = 1e-3
-        _, dp = _solve_position(Cb, gap_all[grp], F * (1 + eps), weber)
-        _, dm = _solve_position(Cb, gap_all[grp], F * (1 - eps), weber)
+        Cw, gw = ps.C / np.outer(ps.w, ps.w), ps.g / ps.w
+        dp = solve_contact(Cw, gw, total_force_N=F * (1 + eps)).approach_m
+        dm = solve_contact(Cw, gw, total_force_N=F * (1 - eps)).approach_m
         ktan[p] = 2 * eps * F / (dp - dm)
-    gaps = np.full(d.shape, np.inf)
-    gaps[pos_idx, slot_idx] = gap_all
+        t_asm += tb - ta
+        t_lcp += time.perf_counter() - tb
     on = loads > 0
     with np.errstate(divide="ignore", invalid="ignore"):
-        k_pair = np.where(on, loads / np.maximum(ste[:, None] - np.where(on, gaps, 0.0), 1e-300), 0.0)
+        g_on = np.where(on, gaps, 0.0)
+        k_pair = np.where(on, loads / np.maximum(ste[:, None] - g_on, 1e-300), 0.0)
     k = k_pair.sum(axis=1)
-    exc = np.where(k > 0, (k_pair * np.where(on, gaps, 0.0)).sum(axis=1) / k, 0.0)
+    exc = np.where(k > 0, (k_pair * g_on).sum(axis=1) / k, 0.0)
+    t_cycle = time.perf_counter()
+    widths = extended_contact_widths(pm, F) if extended else None
     t_end = time.perf_counter()
-    timings = {"profiles_s": t_prof - t_start, "bodies_s": t_bodies - t_prof,
-               "influence_s": t_inf - t_bodies, "contact_s": t_end - t_inf, "total_s": t_end - t_start,
-               **{f"influence_{k2}": v for k2, v in tim_inf.items()}}
-    for gi, body in enumerate(bodies):
-        for k2, v in body.timings.items():
-            timings[f"gear{gi}_{k2}"] = v
-    meta = {"sizes_m": default_sizes(pair.module_m, mesh_scale), "mesh_scale": mesh_scale, "order": order,
-            "plane": plane, "contact_plane": contact_plane, "shared_body": same,
-            "n_elements": [bd.n_elements for bd in bodies], "ndofs": [bd.ndofs for bd in bodies],
-            "flexibility_asymmetry": asym, "direction_mismatch_rad": mismatch, "coupling": coupling,
-            "local_contact": local_contact, "read_at": read_at, "clearance_m": clearance_m, "corner_contact": False,
-            "pair_gap_m": gaps}
-    return PairFE(pair, mesh, torque_Nm, wear, theta, k, ktan, ste, exc, loads, d, in_path, timings, meta)
+    timings = {**pm.timings, "model_s": t_model - t_start, "positions_s": t_cycle - t_model,
+               "positions_geometry_s": t_asm, "positions_lcp_s": t_lcp, "extended_s": t_end - t_cycle,
+               "total_s": t_end - t_start}
+    meta = {"sizes_m": {k2: getattr(pm.sizes, k2) for k2 in ("contact_m", "near_m", "far_m", "fillet_m",
+                                                              "global_m")},
+            "a_ref_m": pm.a_ref_m, "window_m": pm.window_m, "contact_scale": contact_scale,
+            "mesh_scale": mesh_scale, "plane": plane, "order": 2, "shared_body": pm.bodies[0] is pm.bodies[1],
+            "n_elements": [bd.n_elements for bd in pm.bodies], "ndofs": [bd.ndofs for bd in pm.bodies],
+            "condensed_dofs": [int(bd.G.shape[0]) for bd in pm.bodies], "clearance_m": clearance_m,
+            "candidates_per_position": [int(min(n_cand)), int(max(n_cand))], "window_hits": int(hits),
+            "corner_contact": True, "local_contact": "resolved", "pair_gap_m": gaps,
+            "extended_contact_deg": widths}
+    return PairFE(pair, mesh, torque_Nm, wear, theta, k, ktan, ste, exc, loads, d, in_path, hw, timings, meta)
 
 
-def compare_with_analytic(fe: PairFE, corner_contact: bool = False) -> dict:
+def extended_contact_widths(pm: PairModel, total_N: float, tol_deg: float = 1e-4) -> dict:
+    """Pinion rotation (deg) over which a pair carries load before it reaches A
+    (gear tip corner on the pinion flank) and after it passes E (pinion tip corner),
+    by bisection on the pair's load (positive inside, zero outside)."""
+    rb1 = pm.pair.gear(0).base_radius_m
+    A, E = pm.mesh.path_start_m, pm.mesh.path_end_m
+    span = EXTENSION_PITCHES * pm.mesh.base_pitch_m / rb1
+
+    def load_at(theta, target_d):
+        ps = solve_position(pm, theta, total_N)
+        k = int(np.argmin(np.abs(ps.d_m - target_d)))
+        return ps.loads_N[k]
+
+    out = {}
+    for name, d_kin, sign in (("entry", A, -1.0), ("exit", E, 1.0)):
+        theta_kin = (d_kin - A) / rb1
+        lo, hi = 0.0, span  # distance beyond the kinematic transition (rad)
+        if load_at(theta_kin + sign * hi, d_kin + sign * hi * rb1) > 0:
+            out[name] = float("nan")  # beyond the candidate range: not resolved
+            continue
+        if load_at(theta_kin, d_kin) <= 0:
+            out[name] = 0.0
+            continue
+        while math.degrees(hi - lo) > tol_deg:
+            mid = 0.5 * (lo + hi)
+            if load_at(theta_kin + sign * mid, d_kin + sign * mid * rb1) > 0:
+                lo = mid
+            else:
+                hi = mid
+        out[name] = math.degrees(0.5 * (lo + hi))
+    return out
+
+
+# ---------------------------------------------------------------------------
+# consistency with the single-tooth FE and the local approach c_local
+# ---------------------------------------------------------------------------
+
+
+def _probe_rep(body: GearBody, pt: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(B positions of x dofs, P2 weights) of an interior point of tooth 0."""
+    P = body.model.basis.probes(np.asarray(pt, dtype=float).reshape(2, 1)).tocsr()
+    nz = np.abs(P[0].data) > 1e-14  # explicit zeros (the other component, a shared edge)
+    dofs, wts = P[0].indices[nz], P[0].data[nz]
+    b_of = {int(x): int(b) for x, b in zip(body.centre_dofs, body.centre_b)}
+    missing = [int(x) for x in dofs if int(x) not in b_of]
+    if missing:
+        raise RuntimeError("a centre-line reading point lies in an element that is not condensed")
+    return np.array([b_of[int(x)] for x in dofs]), np.asarray(wts)
+
+
+def centre_line_compliance(pm: PairModel, ps: PositionSolution) -> dict:
+    """In single contact: displacement of each tooth's centre-line point where the load
+    line crosses it (y_c of analytic.loading), along the force on that tooth, per N of
+    the pair load, and c_local = delta / F - c_1 - c_2 (m/N)."""
+    loaded = [c for c, k in zip(ps.cand, ps.slots) if ps.loads_N[k] > 0]
+    if len(loaded) != 1:
+        raise ValueError("centre_line_compliance needs exactly one loaded pair")
+    c = loaded[0]
+    F = float(ps.loads_N.sum())
+    d = c["d"]
+    L = pm.mesh.line_of_action_m
+    out = {"d_m": d}
+    for gi, body in enumerate(pm.bodies):
+        g = pm.pair.gear(gi)
+        R = math.hypot(g.base_radius_m, d if gi == 0 else L - d)
+        prof = tooth_profile(g)
+        lp = load_points(prof, np.array([R]))
+        e = -np.array([math.cos(lp.w_rad[0]), math.sin(lp.w_rad[0])])
+        qb, qw = _probe_rep(body, np.array([0.0, lp.y_axis_m[0]]))
+        ia, wa = _reps(body, c, gi, 0)
+        rows = np.concatenate([qb, qb + 1])
+        coef = np.concatenate([qw * e[0], qw * e[1]])
+        Gs = body.G[np.ix_(rows, ia.ravel())].reshape(len(rows), ia.shape[0], 6)
+        u = float(np.einsum("r,rjb,jb,j->", coef, Gs, wa, c["force_N"]))
+        out[f"c{gi + 1}_m_per_N"] = u / F
+        out[f"R{gi + 1}_m"] = R
+        out[f"h{gi + 1}_m"] = float(lp.x_m[0] / math.cos(lp.w_rad[0]))
+    out["c_pair_m_per_N"] = ps.ste_m / F
+    out["c_local_m_per_N"] = ps.ste_m / F - out["c1_m_per_N"] - out["c2_m_per_N"]
+    out["load_N"] = F
+    out["R_star_m"] = d * (L - d) / L
+    return out
+
+
+def consistency(pair: PairSpec, torque_Nm: float = 40.0, positions: int = 24, contact_scale: float = 1.0,
+                plane: str = "stress") -> list[dict]:
+    """At every single-contact position of the cycle: c_1, c_2 read in the pair FE and
+    by the single-tooth FE (fem.tooth on its own mesh, Hertz patch, read at the same
+    centre-line points), c_local, Weber's approach in plane stress and plane strain,
+    and the pair stiffness against 1 / (c_1 + c_2 + c_local) with the single-tooth c."""
+    from .tooth import single_tooth_compliance
+
+    pm = pair_model(pair, None, torque_Nm, 0.0, contact_scale, 1.0, plane)
+    F = torque_Nm / pair.gear(0).base_radius_m
+    theta = np.arange(positions) * (pm.mesh.mesh_angle_rad / positions)
+    rows = []
+    for th in theta:
+        ps = solve_position(pm, float(th), F)
+        if int(np.sum(ps.loads_N > 0)) != 1:
+            continue
+        rows.append(centre_line_compliance(pm, ps))
+    if not rows:
+        return rows
+    mat = pair.material
+    for gi in (0, 1):
+        R = np.array([r[f"R{gi + 1}_m"] for r in rows])
+        fe = single_tooth_compliance(pair, gear_index=gi, radii_m=R, load_N=F, plane=plane, read_at="load_line")
+        c = fe.fem_compliance_um_per_N_per_mm / (1e6 * pair.face_width_m * 1e3)
+        for r, ci in zip(rows, c):
+            r[f"c{gi + 1}_tooth_m_per_N"] = float(ci)
+    for r in rows:
+        for pl in ("stress", "strain"):
+            r[f"weber_{pl}_m_per_N"] = float(weber_approach_m(r["load_N"], r["h1_m"], r["h2_m"], r["R_star_m"],
+                                                              mat.youngs_modulus_Pa, mat.poisson_ratio,
+                                                              pair.face_width_m, pl)) / r["load_N"]
+        r["k_pair_N_per_m"] = 1.0 / r["c_pair_m_per_N"]
+        r["k_identity_N_per_m"] = 1.0 / (r["c1_tooth_m_per_N"] + r["c2_tooth_m_per_N"] + r["c_local_m_per_N"])
+    return rows
+
+
+# ---------------------------------------------------------------------------
+# comparison with the analytic model, fields
+# ---------------------------------------------------------------------------
+
+
+def compare_with_analytic(fe: PairFE, corner_contact: bool = True) -> dict:
     """Ishikawa mesh stiffness (analytic.tvms) at the same angles, torque, clearance and
     wear: means, zone means and the per-position relative difference (FE / analytic - 1)."""
     from analytic.tvms import mesh_stiffness
@@ -630,3 +721,83 @@ def compare_with_analytic(fe: PairFE, corner_contact: bool = False) -> dict:
         "double_fe": float(np.mean(fe.k_N_per_m[dbl])), "double_analytic": float(np.mean(an.k_N_per_m[dbl])),
         "ste_mean_fe_m": float(np.mean(fe.ste_m)), "ste_mean_analytic_m": float(np.mean(an.ste_m)),
     }
+
+
+def _stress(body: GearBody, U: np.ndarray, material) -> np.ndarray:
+    """Element-mean stress (nel, 3): sigma_xx, sigma_yy, sigma_xy (Pa) of the field U."""
+    from skfem.helpers import sym_grad
+
+    from .elasticity import lame
+
+    basis = body.model.basis
+    eps = sym_grad(basis.interpolate(U))  # (2, 2, nel, nqp)
+    lam, mu = lame(material, body.model.plane)
+    tr = eps[0, 0] + eps[1, 1]
+    sxx, syy, sxy = lam * tr + 2 * mu * eps[0, 0], lam * tr + 2 * mu * eps[1, 1], 2 * mu * eps[0, 1]
+    return np.column_stack([sxx.mean(axis=1), syy.mean(axis=1), sxy.mean(axis=1)])
+
+
+def write_fields(pm: PairModel, positions: list[int], n_positions: int, torque_Nm: float, out_dir) -> list:
+    """Displacement and stress fields of both gears at the given position indices
+    (theta = i 2 pi / (z1 n_positions)) as ``fields_pos<i>.vtu`` (meshio, P2 triangles
+    in the fixed frame of the module docstring; point data displacement_m, cell data
+    sigma_xx/yy/xy_Pa, von_mises_Pa, gear). The loaded tooth with the largest load is
+    each body's refined tooth 0; the other loaded teeth take their load on their own
+    (coarser) flanks."""
+    import meshio
+    import scipy.sparse.linalg as spla
+    from pathlib import Path
+
+    from geometry.fileio import atomic_write
+
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    F = torque_Nm / pm.pair.gear(0).base_radius_m
+    files = []
+    for i in positions:
+        if isinstance(i, bool) or not isinstance(i, (int, np.integer)) or not 0 <= i < n_positions:
+            raise fail("--fields", i, "", f"must be a position index in [0, {n_positions - 1}]")
+        theta = i * pm.mesh.mesh_angle_rad / n_positions
+        ps = solve_position(pm, theta, F)
+        ref = max(ps.cand, key=lambda c: float(c["force_N"].sum()))
+        g1, g2, O2 = _frames(pm, ref["d"])
+        pts, cells, disp, cdata, gear_id = [], [], [], [], []
+        offset = 0
+        for gi, body in enumerate(pm.bodies):
+            model = body.model
+            if getattr(body, "_lu", None) is None:
+                Kff = model.K[model.free][:, model.free].tocsc()
+                body._lu = spla.splu(Kff, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                                     options={"SymmetricMode": True})
+            f = np.zeros(model.ndofs)
+            for c in ps.cand:
+                idx, coef = _reps(body, c, gi, c["teeth"][gi] - ref["teeth"][gi])
+                np.add.at(f, body.dofs[idx], coef * c["force_N"][:, None])
+            U = np.zeros(model.ndofs)
+            U[model.free] = body._lu.solve(f[model.free])
+            S = _stress(body, U, pm.pair.material)
+            Rm = rot(g1 if gi == 0 else g2)
+            loc = model.basis.doflocs[:, 0::2].T
+            p = loc @ Rm.T + (0.0 if gi == 0 else O2)
+            u = U.reshape(-1, 2) @ Rm.T
+            # stress tensor to the fixed frame: R sigma R^T
+            sig = np.stack([np.stack([S[:, 0], S[:, 2]], -1), np.stack([S[:, 2], S[:, 1]], -1)], -2)
+            sig = Rm @ sig @ Rm.T
+            sxx, syy, sxy = sig[:, 0, 0], sig[:, 1, 1], sig[:, 0, 1]
+            szz = (pm.pair.material.poisson_ratio * (sxx + syy)) if pm.plane == "strain" else 0.0 * sxx
+            vm = np.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) + 3 * sxy ** 2)
+            pts.append(np.column_stack([p, np.zeros(len(p))]))
+            disp.append(np.column_stack([u, np.zeros(len(u))]))
+            cells.append(model.basis.element_dofs[0::2].T // 2 + offset)
+            cdata.append(np.column_stack([sxx, syy, sxy, vm]))
+            gear_id.append(np.full(len(sxx), gi))
+            offset += len(p)
+        cd = np.vstack(cdata)
+        mesh = meshio.Mesh(np.vstack(pts), [("triangle6", np.vstack(cells).astype(np.int64))],
+                           point_data={"displacement_m": np.vstack(disp)},
+                           cell_data={"sigma_xx_Pa": [cd[:, 0]], "sigma_yy_Pa": [cd[:, 1]], "sigma_xy_Pa": [cd[:, 2]],
+                                      "von_mises_Pa": [cd[:, 3]], "gear": [np.concatenate(gear_id)]})
+        path = out_dir / f"fields_pos{i}.vtu"
+        atomic_write(str(path), lambda tmp: meshio.write(tmp, mesh, file_format="vtu"))
+        files.append(path)
+    return files

@@ -455,7 +455,7 @@ def tooth_mesh(pair: PairSpec, gear_index: int = 0, wear: WearSpec | None = None
 def single_tooth_compliance(pair: PairSpec, gear_index: int = 0, wear: WearSpec | None = None,
                             positions: int = 21, order: int = 2, plane: str = "stress",
                             mesh_scale: float = 1.0, load_N: float | None = None,
-                            worn_geometry: str = "morph") -> ToothFE:
+                            worn_geometry: str = "morph", radii_m=None, read_at: str = "radius") -> ToothFE:
     """FE compliance of tooth 0 of gear ``gear_index`` (0 pinion, 1 gear) on the full gear.
 
     wear           None / unworn: nominal tooth. Otherwise the loaded (right) flank of
@@ -469,14 +469,21 @@ def single_tooth_compliance(pair: PairSpec, gear_index: int = 0, wear: WearSpec 
                    half-width (linear model).
     worn_geometry  "morph" (default: nominal mesh moved onto the worn flank) or
                    "remesh" (mesh the worn outline).
+    radii_m        load radii (m) instead of ``positions`` equal roll steps (the pair
+                   FE's consistency check reads the single tooth at its own contacts).
+    read_at        "radius": the centre-line point (0, R) (default); "load_line": the
+                   centre-line point where the load line crosses it, (0, y_c) of
+                   analytic.loading (where Weber's h ends; fem.pair's c_1, c_2).
 
     Returns a :class:`ToothFE`: compliance in um per (N/mm) at every position, the
     Ishikawa delta_1 + delta_2 at the same radii on the same profiles, dofs,
     elements and wall times.
     """
     t_start = time.perf_counter()
-    if positions < 2:
+    if radii_m is None and positions < 2:
         raise ValueError(f"positions = {positions}: need at least 2")
+    if read_at not in ("radius", "load_line"):
+        raise ValueError(f"read_at = {read_at!r}: must be 'radius' or 'load_line'")
     g = pair.gear(gear_index)
     mg = MeshGeometry(pair, pair.centre_distance_m)
     b = pair.face_width_m
@@ -486,8 +493,12 @@ def single_tooth_compliance(pair: PairSpec, gear_index: int = 0, wear: WearSpec 
         raise ValueError(f"load_N = {load_N!r}: must be finite and > 0")
 
     # -- load positions, Hertz half-widths, force directions (analytic.loading on the true flank)
-    R, u = load_radii(pair, gear_index, positions, load_N)
     rb = g.base_radius_m
+    if radii_m is None:
+        R, u = load_radii(pair, gear_index, positions, load_N)
+    else:
+        R = np.atleast_1d(np.asarray(radii_m, dtype=float))
+        u = np.sqrt(np.maximum((R / rb) ** 2 - 1.0, 0.0))
     d = rb * u if gear_index == 0 else mg.line_of_action_m - rb * u
     a = hertz_half_width(mg, d, load_N / b)
 
@@ -515,7 +526,8 @@ def single_tooth_compliance(pair: PairSpec, gear_index: int = 0, wear: WearSpec 
     G[1::2][np.arange(n * k), col] = forces.reshape(-1, 2)[:, 1]
     F = np.asarray(P.T @ G)  # consistent nodal forces, one column per position
     U = model.solve(F)
-    Q = model.probe(np.column_stack([np.zeros_like(R), R]))
+    yq = lp.y_axis_m if read_at == "load_line" else R
+    Q = model.probe(np.column_stack([np.zeros_like(R), yq]))
     uc = np.asarray(Q @ U)  # (2 n, n): column i is position i's solution
     idx = np.arange(n)
     ui = np.column_stack([uc[2 * idx, idx], uc[2 * idx + 1, idx]])
