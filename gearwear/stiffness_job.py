@@ -87,14 +87,27 @@ def iso_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float)
 
 def fem_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float,
               wear: WearSpec | None) -> MeshStiffness:
-    """Full-body FE tooth-pair contact (fem.pair) as a MeshStiffness curve."""
+    """Resolved FE contact of both gear bodies (fem.pair) as a MeshStiffness curve."""
     from fem.pair import pair_contact
 
     fe = pair_contact(pair, wear=wear, positions=points, torque_Nm=torque_Nm, clearance_m=clearance_m)
-    og = operating_geometry(pair, clearance_m)
-    return MeshStiffness("fem", pair, og.mesh, torque_Nm, wear, fe.angle_rad, fe.k_N_per_m, fe.ste_m,
+    meta = {k: v for k, v in fe.meta.items() if k != "pair_gap_m"}
+    return MeshStiffness("fem", pair, fe.mesh, torque_Nm, wear, fe.angle_rad, fe.k_N_per_m, fe.ste_m,
                          fe.excitation_m, fe.pair_load_N, fe.pair_d_m, fe.pair_in_path,
-                         float(fe.timings.get("total_s", float("nan"))), meta={"fe": dict(fe.meta)})
+                         float(fe.timings.get("total_s", float("nan"))), meta={"fe": meta})
+
+
+def write_fields(curves: list[Curve], out: Path, positions: list[int]) -> list[Path]:
+    """Displacement and stress fields (.vtu) of the FE curves at the given position
+    indices, one folder per curve (fem.pair.write_fields; the bodies are cached)."""
+    from fem.pair import pair_model, write_fields as fe_fields
+
+    files: list[Path] = []
+    for c in curves:
+        r = c.result
+        pm = pair_model(r.pair, c.wear, r.torque_Nm, c.clearance_m)
+        files += fe_fields(pm, positions, len(r.angle_rad), r.torque_Nm, out / f"fields_{c.slug}")
+    return files
 
 
 def compute(pair: PairSpec, method: str, wears: list[WearSpec | None], clearances_m: list[float],
