@@ -38,6 +38,10 @@ def test_cache_hit_is_identical_and_inputs_change_the_key(tmp_path, monkeypatch,
     wider = calibrate.table_inputs(replace_checked(pair, face_width_m=0.021), None, 0.0, 40.0, 64, 9)
     assert len({tables.table_key(x) for x in (inputs, changed, wider)}) == 3
     assert tables.cached(changed) is None
+    # a table fitted to another version of the FE models is never reused
+    monkeypatch.setattr(calibrate, "CALIBRATION_VERSION", calibrate.CALIBRATION_VERSION - 1)
+    older = calibrate.table_inputs(pair, None, 0.0, 40.0, 64, 9)
+    assert tables.table_key(older) != tables.table_key(inputs) and tables.cached(older) is None
     # a sidecar that does not belong to its inputs is not trusted
     side = tmp_path / f"{tables.table_key(inputs)}.csv.json"
     meta = json.loads(side.read_text())
@@ -86,9 +90,14 @@ def test_calibrate_cli_uses_cache(tmp_path):
 
 
 def test_stiffness_fem_cli(tmp_path):
-    r = run("stiffness", "--method", "fem", "--points", "8", "--out", str(tmp_path), "--json")
+    r = run("stiffness", "--method", "fem", "--points", "8", "--out", str(tmp_path), "--json", "--fields", "3")
     assert r.returncode == 0, r.stderr
     s = json.loads(r.stdout)
     assert s["method"] == "fem" and s["points"] == 8 and s["min_N_per_m"] > 0
     header = (tmp_path / "stiffness_fem_unworn_clearance0um.csv").read_text().splitlines()[0]
     assert header.startswith("angle_deg,k_N_per_m,pairs_in_contact") and "ste_um" in header
+    assert (tmp_path / "fields_fem_unworn_clearance0um" / "fields_pos3.vtu").stat().st_size > 0
+    bad = run("stiffness", "--points", "8", "--fields", "3", "--out", str(tmp_path / "x"))
+    assert bad.returncode == 2 and "--fields = 3" in bad.stderr and not (tmp_path / "x").exists()
+    bad = run("stiffness", "--method", "fem", "--points", "8", "--fields", "8", "--out", str(tmp_path / "x"))
+    assert bad.returncode == 2 and "--fields = 8" in bad.stderr
