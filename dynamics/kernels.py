@@ -23,8 +23,8 @@ step (1.33x a plain C loop; inlined 0.95x, ``benchmarks/bench_rk4_vs_c.py``).
 
 The stiffness contract
 ----------------------
-The solver sees the periodic linear interpolant of the table, at the exact time of
-every stage:
+The solver sees the periodic interpolant of the table (linear by default, or a periodic
+cubic spline, ``GearDynamics.interpolation``), at the exact time of every stage:
 
 * RK4 (fixed step ``h = T_m / N`` from t = 0): the step grid repeats every mesh
   period, so ``model.rk4_schedule`` builds one period's grid once, before integrating:
@@ -540,22 +540,20 @@ def _segment(tseg, p, phx):
 
 @njit(cache=True)
 def _table_at(t, i, m, p, phx, kx, ex, sw_tv, sw_te):
-    """(k, e, dk/dt, de/dt) at time t on the held table segment i of period m."""
+    """(k, e, dk/dt, de/dt) at time t on the held table segment i of period m; kx, ex are
+    the segments' polynomial coefficients (``model.segment_coefficients``)."""
     k = p[P_KC]
     e = 0.0
     dk = 0.0
     de = 0.0
     if sw_tv is not None or sw_te is not None:
-        u = p[P_OM] * t - m * p[P_PER]
-        wd = phx[i + 1] - phx[i]
+        d = p[P_OM] * t - m * p[P_PER] - phx[i]
         if sw_tv is not None:
-            sl = (kx[i + 1] - kx[i]) / wd
-            k = kx[i] + sl * (u - phx[i])
-            dk = sl * p[P_OM]
+            k = kx[i, 0] + d * (kx[i, 1] + d * (kx[i, 2] + d * kx[i, 3]))
+            dk = (kx[i, 1] + d * (2.0 * kx[i, 2] + 3.0 * d * kx[i, 3])) * p[P_OM]
         if sw_te is not None:
-            sl = (ex[i + 1] - ex[i]) / wd
-            e = ex[i] + sl * (u - phx[i])
-            de = sl * p[P_OM]
+            e = ex[i, 0] + d * (ex[i, 1] + d * (ex[i, 2] + d * ex[i, 3]))
+            de = (ex[i, 1] + d * (2.0 * ex[i, 2] + 3.0 * d * ex[i, 3])) * p[P_OM]
     return k, e, dk, de
 
 

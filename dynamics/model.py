@@ -120,6 +120,7 @@ class GearDynamics:
     C0_m: float | None = None
     mesh_damping: str = "off-when-separated"
     k_constant: float | None = None
+    interpolation: str = "linear"
 
     def __post_init__(self):
         pos = ("m_p", "m_g", "J_p", "J_g", "R_p", "R_g", "k_b", "omega_p")
@@ -173,6 +174,17 @@ class GearDynamics:
         if self.mesh_damping not in ("off-when-separated", "paper"):
             raise InputError(f"dynamics.mesh_damping = {self.mesh_damping!r}: must be "
                              f"'off-when-separated' or 'paper'")
+        if self.interpolation not in ("linear", "cubic"):
+            raise InputError(f"dynamics.interpolation = {self.interpolation!r}: must be 'linear' or 'cubic'")
+        if self.interpolation == "cubic":
+            if phi.size < 4:
+                raise InputError(f"dynamics.k_table: cubic interpolation needs >= 4 points, got {phi.size}")
+            kc = segment_coefficients(phi, k, P, "cubic")
+            d = (np.diff(np.r_[phi, phi[0] + P]))[:, None] * np.linspace(0, 1, 9)[None, :]
+            low = np.min(kc[:, 0, None] + d * (kc[:, 1, None] + d * (kc[:, 2, None] + d * kc[:, 3, None])))
+            if low < 0:
+                raise InputError(f"dynamics.k_table: its periodic cubic spline goes negative "
+                                 f"({low:.4g} N/m) between the rows; use linear interpolation")
         if self.k_constant is not None and (not math.isfinite(self.k_constant) or self.k_constant < 0):
             raise InputError(f"dynamics.k_constant = {self.k_constant} N/m: must be >= 0")
         if self.centre_distance == "dynamic" and self.C0_m is not None:
@@ -224,14 +236,36 @@ class GearDynamics:
         return dataclasses.replace(self, **changes)
 
 
-_trapezoid = getattr(np, "trapezoid", None) or getattr(np, "trapz")
+def segment_coefficients(phi, v, P: float, kind: str = "linear") -> np.ndarray:
+    """Per-segment polynomial coefficients (n, 4) of the periodic interpolant of the
+    table (phi in [0, P), values v): on [phi_j, phi_j+1) (the last segment wraps to
+    phi_0 + P) v(phi) = c0 + c1 d + c2 d^2 + c3 d^3 with d = phi - phi_j. ``linear``:
+    the piecewise-linear interpolant (positivity preserving, exact for piecewise-linear
+    data); ``cubic``: scipy's periodic cubic spline (C2, 4th order for smooth data)."""
+    x = np.r_[phi, phi[0] + P]
+    y = np.r_[v, v[0]]
+    c = np.zeros((len(phi), 4))
+    if kind == "cubic":
+        from scipy.interpolate import CubicSpline
+        cs = CubicSpline(x, y, bc_type="periodic")
+        c[:] = cs.c[::-1].T
+    else:
+        c[:, 0] = y[:-1]
+        c[:, 1] = np.diff(y) / np.diff(x)
+    return c
+
+
+def table_mean(phi, v, P: float, kind: str = "linear") -> float:
+    """Mean of the periodic interpolant of a table over its period P (exact per segment;
+    a plain average of the rows would misweight a non-uniform table)."""
+    phi = np.asarray(phi, float)
+    c = segment_coefficients(phi, np.asarray(v, float), P, kind)
+    w = np.diff(np.r_[phi, phi[0] + P])
+    return float(np.sum(c[:, 0] * w + c[:, 1] * w ** 2 / 2 + c[:, 2] * w ** 3 / 3 + c[:, 3] * w ** 4 / 4) / P)
 
 
 def _table_mean(model: GearDynamics, v: np.ndarray) -> float:
-    P = model.mesh_period_rad
-    phi = np.append(model.phi_table, model.phi_table[0] + P)
-    vv = np.append(v, v[0])
-    return float(_trapezoid(vv, phi) / P)
+    return table_mean(model.phi_table, v, model.mesh_period_rad, model.interpolation)
 
 
 def damping_from_ratios(zeta_m: float, zeta_b: float, k_mean: float, m_e: float, k_b: float,
@@ -252,7 +286,9 @@ N_PAR = 23
 
 @functools.lru_cache(maxsize=64)
 def derived(model: GearDynamics):
-    """Parameter vector and periodic-extended tables (cached per model object)."""
+    """Parameter vector, the table nodes, the periodic-extended nodes phx (n + 2) and the
+    k and e interpolants' coefficients per extended segment (n + 1, 4), see
+    :func:`segment_coefficients` (cached per model object)."""
     P = model.mesh_period_rad
     phi = np.asarray(model.phi_table, float)
     n = phi.size
@@ -279,80 +315,92 @@ def derived(model: GearDynamics):
     par[P_PHI0] = phi[0]
     par[P_N] = n
     phx = np.concatenate(([phi[-1] - P], phi, [phi[0] + P]))
-    kt = np.asarray(model.k_table, float)
-    et = np.asarray(model.e_table, float)
-    kx = np.concatenate(([kt[-1]], kt, [kt[0]]))
-    ex = np.concatenate(([et[-1]], et, [et[0]]))
-    for a in (par, phx, kx, ex):
+    out = [par, phi, phx]
+    for tab in (model.k_table, model.e_table):
+        c = segment_coefficients(phi, np.asarray(tab, float), P, model.interpolation)
+        # extended segments: [phi_-1 - P, phi_0) is the wrap segment, then the n table segments
+        out.append(np.ascontiguousarray(np.vstack([c[-1:], c])))
+    for a in out:
         a.setflags(write=False)
-    return par, phi, phx, kx, ex
+    return tuple(out)
+
+
+def _eval_coefficients(phx, c, u):
+    """Value and d/dphi of the extended-table interpolant at phases u in [0, P)."""
+    i = np.clip(np.searchsorted(phx, u, side="right") - 1, 0, phx.size - 2)
+    d = u - phx[i]
+    c0, c1, c2, c3 = c[i, 0], c[i, 1], c[i, 2], c[i, 3]
+    return c0 + d * (c1 + d * (c2 + d * c3)), c1 + d * (2 * c2 + 3 * d * c3)
 
 
 def _table_eval(model: GearDynamics, t, which: str):
-    """Periodic linear interpolation of a table and its time derivative at times t."""
-    par, phi, phx, kx, ex = derived(model)
-    v = kx if which == "k" else ex
+    """The periodic table interpolant (``model.interpolation``) and its time derivative at t."""
+    par, phi, phx, kc, ec = derived(model)
     P = par[P_PER]
     ph = model.omega_p * np.asarray(t, float)
     u = ph - P * np.floor(ph / P)
-    val = np.interp(u, phx, v)
-    i = np.clip(np.searchsorted(phx, u, side="right") - 1, 0, phx.size - 2)
-    slope = (v[i + 1] - v[i]) / (phx[i + 1] - phx[i]) * model.omega_p
-    return val, slope
+    val, dv = _eval_coefficients(phx, kc if which == "k" else ec, u)
+    return val, dv * model.omega_p
 
 
-def _is_kink(phx, v, rel: float = 1e-12) -> np.ndarray:
-    """Per table node (phx[1:-1]): does the slope of the periodic interpolant jump there?"""
-    sl = np.diff(v) / np.diff(phx)
-    scale = float(np.max(np.abs(sl))) or 1.0
-    return np.abs(np.diff(sl)) > rel * scale
+def _breaks(model: GearDynamics, c: np.ndarray, rel: float = 1e-12) -> np.ndarray:
+    """Per table node: is it a break of the interpolant (extended coefficients c)? Linear:
+    where the slope jumps (collinear nodes are not); cubic spline: every node (its third
+    derivative jumps)."""
+    if model.interpolation == "cubic":
+        return np.ones(c.shape[0] - 1, dtype=bool)
+    scale = float(np.max(np.abs(c[:, 1]))) or 1.0
+    return np.abs(np.diff(c[:, 1])) > rel * scale
 
 
 def rk4_schedule(model: GearDynamics, steps_per_period: int, snap: float = 1e-9):
-    """The fixed-step RK4 grid of one mesh period, split at the table's kinks.
+    """The fixed-step RK4 grid of one mesh period, split at the table's breaks.
 
     Steps are h = T_m / N from t = 0, so the grid repeats every mesh period. The
     periodic linear interpolant has a kink at every table node; RK4 across a kink is
     only second-order accurate (Simpson's rule on a function with a slope jump), so a
     step that contains nodes is split into sub-steps that end on them. Each sub-step
-    then sees a linear k(t) and e(t), sampled exactly at its three stage times (start,
-    middle, end), and RK4 keeps its 4th order for any table length and any N. A node
-    within ``snap`` steps of a step boundary is taken as on it (its error is
+    then sees a polynomial k(t) and e(t), sampled exactly at its three stage times
+    (start, middle, end), and RK4 keeps its 4th order for any table length and any N.
+    A node within ``snap`` steps of a step boundary is taken as on it (its error is
     O(snap h^2)).
 
     Returns (hs, toff, kq, eq, dkq, deq, ends): sub-step lengths in s (Q,), the time of
     each sub-step's end from the start of the period (Q,), k and e at the 3Q stage
-    times (start, middle, end of each sub-step), the slopes dk/dt, de/dt on each
-    sub-step (Q,) and a 0/1 flag per sub-step that ends on a step boundary."""
-    par, phi, phx, kx, ex = derived(model)
+    times (start, middle, end of each sub-step), dk/dt and de/dt at each sub-step's
+    middle (Q,; the energy accumulators) and a 0/1 flag per sub-step that ends on a
+    step boundary."""
+    par, phi, phx, kc, ec = derived(model)
     P = par[P_PER]
     N = int(steps_per_period)
     dph = P / N
     bounds = np.arange(N + 1) * dph
-    nodes = np.asarray(phi, float)
-    nodes = nodes[_is_kink(phx, kx) | _is_kink(phx, ex)]   # collinear nodes need no split
+    nodes = np.asarray(phi, float)[_breaks(model, kc) | _breaks(model, ec)]
     rel = nodes / dph
     off = np.abs(rel - np.rint(rel)) < snap
     pts = np.union1d(bounds, nodes[~off])
     a, b = pts[:-1], pts[1:]
     mid = 0.5 * (a + b)
-    stage = np.column_stack([a, mid, b]).ravel()
-    stage_mod = np.where(stage >= P, stage - P, stage)
+    # each stage on the segment that holds the sub-step (a sub-step never crosses a break)
     seg = np.clip(np.searchsorted(phx, mid, side="right") - 1, 0, phx.size - 2)
     w = model.omega_p
     out = [np.diff(pts) / w, b / w]
-    for v in (kx, ex):
-        out.append(np.interp(stage_mod, phx, v))
-    for v in (kx, ex):
-        out.append((v[seg + 1] - v[seg]) / (phx[seg + 1] - phx[seg]) * w)
+    d = np.column_stack([a, mid, b]) - phx[seg][:, None]
+    for c in (kc, ec):
+        cs = c[seg]
+        out.append((cs[:, 0, None] + d * (cs[:, 1, None] + d * (cs[:, 2, None] + d * cs[:, 3, None]))).ravel())
+    for c in (kc, ec):
+        cs = c[seg]
+        dm = d[:, 1]
+        out.append((cs[:, 1] + dm * (2 * cs[:, 2] + 3 * dm * cs[:, 3])) * w)
     on_bound = np.abs(b / dph - np.rint(b / dph)) < 1e-12 * N
     out.append(on_bound.astype(np.int64))
     return tuple(out)
 
 
 def table_node_times(model: GearDynamics, t0: float, t1: float) -> np.ndarray:
-    """Times in (t0, t1) at which the pinion angle passes a table node (the kinks of the
-    linear k and e tables); empty when neither table varies."""
+    """Times in (t0, t1) at which the pinion angle passes a table node (the breaks of the
+    k and e interpolants); empty when neither table varies."""
     if not (model.tvms or model.te_excitation):
         return np.empty(0)
     P = model.mesh_period_rad
@@ -478,8 +526,8 @@ def _accelerations(model: GearDynamics, t, z, k=None, e=None) -> np.ndarray:
 
 @functools.lru_cache(maxsize=64)
 def _py_constants(model: GearDynamics):
-    par, phi, phx, kx, ex = derived(model)
-    return (par.tolist(), phx.tolist(), kx.tolist(), ex.tolist())
+    par, phi, phx, kc, ec = derived(model)
+    return (par.tolist(), phx.tolist(), kc.tolist(), ec.tolist())
 
 
 def rhs_python(t: float, y, model: GearDynamics) -> np.ndarray:
@@ -489,7 +537,7 @@ def rhs_python(t: float, y, model: GearDynamics) -> np.ndarray:
     the compiled kernel (a cross-check of both). The piecewise modes (flank contact,
     bearing contact) are evaluated from the state; no event location. ``y`` is the
     10-state vector (extra entries are ignored)."""
-    par, phx, kx, ex = _py_constants(model)
+    par, phx, kc, ec = _py_constants(model)
     yp, xp, yg, xg, q, vyp, vxp, vyg, vxg, vq = (float(v) for v in y[:10])
     Rs = model.R_p + model.R_g
     Y = yp - yg
@@ -516,12 +564,13 @@ def rhs_python(t: float, y, model: GearDynamics) -> np.ndarray:
     ph = model.omega_p * t
     u = ph - P * math.floor(ph / P)
 
-    def interp(v):
+    def interp(c):
         i = min(max(bisect.bisect_right(phx, u) - 1, 0), len(phx) - 2)
-        return v[i] + (v[i + 1] - v[i]) * (u - phx[i]) / (phx[i + 1] - phx[i])
+        d = u - phx[i]
+        return c[i][0] + d * (c[i][1] + d * (c[i][2] + d * c[i][3]))
 
-    k = interp(kx) if model.tvms else par[P_KC]
-    e = interp(ex) if model.te_excitation else 0.0
+    k = interp(kc) if model.tvms else par[P_KC]
+    e = interp(ec) if model.te_excitation else 0.0
     s = delta - e
     if has_flank_law(model):
         fdv = s - b if s > b else 0.0

@@ -38,7 +38,7 @@ OPERATING_SCHEMA = {
 OPERATING_DEFAULTS = {"speed_rpm": 1200.0, "torque_Nm": 40.0}
 
 EFFECT_KEYS: dict[str, tuple[str, ...]] = {
-    "mesh_stiffness": ("source", "value_N_per_m", "path"),
+    "mesh_stiffness": ("source", "value_N_per_m", "path", "interpolation"),
     "wear": ("phase", "max_depth_um", "hours", "model", "archard_k_m2_per_N", "wear_intensity", "taper_mm"),
     "backlash": ("initial_um", "form", "damping_in_gap"),
     "bearing_clearance": ("clearance_um",),
@@ -121,6 +121,15 @@ def _effects(raw: Mapping[str, Any]) -> dict[str, dict[str, Any]]:
                                f"only used with source = \"constant\" (source is {src!r})")
                 o["value_N_per_m"] = check_value("effects.mesh_stiffness.value_N_per_m", opts["value_N_per_m"],
                                                  Field("N/m", 0, 1e13, lo_open=True))
+            interp = opts.get("interpolation", "linear")
+            if interp not in ("linear", "cubic"):
+                raise fail("effects.mesh_stiffness.interpolation", repr(interp), "",
+                           "must be linear (positivity preserving, for sharp tables) or cubic "
+                           "(periodic cubic spline, for smooth tables)")
+            if interp != "linear" and src == "constant":
+                raise fail("effects.mesh_stiffness.interpolation", repr(interp), "",
+                           'not used with source = "constant"')
+            o["interpolation"] = interp
             if src == "table" and "path" not in opts:
                 raise InputError('effects.mesh_stiffness.path: missing (a CSV file with columns angle_deg, '
                                  'k_N_per_m and optionally excitation_um, needed by source = "table")')

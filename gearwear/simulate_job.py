@@ -40,6 +40,7 @@ from typing import Any
 import numpy as np
 
 from dynamics import GearDynamics, damping_from_ratios, simulate
+from dynamics.model import table_mean
 from geometry.operating import backlash, centre_distance
 from geometry.spec import PairSpec
 from geometry.validation import Field, InputError, check_value, reject_unknown
@@ -141,17 +142,9 @@ def stiffness_input(scene: Scene, points: int = 360) -> StiffnessInput:
         if source == "constant":
             value = (ms or {}).get("value_N_per_m", r.mean_N_per_m)
             k = np.full_like(k, value)
-    return StiffnessInput(np.asarray(phi), np.asarray(k), np.asarray(e), source, _period_mean(phi, k, pair.teeth[0]),
+    return StiffnessInput(np.asarray(phi), np.asarray(k), np.asarray(e), source,
+                          table_mean(phi, k, 2 * math.pi / pair.teeth[0], (ms or {}).get("interpolation", "linear")),
                           time.perf_counter() - t0)
-
-
-def _period_mean(phi, k, z1: int) -> float:
-    """Mean over one mesh period of the periodic linear interpolant (a non-uniform user
-    table would be misweighted by a plain average of its rows)."""
-    P = 2 * math.pi / z1
-    phi = np.append(phi, phi[0] + P)
-    k = np.append(k, k[0])
-    return float(np.sum(0.5 * (k[1:] + k[:-1]) * np.diff(phi)) / P)
 
 
 def build_model(scene: Scene, stiff: StiffnessInput) -> GearDynamics:
@@ -190,7 +183,8 @@ def build_model(scene: Scene, stiff: StiffnessInput) -> GearDynamics:
         backlash_half_m=half_backlash, bearing_half_clearance_m=half_clear, te_excitation=te,
         centre_distance=coupling if "centre_distance" in eff else "static", C0_m=pair.centre_distance_m,
         mesh_damping="paper" if eff.get("backlash", {}).get("damping_in_gap") else "off-when-separated",
-        k_constant=None if tvms else stiff.mean_N_per_m)
+        k_constant=None if tvms else stiff.mean_N_per_m,
+        interpolation=eff.get("mesh_stiffness", {}).get("interpolation", "linear"))
 
 
 @dataclass

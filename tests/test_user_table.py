@@ -89,6 +89,16 @@ def test_user_table_default_rk4_matches_independent_reference(reference):
     assert _worst(run, reference) < 1e-3
 
 
+def test_user_table_cubic_tight_settings_match_to_1e6(reference):
+    """The same 4096-row table read as a periodic cubic spline (interpolation = "cubic"),
+    RK4 at 1024 steps per period: the spline holds the smooth closed form to ~1e-13, so
+    what remains is the solver's error."""
+    run = simulate_job.run(_scene('effects.mesh_stiffness.interpolation="cubic"',
+                                  "solver.steps_per_mesh_period=1024"))
+    assert run.model.interpolation == "cubic"
+    assert _worst(run, reference) < 1e-6
+
+
 def test_user_table_tight_settings_match_to_1e6(reference, tmp_path):
     """Tight settings: RK4 at 1024 steps per period on a 16384-row table of the same closed
     form. The table resolution is part of the setting: the solver integrates the rows'
