@@ -3,8 +3,12 @@
 Per wear phase: FE single-tooth compliance on the full gear (fem.tooth) at the load
 positions from SAP to tip, the Ishikawa delta_1 + delta_2 and the energy-method
 bending + shear + axial + foundation compliance at the same radii, their differences,
-and the wall time of each method. Plus the FE h/p convergence study with Richardson
-extrapolation (fem.convergence). Writes verification.md, PNGs and verification.json.
+and the wall time of each method. Plus (with the convergence study) the FE h/p
+convergence with Richardson extrapolation (fem.convergence) and, in single contact,
+the local approach c_local that the resolved pair FE (fem.pair) finds between the
+tooth centre lines against Weber's half-plane formula in plane stress and plane
+strain, with the identity k_pair = 1 / (c_1 + c_2 + c_local) (c_1, c_2 single-tooth
+FE). Writes verification.md, PNGs and verification.json.
 """
 
 from __future__ import annotations
@@ -57,6 +61,7 @@ class Verification:
     convergence: list[dict] | None
     acceptance: dict | None
     wall_s: float = 0.0
+    pair_consistency: list | None = None
     meta: dict = field(default_factory=dict)
 
 
@@ -93,6 +98,9 @@ def run(pair: PairSpec, wears: list[WearSpec | None], positions: int = 21, conve
                                  progress=(lambda row: progress(f"convergence P{row['order']} scale "
                                                                 f"{row['mesh_scale']:.3f}")) if progress else None)
         acc = acceptance(conv)
+        from fem.pair import consistency
+        cons = consistency(pair)  # ~8 s: the pair model and two single-tooth runs
+        return Verification(pair, phases, conv, acc, time.perf_counter() - t0, pair_consistency=cons)
     return Verification(pair, phases, conv, acc, time.perf_counter() - t0)
 
 
@@ -173,6 +181,21 @@ def markdown(v: Verification, files: dict[str, str]) -> str:
                   f"change to the next finer P2 level {a.get('default_vs_finer_change_pct', float('nan')):.3f} %; "
                   f"two finest P2 levels differ by {a.get('finest_p2_change_pct', float('nan')):.3f} %; "
                   f"error vs extrapolation {a.get('default_error_vs_extrapolation_pct', float('nan')):.3f} %.", ""]
+    if v.pair_consistency:
+        lines += ["## Pair FE in single contact: local approach c_local against Weber", "",
+                  "c_1, c_2: deflection of the tooth centre-line points where the load line crosses them, per N, "
+                  "read in the resolved pair FE and by the single-tooth FE (own mesh, Hertz patch); c_local = "
+                  "STE / F - c_1 - c_2 (pair FE). Units 1e-9 m/N.", "",
+                  "| d (mm) | c_1 pair | c_1 tooth | c_2 pair | c_2 tooth | c_local | Weber stress | Weber strain "
+                  "| k pair (N/m) | 1/(c_1+c_2+c_local) |", "|---|---|---|---|---|---|---|---|---|---|"]
+        for r in v.pair_consistency:
+            f = 1e9
+            lines.append(f"| {r['d_m'] * 1e3:.3f} | {r['c1_m_per_N'] * f:.4f} | {r['c1_tooth_m_per_N'] * f:.4f} | "
+                         f"{r['c2_m_per_N'] * f:.4f} | {r['c2_tooth_m_per_N'] * f:.4f} | "
+                         f"{r['c_local_m_per_N'] * f:.4f} | {r['weber_stress_m_per_N'] * f:.4f} | "
+                         f"{r['weber_strain_m_per_N'] * f:.4f} | {r['k_pair_N_per_m']:.5e} | "
+                         f"{r['k_identity_N_per_m']:.5e} |")
+        lines.append("")
     lines.append(f"Total wall time: {v.wall_s:.1f} s.")
     return "\n".join(lines) + "\n"
 
@@ -209,4 +232,6 @@ def to_json(v: Verification) -> dict[str, Any]:
     if v.convergence is not None:
         out["convergence"] = [{k: val for k, val in r.items() if k != "timings"} for r in v.convergence]
         out["acceptance"] = v.acceptance
+    if v.pair_consistency is not None:
+        out["pair_consistency"] = v.pair_consistency
     return out
