@@ -56,9 +56,17 @@ def fourier_amplitudes(x, tq, wq, f0: float, n: int, span: float) -> np.ndarray:
     """Amplitudes |c_k|, k = 1..n, of x(t) = sum c_k cos(2 pi k f0 t + phi_k) over a window of
     length ``span`` (a whole number of periods 1/f0): c_k = (2 / span) |int x e^{-i 2 pi k f0 t} dt|,
     by the quadrature (tq, wq)."""
-    k = np.arange(1, n + 1)[:, None]
-    ph = np.exp(-2j * np.pi * f0 * k * np.asarray(tq)[None, :])
-    return 2.0 * np.abs(ph @ (np.asarray(wq) * np.asarray(x))) / span
+    return 2.0 * np.abs(_phasors(tq, f0, n) @ (np.asarray(wq) * np.asarray(x))) / span
+
+
+def _phasors(tq, f0: float, n: int) -> np.ndarray:
+    """e^{-i 2 pi k f0 t} for k = 1..n (rows) by repeated products: one complex exp per point."""
+    tq = np.asarray(tq, float)
+    ph = np.empty((n, tq.size), complex)
+    ph[0] = np.exp(-2j * np.pi * f0 * tq)
+    for j in range(1, n):
+        np.multiply(ph[j - 1], ph[0], out=ph[j])
+    return ph
 
 
 def window_harmonics(result, names, n: int = 10, chunk: int = 200_000) -> dict:
@@ -95,11 +103,7 @@ def window_harmonics(result, names, n: int = 10, chunk: int = 200_000) -> dict:
         h11 = (th ** 3 - th ** 2) * dt
         Zq = h00 * Z[i] + h10 * F[i] + h01 * Z[i + 1] + h11 * F[i + 1]
         sig = compute_signals(model, tq, Zq)
-        # e^{-i k theta} for k = 1..n by repeated products (one complex exp per point)
-        ph = np.empty((n, tq.size), complex)
-        ph[0] = np.exp(-2j * np.pi * result.fm_Hz * tq)
-        for j in range(1, n):
-            np.multiply(ph[j - 1], ph[0], out=ph[j])
+        ph = _phasors(tq, result.fm_Hz, n)
         for name in names:
             acc[name] += ph @ (wq * sig[name])
     return {name: 2.0 * np.abs(v) / span for name, v in acc.items()}

@@ -220,26 +220,6 @@ def _gvals(z, e, p, sw_bl, sw_cl, sw_dyn):
 
 
 @njit(cache=True)
-def _axpy(z, a, d):
-    return (z[0] + a * d[0], z[1] + a * d[1], z[2] + a * d[2], z[3] + a * d[3], z[4] + a * d[4],
-            z[5] + a * d[5], z[6] + a * d[6], z[7] + a * d[7], z[8] + a * d[8], z[9] + a * d[9])
-
-
-@njit(cache=True)
-def _rk4_comb(z, h6, d1, d2, d3, d4):
-    return (z[0] + h6 * (d1[0] + 2.0 * (d2[0] + d3[0]) + d4[0]),
-            z[1] + h6 * (d1[1] + 2.0 * (d2[1] + d3[1]) + d4[1]),
-            z[2] + h6 * (d1[2] + 2.0 * (d2[2] + d3[2]) + d4[2]),
-            z[3] + h6 * (d1[3] + 2.0 * (d2[3] + d3[3]) + d4[3]),
-            z[4] + h6 * (d1[4] + 2.0 * (d2[4] + d3[4]) + d4[4]),
-            z[5] + h6 * (d1[5] + 2.0 * (d2[5] + d3[5]) + d4[5]),
-            z[6] + h6 * (d1[6] + 2.0 * (d2[6] + d3[6]) + d4[6]),
-            z[7] + h6 * (d1[7] + 2.0 * (d2[7] + d3[7]) + d4[7]),
-            z[8] + h6 * (d1[8] + 2.0 * (d2[8] + d3[8]) + d4[8]),
-            z[9] + h6 * (d1[9] + 2.0 * (d2[9] + d3[9]) + d4[9]))
-
-
-@njit(cache=True)
 def _tup(a):
     return (a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7], a[8], a[9])
 
@@ -332,11 +312,11 @@ def rk4(z0, h, n_steps, t_out, zlim, p, hs, toff, kq, eq, dkq, deq, ends,
             ec = eq[3 * q + 2]
             de = deq[q]
         d1, F1, w1 = _rhs(z, ka, ea, dk, de, p, None, sw_bl, sw_cl, sw_dyn, sw_en)
-        d2, F2, w2 = _rhs(_axpy(z, 0.5 * hq, d1), km, em, dk, de, p, None, sw_bl, sw_cl, sw_dyn, sw_en)
-        d3, F3, w3 = _rhs(_axpy(z, 0.5 * hq, d2), km, em, dk, de, p, None, sw_bl, sw_cl, sw_dyn, sw_en)
-        d4, F4, w4 = _rhs(_axpy(z, hq, d3), kc, ec, dk, de, p, None, sw_bl, sw_cl, sw_dyn, sw_en)
+        d2, F2, w2 = _rhs(_lc1(z, hq, 0.5, d1), km, em, dk, de, p, None, sw_bl, sw_cl, sw_dyn, sw_en)
+        d3, F3, w3 = _rhs(_lc1(z, hq, 0.5, d2), km, em, dk, de, p, None, sw_bl, sw_cl, sw_dyn, sw_en)
+        d4, F4, w4 = _rhs(_lc1(z, hq, 1.0, d3), kc, ec, dk, de, p, None, sw_bl, sw_cl, sw_dyn, sw_en)
         h6 = hq / 6.0
-        z1 = _rk4_comb(z, h6, d1, d2, d3, d4)
+        z1 = _lc4(z, hq, 1 / 6, d1, 1 / 3, d2, 1 / 3, d3, 1 / 6, d4)
         if sw_en is not None:
             W = (W[0] + h6 * (w1[0] + 2.0 * (w2[0] + w3[0]) + w4[0]),
                  W[1] + h6 * (w1[1] + 2.0 * (w2[1] + w3[1]) + w4[1]),
@@ -737,9 +717,16 @@ def dopri5(z0, t_end, t_out, rtol, atol, h0, hmax, hmin, max_steps, zlim, gidx,
                 status = ST_HMIN
                 break
             continue
-        _dp_store(K, k1, w1, ks, ws, zn, znew, sw_en)
-        if sw_en is not None:
-            _dp_energy(z, K, h, znew)
+        # the stage rows feed the dense output (samples, event checks) and the energy
+        # quadratures; a step that needs none of them skips the copy
+        if (sw_en is not None or (ng > 0 and not skip_events)
+                or (ko < n_out and t_out[ko] <= t + h * (1.0 + 1e-12))):
+            _dp_store(K, k1, w1, ks, ws, zn, znew, sw_en)
+            if sw_en is not None:
+                _dp_energy(z, K, h, znew)
+        else:
+            for r in range(10):
+                znew[r] = zn[r]
         # ---- event detection on the dense output ----
         h_used = h
         event = False

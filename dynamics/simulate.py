@@ -129,7 +129,7 @@ def _run(method, model, z0, t_end, t_out, steps_per_period, rtol, atol_vec, sw, 
                           max_steps, zlim, _gidx(model), p, phi, phx, kx, ex, *sw)
 
 
-def _diagnose(method, counters, t_stop, t_end, max_steps, zlim, model) -> str:
+def _diagnose(method, counters, t_stop, t_end, max_steps, zlim) -> str:
     """One line on why an integration stopped early."""
     status = int(counters[4])
     where = f"t = {t_stop:.6g} s of {t_end:.6g} s"
@@ -309,7 +309,7 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
                 raise RuntimeError(f"dynamics: {method} finished with {ko} of {n_out} output samples "
                                    f"(output grid not reached: a bug, please report)")
             counters[4] = kernels.ST_DIVERGED
-        raise SolverError(_diagnose(method, counters, t_stop, t_end, max_steps, zlim, model))
+        raise SolverError(_diagnose(method, counters, t_stop, t_end, max_steps, zlim))
     t_win, Z_win = t_uni[:-1], out[uni[:-1]]
     sig = compute_signals(model, t_win, Z_win)
     mode = sig["mode"]
