@@ -60,9 +60,9 @@ from typing import Callable
 
 import numpy as np
 
-from analytic.loading import half_thickness_at_height, load_points, root_section
-from geometry.profile import FILLET, INVOLUTE, TIP_LAND, ToothProfile
-from geometry.spec import Material
+from gearwear.analytic.loading import half_thickness_at_height, load_points, root_section
+from gearwear.geometry.profile import FILLET, INVOLUTE, TIP_LAND, ToothProfile
+from gearwear.geometry.spec import Material
 
 #: Timoshenko shear coefficient of a rectangular section used by the energy method.
 SHEAR_FACTOR = 1.2

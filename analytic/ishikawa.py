@@ -37,8 +37,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from geometry.profile import ToothProfile
-from geometry.spec import Material
+from gearwear.geometry.profile import ToothProfile
+from gearwear.geometry.spec import Material
 
 from .loading import half_thickness_at_height, load_points, root_section
 

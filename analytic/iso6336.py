@@ -49,8 +49,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from geometry.kinematics import MeshGeometry
-from geometry.spec import PairSpec
+from gearwear.geometry.kinematics import MeshGeometry
+from gearwear.geometry.spec import PairSpec
 
 #: ISO 6336-1:2019 constants C1..C9 of q' (mm um / N).
 ISO_Q_CONSTANTS = (0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182)

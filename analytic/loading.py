@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from geometry.profile import ToothProfile
+from gearwear.geometry.profile import ToothProfile
 
 
 @dataclass(frozen=True)
@@ -58,7 +58,7 @@ def half_thickness_at_height(profile: ToothProfile, y_m) -> np.ndarray:
     axis (sections perpendicular to the axis), interpolated on the profile polyline
     between the root section and the tip."""
     y_m = np.asarray(y_m, dtype=float)
-    from geometry.profile import FILLET, INVOLUTE, TIP_LAND
+    from gearwear.geometry.profile import FILLET, INVOLUTE, TIP_LAND
     sel = (profile.region == FILLET) | (profile.region == INVOLUTE) | (profile.region == TIP_LAND)
     xs, ys = profile.xy[sel, 0], profile.xy[sel, 1]
     # along the flank from root to tip the height grows; keep the monotone part

@@ -42,12 +42,12 @@ from functools import lru_cache
 
 import numpy as np
 
-from geometry.kinematics import MeshGeometry
-from geometry.operating import operating_geometry
-from geometry.profile import ToothProfile, tooth_profile
-from geometry.spec import PairSpec
-from geometry.validation import InputError, fail
-from geometry.wear import WearSpec, flank_depth, key_roll_angles, wear_on_line_of_action
+from gearwear.geometry.kinematics import MeshGeometry
+from gearwear.geometry.operating import operating_geometry
+from gearwear.geometry.profile import ToothProfile, tooth_profile
+from gearwear.geometry.spec import PairSpec
+from gearwear.core.validation import InputError, fail
+from gearwear.geometry.wear import WearSpec, flank_depth, key_roll_angles, wear_on_line_of_action
 
 from . import ishikawa
 

@@ -7,8 +7,8 @@ against 64 points. Wall time is the median of repeated full 360-angle curves."""
 import statistics
 import time
 
-from analytic.tvms import mesh_stiffness
-from geometry.spec import default_pair
+from gearwear.analytic.tvms import mesh_stiffness
+from gearwear.geometry.spec import default_pair
 
 
 def timed(fn, n=9):
@@ -28,8 +28,8 @@ for n in (4, 8, 16, 32, 64, 128, 256):
     r, t = timed(lambda: mesh_stiffness(pair, points=360, n_slices=n))
     print(f"{n:>8}{r.mean_N_per_m:>16.6e}{abs(r.mean_N_per_m / ref - 1):>12.2e}{t * 1e3:>11.2f}")
 
-from analytic import energy  # noqa: E402
-from analytic.tvms import _profiles  # noqa: E402
+from gearwear.analytic import energy  # noqa: E402
+from gearwear.analytic.tvms import _profiles  # noqa: E402
 import numpy as np  # noqa: E402
 
 prof = _profiles(pair, None, pair.centre_distance_m)[0][0]

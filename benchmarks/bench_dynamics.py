@@ -56,9 +56,9 @@ import scipy  # noqa: E402
 from scipy.integrate import solve_ivp  # noqa: E402
 
 from _timing import median_time  # noqa: E402  (benchmarks/_timing.py)
-from dynamics import paper_pair, rhs_python, simulate, static_equilibrium  # noqa: E402
-from dynamics.analysis import window_harmonics  # noqa: E402
-from geometry.fileio import atomic_write_bytes  # noqa: E402
+from gearwear.dynamics import paper_pair, rhs_python, simulate, static_equilibrium  # noqa: E402
+from gearwear.dynamics.analysis import window_harmonics  # noqa: E402
+from gearwear.core.atomic import atomic_write_bytes  # noqa: E402
 
 OUT_JSON = HERE / "results" / "bench_dynamics.json"
 OUT_PNG = HERE / "results" / "dynamics_accuracy_vs_cost.png"

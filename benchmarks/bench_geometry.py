@@ -9,11 +9,11 @@ import time
 
 import numpy as np
 
-from geometry.kinematics import MeshGeometry
-from geometry.mesh import MeshSizes, mesh_full_gear
-from geometry.profile import FILLET, gear_outline, involute_points, tooth_profile, INVOLUTE
-from geometry.spec import default_pair
-from geometry.wear import WearSpec, worn_profiles
+from gearwear.geometry.kinematics import MeshGeometry
+from gearwear.fem.mesh import MeshSizes, mesh_full_gear
+from gearwear.geometry.profile import FILLET, gear_outline, involute_points, tooth_profile, INVOLUTE
+from gearwear.geometry.spec import default_pair
+from gearwear.geometry.wear import WearSpec, worn_profiles
 
 
 from _timing import median_time  # noqa: E402  (benchmarks/_timing.py)

@@ -52,10 +52,10 @@ if str(ROOT) not in sys.path:  # run as a plain script from anywhere
 
 import numpy as np  # noqa: E402
 
-from dynamics import kernels, paper_pair, simulate, static_equilibrium  # noqa: E402
-from dynamics.model import derived, rk4_schedule  # noqa: E402
-from dynamics.simulate import kernel_switches  # noqa: E402
-from geometry.fileio import atomic_write_bytes  # noqa: E402
+from gearwear.dynamics import kernels, paper_pair, simulate, static_equilibrium  # noqa: E402
+from gearwear.dynamics.model import derived, rk4_schedule  # noqa: E402
+from gearwear.dynamics.simulate import kernel_switches  # noqa: E402
+from gearwear.core.atomic import atomic_write_bytes  # noqa: E402
 
 OUT_JSON = HERE / "results" / "bench_rk4_vs_c.json"
 C_SRC = HERE / "c_rk4" / "rk4.c"

@@ -82,8 +82,8 @@ def ours(pair, notes):
     """Rows for analytic.tvms methods (curves)."""
     rows = []
     try:
-        from analytic import tvms
-        from analytic.tvms import mesh_stiffness
+        from gearwear.analytic import tvms
+        from gearwear.analytic.tvms import mesh_stiffness
     except Exception as exc:  # noqa: BLE001 - report, never fail
         notes.append(f"analytic.tvms not importable ({short_error(exc)}): our TVMS rows skipped")
         return rows
@@ -114,7 +114,7 @@ def ours(pair, notes):
 def iso(pair, notes):
     """Rows for the ISO 6336-1 method B constant (no curve)."""
     try:
-        from analytic.iso6336 import iso6336_stiffness
+        from gearwear.analytic.iso6336 import iso6336_stiffness
     except Exception as exc:  # noqa: BLE001
         notes.append(f"analytic.iso6336 not importable ({short_error(exc)}): ISO 6336 row skipped")
         return []
@@ -203,7 +203,7 @@ def print_table(rows, ross_out):
 
 def write_json(path: Path, data: dict) -> None:
     """Atomic write (temp file + rename) through the project's shared writer."""
-    from geometry.fileio import atomic_write_bytes
+    from gearwear.core.atomic import atomic_write_bytes
     atomic_write_bytes(path, (json.dumps(data, indent=1) + "\n").encode())
 
 
@@ -213,7 +213,7 @@ def main():
     ross_out = None
     pair = None
     try:
-        from geometry.spec import default_pair
+        from gearwear.geometry.spec import default_pair
         pair = default_pair()
     except Exception as exc:  # noqa: BLE001
         notes.append(f"geometry.spec.default_pair failed ({short_error(exc)}): nothing to time")

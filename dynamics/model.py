@@ -74,7 +74,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from geometry.validation import InputError
+from gearwear.core.validation import InputError
 
 __all__ = ["GearDynamics", "damping_from_ratios", "static_equilibrium",
            "linear_eigenfrequencies", "rhs_python", "STATE_NAMES"]

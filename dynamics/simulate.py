@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from geometry.validation import InputError
+from gearwear.core.validation import InputError
 
 from . import kernels
 from .model import (STATE_NAMES, GearDynamics, derived, has_flank_law, max_linear_rate, mesh_state,

@@ -364,8 +364,8 @@ def _cylinder_body(R: float, E: float, nu: float, x_fine: float, h: float, x_can
     import skfem
     from skfem import FacetBasis, asm
 
-    from geometry.mesh import MeshSizes, mesh_full_gear
-    from geometry.spec import Material
+    from gearwear.fem.mesh import MeshSizes, mesh_full_gear
+    from gearwear.geometry.spec import Material
 
     from .elasticity import assemble
 

@@ -30,8 +30,8 @@ from pathlib import Path
 
 import numpy as np
 
-from geometry.spec import PairSpec, default_pair
-from geometry.wear import WearSpec
+from gearwear.geometry.spec import PairSpec, default_pair
+from gearwear.geometry.wear import WearSpec
 
 from .tooth import LOAD_M, single_tooth_compliance
 

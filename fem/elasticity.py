@@ -24,7 +24,7 @@ from skfem import Basis, ElementTriP1, ElementTriP2, ElementVector, FacetBasis, 
 from skfem.helpers import dot
 from skfem.models.elasticity import lame_parameters, linear_elasticity
 
-from geometry.spec import Material
+from gearwear.geometry.spec import Material
 
 
 def lame(material: Material, plane: str = "stress") -> tuple[float, float]:

@@ -96,14 +96,14 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from analytic.loading import load_points
-from analytic.tvms import CurveStats
-from geometry.kinematics import MeshGeometry
-from geometry.operating import operating_geometry
-from geometry.profile import INVOLUTE, tooth_profile
-from geometry.spec import PairSpec
-from geometry.validation import fail
-from geometry.wear import WearSpec, flank_depth, hertz_half_width, key_roll_angles
+from gearwear.analytic.loading import load_points
+from gearwear.analytic.tvms import CurveStats
+from gearwear.geometry.kinematics import MeshGeometry
+from gearwear.geometry.operating import operating_geometry
+from gearwear.geometry.profile import INVOLUTE, tooth_profile
+from gearwear.geometry.spec import PairSpec
+from gearwear.core.validation import fail
+from gearwear.geometry.wear import WearSpec, flank_depth, hertz_half_width, key_roll_angles
 
 from .contact import solve_contact
 from .pair_body import BodySizes, GearBody, build_body, involute_point, rot
@@ -714,7 +714,7 @@ def consistency(pair: PairSpec, torque_Nm: float = 40.0, positions: int = 24, co
 def compare_with_analytic(fe: PairFE, corner_contact: bool = True) -> dict:
     """Ishikawa mesh stiffness (analytic.tvms) at the same angles, torque, clearance and
     wear: means, zone means and the per-position relative difference (FE / analytic - 1)."""
-    from analytic.tvms import mesh_stiffness
+    from gearwear.analytic.tvms import mesh_stiffness
 
     an = mesh_stiffness(fe.pair, method="ishikawa", points=len(fe.angle_rad), torque_Nm=fe.torque_Nm,
                         clearance_m=fe.meta.get("clearance_m", 0.0), wear=fe.wear,
@@ -760,7 +760,7 @@ def write_fields(pm: PairModel, positions: list[int], n_positions: int, torque_N
     import scipy.sparse.linalg as spla
     from pathlib import Path
 
-    from geometry.fileio import atomic_write
+    from gearwear.core.atomic import atomic_write
 
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)

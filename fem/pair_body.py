@@ -46,9 +46,9 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse.linalg as spla
 
-from geometry.mesh import MeshSizes, mesh_full_gear
-from geometry.profile import FILLET, INVOLUTE, ROOT_LAND, TIP_LAND, ToothProfile
-from geometry.spec import GearSpec, Material
+from gearwear.fem.mesh import MeshSizes, mesh_full_gear
+from gearwear.geometry.profile import FILLET, INVOLUTE, ROOT_LAND, TIP_LAND, ToothProfile
+from gearwear.geometry.spec import GearSpec, Material
 
 from .elasticity import assemble
 

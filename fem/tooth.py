@@ -93,13 +93,13 @@ import skfem
 from skfem import Basis, ElementTriP1, asm
 from skfem.models.poisson import laplace
 
-from analytic import ishikawa
-from analytic.loading import load_points
-from geometry.kinematics import MeshGeometry
-from geometry.mesh import GearMesh, MeshError, MeshSizes, mesh_full_gear
-from geometry.profile import FILLET, INVOLUTE, ROOT_LAND, TIP_LAND, ToothProfile, tooth_outline, tooth_profile
-from geometry.spec import PairSpec
-from geometry.wear import WearSpec, flank_depth, hertz_half_width, key_roll_angles
+from gearwear.analytic import ishikawa
+from gearwear.analytic.loading import load_points
+from gearwear.geometry.kinematics import MeshGeometry
+from gearwear.fem.mesh import GearMesh, MeshError, MeshSizes, mesh_full_gear
+from gearwear.geometry.profile import FILLET, INVOLUTE, ROOT_LAND, TIP_LAND, ToothProfile, tooth_outline, tooth_profile
+from gearwear.geometry.spec import PairSpec
+from gearwear.geometry.wear import WearSpec, flank_depth, hertz_half_width, key_roll_angles
 
 from .elasticity import assemble, linear_mesh
 

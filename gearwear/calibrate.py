@@ -37,9 +37,9 @@ from typing import Any
 
 import numpy as np
 
-from analytic.tvms import mesh_stiffness
-from geometry.spec import PairSpec
-from geometry.wear import WearSpec
+from gearwear.analytic.tvms import mesh_stiffness
+from gearwear.geometry.spec import PairSpec
+from gearwear.geometry.wear import WearSpec
 
 from . import tables
 
@@ -121,7 +121,7 @@ def _double_mask(result) -> np.ndarray:
 def pair_correction(pair: PairSpec, wear: WearSpec | None, clearance_m: float, torque_Nm: float,
                     corr: tuple, positions: int = 24) -> PairCorrection:
     """Fit the per-zone pair factor on the even FE positions, check on the odd ones."""
-    from fem.pair import pair_contact
+    from gearwear.fem.pair import pair_contact
 
     fe = pair_contact(pair, wear=wear, positions=positions, torque_Nm=torque_Nm, clearance_m=clearance_m)
     st1 = mesh_stiffness(pair, method="ishikawa", points=positions, torque_Nm=torque_Nm, clearance_m=clearance_m,
@@ -148,7 +148,7 @@ def run_fe(pair: PairSpec, wear: WearSpec | None, positions: int = 21, estimate_
     Identical gears (same spec apart from the name) carry identical worn flanks, so
     the pinion's FE run serves both. The discretisation error is estimated from a
     second run with all mesh sizes x sqrt(2): |c_h - c_2h| / (sqrt(2)^p - 1), p = 2."""
-    from fem.tooth import single_tooth_compliance
+    from gearwear.fem.tooth import single_tooth_compliance
 
     t0 = time.perf_counter()
     same = dataclasses.replace(pair.gear(0), name="") == dataclasses.replace(pair.gear(1), name="")
@@ -166,8 +166,8 @@ def run_fe(pair: PairSpec, wear: WearSpec | None, positions: int = 21, estimate_
 
 def table_inputs(pair: PairSpec, wear: WearSpec | None, clearance_m: float, torque_Nm: float, points: int,
                  positions: int) -> dict[str, Any]:
-    from fem import pair as fe_pair
-    from fem import tooth
+    from gearwear.fem import pair as fe_pair
+    from gearwear.fem import tooth
 
     return {"kind": "calibrated mesh stiffness", "pair": dataclasses.asdict(pair), "wear": _wear_inputs(wear),
             "clearance_m": clearance_m, "torque_Nm": torque_Nm, "points": points,

@@ -12,7 +12,7 @@ import json
 import sys
 from pathlib import Path
 
-from geometry.validation import InputError
+from gearwear.core.validation import InputError
 
 from . import __version__
 
@@ -30,7 +30,7 @@ def _float_arg(name: str, unit: str, lo: float = 0.0):
 
 
 def _cmd_geometry(args: argparse.Namespace) -> int:
-    from geometry.wear import parse_wear_arg
+    from gearwear.geometry.wear import parse_wear_arg
 
     from . import geometry_job
     from .scene import load_scene
@@ -69,7 +69,7 @@ def _split_multi(values: list[str] | None) -> list[str]:
 def _cmd_stiffness(args: argparse.Namespace) -> int:
     import math
 
-    from geometry.wear import parse_wear_arg
+    from gearwear.geometry.wear import parse_wear_arg
 
     from . import stiffness_job
     from .scene import load_scene
@@ -118,7 +118,7 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
 
 
 def _wear_list(args, scene, torque):
-    from geometry.wear import parse_wear_arg
+    from gearwear.geometry.wear import parse_wear_arg
     names = _split_multi(args.wear)
     return [None if w == "unworn" else parse_wear_arg(w, torque, scene.operating.speed_rpm) for w in names]
 
@@ -130,7 +130,7 @@ def _cmd_verify(args: argparse.Namespace) -> int:
     from .scene import load_scene
 
     scene = load_scene(args.pair)
-    from geometry.wear import WearSpec
+    from gearwear.geometry.wear import WearSpec
     wears = _wear_list(args, scene, scene.operating.torque_Nm) or [None, WearSpec(phase="mild"),
                                                                    WearSpec(phase="severe")]
     positions = _int_arg("--positions", args.positions, 5, 201)
@@ -449,7 +449,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"gearwear: error: {exc}", file=sys.stderr)
         return 2
     except Exception as exc:  # mesh failures etc. carry their own one-line message
-        from geometry import mesh as _mesh
+        from gearwear.geometry import mesh as _mesh
         if isinstance(exc, getattr(_mesh, "MeshError", ())):
             print(f"gearwear: error: {exc}", file=sys.stderr)
             return 2

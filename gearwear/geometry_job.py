@@ -14,10 +14,10 @@ from typing import Any
 
 import numpy as np
 
-from geometry.kinematics import MeshGeometry
-from geometry.operating import OperatingGeometry, operating_geometry
-from geometry.profile import REGION_NAMES, ToothProfile, gear_outline
-from geometry.wear import WearSpec, key_roll_angles, worn_profiles
+from gearwear.geometry.kinematics import MeshGeometry
+from gearwear.geometry.operating import OperatingGeometry, operating_geometry
+from gearwear.geometry.profile import REGION_NAMES, ToothProfile, gear_outline
+from gearwear.geometry.wear import WearSpec, key_roll_angles, worn_profiles
 
 from . import io
 from .scene import Scene
@@ -101,8 +101,8 @@ def compute(scene: Scene, wear: WearSpec | None, clearance_m: float, torque_Nm: 
 def pinion_mesh(res: GeometryResult, global_size_m: float):
     """P2 mesh of the whole pinion (worn flanks on every tooth if worn), refined at
     every fillet and at the highest point of single tooth contact of tooth 0."""
-    from geometry.mesh import MeshSizes, mesh_full_gear
-    from geometry.profile import FILLET, tooth_profile
+    from gearwear.fem.mesh import MeshSizes, mesh_full_gear
+    from gearwear.geometry.profile import FILLET, tooth_profile
 
     pair = res.scene.pair
     g = pair.gear(0)
@@ -111,7 +111,7 @@ def pinion_mesh(res: GeometryResult, global_size_m: float):
     nominal = tooth_profile(g, sag_m=1e-6, extra_roll=key_roll_angles(res.operating.mesh, 0, res.wear))
     worn = None
     if res.worn[0].is_worn:
-        from geometry.wear import flank_depth
+        from gearwear.geometry.wear import flank_depth
         spec = res.wear or WearSpec(phase="unworn")
         worn = nominal.worn(flank_depth(nominal, 0, res.operating.mesh, spec))
     outline = gear_outline(nominal, worn)
@@ -156,7 +156,7 @@ def tooth_figure(res: GeometryResult):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from geometry.profile import tooth_outline
+    from gearwear.geometry.profile import tooth_outline
 
     fig, (ax, ax2) = plt.subplots(1, 2, figsize=(11, 5.2))
     nom, worn = res.nominal[0], res.worn[0]
@@ -210,7 +210,7 @@ def write(res: GeometryResult, out: Path, inputs: dict[str, Any]) -> list[Path]:
     files.append(io.write_figure(fig, out / "tooth.png"))
     plt.close(fig)
     if res.mesh is not None:
-        from geometry.mesh import write_mesh
+        from gearwear.fem.mesh import write_mesh
         vtu = out / "pinion_mesh.vtu"
         write_mesh(res.mesh, path_vtu=str(vtu))
         files += [vtu, io.sidecar(vtu, inputs, "gmsh P2 triangles, full pinion",

@@ -14,7 +14,7 @@ import json
 from pathlib import Path
 from typing import Any
 
-from geometry.fileio import atomic_write_bytes
+from gearwear.core.atomic import atomic_write_bytes
 
 from . import __version__
 

@@ -16,9 +16,9 @@ from typing import Any, Callable
 
 import numpy as np
 
-from geometry.operating import operating_geometry
-from geometry.spec import default_pair
-from geometry.wear import PHASE_DEPTHS_M, WearSpec
+from gearwear.geometry.operating import operating_geometry
+from gearwear.geometry.spec import default_pair
+from gearwear.geometry.wear import PHASE_DEPTHS_M, WearSpec
 
 from . import io
 

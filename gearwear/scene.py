@@ -13,9 +13,9 @@ from importlib import resources
 from pathlib import Path
 from typing import Any, Mapping
 
-from geometry.spec import PairSpec, load_toml, pair_from_dict
-from geometry.validation import Field, InputError, check_value, fail, parse_table, reject_unknown
-from geometry.wear import WearSpec, wear_from_dict
+from gearwear.geometry.spec import PairSpec, load_toml, pair_from_dict
+from gearwear.core.validation import Field, InputError, check_value, fail, parse_table, reject_unknown
+from gearwear.geometry.wear import WearSpec, wear_from_dict
 
 BODIES_SCHEMA = {
     "mass_kg": Field("kg", 0, 1e6, lo_open=True, per_gear=True),

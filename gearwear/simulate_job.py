@@ -39,11 +39,11 @@ from typing import Any
 
 import numpy as np
 
-from dynamics import GearDynamics, damping_from_ratios, simulate
-from dynamics.model import table_mean
-from geometry.operating import backlash, centre_distance
-from geometry.spec import PairSpec
-from geometry.validation import Field, InputError, check_value, reject_unknown
+from gearwear.dynamics import GearDynamics, damping_from_ratios, simulate
+from gearwear.dynamics.model import table_mean
+from gearwear.geometry.operating import backlash, centre_distance
+from gearwear.geometry.spec import PairSpec
+from gearwear.core.validation import Field, InputError, check_value, reject_unknown
 
 from .scene import Scene
 
@@ -116,7 +116,7 @@ def operating_centre_distance(scene: Scene) -> float:
 
 def stiffness_input(scene: Scene, points: int = 360) -> StiffnessInput:
     """The k_h(phi), e(phi) tables the scene asks for (arrays over one mesh period)."""
-    from analytic.tvms import mesh_stiffness
+    from gearwear.analytic.tvms import mesh_stiffness
 
     t0 = time.perf_counter()
     pair, T = scene.pair, scene.operating.torque_Nm

@@ -16,10 +16,10 @@ from typing import Any
 
 import numpy as np
 
-from analytic.tvms import MeshStiffness, mesh_stiffness
-from geometry.operating import operating_geometry
-from geometry.spec import PairSpec
-from geometry.wear import WearSpec
+from gearwear.analytic.tvms import MeshStiffness, mesh_stiffness
+from gearwear.geometry.operating import operating_geometry
+from gearwear.geometry.spec import PairSpec
+from gearwear.geometry.wear import WearSpec
 
 from . import io
 
@@ -70,7 +70,7 @@ def zone_means(r: MeshStiffness) -> dict[str, float]:
 def iso_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float) -> MeshStiffness:
     """ISO 6336-1 method B as a constant curve k = c_gamma_alpha b at the operating
     contact ratio (the standard gives no angle dependence)."""
-    from analytic.iso6336 import iso6336_stiffness
+    from gearwear.analytic.iso6336 import iso6336_stiffness
 
     t0 = time.perf_counter()
     og = operating_geometry(pair, clearance_m)
@@ -88,7 +88,7 @@ def iso_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float)
 def fem_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float,
               wear: WearSpec | None) -> MeshStiffness:
     """Resolved FE contact of both gear bodies (fem.pair) as a MeshStiffness curve."""
-    from fem.pair import pair_contact
+    from gearwear.fem.pair import pair_contact
 
     fe = pair_contact(pair, wear=wear, positions=points, torque_Nm=torque_Nm, clearance_m=clearance_m)
     meta = {k: v for k, v in fe.meta.items() if k != "pair_gap_m"}
@@ -100,7 +100,7 @@ def fem_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float,
 def write_fields(curves: list[Curve], out: Path, positions: list[int]) -> list[Path]:
     """Displacement and stress fields (.vtu) of the FE curves at the given position
     indices, one folder per curve (fem.pair.write_fields; the bodies are cached)."""
-    from fem.pair import pair_model, write_fields as fe_fields
+    from gearwear.fem.pair import pair_model, write_fields as fe_fields
 
     files: list[Path] = []
     for c in curves:

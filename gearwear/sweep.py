@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from geometry.validation import InputError
+from gearwear.core.validation import InputError
 
 from . import io
 

@@ -21,10 +21,10 @@ from typing import Any
 
 import numpy as np
 
-from analytic import energy
-from analytic.tvms import _profiles
-from geometry.spec import PairSpec
-from geometry.wear import WearSpec
+from gearwear.analytic import energy
+from gearwear.analytic.tvms import _profiles
+from gearwear.geometry.spec import PairSpec
+from gearwear.geometry.wear import WearSpec
 
 from . import io
 
@@ -66,8 +66,8 @@ class Verification:
 
 
 def run_phase(pair: PairSpec, wear: WearSpec | None, positions: int = 21) -> PhaseResult:
-    from analytic.ishikawa import tooth_compliance as ishikawa_compliance
-    from fem.tooth import single_tooth_compliance
+    from gearwear.analytic.ishikawa import tooth_compliance as ishikawa_compliance
+    from gearwear.fem.tooth import single_tooth_compliance
 
     fe = single_tooth_compliance(pair, gear_index=0, wear=wear, positions=positions)
     b_mm = pair.face_width_m * 1e3
@@ -93,12 +93,12 @@ def run(pair: PairSpec, wears: list[WearSpec | None], positions: int = 21, conve
             progress(f"FE compliance, wear {phases[-1].label}")
     conv = acc = None
     if convergence:
-        from fem.convergence import acceptance, convergence_table
+        from gearwear.fem.convergence import acceptance, convergence_table
         conv = convergence_table(pair, None, positions=positions,
                                  progress=(lambda row: progress(f"convergence P{row['order']} scale "
                                                                 f"{row['mesh_scale']:.3f}")) if progress else None)
         acc = acceptance(conv)
-        from fem.pair import consistency
+        from gearwear.fem.pair import consistency
         cons = consistency(pair)  # ~8 s: the pair model and two single-tooth runs
         return Verification(pair, phases, conv, acc, time.perf_counter() - t0, pair_consistency=cons)
     return Verification(pair, phases, conv, acc, time.perf_counter() - t0)
@@ -171,7 +171,7 @@ def markdown(v: Verification, files: dict[str, str]) -> str:
                          f"{ph.energy[k]:.5f} | {100 * (ph.energy[k] / ph.fem[k] - 1):+.1f} |")
         lines.append("")
     if v.convergence:
-        from fem.convergence import format_table
+        from gearwear.fem.convergence import format_table
         lines += ["## FE convergence (unworn, h- and p-refinement, Richardson extrapolation)", "",
                   "```", format_table(v.convergence), "```", ""]
         if "convergence.png" in files:
@@ -210,7 +210,7 @@ def write(v: Verification, out: Path, inputs: dict[str, Any]) -> list[Path]:
         names[name] = name
         plt.close(fig)
     if v.convergence:
-        from fem.convergence import plot_convergence
+        from gearwear.fem.convergence import plot_convergence
         tmp = out / ".convergence.png.tmp.png"
         plot_convergence(v.convergence, tmp)
         files.append(io.write_bytes(out / "convergence.png", tmp.read_bytes()))

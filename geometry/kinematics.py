@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .spec import PairSpec
-from .validation import InputError
+from gearwear.core.validation import InputError
 
 
 @dataclass(frozen=True)

@@ -38,7 +38,7 @@ from dataclasses import dataclass
 
 from .kinematics import MeshGeometry
 from .spec import PairSpec, inv
-from .validation import Field, check_scalar, fail
+from gearwear.core.validation import Field, check_scalar, fail
 
 BACKLASH_FORMS = ("consistent", "printed")
 

@@ -45,7 +45,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from .spec import GearSpec, inv
-from .validation import InputError, fail
+from gearwear.core.validation import InputError, fail
 
 ROOT_LAND, FILLET, INVOLUTE, TIP_LAND = 0, 1, 2, 3
 REGION_NAMES = {ROOT_LAND: "root", FILLET: "fillet", INVOLUTE: "involute", TIP_LAND: "tip"}

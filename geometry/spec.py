@@ -21,7 +21,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Mapping
 
-from .validation import Field, InputError, fail, parse_table, reject_unknown
+from gearwear.core.validation import Field, InputError, fail, parse_table, reject_unknown
 
 
 def inv(alpha: float) -> float:

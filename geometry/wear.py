@@ -55,7 +55,7 @@ import numpy as np
 from .kinematics import MeshGeometry
 from .profile import INVOLUTE, ToothProfile, tooth_profile
 from .spec import PairSpec
-from .validation import Field, InputError, check_scalar, fail, reject_unknown
+from gearwear.core.validation import Field, InputError, check_scalar, fail, reject_unknown
 
 PHASE_DEPTHS_M = {"unworn": 0.0, "mild": 10e-6, "severe": 30e-6}
 WEAR_MODELS = ("archard", "paper_eq1")

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from gearwear import calibrate, tables
-from geometry.spec import default_pair, replace_checked
+from gearwear.geometry.spec import default_pair, replace_checked
 
 
 @pytest.fixture(scope="module")
@@ -53,7 +53,7 @@ def test_cache_hit_is_identical_and_inputs_change_the_key(tmp_path, monkeypatch,
 def test_calibrated_mean_is_below_analytic(cal):
     pair = default_pair()
     corr = tuple(c.grid() for c in cal.corrections)
-    from analytic.tvms import mesh_stiffness
+    from gearwear.analytic.tvms import mesh_stiffness
     raw = mesh_stiffness(pair, points=90)
     fixed = mesh_stiffness(pair, points=90, correction=corr)
     assert fixed.mean_N_per_m < raw.mean_N_per_m

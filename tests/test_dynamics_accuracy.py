@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from dynamics import (compute_signals, energy_balance, harmonics, paper_pair, rhs_python,
+from gearwear.dynamics import (compute_signals, energy_balance, harmonics, paper_pair, rhs_python,
                       simulate, static_equilibrium)
 
 

@@ -4,8 +4,8 @@ about really happens; results converge under refinement or are reported non-peri
 import numpy as np
 import pytest
 
-from dynamics import harmonics, paper_pair, simulate
-from dynamics import kernels
+from gearwear.dynamics import harmonics, paper_pair, simulate
+from gearwear.dynamics import kernels
 
 
 def _converged_or_nonperiodic(m, duration, discard, tol=1e-3):

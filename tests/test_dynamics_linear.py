@@ -10,9 +10,9 @@ import pytest
 from scipy.linalg import eigh
 from scipy.signal import find_peaks
 
-from dynamics import (GearDynamics, harmonics, linear_eigenfrequencies, paper_pair, simulate,
+from gearwear.dynamics import (GearDynamics, harmonics, linear_eigenfrequencies, paper_pair, simulate,
                       spectrum, static_equilibrium)
-from geometry.validation import InputError
+from gearwear.core.validation import InputError
 
 DEG20 = math.radians(20.0)
 
@@ -122,7 +122,7 @@ def test_free_vibration_spectral_peaks_match_eigenfrequencies():
         assert np.min(np.abs(f[p] - distinct) / distinct) < 0.005, f[p]
     # undamped, no excitation: the energy is conserved (adaptive solver; RK4 at 256 steps
     # per mesh period has its own numerical damping, (w h)^6 / 144 per step)
-    from dynamics import mechanical_energy
+    from gearwear.dynamics import mechanical_energy
     ra = simulate(m, 0.05, 0.0, y0=y0, method="dopri5", rtol=1e-10)
     E = mechanical_energy(m, ra.t, ra.states)
     assert np.ptp(E) / E.mean() < 1e-6

@@ -7,9 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from dynamics import kernel_switches, paper_pair, rhs_python, simulate, static_equilibrium
-from dynamics import kernels
-from dynamics.model import _accelerations, derived, mesh_state
+from gearwear.dynamics import kernel_switches, paper_pair, rhs_python, simulate, static_equilibrium
+from gearwear.dynamics import kernels
+from gearwear.dynamics.model import _accelerations, derived, mesh_state
 
 CASES = {
     "tvms": dict(),

@@ -9,13 +9,13 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from analytic.energy import (beam_compliance, foundation_compliance, hertz_compliance_linear,
+from gearwear.analytic.energy import (beam_compliance, foundation_compliance, hertz_compliance_linear,
                              sainsot_coefficients, tooth_compliance)
-from analytic.iso6336 import iso6336_stiffness
-from analytic.loading import half_thickness_at_height, load_points, root_section
-from geometry.kinematics import MeshGeometry
-from geometry.profile import INVOLUTE, tooth_profile
-from geometry.spec import Material, default_pair
+from gearwear.analytic.iso6336 import iso6336_stiffness
+from gearwear.analytic.loading import half_thickness_at_height, load_points, root_section
+from gearwear.geometry.kinematics import MeshGeometry
+from gearwear.geometry.profile import INVOLUTE, tooth_profile
+from gearwear.geometry.spec import Material, default_pair
 
 STEEL = Material(206e9, 0.3)
 B = 20e-3

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from fem.contact import (check_complementarity, fit_semi_ellipse, hertz_cylinders, hertz_line_contact,
+from gearwear.fem.contact import (check_complementarity, fit_semi_ellipse, hertz_cylinders, hertz_line_contact,
                          solve_contact)
 
 

@@ -12,8 +12,8 @@ import pytest
 import scipy.sparse.linalg as spla
 import skfem
 
-from fem.elasticity import assemble, lame, linear_mesh, traction_load
-from geometry.spec import Material
+from gearwear.fem.elasticity import assemble, lame, linear_mesh, traction_load
+from gearwear.geometry.spec import Material
 
 STEEL = Material(206e9, 0.3)
 E, NU = STEEL.youngs_modulus_Pa, STEEL.poisson_ratio
@@ -260,10 +260,10 @@ def test_gear_tooth_radial_load_is_symmetric():
     pressure on the tip land of tooth 0 (symmetric about the tooth axis, x = 0):
     the displacement field is mirror-symmetric to within the discretisation error
     (0.5 % of the largest displacement), and the axis points move radially."""
-    from fem.tooth import gear_polygon, mesh_sizes, resample_profile
-    from geometry.mesh import mesh_full_gear
-    from geometry.profile import FILLET, INVOLUTE, ROOT_LAND, TIP_LAND, tooth_profile
-    from geometry.spec import default_pair
+    from gearwear.fem.tooth import gear_polygon, mesh_sizes, resample_profile
+    from gearwear.fem.mesh import mesh_full_gear
+    from gearwear.geometry.profile import FILLET, INVOLUTE, ROOT_LAND, TIP_LAND, tooth_profile
+    from gearwear.geometry.spec import default_pair
 
     pair = default_pair()
     g = pair.gear(0)

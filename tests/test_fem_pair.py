@@ -9,12 +9,12 @@ import math
 import numpy as np
 import pytest
 
-from fem.contact import check_complementarity, solve_contact
-from fem.pair import (consistency, pair_contact, pair_model, solve_position, weber_approach_m,
+from gearwear.fem.contact import check_complementarity, solve_contact
+from gearwear.fem.pair import (consistency, pair_contact, pair_model, solve_position, weber_approach_m,
                       write_fields)
-from geometry.spec import default_pair, pair_from_dict
-from geometry.validation import InputError
-from geometry.wear import WearSpec
+from gearwear.geometry.spec import default_pair, pair_from_dict
+from gearwear.core.validation import InputError
+from gearwear.geometry.wear import WearSpec
 
 COARSE = 2.0
 

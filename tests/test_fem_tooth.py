@@ -8,14 +8,14 @@ import math
 import numpy as np
 import pytest
 
-from analytic import ishikawa
-from fem.convergence import (acceptance, convergence_table, format_table, observed_order, plot_convergence,
+from gearwear.analytic import ishikawa
+from gearwear.fem.convergence import (acceptance, convergence_table, format_table, observed_order, plot_convergence,
                              richardson)
-from fem.tooth import load_radii, single_tooth_compliance, tooth_mesh
-from geometry.kinematics import MeshGeometry
-from geometry.profile import tooth_profile
-from geometry.spec import default_pair
-from geometry.wear import WearSpec
+from gearwear.fem.tooth import load_radii, single_tooth_compliance, tooth_mesh
+from gearwear.geometry.kinematics import MeshGeometry
+from gearwear.geometry.profile import tooth_profile
+from gearwear.geometry.spec import default_pair
+from gearwear.geometry.wear import WearSpec
 
 COARSE = 2.0  # mesh_scale of the fast models (22.8k P2 dofs, ~1 s)
 

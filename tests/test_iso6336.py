@@ -6,10 +6,10 @@ from dataclasses import replace
 
 import pytest
 
-from analytic.iso6336 import (basic_rack_factor, gear_blank_factor, iso6336_stiffness, low_load_factor,
+from gearwear.analytic.iso6336 import (basic_rack_factor, gear_blank_factor, iso6336_stiffness, low_load_factor,
                               single_stiffness_theoretical)
-from geometry.kinematics import MeshGeometry
-from geometry.spec import default_pair, replace_checked
+from gearwear.geometry.kinematics import MeshGeometry
+from gearwear.geometry.spec import default_pair, replace_checked
 
 
 def test_theoretical_stiffness_by_hand_z30_x0():

@@ -5,11 +5,11 @@ import math
 import numpy as np
 import pytest
 
-from geometry.kinematics import MeshGeometry
-from geometry.operating import backlash, centre_distance, operating_geometry
-from geometry.profile import tooth_profile
-from geometry.spec import default_pair, inv, pair_from_dict
-from geometry.validation import InputError
+from gearwear.geometry.kinematics import MeshGeometry
+from gearwear.geometry.operating import backlash, centre_distance, operating_geometry
+from gearwear.geometry.profile import tooth_profile
+from gearwear.geometry.spec import default_pair, inv, pair_from_dict
+from gearwear.core.validation import InputError
 
 
 def textbook_contact_ratio(z1, z2, m, alpha, a):

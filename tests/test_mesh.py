@@ -20,7 +20,7 @@ from hypothesis import given, settings, strategies as st
 from skfem import Functional, BilinearForm, CellBasis, FacetBasis, ElementTriP2, condense, solve
 from skfem.helpers import dot, grad
 
-from geometry.mesh import (
+from gearwear.fem.mesh import (
     GearMesh,
     MeshError,
     MeshSizes,

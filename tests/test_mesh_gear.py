@@ -6,11 +6,11 @@ import math
 import numpy as np
 import pytest
 
-from geometry.mesh import MeshSizes, mesh_full_gear, mesh_sector, triangle_quality
-from geometry.profile import FILLET, gear_outline, polygon_area, tooth_profile
-from geometry.spec import default_pair
-from geometry.wear import WearSpec, flank_depth
-from geometry.kinematics import MeshGeometry
+from gearwear.fem.mesh import MeshSizes, mesh_full_gear, mesh_sector, triangle_quality
+from gearwear.geometry.profile import FILLET, gear_outline, polygon_area, tooth_profile
+from gearwear.geometry.spec import default_pair
+from gearwear.geometry.wear import WearSpec, flank_depth
+from gearwear.geometry.kinematics import MeshGeometry
 
 
 @pytest.fixture(scope="module")

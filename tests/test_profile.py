@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from geometry.profile import (FILLET, INVOLUTE, TIP_LAND, RackGeometry, UndercutError, fillet_points,
+from gearwear.geometry.profile import (FILLET, INVOLUTE, TIP_LAND, RackGeometry, UndercutError, fillet_points,
                               gear_outline, involute_points, polygon_area, tooth_profile)
-from geometry.spec import default_pair, pair_from_dict
+from gearwear.geometry.spec import default_pair, pair_from_dict
 
 
 @pytest.fixture(scope="module")

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from dynamics import paper_pair, simulate
-from dynamics.analysis import fourier_amplitudes, gauss_grid
-from dynamics.model import rk4_schedule
+from gearwear.dynamics import paper_pair, simulate
+from gearwear.dynamics.analysis import fourier_amplitudes, gauss_grid
+from gearwear.dynamics.model import rk4_schedule
 
 NAMES = ["F_m", "delta"]
 

@@ -8,10 +8,10 @@ import sys
 import numpy as np
 import pytest
 
-from dynamics import linear_eigenfrequencies, paper_pair, simulate
-from dynamics.model import max_linear_rate
-from dynamics.simulate import SolverError, rk4_stability_number
-from geometry.validation import InputError
+from gearwear.dynamics import linear_eigenfrequencies, paper_pair, simulate
+from gearwear.dynamics.model import max_linear_rate
+from gearwear.dynamics.simulate import SolverError, rk4_stability_number
+from gearwear.core.validation import InputError
 
 
 def test_linear_rate_is_the_highest_eigenfrequency_when_undamped():

@@ -5,8 +5,8 @@ import math
 import pytest
 from hypothesis import given, strategies as st
 
-from geometry.spec import default_pair, pair_from_dict
-from geometry.validation import InputError
+from gearwear.geometry.spec import default_pair, pair_from_dict
+from gearwear.core.validation import InputError
 
 
 def test_default_is_paper_pair():

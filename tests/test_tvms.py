@@ -6,14 +6,14 @@ import math
 import numpy as np
 import pytest
 
-from analytic.ishikawa import hertz_approach_m, slice_beam_compliance, tooth_compliance
-from analytic.iso6336 import iso6336_stiffness
-from analytic.tvms import corner_gap_m, mesh_stiffness
-from geometry.kinematics import MeshGeometry
-from geometry.profile import tooth_profile
-from geometry.spec import default_pair
-from geometry.validation import InputError
-from geometry.wear import WearSpec
+from gearwear.analytic.ishikawa import hertz_approach_m, slice_beam_compliance, tooth_compliance
+from gearwear.analytic.iso6336 import iso6336_stiffness
+from gearwear.analytic.tvms import corner_gap_m, mesh_stiffness
+from gearwear.geometry.kinematics import MeshGeometry
+from gearwear.geometry.profile import tooth_profile
+from gearwear.geometry.spec import default_pair
+from gearwear.core.validation import InputError
+from gearwear.geometry.wear import WearSpec
 
 
 @pytest.fixture(scope="module")
@@ -87,7 +87,7 @@ def test_load_sharing_equilibrium_and_compatibility(pair, curves):
     # unworn double contact: both pairs deflect by the same approach (compatibility)
     r = mesh_stiffness(pair, points=36, corner_contact=False)
     mesh = r.mesh
-    from analytic.tvms import _profiles
+    from gearwear.analytic.tvms import _profiles
     prof = _profiles(pair, None, mesh.centre_distance_m)[0][0]  # the same flank polyline
     for i in range(len(r.angle_rad)):
         loaded = np.flatnonzero(r.pair_load_N[i] > 0)

@@ -13,7 +13,7 @@ from scipy.integrate import solve_ivp
 
 from gearwear import simulate_job
 from gearwear.scene import apply_overrides, load_scene_dict, scene_from_dict
-from geometry.validation import InputError
+from gearwear.core.validation import InputError
 
 EX = Path(__file__).resolve().parents[1] / "examples" / "user_table"
 sys.path.insert(0, str(EX))

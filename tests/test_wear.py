@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 from scipy.optimize import minimize_scalar
 
-from geometry.kinematics import MeshGeometry
-from geometry.profile import INVOLUTE, involute_points, tooth_profile
-from geometry.spec import default_pair
-from geometry.validation import InputError
-from geometry.wear import (WearSpec, flank_depth, hertz_half_width, hertz_load_integral, parse_wear_arg,
+from gearwear.geometry.kinematics import MeshGeometry
+from gearwear.geometry.profile import INVOLUTE, involute_points, tooth_profile
+from gearwear.geometry.spec import default_pair
+from gearwear.core.validation import InputError
+from gearwear.geometry.wear import (WearSpec, flank_depth, hertz_half_width, hertz_load_integral, parse_wear_arg,
                            specific_sliding, wear_from_dict, wear_on_line_of_action, worn_profiles)
 
 

@@ -108,7 +108,7 @@ import meshio
 import numpy as np
 import skfem
 
-from .fileio import atomic_write
+from gearwear.core.atomic import atomic_write
 
 __all__ = [
     "MeshError",
