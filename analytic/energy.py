@@ -2,7 +2,7 @@
 
 The tooth is a cantilever of variable section along its axis (+y), clamped at the
 root circle y_M = r_f and loaded at the contact point (x_F, y_F) by the mesh force
-F along -(cos w, sin w) (see ``analytic.loading``). Equating the strain energy of
+F along -(cos w, sin w) (see ``geometry.loading``). Equating the strain energy of
 each mechanism to F^2 / (2 k) gives the compliances (Yang & Lin, J. Mech. Transm.
 Autom. Des. 109, 1987; Tian, MSc thesis, Univ. of Alberta, 2004; Chaari, Fakhfakh &
 Haddar, Eur. J. Mech. A/Solids 28, 2009):
@@ -14,7 +14,7 @@ Haddar, Eur. J. Mech. A/Solids 28, 2009):
     I(y) = (2 x(y))^3 b / 12,  A(y) = 2 x(y) b,  G = E / (2 (1 + nu))      [m^4, m^2, Pa]
 
 with the half thickness x(y) of the true (nominal or worn) profile,
-``analytic.loading.half_thickness_at_height``, and b the face width (m). All
+``geometry.loading.half_thickness_at_height``, and b the face width (m). All
 compliances are in m/N (deflection along the line of action per unit normal force).
 
 Quadrature. x(y) is the linear interpolant of the profile polyline, so the
@@ -60,7 +60,7 @@ from typing import Callable
 
 import numpy as np
 
-from gearwear.analytic.loading import half_thickness_at_height, load_points, root_section
+from gearwear.geometry.loading import half_thickness_at_height, load_points, root_section
 from gearwear.geometry.profile import FILLET, INVOLUTE, TIP_LAND, ToothProfile
 from gearwear.geometry.spec import Material
 

@@ -5,7 +5,7 @@ The tooth is a cantilever clamped at the root section (root circle, y = y_M) and
 into n slices of height L along its axis; slice j has the true (nominal or worn)
 thickness 2 Y_j at its mid-height, area A_j = 2 Y_j b and inertia I_j = (2 Y_j)^3 b / 12.
 With S_j the distance from the top of slice j to the load point, x_F the offset of the
-contact point from the axis and w the load angle (analytic.loading), Castigliano's
+contact point from the axis and w the load angle (geometry.loading), Castigliano's
 theorem on M(u) = F (cos w u - sin w x_F), u = y_F - y, gives per slice (paper Eq. 2,
 whose printed form is garbled; this is its energy-consistent reading):
 
@@ -40,7 +40,7 @@ import numpy as np
 from gearwear.geometry.profile import ToothProfile
 from gearwear.geometry.spec import Material
 
-from .loading import half_thickness_at_height, load_points, root_section
+from gearwear.geometry.loading import half_thickness_at_height, load_points, root_section
 
 DEFAULT_SLICES = 64
 

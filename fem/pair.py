@@ -96,7 +96,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from gearwear.analytic.loading import load_points
+from gearwear.geometry.loading import load_points
 from gearwear.analytic.tvms import CurveStats
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.operating import operating_geometry
@@ -638,7 +638,7 @@ def _probe_rep(body: GearBody, pt: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def centre_line_compliance(pm: PairModel, ps: PositionSolution) -> dict:
     """In single contact: displacement of each tooth's centre-line point where the load
-    line crosses it (y_c of analytic.loading), along the force on that tooth, per N of
+    line crosses it (y_c of geometry.loading), along the force on that tooth, per N of
     the pair load, and c_local = delta / F - c_1 - c_2 (m/N)."""
     loaded = [c for c, k in zip(ps.cand, ps.slots) if ps.loads_N[k] > 0]
     if len(loaded) != 1:

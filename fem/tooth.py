@@ -29,7 +29,7 @@ Hertz line-contact pressure (Johnson, *Contact Mechanics*, 1985, Eqs. 4.43-4.45)
 curvature radii at the LOA position, ``geometry.wear.hertz_half_width``) with the
 full normal load F (default T / r_b1 = 568 N at T = 40 N m; the model is linear,
 F only sets a, about 56-64 um here). The traction is p e_F, e_F = -(cos w, sin w)
-the mesh-force direction of ``analytic.loading`` (the line of action = the inward
+the mesh-force direction of ``geometry.loading`` (the line of action = the inward
 nominal involute normal at the contact). On the nominal flank e_F equals the local
 inward normal -n up to O(a / rho) ~ 1e-2 rad at the patch edges (symmetric, so the
 resultant agrees to O((a / rho)^2)); on a worn flank the local normal tilts by
@@ -94,7 +94,7 @@ from skfem import Basis, ElementTriP1, asm
 from skfem.models.poisson import laplace
 
 from gearwear.analytic import ishikawa
-from gearwear.analytic.loading import load_points
+from gearwear.geometry.loading import load_points
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.fem.mesh import GearMesh, MeshError, MeshSizes, mesh_full_gear
 from gearwear.geometry.profile import FILLET, INVOLUTE, ROOT_LAND, TIP_LAND, ToothProfile, tooth_outline, tooth_profile
@@ -473,7 +473,7 @@ def single_tooth_compliance(pair: PairSpec, gear_index: int = 0, wear: WearSpec 
                    FE's consistency check reads the single tooth at its own contacts).
     read_at        "radius": the centre-line point (0, R) (default); "load_line": the
                    centre-line point where the load line crosses it, (0, y_c) of
-                   analytic.loading (where Weber's h ends; fem.pair's c_1, c_2).
+                   geometry.loading (where Weber's h ends; fem.pair's c_1, c_2).
 
     Returns a :class:`ToothFE`: compliance in um per (N/mm) at every position, the
     Ishikawa delta_1 + delta_2 at the same radii on the same profiles, dofs,
@@ -492,7 +492,7 @@ def single_tooth_compliance(pair: PairSpec, gear_index: int = 0, wear: WearSpec 
     if not (math.isfinite(load_N) and load_N > 0):
         raise ValueError(f"load_N = {load_N!r}: must be finite and > 0")
 
-    # -- load positions, Hertz half-widths, force directions (analytic.loading on the true flank)
+    # -- load positions, Hertz half-widths, force directions (geometry.loading on the true flank)
     rb = g.base_radius_m
     if radii_m is None:
         R, u = load_radii(pair, gear_index, positions, load_N)

@@ -12,7 +12,7 @@ from scipy.integrate import quad
 from gearwear.analytic.energy import (beam_compliance, foundation_compliance, hertz_compliance_linear,
                              sainsot_coefficients, tooth_compliance)
 from gearwear.analytic.iso6336 import iso6336_stiffness
-from gearwear.analytic.loading import half_thickness_at_height, load_points, root_section
+from gearwear.geometry.loading import half_thickness_at_height, load_points, root_section
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.profile import INVOLUTE, tooth_profile
 from gearwear.geometry.spec import Material, default_pair

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from gearwear.geometry.profile import ToothProfile
+from .profile import FILLET, INVOLUTE, TIP_LAND, ToothProfile
 
 
 @dataclass(frozen=True)
@@ -53,14 +53,34 @@ def root_section(profile: ToothProfile) -> tuple[float, float]:
     return y_M, float(half_thickness_at_height(profile, np.array([y_M]))[0])
 
 
-def half_thickness_at_height(profile: ToothProfile, y_m) -> np.ndarray:
-    """Half tooth thickness x(y) of the loaded flank at heights y (m) along the tooth
-    axis (sections perpendicular to the axis), interpolated on the profile polyline
-    between the root section and the tip."""
-    y_m = np.asarray(y_m, dtype=float)
-    from gearwear.geometry.profile import FILLET, INVOLUTE, TIP_LAND
+def flank_height_table(profile: ToothProfile) -> tuple[np.ndarray, np.ndarray]:
+    """Knots (y_m, x_m) of the loaded flank's half thickness x(y) along the tooth axis:
+    the profile polyline from the root up to the tip, strictly increasing in y."""
     sel = (profile.region == FILLET) | (profile.region == INVOLUTE) | (profile.region == TIP_LAND)
     xs, ys = profile.xy[sel, 0], profile.xy[sel, 1]
     # along the flank from root to tip the height grows; keep the monotone part
     keep = np.concatenate([[True], np.diff(np.maximum.accumulate(ys)) > 0])
-    return np.interp(y_m, ys[keep], xs[keep])
+    return ys[keep], xs[keep]
+
+
+def half_thickness_at_height(profile: ToothProfile, y_m) -> np.ndarray:
+    """Half tooth thickness x(y) of the loaded flank at heights y (m) along the tooth
+    axis (sections perpendicular to the axis), interpolated on the profile polyline
+    between the root section and the tip."""
+    ys, xs = flank_height_table(profile)
+    return np.interp(np.asarray(y_m, dtype=float), ys, xs)
+
+
+def thickness_table(loaded: ToothProfile, opposite: ToothProfile | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """Knots (y_m, t_m) of the full tooth thickness t(y) = x_loaded(y) + x_opposite(y)
+    (``opposite`` defaults to ``loaded``: a symmetric tooth).
+
+    Both half thicknesses are piecewise linear in y (np.interp, constant beyond their
+    ends), so their sum is piecewise linear on the union of the knots: one
+    interpolation in this table equals the sum of the two (to round-off)."""
+    yl, xl = flank_height_table(loaded)
+    if opposite is None or opposite is loaded:
+        return yl, 2.0 * xl  # doubling is exact: bit-identical to x + x
+    yo, xo = flank_height_table(opposite)
+    y = np.union1d(yl, yo)
+    return y, np.interp(y, yl, xl) + np.interp(y, yo, xo)
