@@ -145,14 +145,14 @@ def acceptance(rows: list[dict], max_change_pct: float = 0.5, max_wall_s: float 
 def plot_convergence(rows: list[dict], path: str | Path) -> Path:
     """PNG: largest relative error (vs the reference extrapolation, %) against dofs
     and against wall time, log-log, one line per element order; the default level
-    is circled."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    import matplotlib.ticker  # noqa: F401  (used as matplotlib.ticker)
+    is circled. Written atomically; no pyplot, the caller's backend is left alone."""
+    from matplotlib.figure import Figure
+    from matplotlib.ticker import NullFormatter
 
-    path = Path(path)
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4.2), constrained_layout=True)
+    from gearwear.core.atomic import atomic_write
+
+    fig = Figure(figsize=(10, 4.2), layout="constrained")
+    axes = fig.subplots(1, 2)
     for order, style in ((1, "s--"), (2, "o-")):
         lev = sorted((r for r in rows if r["order"] == order), key=lambda r: r["dofs"])
         if not lev:
@@ -171,12 +171,9 @@ def plot_convergence(rows: list[dict], path: str | Path) -> Path:
         ax.axhline(0.5, color="0.6", lw=0.8, ls=":")
         ax.grid(True, which="both", lw=0.3)
         ax.legend()
-        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        ax.xaxis.set_minor_formatter(NullFormatter())
     fig.suptitle("FE single-tooth compliance: accuracy versus cost (full gear, bore fixed)")
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=120))
 
 
 def format_table(rows: list[dict]) -> str:

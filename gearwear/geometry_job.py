@@ -153,12 +153,11 @@ def profile_table(res: GeometryResult) -> str:
 
 
 def tooth_figure(res: GeometryResult):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     from gearwear.geometry.profile import tooth_outline
 
-    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(11, 5.2))
+    from .plotting import subplots
+
+    fig, (ax, ax2) = subplots(1, 2, figsize=(11, 5.2))
     nom, worn = res.nominal[0], res.worn[0]
     o = tooth_outline(nom)
     ax.plot(o[:, 0] * 1e3, o[:, 1] * 1e3, "k-", lw=1.2, label="nominal")
@@ -200,15 +199,11 @@ def write(res: GeometryResult, out: Path, inputs: dict[str, Any]) -> list[Path]:
     """Write profile CSV (+ sidecar), tooth PNG, mesh .vtu (+ sidecar) and summary JSON."""
     import json
 
-    import matplotlib.pyplot as plt
-
     files = []
     csv = io.write_text(out / "profile.csv", profile_table(res))
     files += [csv, io.sidecar(csv, inputs, "rack-generated involute + trochoid; wear " +
                               (res.wear.model if res.wear else "none"))]
-    fig = tooth_figure(res)
-    files.append(io.write_figure(fig, out / "tooth.png"))
-    plt.close(fig)
+    files.append(io.write_figure(tooth_figure(res), out / "tooth.png"))
     if res.mesh is not None:
         from gearwear.fem.mesh import write_mesh
         vtu = out / "pinion_mesh.vtu"

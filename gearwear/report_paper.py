@@ -21,6 +21,7 @@ from gearwear.geometry.spec import default_pair
 from gearwear.geometry.wear import PHASE_DEPTHS_M, WearSpec
 
 from . import io
+from .plotting import subplots
 
 PHASES = ("unworn", "mild", "severe")
 CLEARANCES_UM = (0.0, 20.0, 40.0, 60.0, 80.0, 100.0)
@@ -115,16 +116,8 @@ def compute(progress: Callable[[str], None] | None = None) -> dict[str, Any]:
 
 # -- figures ---------------------------------------------------------------------------
 
-def _plt():
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return plt
-
-
 def _stiffness_fig(tabs: dict, labeler, title: str, zoom: bool = False):
-    plt = _plt()
-    fig, ax = plt.subplots(figsize=(8.5, 4.2))
+    fig, ax = subplots(figsize=(8.5, 4.2))
     for key, tab in tabs.items():
         ang = np.degrees(tab.angle_rad)
         per = 360.0 / 30
@@ -141,8 +134,7 @@ def _stiffness_fig(tabs: dict, labeler, title: str, zoom: bool = False):
 
 
 def _response_fig(sims: dict, name: str, unit: str, scale: float, labeler, title: str):
-    plt = _plt()
-    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(12, 4))
+    fig, (ax, ax2) = subplots(1, 2, figsize=(12, 4))
     for key, run in sims.items():
         r = run.result
         n = int(round(3 * r.fs_Hz / r.fm_Hz))
@@ -164,11 +156,10 @@ def _response_fig(sims: dict, name: str, unit: str, scale: float, labeler, title
 
 def _harmonics_fig(x, xlabel, H: np.ndarray, unit: str, name: str, title: str, xticklabels=None):
     """H: (n_points, n_harmonics)."""
-    plt = _plt()
     nh = H.shape[1]
     ncol = 5 if nh > 4 else 4
     nrow = math.ceil(nh / ncol)
-    fig, axs = plt.subplots(nrow, ncol, figsize=(3.1 * ncol, 2.7 * nrow), squeeze=False)
+    fig, axs = subplots(nrow, ncol, figsize=(3.1 * ncol, 2.7 * nrow), squeeze=False)
     for k in range(nh):
         a = axs[k // ncol][k % ncol]
         a.plot(x, H[:, k], "o-", ms=4)
@@ -185,7 +176,6 @@ def _harmonics_fig(x, xlabel, H: np.ndarray, unit: str, name: str, title: str, x
 
 
 def figures(res: dict[str, Any]) -> dict[str, Any]:
-    plt = _plt()
     figs: dict[str, Any] = {}
     figs["fig06_stiffness_wear.png"] = _stiffness_fig(
         res["tabs_wear"], lambda p: f"{p} ({PHASE_DEPTHS_M[p] * 1e6:g} um max depth)",
@@ -201,7 +191,7 @@ def figures(res: dict[str, Any]) -> dict[str, Any]:
             xticklabels=list(PHASES))
     # Fig. 15: operating geometry versus clearance
     geo, c = res["geo"], res["cl_fine"]
-    fig, axs = plt.subplots(1, 4, figsize=(15, 3.6))
+    fig, axs = subplots(1, 4, figsize=(15, 3.6))
     data = [("centre distance (mm)", [g.centre_distance_m * 1e3 for g in geo]),
             ("operating pressure angle (deg)", [math.degrees(g.pressure_angle_rad) for g in geo]),
             ("contact line length (mm)", [g.contact_line_length_m * 1e3 for g in geo]),
@@ -215,7 +205,7 @@ def figures(res: dict[str, Any]) -> dict[str, Any]:
     fig.tight_layout()
     figs["fig15_geometry_clearance.png"] = fig
     cl = np.array(CLEARANCES_UM)
-    fig, ax = plt.subplots(figsize=(6, 4))
+    fig, ax = subplots(figsize=(6, 4))
     ax.plot(cl, [res["tabs_cl"][x].mean_N_per_m / 1e8 for x in CLEARANCES_UM], "o-")
     ax.set_xlabel("bearing clearance (um)")
     ax.set_ylabel("mean mesh stiffness (1e8 N/m)")
@@ -417,11 +407,9 @@ def run_report(out: Path, progress: bool = True) -> list[Path]:
         res = compute(say)
     figs = figures(res)
     rows = trends(res)
-    plt = _plt()
     files = []
     for name, fig in figs.items():
         files.append(io.write_figure(fig, out / name, dpi=110))
-        plt.close(fig)
     wall = time.perf_counter() - t0
     files.append(io.write_text(out / "README.md", markdown(res, rows, list(figs), wall)))
     files.append(io.write_text(out / "trends.json", json.dumps(rows, indent=1) + "\n"))

@@ -25,13 +25,11 @@ def signals_csv(run: SimulationRun) -> str:
 
 
 def figure(run: SimulationRun):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from .plotting import subplots
 
     r = run.result
     names = run.output["signals"]
-    fig, axes = plt.subplots(len(names), 2, figsize=(12, 2.4 * len(names)), squeeze=False)
+    fig, axes = subplots(len(names), 2, figsize=(12, 2.4 * len(names)), squeeze=False)
     n_show = max(1, int(round(5 * r.fs_Hz / r.fm_Hz)))  # five mesh periods
     for i, n in enumerate(names):
         unit, scale = SIGNAL_UNITS[n]
@@ -56,8 +54,6 @@ def figure(run: SimulationRun):
 
 
 def write(run: SimulationRun, out: Path, inputs: dict[str, Any]) -> list[Path]:
-    import matplotlib.pyplot as plt
-
     files = []
     r = run.result
     buf = _io.BytesIO()
@@ -65,9 +61,7 @@ def write(run: SimulationRun, out: Path, inputs: dict[str, Any]) -> list[Path]:
     files.append(io.write_bytes(out / "signals.npz", buf.getvalue()))
     csv = io.write_text(out / "signals.csv", signals_csv(run))
     files += [csv, io.sidecar(csv, inputs, f"dynamics.simulate ({r.method})")]
-    fig = figure(run)
-    files.append(io.write_figure(fig, out / "response.png"))
-    plt.close(fig)
+    files.append(io.write_figure(figure(run), out / "response.png"))
     files.append(io.write_text(out / "summary.json", json.dumps(run.summary(), indent=2, sort_keys=True) + "\n"))
     return files
 

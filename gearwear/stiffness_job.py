@@ -142,12 +142,10 @@ def curve_csv(c: Curve) -> str:
 
 
 def figures(curves: list[Curve]):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from .plotting import subplots
 
     figs = {}
-    fig, (ax, ax2) = plt.subplots(2, 1, figsize=(9, 7), sharex=True)
+    fig, (ax, ax2) = subplots(2, 1, figsize=(9, 7), sharex=True)
     for c in curves:
         r = c.result
         ang = np.degrees(r.angle_rad)
@@ -166,7 +164,7 @@ def figures(curves: list[Curve]):
     figs["stiffness.png"] = fig
     clearances = sorted({c.clearance_m for c in curves})
     if len(clearances) > 1:
-        fig2, axs = plt.subplots(1, 3, figsize=(13, 4))
+        fig2, axs = subplots(1, 3, figsize=(13, 4))
         for wl in sorted({c.wear.label if c.wear else "unworn" for c in curves}):
             sel = [c for c in curves if (c.wear.label if c.wear else "unworn") == wl]
             sel.sort(key=lambda c: c.clearance_m)
@@ -192,8 +190,6 @@ def figures(curves: list[Curve]):
 def write(curves: list[Curve], out: Path, inputs: dict[str, Any]) -> list[Path]:
     import json
 
-    import matplotlib.pyplot as plt
-
     files = []
     for c in curves:
         p = io.write_text(out / f"stiffness_{c.slug}.csv", curve_csv(c))
@@ -203,7 +199,6 @@ def write(curves: list[Curve], out: Path, inputs: dict[str, Any]) -> list[Path]:
                                     "clearance_um": c.clearance_m * 1e6}, c.method, {"summary": summary})]
     for name, fig in figures(curves).items():
         files.append(io.write_figure(fig, out / name))
-        plt.close(fig)
     files.append(io.write_text(out / "stiffness_summary.json",
                                json.dumps([c.summary() for c in curves], indent=2, sort_keys=True) + "\n"))
     return files

@@ -141,9 +141,7 @@ def table_csv(axes: list[Axis], results: list[dict[str, Any]]) -> str:
 def figures(axes: list[Axis], results: list[dict[str, Any]]):
     """Harmonic amplitudes versus the first swept parameter, one figure per signal
     (paper Figs. 8, 10, 12, 14, 19, 21, 23: k = 1..4; Fig. 25: F_m, k = 1..10)."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from .plotting import subplots
 
     ax0 = axes[0]
     others = axes[1:]
@@ -153,7 +151,7 @@ def figures(axes: list[Axis], results: list[dict[str, Any]]):
         nh = 10 if key.startswith("F_m") else 4
         ncol = 5 if nh == 10 else 4
         nrow = math.ceil(nh / ncol)
-        fig, axs = plt.subplots(nrow, ncol, figsize=(3.2 * ncol, 2.8 * nrow), squeeze=False)
+        fig, axs = subplots(nrow, ncol, figsize=(3.2 * ncol, 2.8 * nrow), squeeze=False)
         groups: dict[tuple, list[dict]] = {}
         for r in results:
             groups.setdefault(tuple(r["point"][a.key] for a in others), []).append(r)
@@ -182,12 +180,9 @@ def figures(axes: list[Axis], results: list[dict[str, Any]]):
 
 
 def write(axes: list[Axis], results: list[dict[str, Any]], out: Path, inputs: dict[str, Any]) -> list[Path]:
-    import matplotlib.pyplot as plt
-
     files = []
     csv = io.write_text(out / "sweep.csv", table_csv(axes, results))
     files += [csv, io.sidecar(csv, inputs, "gearwear sweep (dynamics.simulate per point)")]
     for name, fig in figures(axes, results).items():
         files.append(io.write_figure(fig, out / name))
-        plt.close(fig)
     return files

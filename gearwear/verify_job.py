@@ -105,12 +105,10 @@ def run(pair: PairSpec, wears: list[WearSpec | None], positions: int = 21, conve
 
 
 def figures(v: Verification):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from .plotting import subplots
 
     figs = {}
-    fig, (ax, ax2, ax3) = plt.subplots(3, 1, figsize=(9, 11), sharex=True)
+    fig, (ax, ax2, ax3) = subplots(3, 1, figsize=(9, 11), sharex=True)
     for i, ph in enumerate(v.phases):
         col = f"C{i}"
         ax.plot(ph.radius_mm, ph.fem, "o-", color=col, ms=4, label=f"FE ({ph.label})")
@@ -201,20 +199,14 @@ def markdown(v: Verification, files: dict[str, str]) -> str:
 
 
 def write(v: Verification, out: Path, inputs: dict[str, Any]) -> list[Path]:
-    import matplotlib.pyplot as plt
-
     files: list[Path] = []
     names: dict[str, str] = {}
     for name, fig in figures(v).items():
         files.append(io.write_figure(fig, out / name))
         names[name] = name
-        plt.close(fig)
     if v.convergence:
         from gearwear.fem.convergence import plot_convergence
-        tmp = out / ".convergence.png.tmp.png"
-        plot_convergence(v.convergence, tmp)
-        files.append(io.write_bytes(out / "convergence.png", tmp.read_bytes()))
-        tmp.unlink()
+        files.append(plot_convergence(v.convergence, out / "convergence.png"))
         names["convergence.png"] = "convergence.png"
     files.append(io.write_text(out / "verification.md", markdown(v, names)))
     js = to_json(v)
