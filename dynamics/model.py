@@ -230,6 +230,19 @@ class GearDynamics:
     def e_mean(self) -> float:
         return _table_mean(self, self.e_table) if self.te_excitation else 0.0
 
+    # Computed once per instance (the fields and the read-only tables never change after
+    # __post_init__) and dropped with it. A module-level lru_cache would key on identity
+    # (eq=False), keep up to 64 models and their tables alive and share state between
+    # unrelated callers. cached_property writes the instance __dict__, so frozen is fine.
+    @functools.cached_property
+    def _derived(self) -> tuple:
+        return _compute_derived(self)
+
+    @functools.cached_property
+    def _py_constants(self) -> tuple:
+        par, phi, phx, kc, ec = self._derived
+        return (par.tolist(), phx.tolist(), kc.tolist(), ec.tolist())
+
     def with_(self, **changes) -> "GearDynamics":
         """A copy with some fields replaced (dataclasses.replace)."""
         import dataclasses
@@ -284,11 +297,14 @@ def damping_from_ratios(zeta_m: float, zeta_b: float, k_mean: float, m_e: float,
 N_PAR = 23
 
 
-@functools.lru_cache(maxsize=64)
 def derived(model: GearDynamics):
     """Parameter vector, the table nodes, the periodic-extended nodes phx (n + 2) and the
     k and e interpolants' coefficients per extended segment (n + 1, 4), see
-    :func:`segment_coefficients` (cached per model object)."""
+    :func:`segment_coefficients` (computed once per model instance, read-only arrays)."""
+    return model._derived
+
+
+def _compute_derived(model: GearDynamics):
     P = model.mesh_period_rad
     phi = np.asarray(model.phi_table, float)
     n = phi.size
@@ -524,12 +540,6 @@ def _accelerations(model: GearDynamics, t, z, k=None, e=None) -> np.ndarray:
     return a
 
 
-@functools.lru_cache(maxsize=64)
-def _py_constants(model: GearDynamics):
-    par, phi, phx, kc, ec = derived(model)
-    return (par.tolist(), phx.tolist(), kc.tolist(), ec.tolist())
-
-
 def rhs_python(t: float, y, model: GearDynamics) -> np.ndarray:
     """Pure-Python right-hand side of the same model (for scipy.integrate.solve_ivp).
 
@@ -537,7 +547,7 @@ def rhs_python(t: float, y, model: GearDynamics) -> np.ndarray:
     the compiled kernel (a cross-check of both). The piecewise modes (flank contact,
     bearing contact) are evaluated from the state; no event location. ``y`` is the
     10-state vector (extra entries are ignored)."""
-    par, phx, kc, ec = _py_constants(model)
+    par, phx, kc, ec = model._py_constants
     yp, xp, yg, xg, q, vyp, vxp, vyg, vxg, vq = (float(v) for v in y[:10])
     Rs = model.R_p + model.R_g
     Y = yp - yg

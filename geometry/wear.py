@@ -304,6 +304,9 @@ def flank_depth(profile: ToothProfile, gear_index: int, mesh: MeshGeometry, spec
     return h
 
 
+# Value memoisation, not identity: MeshGeometry (PairSpec, float) and WearSpec are frozen
+# dataclasses hashed and compared by field values, and the result is a tuple of floats, so
+# equal inputs share an entry and no caller can change a cached value.
 @lru_cache(maxsize=64)
 def _flank_reference(mesh: MeshGeometry, spec: WearSpec) -> tuple[float, float, float]:
     """(largest pinion depth per contact, LOA position of the pinion's and of the gear's

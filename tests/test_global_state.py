@@ -116,3 +116,29 @@ def test_failed_writer_leaves_nothing_behind_and_keeps_the_old_file(tmp_path):
     assert [p.name for p in tmp_path.iterdir()] == ["result.json"]
     assert target.read_text() == "old"
 
+
+# -- per-model derived constants ----------------------------------------------------------
+
+def test_derived_constants_live_and_die_with_their_model():
+    """derived() is computed once per model, a changed copy gets its own, and nothing
+    module-level keeps a model (and its tables) alive once the caller drops it."""
+    import gc
+    import weakref
+
+    import numpy as np
+
+    from gearwear.dynamics.model import derived, rhs_python, static_equilibrium
+    from gearwear.dynamics.presets import paper_pair
+
+    m = paper_pair()
+    d = derived(m)
+    assert derived(m) is d
+    f = rhs_python(0.0, static_equilibrium(m), m)
+    faster = m.with_(omega_p=2 * m.omega_p)
+    assert derived(faster)[0][13] == 2 * d[0][13] == 2 * m.omega_p   # P_OM: its own constants
+    assert np.all(np.isfinite(f))
+    ref = weakref.ref(m)
+    del m, d, faster
+    gc.collect()
+    assert ref() is None
+
