@@ -17,7 +17,18 @@ from typing import Any, Iterable, Mapping
 
 
 class InputError(ValueError):
-    """A user input is invalid; the message is a complete one-line diagnosis."""
+    """A user input is invalid; the message is a complete one-line diagnosis.
+
+    Errors built by :func:`fail` also carry ``key``, ``value``, ``unit`` and ``why`` so
+    that a higher layer can rename a low layer's own parameter names to the user's keys
+    (:func:`renamed`)."""
+
+    key: str | None = None
+    value: Any = None
+    unit: str = ""
+    why: str = ""
+    field: "Field | None" = None   # set for range errors, so a rename can rescale the range
+    note: str = ""
 
 
 @dataclass(frozen=True)
@@ -54,7 +65,17 @@ def _fmt(v: Any) -> str:
 def fail(key: str, value: Any, unit: str, why: str) -> InputError:
     """Build the one-line error for ``key = value unit: why``."""
     u = f" {unit}" if unit else ""
-    return InputError(f"{key} = {_fmt(value)}{u}: {why}")
+    err = InputError(f"{key} = {_fmt(value)}{u}: {why}")
+    err.key, err.value, err.unit, err.why = key, value, unit, why
+    return err
+
+
+def fail_range(key: str, value: float, field: Field, note: str = "") -> InputError:
+    """``key = value unit: must be in <range>[, note]`` (the range survives a rename with
+    a unit change, see :func:`renamed`)."""
+    err = fail(key, value, field.unit, f"must be in {field.range_text()}" + (f", {note}" if note else ""))
+    err.field, err.note = field, note
+    return err
 
 
 def check_scalar(key: str, value: Any, field: Field) -> float | int:
@@ -120,3 +141,30 @@ def parse_table(table: str, data: Mapping[str, Any], schema: Mapping[str, Field]
             raise InputError(f"{table}.{key}: missing ({field.range_text()})")
         out[key] = check_value(f"{table}.{key}", raw, field)
     return out
+
+
+def renamed(exc: InputError, names: Mapping[str, Any]) -> InputError:
+    """The same error with its leading key replaced through ``names``, so a low layer
+    can name its own parameters (``duration_s``, ``hub_radius_m``) and the app layer the
+    user's key (``solver.duration_s``) or flag (``--method``).
+
+    ``names[own] = new_key`` or ``(new_key, factor, unit)`` for a key whose user form
+    has another unit (the value is multiplied by ``factor``). Indices survive:
+    ``hub_radius_m[1]`` -> ``pair.hub_radius_mm[1]``."""
+    msg = str(exc)
+    head = exc.key if exc.key is not None else msg.split(" ", 1)[0].split(":", 1)[0]
+    base, idx = (head.split("[", 1) + [""])[:2]
+    if base not in names:
+        return exc
+    target = names[base]
+    if isinstance(target, tuple):
+        new_key, factor, unit = target
+        if exc.key is not None and isinstance(exc.value, (int, float)) and not isinstance(exc.value, bool):
+            key = new_key + (f"[{idx}" if idx else "")
+            if exc.field is not None:
+                f = exc.field
+                scaled = Field(unit, f.lo * factor, f.hi * factor, f.lo_open, f.hi_open, f.kind)
+                return fail_range(key, exc.value * factor, scaled, exc.note)
+            return fail(key, exc.value * factor, unit, exc.why)
+        target = new_key
+    return type(exc)(target + msg[len(base):])

@@ -127,39 +127,39 @@ class GearDynamics:
         for name in pos:
             v = getattr(self, name)
             if not isinstance(v, (int, float, np.floating, np.integer)) or not math.isfinite(v) or v <= 0:
-                raise InputError(f"dynamics.{name} = {v!r}: must be a finite number > 0")
+                raise InputError(f"{name} = {v!r}: must be a finite number > 0")
         for name in ("c_h", "T_p"):
             v = getattr(self, name)
             if not isinstance(v, (int, float, np.floating, np.integer)) or not math.isfinite(v):
-                raise InputError(f"dynamics.{name} = {v!r}: must be a finite number")
+                raise InputError(f"{name} = {v!r}: must be a finite number")
         if self.c_h < 0:
-            raise InputError(f"dynamics.c_h = {self.c_h} N s/m: must be >= 0")
+            raise InputError(f"c_h = {self.c_h} N s/m: must be >= 0")
         cb = self.c_b if isinstance(self.c_b, (tuple, list)) else (self.c_b, self.c_b)
         if len(cb) != 2 or any((not math.isfinite(c)) or c < 0 for c in cb):
-            raise InputError(f"dynamics.c_b = {self.c_b!r} N s/m: must be >= 0 (one value or pinion, gear)")
+            raise InputError(f"c_b = {self.c_b!r} N s/m: must be >= 0 (one value or pinion, gear)")
         object.__setattr__(self, "c_b", (float(cb[0]), float(cb[1])))
         if not (0 < self.alpha < math.pi / 2):
-            raise InputError(f"dynamics.alpha = {self.alpha} rad: must be in (0, pi/2)")
+            raise InputError(f"alpha = {self.alpha} rad: must be in (0, pi/2)")
         if int(self.z_p) != self.z_p or self.z_p < 3:
-            raise InputError(f"dynamics.z_p = {self.z_p}: must be a whole number >= 3")
+            raise InputError(f"z_p = {self.z_p}: must be a whole number >= 3")
         P = 2 * math.pi / self.z_p
         phi = np.asarray(self.phi_table, dtype=float).ravel()
         k = np.asarray(self.k_table, dtype=float).ravel()
         if phi.size < 2 or k.shape != phi.shape:
-            raise InputError(f"dynamics.k_table: needs >= 2 points and the shape of phi_table "
+            raise InputError(f"k_table: needs >= 2 points and the shape of phi_table "
                              f"({phi.size}), got {k.size}")
         if not (np.all(np.isfinite(phi)) and np.all(np.diff(phi) > 0) and phi[0] >= 0
                 and phi[-1] < P * (1 + 1e-12)):
-            raise InputError(f"dynamics.phi_table: must be strictly increasing inside one mesh "
+            raise InputError(f"phi_table: must be strictly increasing inside one mesh "
                              f"period [0, {P:.6g}) rad")
         if phi[-1] >= P:
             phi = phi.copy()
             phi[-1] = np.nextafter(P, 0.0)
         if not np.all(np.isfinite(k)) or np.any(k < 0):
-            raise InputError("dynamics.k_table N/m: must be finite and >= 0")
+            raise InputError("k_table N/m: must be finite and >= 0")
         e = np.zeros_like(phi) if self.e_table is None else np.asarray(self.e_table, float).ravel()
         if e.shape != phi.shape or not np.all(np.isfinite(e)):
-            raise InputError(f"dynamics.e_table m: must be finite with the shape of phi_table ({phi.size})")
+            raise InputError(f"e_table m: must be finite with the shape of phi_table ({phi.size})")
         for name, arr in (("phi_table", phi), ("k_table", k), ("e_table", e)):
             arr = arr.copy()
             arr.setflags(write=False)
@@ -167,30 +167,30 @@ class GearDynamics:
         for name in ("backlash_half_m", "bearing_half_clearance_m"):
             v = getattr(self, name)
             if v is not None and (not math.isfinite(v) or v < 0):
-                raise InputError(f"dynamics.{name} = {v} m: must be >= 0 (or None: effect absent)")
+                raise InputError(f"{name} = {v} m: must be >= 0 (or None: effect absent)")
         if self.centre_distance not in ("static", "dynamic"):
-            raise InputError(f"dynamics.centre_distance = {self.centre_distance!r}: must be "
+            raise InputError(f"centre_distance = {self.centre_distance!r}: must be "
                              f"'static' or 'dynamic'")
         if self.mesh_damping not in ("off-when-separated", "paper"):
-            raise InputError(f"dynamics.mesh_damping = {self.mesh_damping!r}: must be "
+            raise InputError(f"mesh_damping = {self.mesh_damping!r}: must be "
                              f"'off-when-separated' or 'paper'")
         if self.interpolation not in ("linear", "cubic"):
-            raise InputError(f"dynamics.interpolation = {self.interpolation!r}: must be 'linear' or 'cubic'")
+            raise InputError(f"interpolation = {self.interpolation!r}: must be 'linear' or 'cubic'")
         if self.interpolation == "cubic":
             if phi.size < 4:
-                raise InputError(f"dynamics.k_table: cubic interpolation needs >= 4 points, got {phi.size}")
+                raise InputError(f"k_table: cubic interpolation needs >= 4 points, got {phi.size}")
             kc = segment_coefficients(phi, k, P, "cubic")
             d = (np.diff(np.r_[phi, phi[0] + P]))[:, None] * np.linspace(0, 1, 9)[None, :]
             low = np.min(kc[:, 0, None] + d * (kc[:, 1, None] + d * (kc[:, 2, None] + d * kc[:, 3, None])))
             if low < 0:
-                raise InputError(f"dynamics.k_table: its periodic cubic spline goes negative "
+                raise InputError(f"k_table: its periodic cubic spline goes negative "
                                  f"({low:.4g} N/m) between the rows; use linear interpolation")
         if self.k_constant is not None and (not math.isfinite(self.k_constant) or self.k_constant < 0):
-            raise InputError(f"dynamics.k_constant = {self.k_constant} N/m: must be >= 0")
+            raise InputError(f"k_constant = {self.k_constant} N/m: must be >= 0")
         if self.centre_distance == "dynamic" and self.C0_m is not None:
             Cn = (self.R_p + self.R_g) / math.cos(self.alpha)
             if abs(self.C0_m - Cn) > 1e-9 * Cn:
-                raise InputError(f"dynamics.C0_m = {self.C0_m} m: must equal (R_p + R_g)/cos(alpha) "
+                raise InputError(f"C0_m = {self.C0_m} m: must equal (R_p + R_g)/cos(alpha) "
                                  f"= {Cn:.9g} m (alpha is the pressure angle at C0)")
 
     # ---- derived quantities (pure) ----
@@ -283,7 +283,12 @@ def _table_mean(model: GearDynamics, v: np.ndarray) -> float:
 
 def damping_from_ratios(zeta_m: float, zeta_b: float, k_mean: float, m_e: float, k_b: float,
                         m_p: float, m_g: float) -> tuple[float, tuple[float, float]]:
-    """``c_h = 2 zeta_m sqrt(k_mean m_e)``, ``c_b = 2 zeta_b sqrt(k_b m)`` per bearing."""
+    """Viscous damping from damping ratios: ``c_h = 2 zeta_m sqrt(k_mean m_e)`` (mesh, on
+    the reduced torsional mass m_e) and ``c_b = 2 zeta_b sqrt(k_b m)`` for the pinion's and
+    the gear's bearing (m = m_p, m_g); c = 2 zeta sqrt(k m) is the damping that gives a
+    single-DOF oscillator the ratio zeta of critical damping. Ratios dimensionless,
+    stiffnesses N/m, masses kg; returns (c_h, (c_b_p, c_b_g)) in N s/m. The one home of
+    this conversion (scenes and presets call it)."""
     return (2 * zeta_m * math.sqrt(k_mean * m_e),
             (2 * zeta_b * math.sqrt(k_b * m_p), 2 * zeta_b * math.sqrt(k_b * m_g)))
 
@@ -617,7 +622,7 @@ def static_equilibrium(model: GearDynamics) -> np.ndarray:
     F = model.F_s
     k = model.k_mean
     if F != 0 and k <= 0:
-        raise InputError("dynamics.k_table: mean mesh stiffness is 0 N/m, no static "
+        raise InputError("k_table: mean mesh stiffness is 0 N/m, no static "
                          "equilibrium under load")
     sgn = 1.0 if F > 0 else (-1.0 if F < 0 else 0.0)
     bb = model.bearing_half_clearance_m or 0.0

@@ -199,16 +199,16 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
     takes noticeable time (first run only; numba caches them on disk).
     """
     if not (isinstance(duration_s, (int, float)) and math.isfinite(duration_s) and duration_s > 0):
-        raise InputError(f"solver.duration_s = {duration_s} s: must be > 0")
+        raise InputError(f"duration_s = {duration_s} s: must be > 0")
     if not (math.isfinite(discard_s) and 0 <= discard_s < duration_s):
-        raise InputError(f"solver.discard_s = {discard_s} s: must be in [0, duration_s)")
+        raise InputError(f"discard_s = {discard_s} s: must be in [0, duration_s)")
     if method not in ("auto", "rk4", "dopri5"):
-        raise InputError(f"solver.method = {method!r}: must be 'rk4', 'dopri5' or 'auto'")
+        raise InputError(f"method = {method!r}: must be 'rk4', 'dopri5' or 'auto'")
     if int(steps_per_mesh_period) != steps_per_mesh_period or steps_per_mesh_period < 4:
-        raise InputError(f"solver.steps_per_mesh_period = {steps_per_mesh_period}: must be a "
+        raise InputError(f"steps_per_mesh_period = {steps_per_mesh_period}: must be a "
                          f"whole number >= 4")
     if not (0 < rtol < 1):
-        raise InputError(f"solver.rtol = {rtol}: must be in (0, 1)")
+        raise InputError(f"rtol = {rtol}: must be in (0, 1)")
     nonsmooth = has_flank_law(model) or model.bearing_half_clearance_m is not None
     if method == "auto":
         method = "dopri5" if nonsmooth else "rk4"
@@ -218,7 +218,7 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
     t0 = n_d * Pt
     M = int(math.floor((duration_s - t0) * fm + 1e-9))
     if M < 1:
-        raise InputError(f"solver.duration_s = {duration_s} s: must exceed discard_s rounded up "
+        raise InputError(f"duration_s = {duration_s} s: must exceed discard_s rounded up "
                          f"to whole mesh periods ({t0:.6g} s) by at least one mesh period "
                          f"({Pt:.6g} s)")
     S = int(samples_per_mesh_period or steps_per_mesh_period)
@@ -234,7 +234,7 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
     n_out = t_uni.size + nodes.size
     need = n_out * OUTPUT_BYTES_PER_SAMPLE_STATE
     if need > max_output_bytes:
-        raise InputError(f"solver.duration_s = {duration_s:g} s: the kept window of {M} mesh periods "
+        raise InputError(f"duration_s = {duration_s:g} s: the kept window of {M} mesh periods "
                          f"x {S} samples needs about {need / 2 ** 30:.3g} GiB of output (limit "
                          f"{max_output_bytes / 2 ** 30:.3g} GiB); shorten duration_s - discard_s or "
                          f"lower the speed")
@@ -245,16 +245,16 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
         hw, w = rk4_stability_number(model, steps_per_mesh_period)
         if hw > 2.5:
             n_min = int(math.ceil(w / (2.5 * fm)))
-            raise InputError(f"solver.steps_per_mesh_period = {steps_per_mesh_period}: RK4 is unstable "
+            raise InputError(f"steps_per_mesh_period = {steps_per_mesh_period}: RK4 is unstable "
                              f"here (h omega_max = {hw:.3g} > 2.5, omega_max = {w:.4g} rad/s of the "
                              f"linearised model); use >= {n_min} steps per mesh period or "
-                             f"solver.method = dopri5")
+                             f"method = dopri5")
     if max_steps is None:
         max_steps = int(20_000 * (t_end * fm + 1)) + 100_000
 
     z0 = static_equilibrium(model) if y0 is None else np.asarray(y0, float).ravel()
     if z0.shape != (10,) or not np.all(np.isfinite(z0)):
-        raise InputError("solver.y0: must be 10 finite values (y_p, x_p, y_g, x_g, q and velocities)")
+        raise InputError("y0: must be 10 finite values (y_p, x_p, y_g, x_g, q and velocities)")
     nz = 14 if track_energy else 10
     z0 = np.concatenate([z0, np.zeros(nz - 10)])
 
@@ -270,9 +270,9 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
     else:
         atol_vec = np.asarray(atol, float).ravel()
         if atol_vec.shape != (10,):
-            raise InputError("solver.atol: must be None, a scalar or 10 values")
+            raise InputError("atol: must be None, a scalar or 10 values")
     if np.any(atol_vec <= 0):
-        raise InputError("solver.atol: must be > 0")
+        raise InputError("atol: must be > 0")
     # a displacement this far beyond every physical scale means divergence, not dynamics
     zlim = 1e4 * (x_ref + (model.backlash_half_m or 0.0) + (model.bearing_half_clearance_m or 0.0)
                   + float(np.max(np.abs(z0[:5]))))

@@ -9,12 +9,14 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 from pathlib import Path
 
-from gearwear.core.validation import InputError
+from gearwear.core.validation import InputError, fail, renamed
 
 from . import __version__
+from .scene import wear_override
 
 
 def _float_arg(name: str, unit: str, lo: float = 0.0):
@@ -29,27 +31,69 @@ def _float_arg(name: str, unit: str, lo: float = 0.0):
     return parse
 
 
+def _alias_sets(args: argparse.Namespace) -> list[str]:
+    """The single-valued short flags as the --set overrides they stand for."""
+    sets = []
+    if getattr(args, "torque_Nm", None) is not None:
+        sets.append(f"operating.torque_Nm={args.torque_Nm}")
+    for flag, make in (("wear", wear_override), ("clearance_um", _clearance_set)):
+        values = _split_multi(getattr(args, flag, None))
+        if len(values) == 1:
+            sets.append(make(values[0]))
+    return sets + list(args.set or [])
+
+
+def _clearance_set(text: str) -> str:
+    return f"effects.bearing_clearance.clearance_um={text}"
+
+
+ALIAS_KEYS = {"torque_Nm": ("operating.torque_Nm", "--torque-Nm"),
+              "clearance_um": ("effects.bearing_clearance.clearance_um", "--clearance-um"),
+              "wear": ("effects.wear", "--wear")}
+
+
+def _load(args: argparse.Namespace, default: str = "paper-default", extra: list[str] | None = None,
+          loaded: bool = True):
+    """The command's scene: file or built-in name, short-flag aliases, then --set. A bad
+    value given through a short flag is reported under the flag's name. ``loaded``: the
+    command computes load sharing, so the torque must be > 0."""
+    from .scene import apply_overrides, load_scene_dict, scene_from_dict
+
+    data, name = load_scene_dict(args.scene, default=default)
+    try:
+        scene = scene_from_dict(apply_overrides(data, _alias_sets(args) + list(extra or [])), name=name)
+        if loaded and not scene.operating.torque_Nm > 0:
+            raise fail("operating.torque_Nm", scene.operating.torque_Nm, "N m",
+                       "must be in (0, 1e+07] N m: the load sharing of the mesh stiffness needs a load")
+        return scene
+    except InputError as exc:
+        given = {key: flag for attr, (key, flag) in ALIAS_KEYS.items() if getattr(args, attr, None) is not None}
+        raise renamed(exc, given) from None
+
+
+def _variants(args: argparse.Namespace) -> tuple[object, list, list[float]]:
+    """(scene, wear specs, clearances in m) for commands that overlay several --wear and
+    --clearance-um values: each value is the scene with that alias applied."""
+    scene = _load(args)
+    wears = [_load(args, extra=[wear_override(w)]).wear for w in _split_multi(args.wear)] or [scene.wear]
+    clear = [_load(args, extra=[_clearance_set(c)]).clearance_m for c in _split_multi(args.clearance_um)]
+    return scene, wears, clear or [scene.clearance_m]
+
+
 def _cmd_geometry(args: argparse.Namespace) -> int:
-    from gearwear.geometry.wear import parse_wear_arg
-
     from . import geometry_job
-    from .scene import load_scene
 
-    scene = load_scene(args.pair)
-    torque = scene.operating.torque_Nm if args.torque_Nm is None else _float_arg("--torque-Nm", "N m")(args.torque_Nm)
-    clearance_um = (scene.clearance_m * 1e6 if args.clearance_um is None
-                    else _float_arg("--clearance-um", "um")(args.clearance_um))
-    wear = scene.wear
-    if args.wear is not None:
-        wear = parse_wear_arg(args.wear, torque, scene.operating.speed_rpm)
+    scene = _load(args, loaded=False)
+    torque, clearance_um, wear = scene.operating.torque_Nm, scene.clearance_m * 1e6, scene.wear
     mesh_size = _float_arg("--mesh-size-mm", "mm", 1e-3)(args.mesh_size_mm)
+    out = _check_out(args.out)
     res = geometry_job.compute(scene, wear, clearance_um * 1e-6, torque, build_mesh=not args.no_mesh,
                                mesh_size_mm=mesh_size)
     inputs = {"scene": scene.name, "pair": _pair_inputs(scene), "wear": wear.label if wear else "unworn",
               "wear_model": wear.model if wear else None, "clearance_um": clearance_um, "torque_Nm": torque,
               "bearing_stiffness_N_per_m": scene.bodies.bearing_stiffness_N_per_m,
               "initial_backlash_um": scene.initial_backlash_m * 1e6, "mesh_size_mm": mesh_size}
-    files = geometry_job.write(res, Path(args.out), inputs) if args.out else []
+    files = geometry_job.write(res, out, inputs) if out else []
     summary = res.summary()
     summary["files"] = [str(f) for f in files]
     if args.json:
@@ -59,9 +103,23 @@ def _cmd_geometry(args: argparse.Namespace) -> int:
     return 0
 
 
-def _split_multi(values: list[str] | None) -> list[str]:
+def _check_out(out: str | None) -> Path | None:
+    """--out is checked before any work: it must be a folder we can create and write."""
+    if out is None:
+        return None
+    p = Path(out)
+    if p.exists() and not p.is_dir():
+        raise InputError(f"--out = {out}: exists and is not a folder")
+    parent = next((q for q in [p, *p.parents] if q.exists()), Path("."))
+    if not parent.is_dir() or not os.access(parent, os.W_OK | os.X_OK):
+        raise InputError(f"--out = {out}: {parent} is not a writable folder")
+    return p
+
+
+def _split_multi(values: list[str] | str | None) -> list[str]:
+    """Flag values given space- or comma-separated (one string for single-valued flags)."""
     out: list[str] = []
-    for v in values or []:
+    for v in [values] if isinstance(values, str) else values or []:
         out += [x for x in v.split(",") if x.strip()]
     return out
 
@@ -69,33 +127,25 @@ def _split_multi(values: list[str] | None) -> list[str]:
 def _cmd_stiffness(args: argparse.Namespace) -> int:
     import math
 
-    from gearwear.geometry.wear import parse_wear_arg
-
     from . import stiffness_job
-    from .scene import load_scene
 
-    scene = load_scene(args.pair)
     if args.method not in stiffness_job.METHODS:
         raise InputError(f"--method = {args.method!r}: must be one of {', '.join(stiffness_job.METHODS)}")
-    torque = scene.operating.torque_Nm if args.torque_Nm is None else _float_arg("--torque-Nm", "N m")(args.torque_Nm)
-    if not torque > 0:
-        raise InputError(f"--torque-Nm = {torque:g} N m: must be in (0, 1e7] N m")
+    scene, wears, clearances = _variants(args)
+    torque = scene.operating.torque_Nm
     if args.points is None:
         args.points = "24" if args.method == "fem" else "360"  # FE: 24 positions take ~10 s
     points = _int_arg("--points", args.points, 8, 1_000_000)
-    wear_args = _split_multi(args.wear)
-    wears = [parse_wear_arg(w, torque, scene.operating.speed_rpm) for w in wear_args] or [scene.wear]
-    cl_args = _split_multi(args.clearance_um)
-    clearances = ([_float_arg("--clearance-um", "um")(c) * 1e-6 for c in cl_args] or [scene.clearance_m])
+    out = _check_out(args.out)
     fields = [_int_arg("--fields", f, 0, points - 1) for f in _split_multi(args.fields)]
     if fields and (args.method != "fem" or not args.out):
         raise InputError(f"--fields = {','.join(map(str, fields))}: needs --method fem and --out")
     curves = stiffness_job.compute(scene.pair, args.method, wears, clearances, torque, points)
     inputs = {"scene": scene.name, "pair": _pair_inputs(scene), "method": args.method, "torque_Nm": torque,
               "points": points}
-    files = stiffness_job.write(curves, Path(args.out), inputs) if args.out else []
-    if fields:
-        files += stiffness_job.write_fields(curves, Path(args.out), fields)
+    files = stiffness_job.write(curves, out, inputs) if out else []
+    if fields and out:
+        files += stiffness_job.write_fields(curves, out, fields)
     summaries = [c.summary() for c in curves]
     if args.json:
         out = dict(summaries[0])
@@ -117,23 +167,22 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
     return 0
 
 
-def _wear_list(args, scene, torque):
-    from gearwear.geometry.wear import parse_wear_arg
-    names = _split_multi(args.wear)
-    return [None if w == "unworn" else parse_wear_arg(w, torque, scene.operating.speed_rpm) for w in names]
+def _unworn_as_none(wears: list) -> list:
+    """verify and calibrate key an unworn flank as None (the nominal profile)."""
+    return [None if w is None or w.is_unworn else w for w in wears]
 
 
 def _cmd_verify(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
     from . import verify_job
-    from .scene import load_scene
 
-    scene = load_scene(args.pair)
-    from gearwear.geometry.wear import WearSpec
-    wears = _wear_list(args, scene, scene.operating.torque_Nm) or [None, WearSpec(phase="mild"),
-                                                                   WearSpec(phase="severe")]
+    if not args.wear:
+        args.wear = ["unworn", "mild", "severe"]
+    scene, wears, _ = _variants(args)
+    wears = _unworn_as_none(wears)
     positions = _int_arg("--positions", args.positions, 5, 201)
+    out = _check_out(args.out)
     steps = len(wears) + (0 if args.no_convergence else 12)
     with tqdm(total=steps, desc="verify", unit="run", disable=args.json or None, file=sys.stderr) as bar:
         def progress(msg):
@@ -142,7 +191,7 @@ def _cmd_verify(args: argparse.Namespace) -> int:
         v = verify_job.run(scene.pair, wears, positions, convergence=not args.no_convergence, progress=progress)
     inputs = {"scene": scene.name, "pair": _pair_inputs(scene), "wear": [w.label if w else "unworn" for w in wears],
               "positions": positions, "convergence": not args.no_convergence}
-    files = verify_job.write(v, Path(args.out), inputs) if args.out else []
+    files = verify_job.write(v, out, inputs) if out else []
     js = verify_job.to_json(v)
     js["files"] = [str(f) for f in files]
     if args.json:
@@ -165,17 +214,12 @@ def _cmd_verify(args: argparse.Namespace) -> int:
 
 def _cmd_calibrate(args: argparse.Namespace) -> int:
     from . import calibrate, io, tables
-    from .scene import load_scene
 
-    scene = load_scene(args.pair)
-    torque = scene.operating.torque_Nm if args.torque_Nm is None else _float_arg("--torque-Nm", "N m")(args.torque_Nm)
-    if not torque > 0:
-        raise InputError(f"--torque-Nm = {torque:g} N m: must be in (0, 1e7] N m")
+    scene, wears, clearances = _variants(args)
+    wears = _unworn_as_none(wears)
+    torque = scene.operating.torque_Nm
     points = _int_arg("--points", args.points, 8, 1_000_000)
-    wears = _wear_list(args, scene, torque) or [scene.wear]
-    cl_args = _split_multi(args.clearance_um)
-    clearances = [_float_arg("--clearance-um", "um")(c) * 1e-6 for c in cl_args] or [scene.clearance_m]
-    out = Path(args.out) if args.out else None
+    out = _check_out(args.out)
     rows, files = [], []
     for w in wears:
         cal = None
@@ -217,13 +261,13 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
 
 def _cmd_simulate(args: argparse.Namespace) -> int:
     from . import simulate_io, simulate_job
-    from .scene import apply_overrides, load_scene_dict, scene_from_dict
 
-    data, name = load_scene_dict(args.scene, default="paper-wear-severe")
-    scene = scene_from_dict(apply_overrides(data, args.set), name=name)
+    scene = _load(args, default="paper-wear-severe")
+    name = scene.name
+    out = _check_out(args.out)
     run = simulate_job.run(scene, on_compile=lambda msg: print(msg, file=sys.stderr, flush=True))
     summary = run.summary()
-    files = simulate_io.write(run, Path(args.out), {"scene": name, "overrides": args.set or []}) if args.out else []
+    files = simulate_io.write(run, out, {"scene": name, "overrides": _alias_sets(args)}) if out else []
     summary["files"] = [str(f) for f in files]
     if args.json:
         print(json.dumps(summary, sort_keys=True, allow_nan=False, default=lambda o: None))
@@ -234,14 +278,12 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
     from . import sweep
-    from .scene import builtin_scene_names, load_scene_dict
+    from .scene import load_scene_dict
 
-    if args.scene and not Path(args.scene).exists() and args.scene in builtin_scene_names():
-        data, name = load_scene_dict(None, default=args.scene)
-    else:
-        data, name = load_scene_dict(args.scene, default="paper-wear-severe")
+    data, name = load_scene_dict(args.scene, default="paper-wear-severe")
+    out = _check_out(args.out)
     axes, fixed = [], []
-    for item in args.set or []:
+    for item in _alias_sets(args):
         spec = item.split("=", 1)[1].strip() if "=" in item else ""
         if spec[:1] in "[{\"'" or ("," not in spec and spec.count(":") != 2):
             fixed.append(item)
@@ -254,7 +296,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     results = sweep.sweep(data, name, axes, fixed, executor=executor, progress=not args.json)
     executor.shutdown()
     inputs = {"scene": name, "axes": {a.key: list(a.values) for a in axes}, "fixed": fixed}
-    files = sweep.write(axes, results, Path(args.out), inputs) if args.out else []
+    files = sweep.write(axes, results, out, inputs) if out else []
     if args.json:
         print(json.dumps({"points": results, "files": [str(f) for f in files]}, sort_keys=True,
                          allow_nan=False, default=lambda o: None))
@@ -270,12 +312,31 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_scene(args: argparse.Namespace) -> int:
+    from .schema import json_schema, resolved_dict, to_toml
+    from .scene import builtin_scene_names
+
+    if args.schema:
+        print(json.dumps(json_schema(), indent=2))
+        return 0
+    if args.list:
+        print("\n".join(builtin_scene_names()))
+        return 0
+    scene = _load(args)
+    assert scene.doc is not None
+    data = resolved_dict(scene.doc)
+    print(json.dumps(data, indent=2) if args.json else to_toml(data), end="\n" if args.json else "")
+    return 0
+
+
 def _cmd_report(args: argparse.Namespace) -> int:
     from . import report_paper
 
     if args.which != "paper":
         raise InputError(f"report {args.which!r}: unknown (available: paper)")
-    files = report_paper.run_report(Path(args.out), progress=True)
+    out = _check_out(args.out)
+    assert out is not None
+    files = report_paper.run_report(out, progress=True)
     for f in files:
         print(f"wrote {f}")
     return 0
@@ -335,6 +396,27 @@ def _print_geometry(s: dict) -> None:
         print(f"wrote {f}")
 
 
+SET_HELP = ("override a scene key by its dotted path, e.g. --set operating.speed_rpm=6000 "
+            "--set effects.backlash.initial_um=50 (repeatable; validated like the file; see gearwear scene --schema)")
+
+
+def _scene_options(sp: argparse.ArgumentParser, default: str, multi: bool = False,
+                   aliases: tuple[str, ...] = ("wear", "clearance", "torque")) -> None:
+    """The scene argument, --set, and the short flags that are aliases of --set."""
+    sp.add_argument("scene", nargs="?", help=f"scene TOML file or built-in scene name (default: {default}; "
+                                             "list: gearwear scene --list)")
+    sp.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help=SET_HELP)
+    many = " (one or more: each is overlaid)" if multi else ""
+    if "wear" in aliases:
+        sp.add_argument("--wear", nargs="+" if multi else None, help="alias of --set effects.wear=...: unworn | "
+                        f"mild | severe, a depth like 25um, or running hours like 500h{many}")
+    if "clearance" in aliases:
+        sp.add_argument("--clearance-um", nargs="+" if multi else None, help="alias of --set "
+                        f"effects.bearing_clearance.clearance_um=X, bearing radial clearance in um{many}")
+    if "torque" in aliases:
+        sp.add_argument("--torque-Nm", help="alias of --set operating.torque_Nm=X, pinion torque in N m")
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="gearwear", description=(
         "FE-verified mesh stiffness and dynamics of spur gears with wear, backlash and bearing "
@@ -346,10 +428,7 @@ def build_parser() -> argparse.ArgumentParser:
                        description="Generate the rack-cut tooth profile (involute + trochoidal fillet), the "
                                    "operating geometry at a bearing clearance (paper Eqs. 11-16), the worn "
                                    "flank, and a P2 Gmsh mesh of the whole pinion.")
-    g.add_argument("pair", nargs="?", help="scene or pair TOML file (default: built-in paper pair)")
-    g.add_argument("--wear", help="unworn | mild | severe, a depth like 25um, or running hours like 500h")
-    g.add_argument("--clearance-um", help="bearing radial clearance BC in um (default: scene value or 0)")
-    g.add_argument("--torque-Nm", help="static pinion torque for Eq. 11 and wear loads (default: scene, 40)")
+    _scene_options(g, "paper-default")
     g.add_argument("--mesh-size-mm", default="2.5", help="element size far from fillets/load point (default 2.5)")
     g.add_argument("--no-mesh", action="store_true", help="skip the Gmsh mesh")
     g.add_argument("--out", help="output folder for profile.csv, tooth.png, pinion_mesh.vtu, summary.json")
@@ -361,13 +440,10 @@ def build_parser() -> argparse.ArgumentParser:
                                     "torque, wear gaps and tip-corner contact; loaded static transmission error. "
                                     "Several --wear or --clearance-um values overlay the curves (paper Figs. 6, "
                                     "16, 17).")
-    st.add_argument("pair", nargs="?", help="scene or pair TOML file (default: built-in paper pair)")
+    _scene_options(st, "paper-default", multi=True)
     st.add_argument("--method", default="ishikawa", help="ishikawa (paper Eqs. 2-6, default) | energy "
                                                          "(potential energy + Sainsot foundation) | iso6336 | fem "
                                                          "(resolved FE contact of both gear bodies, ~10 s)")
-    st.add_argument("--wear", nargs="+", help="one or more of unworn, mild, severe, 25um, 500h (or comma-separated)")
-    st.add_argument("--clearance-um", nargs="+", help="one or more bearing clearances in um")
-    st.add_argument("--torque-Nm", help="pinion torque (default: scene, 40)")
     st.add_argument("--points", help="angles per mesh period (>= 8; default 360, 24 for fem)")
     st.add_argument("--out", help="output folder for CSV, JSON sidecars and PNGs")
     st.add_argument("--fields", nargs="+", help="with --method fem: position indices (0 .. points-1) whose "
@@ -380,8 +456,7 @@ def build_parser() -> argparse.ArgumentParser:
                                    "at load positions from SAP to tip, against Ishikawa delta_1 + delta_2 and the "
                                    "energy method, per wear phase; h/p convergence with Richardson extrapolation. "
                                    "Writes verification.md, compliance.png, convergence.png, verification.json.")
-    v.add_argument("pair", nargs="?", help="scene or pair TOML file (default: built-in paper pair)")
-    v.add_argument("--wear", nargs="+", help="phases to verify (default: unworn,mild,severe)")
+    _scene_options(v, "paper-default", multi=True, aliases=("wear", "torque"))
     v.add_argument("--positions", default="21", help="load positions from SAP to tip (default 21)")
     v.add_argument("--no-convergence", action="store_true", help="skip the h/p convergence study (~1-3 min)")
     v.add_argument("--out", help="output folder")
@@ -394,10 +469,7 @@ def build_parser() -> argparse.ArgumentParser:
                                    "Tables are cached by the SHA-256 of their inputs ($GEARWEAR_CACHE or "
                                    "~/.cache/gearwear/tables); these are what scenes with "
                                    "mesh_stiffness.source = \"calibrated\" use.")
-    c.add_argument("pair", nargs="?", help="scene or pair TOML file (default: built-in paper pair)")
-    c.add_argument("--wear", nargs="+", help="wear phases / depths / hours (default: the scene's)")
-    c.add_argument("--clearance-um", nargs="+", help="bearing clearances in um (default: the scene's)")
-    c.add_argument("--torque-Nm", help="pinion torque (default: scene, 40)")
+    _scene_options(c, "paper-default", multi=True)
     c.add_argument("--points", default="360", help="angles per mesh period (default 360)")
     c.add_argument("--refresh", action="store_true", help="recompute even if a cached table exists")
     c.add_argument("--out", help="copy the tables (CSV + JSON sidecar) here")
@@ -409,10 +481,7 @@ def build_parser() -> argparse.ArgumentParser:
                                     "with the effects the scene names. Without a scene: the paper's severe-wear "
                                     "case with 10 um bearing clearance (built-in scene paper-wear-severe). Writes "
                                     "signals (NPZ + CSV), time-trace and spectrum PNGs and summary.json.")
-    sm.add_argument("scene", nargs="?", help="scene TOML file (default: built-in paper-wear-severe)")
-    sm.add_argument("--set", action="append", metavar="KEY=VALUE",
-                    help="override a scene key by its dotted path, e.g. --set operating.speed_rpm=6000 "
-                         "--set effects.backlash.initial_um=50 (repeatable; validated like the file)")
+    _scene_options(sm, "paper-wear-severe")
     sm.add_argument("--out", help="output folder")
     sm.add_argument("--json", action="store_true", help="print one JSON object")
     sm.set_defaults(func=_cmd_simulate)
@@ -422,20 +491,32 @@ def build_parser() -> argparse.ArgumentParser:
                                     "KEY=VALUE fixes a key. Runs the grid on local cores (or a Dask cluster) with "
                                     "a progress bar and writes sweep.csv (metrics and harmonic amplitudes per "
                                     "point) and harmonics-versus-parameter PNGs (paper Figs. 8-14, 19-25).")
-    sw.add_argument("scene", nargs="?", help="scene TOML file or built-in scene name (default: paper-wear-severe)")
-    sw.add_argument("--set", action="append", metavar="KEY=SPEC", help="swept or fixed key (repeatable)")
+    _scene_options(sw, "paper-wear-severe")
     sw.add_argument("--workers", help="local worker processes (default: all cores)")
     sw.add_argument("--scheduler", help="Dask scheduler ADDRESS (needs the optional extra gearwear[dask])")
     sw.add_argument("--out", help="output folder")
     sw.add_argument("--json", action="store_true", help="print one JSON object")
     sw.set_defaults(func=_cmd_sweep)
 
+    sc = sub.add_parser("scene", help="print a fully resolved scene (every default), the JSON Schema, or the "
+                                      "built-in scene names",
+                        description="gearwear scene NAME|FILE [--set ...]: the scene as the run sees it, every "
+                                    "default filled in (TOML, or --json). gearwear scene --schema: the JSON Schema "
+                                    "of a scene document, for completion and checking in editors. "
+                                    "gearwear scene --list: the built-in scenes.")
+    sc.add_argument("scene", nargs="?", help="scene TOML file or built-in scene name (default: paper-default)")
+    sc.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help=SET_HELP)
+    sc.add_argument("--schema", action="store_true", help="print the JSON Schema of a scene document")
+    sc.add_argument("--list", action="store_true", help="list the built-in scene names")
+    sc.add_argument("--json", action="store_true", help="print JSON instead of TOML")
+    sc.set_defaults(func=_cmd_scene)
+
     rp = sub.add_parser("report", help="regenerate the paper's figures with a trends table (report paper)",
                         description="report paper: every numerical figure of Zhang et al. (2019) regenerated with "
                                     "FE-calibrated stiffness and the 6-DOF model, with a table comparing each of the "
                                     "paper's trend claims with this tool's result (a few minutes).")
     rp.add_argument("which", choices=["paper"], help="which report")
-    rp.add_argument("--out", default="reports/paper", help="output folder (default reports/paper)")
+    rp.add_argument("--out", required=True, help="output folder (the repository's copy is reports/paper)")
     rp.set_defaults(func=_cmd_report)
     return p
 
@@ -446,14 +527,24 @@ def main(argv: list[str] | None = None) -> int:
     try:
         return args.func(args)
     except InputError as exc:
-        print(f"gearwear: error: {exc}", file=sys.stderr)
+        print(f"gearwear: error: {renamed(exc, FLAG_NAMES)}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print("gearwear: interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:  # output piped into head & co.: not an error of ours
+        sys.stderr.close()
+        return 0
     except Exception as exc:  # mesh failures etc. carry their own one-line message
-        from gearwear.geometry import mesh as _mesh
-        if isinstance(exc, getattr(_mesh, "MeshError", ())):
+        from gearwear.fem.mesh import MeshError
+        if isinstance(exc, MeshError):
             print(f"gearwear: error: {exc}", file=sys.stderr)
             return 2
         raise
+
+
+#: the lower layers' own parameter names -> the command-line flags that set them
+FLAG_NAMES = {"method": "--method", "fields": "--fields", "points": "--points", "positions": "--positions"}
 
 
 if __name__ == "__main__":

@@ -1,53 +1,28 @@
 """Scenes: a TOML file naming the gear pair, bodies, operating point and the effects
-to simulate (DESIGN.md, "Scenes"). An effect is modelled only if ``[effects]`` names it.
+to simulate (docs/scenes.md). An effect is modelled only if ``[effects]`` names it.
 
-This module validates the whole file (unknown keys are rejected with the nearest
-valid key suggested) and turns it into immutable specs. Units are in the key names;
-everything inside is SI.
+The schema (keys, types, units, ranges, defaults, cross-key checks) is
+``gearwear.schema``; this module loads documents (files, built-in names, ``--set``
+overrides) and resolves a validated document into the SI specs the layers below use.
 """
 
 from __future__ import annotations
 
+import math
+import tomllib
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
 from typing import Any, Mapping
 
-from gearwear.geometry.spec import PairSpec, load_toml, pair_from_dict
-from gearwear.core.validation import Field, InputError, check_value, fail, parse_table, reject_unknown
-from gearwear.geometry.wear import WearSpec, wear_from_dict
+from gearwear.core.validation import InputError, fail, renamed
+from gearwear.geometry.spec import Material, PairSpec, check_pair
+from gearwear.geometry.wear import PHASE_DEPTHS_M, WearSpec
 
-BODIES_SCHEMA = {
-    "mass_kg": Field("kg", 0, 1e6, lo_open=True, per_gear=True),
-    "inertia_kg_m2": Field("kg m^2", 0, 1e6, lo_open=True, per_gear=True),
-    "bearing_stiffness_N_per_m": Field("N/m", 0, 1e13, lo_open=True),
-    "bearing_damping_ratio": Field("", 0, 1),
-    "mesh_damping_ratio": Field("", 0, 1),
-    "bearing_damping_N_s_per_m": Field("N s/m", 0, 1e9, per_gear=True),
-    "mesh_damping_N_s_per_m": Field("N s/m", 0, 1e9),
-}
-# optional: without them J = m r^2 / 2 at the pitch radius and c from the damping ratios
-BODIES_OPTIONAL = ("inertia_kg_m2", "bearing_damping_N_s_per_m", "mesh_damping_N_s_per_m")
+from .schema import (DEFAULT_BEARING_DAMPING_RATIO, DEFAULT_MESH_DAMPING_RATIO, OperatingDoc, SceneDoc, WearDoc,
+                     resolved_method, validate_document)
+
 TABLE_MIN_ROWS = 8
-BODIES_DEFAULTS = {"mass_kg": [3.75, 3.75], "bearing_stiffness_N_per_m": 2.6e8,
-                   "bearing_damping_ratio": 0.02, "mesh_damping_ratio": 0.05}
-OPERATING_SCHEMA = {
-    "speed_rpm": Field("rpm", 0, 1e6, lo_open=True),
-    "torque_Nm": Field("N m", 0, 1e7, lo_open=True),
-}
-OPERATING_DEFAULTS = {"speed_rpm": 1200.0, "torque_Nm": 40.0}
-
-EFFECT_KEYS: dict[str, tuple[str, ...]] = {
-    "mesh_stiffness": ("source", "value_N_per_m", "path", "interpolation"),
-    "wear": ("phase", "max_depth_um", "hours", "model", "archard_k_m2_per_N", "wear_intensity", "taper_mm"),
-    "backlash": ("initial_um", "form", "damping_in_gap"),
-    "bearing_clearance": ("clearance_um",),
-    "centre_distance": ("coupling",),
-    "transmission_error": (),
-}
-STIFFNESS_SOURCES = ("constant", "analytic", "calibrated", "fem", "table")
-SOLVER_KEYS = ("method", "steps_per_mesh_period", "duration_s", "discard_s", "rtol", "atol")
-OUTPUT_KEYS = ("signals", "harmonics")
 
 
 @dataclass(frozen=True)
@@ -72,7 +47,8 @@ class Operating:
 
 @dataclass(frozen=True)
 class Scene:
-    """A validated scene. ``effects`` maps effect name -> its validated options."""
+    """A validated scene resolved to SI. ``effects`` maps effect name -> its options (SI);
+    ``doc`` is the validated document it came from (``gearwear.schema.SceneDoc``)."""
 
     name: str
     pair: PairSpec
@@ -82,6 +58,7 @@ class Scene:
     solver: dict[str, Any] = field(default_factory=dict)
     output: dict[str, Any] = field(default_factory=dict)
     wear: WearSpec | None = None
+    doc: SceneDoc | None = None
 
     @property
     def clearance_m(self) -> float:
@@ -100,108 +77,117 @@ class Scene:
         return self.operating.speed_rpm / 60.0 * self.pair.teeth[0]
 
 
-def _effects(raw: Mapping[str, Any]) -> dict[str, dict[str, Any]]:
-    if not isinstance(raw, Mapping):
-        raise InputError("effects: must be a table of effects")
-    reject_unknown("effects", raw.keys(), EFFECT_KEYS.keys())
-    out: dict[str, dict[str, Any]] = {}
-    for name, opts in raw.items():
-        if not isinstance(opts, Mapping):
-            raise InputError(f"effects.{name}: must be an inline table, e.g. {name} = {{}}")
-        reject_unknown(f"effects.{name}", opts.keys(), EFFECT_KEYS[name])
-        o: dict[str, Any] = {}
-        if name == "mesh_stiffness":
-            src = opts.get("source", "analytic")
-            if src not in STIFFNESS_SOURCES:
-                raise fail("effects.mesh_stiffness.source", repr(src), "", f"must be one of {', '.join(STIFFNESS_SOURCES)}")
-            o["source"] = src
-            if "value_N_per_m" in opts:
-                if src != "constant":
-                    raise fail("effects.mesh_stiffness.value_N_per_m", opts["value_N_per_m"], "N/m",
-                               f"only used with source = \"constant\" (source is {src!r})")
-                o["value_N_per_m"] = check_value("effects.mesh_stiffness.value_N_per_m", opts["value_N_per_m"],
-                                                 Field("N/m", 0, 1e13, lo_open=True))
-            interp = opts.get("interpolation", "linear")
-            if interp not in ("linear", "cubic"):
-                raise fail("effects.mesh_stiffness.interpolation", repr(interp), "",
-                           "must be linear (positivity preserving, for sharp tables) or cubic "
-                           "(periodic cubic spline, for smooth tables)")
-            if interp != "linear" and src == "constant":
-                raise fail("effects.mesh_stiffness.interpolation", repr(interp), "",
-                           'not used with source = "constant"')
-            o["interpolation"] = interp
-            if src == "table" and "path" not in opts:
-                raise InputError('effects.mesh_stiffness.path: missing (a CSV file with columns angle_deg, '
-                                 'k_N_per_m and optionally excitation_um, needed by source = "table")')
-            if "path" in opts:
-                if src != "table":
-                    raise fail("effects.mesh_stiffness.path", repr(opts["path"]), "",
-                               f'only used with source = "table" (source is {src!r})')
-                if not isinstance(opts["path"], str) or not opts["path"]:
-                    raise fail("effects.mesh_stiffness.path", repr(opts["path"]), "", "must be a file path")
-                o["path"] = opts["path"]
-        elif name == "backlash":
-            o["initial_m"] = check_value("effects.backlash.initial_um", opts.get("initial_um", 0.0),
-                                         Field("um", 0, 1e4)) * 1e-6
-            form = opts.get("form", "consistent")
-            if form not in ("consistent", "printed"):
-                raise fail("effects.backlash.form", repr(form), "", "must be one of consistent, printed")
-            o["form"] = form
-            gap_damping = opts.get("damping_in_gap", False)
-            if not isinstance(gap_damping, bool):
-                raise fail("effects.backlash.damping_in_gap", repr(gap_damping), "",
-                           "must be true (paper Eq. 19 literally: c_h delta' acts in the gap) or false (default)")
-            o["damping_in_gap"] = gap_damping
-        elif name == "bearing_clearance":
-            o["clearance_m"] = check_value("effects.bearing_clearance.clearance_um", opts.get("clearance_um", 0.0),
-                                           Field("um", 0, 1e4)) * 1e-6
-        elif name == "centre_distance":
-            coupling = opts.get("coupling", "static")
-            if coupling not in ("static", "dynamic"):
-                raise fail("effects.centre_distance.coupling", repr(coupling), "", "must be one of static, dynamic")
-            o["coupling"] = coupling
-        elif name == "wear":
-            o = dict(opts)  # parsed into a WearSpec once the operating point is known
-        out[name] = o
-    return out
+#: geometry's own parameter names -> scene keys (with unit conversion)
+PAIR_KEYS = {"dedendum_coefficient": "pair.dedendum_coefficient",
+             "rack_tip_radius_coefficient": "pair.rack_tip_radius_coefficient",
+             "profile_shift": "pair.profile_shift", "hub_radius_m": ("pair.hub_radius_mm", 1e3, "mm")}
 
 
-def scene_from_dict(data: Mapping[str, Any], name: str = "scene") -> Scene:
-    """Validate a parsed scene document (see DESIGN.md for the format)."""
-    pair = pair_from_dict(data)  # also rejects unknown top-level tables
-    raw_b = data.get("bodies", {})
-    b = parse_table("bodies", raw_b, BODIES_SCHEMA, BODIES_DEFAULTS, optional=BODIES_OPTIONAL)
-    for ratio, coeff in (("bearing_damping_ratio", "bearing_damping_N_s_per_m"),
-                         ("mesh_damping_ratio", "mesh_damping_N_s_per_m")):
-        if isinstance(raw_b, Mapping) and ratio in raw_b and coeff in raw_b:
-            raise fail(f"bodies.{coeff}", raw_b[coeff], "N s/m",
-                       f"give either bodies.{ratio} or bodies.{coeff}, not both")
-    o = parse_table("operating", data.get("operating", {}), OPERATING_SCHEMA, OPERATING_DEFAULTS)
-    bodies = Bodies(b["mass_kg"], b["bearing_stiffness_N_per_m"], b["bearing_damping_ratio"], b["mesh_damping_ratio"],
-                    b.get("inertia_kg_m2"), b.get("bearing_damping_N_s_per_m"), b.get("mesh_damping_N_s_per_m"))
-    operating = Operating(o["speed_rpm"], o["torque_Nm"])
-    effects = _effects(data.get("effects", {}))
-    solver = dict(data.get("solver", {}))
-    reject_unknown("solver", solver.keys(), SOLVER_KEYS)
-    output = dict(data.get("output", {}))
-    reject_unknown("output", output.keys(), OUTPUT_KEYS)
-    wear = None
-    if "wear" in effects:
-        wear = wear_from_dict(effects["wear"], operating.torque_Nm, operating.speed_rpm)
+def pair_spec(doc: SceneDoc) -> PairSpec:
+    """The SI pair spec of a validated document, checked for geometric consistency."""
+    p, m = doc.pair, doc.material
+    spec = PairSpec(
+        teeth=p.teeth, module_m=p.module_mm * 1e-3, pressure_angle_rad=math.radians(p.pressure_angle_deg),
+        face_width_m=p.face_width_mm * 1e-3, addendum_coefficient=p.addendum_coefficient,
+        dedendum_coefficient=p.dedendum_coefficient, rack_tip_radius_coefficient=p.rack_tip_radius_coefficient,
+        profile_shift=p.profile_shift, hub_radius_m=(p.hub_radius_mm[0] * 1e-3, p.hub_radius_mm[1] * 1e-3),
+        allow_undercut=p.allow_undercut,
+        material=Material(m.youngs_modulus_GPa * 1e9, m.poisson_ratio, m.density_kg_per_m3))
+    try:
+        check_pair(spec)
+    except InputError as exc:
+        raise renamed(exc, PAIR_KEYS) from None
+    return spec
+
+
+def pair_from_dict(data: Mapping[str, Any]) -> PairSpec:
+    """A pair spec from a scene document (only [pair] and [material] matter), validated."""
+    return pair_spec(validate_document(data))
+
+
+def wear_spec(w: WearDoc, operating: OperatingDoc) -> WearSpec:
+    """The SI wear spec of a validated ``[effects] wear`` table at the operating point."""
+    kw: dict[str, Any] = {"phase": w.phase, "model": w.model, "torque_Nm": operating.torque_Nm,
+                          "speed_rpm": operating.speed_rpm, "taper_m": w.taper_mm * 1e-3}
+    if w.max_depth_um is not None:
+        kw["max_depth_m"] = w.max_depth_um * 1e-6
+    if w.hours is not None:
+        kw["hours"] = w.hours
+    if w.archard_k_m2_per_N is not None:
+        kw["archard_k_m2_per_N"] = w.archard_k_m2_per_N
+    if w.wear_intensity is not None:
+        kw["wear_intensity"] = w.wear_intensity
+    return WearSpec(**kw)
+
+
+def wear_from_dict(table: Mapping[str, Any] | str, torque_Nm: float = 40.0, speed_rpm: float = 1200.0) -> WearSpec:
+    """A wear spec from an ``[effects] wear`` table (or a phase name), validated."""
+    doc = validate_document({"effects": {"wear": table}, "operating": {"torque_Nm": torque_Nm,
+                                                                      "speed_rpm": speed_rpm}})
+    assert doc.effects.wear is not None
+    return wear_spec(doc.effects.wear, doc.operating)
+
+
+def wear_override(text: str) -> str:
+    """The ``--wear`` shorthand (a phase, ``25um`` or ``500h``) as the ``--set`` it stands for."""
+    t = text.strip()
+    if t in PHASE_DEPTHS_M:
+        return f'effects.wear={{phase="{t}"}}'
+    for suffix, key in (("um", "max_depth_um"), ("h", "hours")):
+        if t.endswith(suffix):
+            try:
+                return f"effects.wear={{{key}={float(t[:-len(suffix)])!r}}}"
+            except ValueError:
+                break
+    raise InputError(f"--wear = {text!r}: must be one of {', '.join(PHASE_DEPTHS_M)}, a depth like 25um, "
+                     "or running hours like 500h")
+
+
+def parse_wear_arg(text: str, torque_Nm: float = 40.0, speed_rpm: float = 1200.0) -> WearSpec:
+    """The wear spec of a ``--wear`` shorthand."""
+    data = apply_overrides({"operating": {"torque_Nm": torque_Nm, "speed_rpm": speed_rpm}}, [wear_override(text)])
+    return wear_from_dict(data["effects"]["wear"], torque_Nm, speed_rpm)
+
+
+def scene_from_doc(doc: SceneDoc) -> Scene:
+    """The runtime (SI) scene of a validated document."""
+    pair = pair_spec(doc)
+    b, e = doc.bodies, doc.effects
+    bodies = Bodies(b.mass_kg, b.bearing_stiffness_N_per_m,
+                    DEFAULT_BEARING_DAMPING_RATIO if b.bearing_damping_ratio is None else b.bearing_damping_ratio,
+                    DEFAULT_MESH_DAMPING_RATIO if b.mesh_damping_ratio is None else b.mesh_damping_ratio,
+                    b.inertia_kg_m2, b.bearing_damping_N_s_per_m, b.mesh_damping_N_s_per_m)
+    operating = Operating(doc.operating.speed_rpm, doc.operating.torque_Nm)
+    effects: dict[str, dict[str, Any]] = {}
+    if e.mesh_stiffness is not None:
+        effects["mesh_stiffness"] = e.mesh_stiffness.model_dump(exclude_none=True)
+    if e.wear is not None:
+        effects["wear"] = e.wear.model_dump(exclude_none=True)
+    if e.backlash is not None:
+        effects["backlash"] = {"initial_m": e.backlash.initial_um * 1e-6, "form": e.backlash.form,
+                               "damping_in_gap": e.backlash.damping_in_gap}
+    if e.bearing_clearance is not None:
+        effects["bearing_clearance"] = {"clearance_m": e.bearing_clearance.clearance_um * 1e-6}
+    if e.centre_distance is not None:
+        effects["centre_distance"] = {"coupling": e.centre_distance.coupling}
+    if e.transmission_error is not None:
+        effects["transmission_error"] = {}
+    wear = wear_spec(e.wear, doc.operating) if e.wear is not None else None
     ms = effects.get("mesh_stiffness", {})
     if ms.get("source") == "table":
         tab = read_stiffness_table(ms["path"], pair.teeth[0])
         ms["angle_rad"], ms["k_N_per_m"], ms["excitation_m"] = tab
-        if "wear" in effects:
-            raise InputError('effects.wear: cannot be applied to a user stiffness table (mesh_stiffness.source = '
-                             '"table"): the table already is the stiffness; drop [effects] wear')
         if "transmission_error" in effects and tab[2] is None:
             raise InputError(f"effects.transmission_error: the table {ms['path']} has no excitation_um column, "
                              f"so there is no excitation to apply; add the column or drop the effect")
-    nm = data.get("name", name)
-    if not isinstance(nm, str):
-        raise fail("name", repr(nm), "", "must be a string")
-    return Scene(nm, pair, bodies, operating, effects, solver, output, wear)
+    solver = doc.solver.model_dump(exclude_none=True)
+    solver["method"] = resolved_method(doc)
+    return Scene(doc.name, pair, bodies, operating, effects, solver, doc.output.model_dump(), wear, doc)
+
+
+def scene_from_dict(data: Mapping[str, Any], name: str = "scene") -> Scene:
+    """Validate a parsed scene document (``gearwear.schema``) and resolve it to SI."""
+    return scene_from_doc(validate_document(data, name=name))
 
 
 def read_stiffness_table(path: str | Path, z_pinion: int):
@@ -280,11 +266,19 @@ def load_scene(path: str | Path | None = None) -> Scene:
 
 def builtin_scene_dict(name: str) -> dict[str, Any]:
     """The raw TOML document of a built-in scene."""
-    import tomllib
     names = builtin_scene_names()
     if name not in names:
         raise InputError(f"built-in scene {name!r}: unknown (available: {', '.join(names)})")
     return tomllib.loads(resources.files("gearwear.data").joinpath(f"{name}.toml").read_text())
+
+
+def parse_value(text: str) -> Any:
+    """A --set value read as a TOML value (numbers, quoted strings, arrays, booleans,
+    inline tables); anything else is taken as a bare string."""
+    try:
+        return tomllib.loads(f"v = {text}")["v"]
+    except tomllib.TOMLDecodeError:
+        return text
 
 
 def apply_overrides(data: dict[str, Any], overrides: list[str]) -> dict[str, Any]:
@@ -294,17 +288,13 @@ def apply_overrides(data: dict[str, Any], overrides: list[str]) -> dict[str, Any
     inline tables); a bare word is taken as a string. The result is validated like a
     file, so a bad override gets the same one-line error."""
     import copy
-    import tomllib
     out = copy.deepcopy(data)
     for item in overrides or []:
         if "=" not in item:
             raise InputError(f"--set {item!r}: must be KEY=VALUE with a dotted key, e.g. operating.speed_rpm=6000")
         key, text = item.split("=", 1)
         key = key.strip()
-        try:
-            value = tomllib.loads(f"v = {text.strip()}")["v"]
-        except tomllib.TOMLDecodeError:
-            value = text.strip()
+        value = parse_value(text.strip())
         parts = key.split(".")
         node = out
         for part in parts[:-1]:
@@ -316,8 +306,26 @@ def apply_overrides(data: dict[str, Any], overrides: list[str]) -> dict[str, Any
     return out
 
 
+def load_toml(path: str | Path) -> dict[str, Any]:
+    """Read a TOML file, turning I/O and syntax problems into one-line InputErrors."""
+    p = Path(path)
+    try:
+        with p.open("rb") as fh:
+            return tomllib.load(fh)
+    except FileNotFoundError:
+        raise InputError(f"{p}: no such scene file, and not a built-in scene "
+                         f"(built-in: {', '.join(builtin_scene_names())})") from None
+    except IsADirectoryError:
+        raise InputError(f"{p}: is a folder, not a scene file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"{p}: cannot read ({type(exc).__name__})") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"{p}: not valid TOML ({exc})") from None
+
+
 def load_scene_dict(path: str | Path | None, default: str = "paper-default") -> tuple[dict[str, Any], str]:
-    """(raw document, name) of a scene file, or of a built-in scene when path is None."""
+    """(raw document, name) of a scene file or a built-in scene name; the built-in
+    ``default`` when path is None. A file of that name wins over a built-in name."""
     if path is None:
         return builtin_scene_dict(default), default
     p = Path(path)
@@ -332,10 +340,4 @@ def builtin_scene_names() -> list[str]:
 
 def builtin_scene(name: str) -> Scene:
     """A scene shipped with the package (``gearwear/data/<name>.toml``)."""
-    names = builtin_scene_names()
-    if name not in names:
-        raise InputError(f"built-in scene {name!r}: unknown (available: {', '.join(names)})")
-    import tomllib
-    text = resources.files("gearwear.data").joinpath(f"{name}.toml").read_text()
-    return scene_from_dict(tomllib.loads(text), name=name)
-
+    return scene_from_dict(builtin_scene_dict(name), name=name)

@@ -43,24 +43,12 @@ from gearwear.dynamics import GearDynamics, damping_from_ratios, simulate
 from gearwear.dynamics.model import table_mean
 from gearwear.geometry.operating import backlash, centre_distance
 from gearwear.geometry.spec import PairSpec
-from gearwear.core.validation import Field, InputError, check_value, reject_unknown
+from gearwear.core.validation import InputError, renamed
 
 from .scene import Scene
 
 SIGNAL_UNITS = {"y_p": ("um", 1e6), "x_p": ("um", 1e6), "y_g": ("um", 1e6), "x_g": ("um", 1e6),
                 "q": ("um", 1e6), "delta": ("um", 1e6), "F_m": ("N", 1.0)}
-SOLVER_SCHEMA = {
-    "method": None,
-    "steps_per_mesh_period": Field("", 8, 65536, kind=int),
-    "duration_s": Field("s", 0, 100, lo_open=True),
-    "discard_s": Field("s", 0, 100),
-    "rtol": Field("", 1e-14, 1e-2),
-    "atol": Field("", 0, 1, lo_open=True),
-}
-SOLVER_DEFAULTS = {"method": "auto", "steps_per_mesh_period": 256, "duration_s": 0.5, "discard_s": 0.3,
-                   "rtol": 1e-8}
-
-
 @dataclass
 class StiffnessInput:
     phi: np.ndarray
@@ -71,36 +59,11 @@ class StiffnessInput:
     wall_s: float
 
 
-def solver_options(scene: Scene) -> dict[str, Any]:
-    raw = dict(scene.solver)
-    reject_unknown("solver", raw.keys(), SOLVER_SCHEMA.keys())
-    out: dict[str, Any] = {}
-    for key, field in SOLVER_SCHEMA.items():
-        v = raw.get(key, SOLVER_DEFAULTS.get(key))
-        if key == "method":
-            if v not in ("auto", "rk4", "dopri5"):
-                raise InputError(f"solver.method = {v!r}: must be one of auto, rk4, dopri5")
-            out[key] = v
-        elif v is not None:
-            out[key] = check_value(f"solver.{key}", v, field)
-    if out["discard_s"] >= out["duration_s"]:
-        raise InputError(f"solver.discard_s = {out['discard_s']:g} s: must be below solver.duration_s = "
-                         f"{out['duration_s']:g} s")
-    return out
-
-
-def output_options(scene: Scene) -> dict[str, Any]:
-    sig = scene.output.get("signals", ["y_p", "x_p", "delta", "F_m"])
-    if not isinstance(sig, list) or not all(isinstance(x, str) for x in sig):
-        raise InputError(f"output.signals = {sig!r}: must be a list of names from {', '.join(SIGNAL_UNITS)}")
-    for name in sig:
-        if name not in SIGNAL_UNITS:
-            import difflib
-            near = difflib.get_close_matches(name, list(SIGNAL_UNITS), n=1)
-            hint = f"; did you mean {near[0]}?" if near else ""
-            raise InputError(f"output.signals: unknown signal {name!r}{hint} (allowed: {', '.join(SIGNAL_UNITS)})")
-    n = check_value("output.harmonics", scene.output.get("harmonics", 10), Field("", 1, 100, kind=int))
-    return {"signals": sig, "harmonics": n}
+#: the dynamics layer's own parameter names -> scene keys
+SOLVER_KEYS = {name: f"solver.{name}" for name in ("duration_s", "discard_s", "method", "steps_per_mesh_period",
+                                                     "rtol", "atol", "y0")}
+SOLVER_KEYS.update({"k_table": "effects.mesh_stiffness", "e_table": "effects.mesh_stiffness",
+                    "phi_table": "effects.mesh_stiffness"})
 
 
 def operating_centre_distance(scene: Scene) -> float:
@@ -223,13 +186,12 @@ def run(scene: Scene, on_compile=None) -> SimulationRun:
     """Simulate a scene. ``on_compile(message)`` is called once when the solver kernels
     for this effect set must be compiled (first run only)."""
     t0 = time.perf_counter()
-    solver = solver_options(scene)
-    output = output_options(scene)
+    solver, output = dict(scene.solver), dict(scene.output)
     stiff = stiffness_input(scene)
-    model = build_model(scene, stiff)
-    kw = {"method": solver["method"], "steps_per_mesh_period": solver["steps_per_mesh_period"],
-          "rtol": solver["rtol"]}
-    if "atol" in solver:
-        kw["atol"] = solver["atol"]
-    res = simulate(model, solver["duration_s"], solver["discard_s"], on_compile=on_compile, **kw)
+    try:
+        model = build_model(scene, stiff)
+        kw = {k: solver[k] for k in ("method", "steps_per_mesh_period", "rtol", "atol") if k in solver}
+        res = simulate(model, solver["duration_s"], solver["discard_s"], on_compile=on_compile, **kw)
+    except InputError as exc:
+        raise renamed(exc, SOLVER_KEYS) from None
     return SimulationRun(scene, model, stiff, res, solver, output, time.perf_counter() - t0)

@@ -23,20 +23,13 @@ import numpy as np
 from gearwear.core.validation import InputError
 
 from . import io
+from .scene import apply_overrides, parse_value, scene_from_dict
 
 
 @dataclass(frozen=True)
 class Axis:
     key: str
     values: tuple
-
-
-def _parse_value(text: str):
-    import tomllib
-    try:
-        return tomllib.loads(f"v = {text}")["v"]
-    except tomllib.TOMLDecodeError:
-        return text
 
 
 def parse_axis(item: str) -> Axis:
@@ -54,7 +47,7 @@ def parse_axis(item: str) -> Axis:
             raise InputError(f"--set {key}={spec}: N = {count} must be in [1, 10000]")
         vals = np.linspace(start, stop, count)
         return Axis(key, tuple(float(v) for v in vals))
-    return Axis(key, tuple(_parse_value(v.strip()) for v in spec.split(",") if v.strip()))
+    return Axis(key, tuple(parse_value(v.strip()) for v in spec.split(",") if v.strip()))
 
 
 def grid(axes: list[Axis]) -> list[dict[str, Any]]:
@@ -65,13 +58,16 @@ def _fmt(v) -> str:
     return repr(v) if isinstance(v, str) else (f"{v:.12g}" if isinstance(v, float) else str(v))
 
 
+def point_sets(point: dict[str, Any], fixed: list[str]) -> list[str]:
+    """The --set overrides of one grid point (fixed ones first)."""
+    return list(fixed) + [f"{k}={_fmt(v) if not isinstance(v, str) else json.dumps(v)}" for k, v in point.items()]
+
+
 def run_point(raw: dict[str, Any], name: str, point: dict[str, Any], fixed: list[str]) -> dict[str, Any]:
     """One grid point (top-level function so process and Dask executors can pickle it)."""
-    from .scene import apply_overrides, scene_from_dict
     from .simulate_job import run
 
-    sets = list(fixed) + [f"{k}={_fmt(v) if not isinstance(v, str) else json.dumps(v)}" for k, v in point.items()]
-    scene = scene_from_dict(apply_overrides(raw, sets), name=name)
+    scene = scene_from_dict(apply_overrides(raw, point_sets(point, fixed)), name=name)
     summary = run(scene).summary()
     summary["point"] = point
     return summary
@@ -94,13 +90,8 @@ def sweep(raw: dict[str, Any], name: str, axes: list[Axis], fixed: list[str] | N
 
     points = grid(axes)
     # validate every point before starting any work: a bad value fails fast, in one line
-    from .scene import apply_overrides, scene_from_dict
-    from .simulate_job import output_options, solver_options
     for p in points:
-        sets = list(fixed or []) + [f"{k}={_fmt(v) if not isinstance(v, str) else json.dumps(v)}" for k, v in p.items()]
-        sc = scene_from_dict(apply_overrides(raw, sets), name=name)
-        solver_options(sc)
-        output_options(sc)
+        scene_from_dict(apply_overrides(raw, point_sets(p, list(fixed or []))), name=name)
     own = executor is None
     ex = executor or make_executor()
     results: list[dict[str, Any] | None] = [None] * len(points)

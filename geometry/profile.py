@@ -309,7 +309,7 @@ def tooth_profile(g: GearSpec, sag_m: float = 0.2e-6, n_involute: int | None = N
         raise UndercutError(
             f"{g.name}: teeth = {g.teeth} with profile_shift = {g.profile_shift:g} is undercut by the "
             f"basic rack (needs teeth >= {math.ceil(z_min - 1e-9)} at this shift, or more profile shift); "
-            "set pair.allow_undercut = true to generate the undercut profile")
+            "allow_undercut = true generates the undercut profile")
     psi_b = g.pitch_thickness_m / (2.0 * g.pitch_radius_m) + inv(a)
     u_a = math.sqrt((ra / rb) ** 2 - 1.0)
 
@@ -345,7 +345,7 @@ def tooth_profile(g: GearSpec, sag_m: float = 0.2e-6, n_involute: int | None = N
     beta_space = math.pi / g.teeth
     beta_root = float(np.arctan2(xy_fil[0, 0], xy_fil[0, 1]))
     if beta_root > beta_space + 1e-12:
-        raise fail("pair.rack_tip_radius_coefficient", g.rack_tip_radius_coefficient, "",
+        raise fail("rack_tip_radius_coefficient", g.rack_tip_radius_coefficient, "",
                    f"the fillets of neighbouring spaces overlap on {g.name} (z = {g.teeth})")
     n_root = _points_for_sag(beta_space - beta_root, rf, sag_m)
     xy_root, n_root_arr = _arc(rf, beta_space, beta_root, n_root)

@@ -1,7 +1,7 @@
-"""Gear pair specification: immutable, validated dataclasses built from TOML.
+"""Gear pair specification: immutable dataclasses in SI, and their consistency check.
 
-Inputs carry their unit in the key (``module_mm``, ``pressure_angle_deg``); inside
-the code everything is SI (m, rad, Pa). Derived radii are properties.
+Everything is SI (m, rad, Pa); derived radii are properties. Scenes (TOML, with units
+in the key names) are read by the app layer (``gearwear.schema``), which builds these.
 
 Built-in default: the gear pair of Zhang et al. (2019), Table 2 -- z = 30/30,
 m = 5 mm, alpha = 20 deg, base radius 70.477 mm. Values the paper does not give are
@@ -16,12 +16,10 @@ assumptions of this project (listed in the README):
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass, field, replace
-from pathlib import Path
-from typing import Any, Mapping
+from typing import Any
 
-from gearwear.core.validation import Field, InputError, fail, parse_table, reject_unknown
+from gearwear.core.validation import Field, fail, fail_range
 
 
 def inv(alpha: float) -> float:
@@ -176,70 +174,11 @@ def inverse_involute(value: float) -> float:
     return a
 
 
-# -- TOML schema -------------------------------------------------------------
-
-PAIR_SCHEMA: dict[str, Field] = {
-    "teeth": Field("", 5, 1000, kind=int, per_gear=True),
-    "module_mm": Field("mm", 0, 100, lo_open=True),
-    "pressure_angle_deg": Field("deg", 0, 45, lo_open=True, hi_open=True),
-    "face_width_mm": Field("mm", 0, 2000, lo_open=True),
-    "addendum_coefficient": Field("", 0, 2, lo_open=True),
-    "dedendum_coefficient": Field("", 0, 3, lo_open=True),
-    "rack_tip_radius_coefficient": Field("", 0, 1),
-    "profile_shift": Field("", -1.5, 2.0, per_gear=True),
-    "hub_radius_mm": Field("mm", 0, 10000, lo_open=True, per_gear=True),
-}
-PAIR_DEFAULTS: dict[str, Any] = {
-    "teeth": [30, 30], "module_mm": 5.0, "pressure_angle_deg": 20.0, "face_width_mm": 20.0,
-    "addendum_coefficient": 1.0, "dedendum_coefficient": 1.25,
-    "rack_tip_radius_coefficient": 0.38, "profile_shift": [0.0, 0.0], "hub_radius_mm": 40.0,
-}
-MATERIAL_SCHEMA: dict[str, Field] = {
-    "youngs_modulus_GPa": Field("GPa", 0, 2000, lo_open=True),
-    "poisson_ratio": Field("", 0, 0.5, hi_open=True),
-    "density_kg_per_m3": Field("kg/m^3", 0, 1e5, lo_open=True),
-}
-MATERIAL_DEFAULTS: dict[str, Any] = {
-    "youngs_modulus_GPa": 206.0, "poisson_ratio": 0.3, "density_kg_per_m3": 7850.0,
-}
-
-#: Top-level keys a scene may hold; the geometry stage reads [pair] and [material].
-SCENE_TOP_KEYS = ("name", "description", "pair", "material", "bodies", "operating",
-                  "effects", "solver", "output")
-
-
-def pair_from_dict(data: Mapping[str, Any]) -> PairSpec:
-    """Build and validate a :class:`PairSpec` from a parsed TOML document."""
-    reject_unknown("", data.keys(), SCENE_TOP_KEYS)
-    if not isinstance(data.get("pair", {}), Mapping):
-        raise InputError("pair: must be a table of keys")
-    raw_pair = dict(data.get("pair", {}))
-    allow_undercut = raw_pair.pop("allow_undercut", False)
-    if not isinstance(allow_undercut, bool):
-        raise fail("pair.allow_undercut", repr(allow_undercut), "", "must be true or false")
-    p = parse_table("pair", raw_pair, PAIR_SCHEMA, PAIR_DEFAULTS)
-    m = parse_table("material", data.get("material", {}), MATERIAL_SCHEMA, MATERIAL_DEFAULTS)
-    spec = PairSpec(
-        teeth=p["teeth"], module_m=p["module_mm"] * 1e-3,
-        pressure_angle_rad=math.radians(p["pressure_angle_deg"]),
-        face_width_m=p["face_width_mm"] * 1e-3,
-        addendum_coefficient=p["addendum_coefficient"],
-        dedendum_coefficient=p["dedendum_coefficient"],
-        rack_tip_radius_coefficient=p["rack_tip_radius_coefficient"],
-        profile_shift=p["profile_shift"],
-        hub_radius_m=tuple(h * 1e-3 for h in p["hub_radius_mm"]),
-        allow_undercut=allow_undercut,
-        material=Material(m["youngs_modulus_GPa"] * 1e9, m["poisson_ratio"], m["density_kg_per_m3"]),
-    )
-    check_pair(spec)
-    return spec
-
-
 def check_pair(spec: PairSpec) -> None:
     """Geometric consistency checks that need more than one key at a time."""
     if spec.dedendum_coefficient <= spec.addendum_coefficient:
-        raise fail("pair.dedendum_coefficient", spec.dedendum_coefficient, "",
-                   f"must exceed pair.addendum_coefficient = {spec.addendum_coefficient:g} "
+        raise fail("dedendum_coefficient", spec.dedendum_coefficient, "",
+                   f"must exceed the addendum coefficient {spec.addendum_coefficient:g} "
                    "(else the mating tip hits the root: no bottom clearance)")
     a = spec.pressure_angle_rad
     hf = spec.dedendum_coefficient
@@ -247,49 +186,32 @@ def check_pair(spec: PairSpec) -> None:
     # its centre may reach at most the middle of the rack tooth (full round).
     rho_max = (0.25 * math.pi - hf * math.tan(a)) * math.cos(a) / (1.0 - math.sin(a))
     if spec.rack_tip_radius_coefficient > rho_max:
-        raise fail("pair.rack_tip_radius_coefficient", spec.rack_tip_radius_coefficient, "",
+        raise fail("rack_tip_radius_coefficient", spec.rack_tip_radius_coefficient, "",
                    f"must be in [0, {rho_max:.4f}] for dedendum {hf:g} and pressure angle "
                    f"{math.degrees(a):g} deg (larger rounds do not fit the rack tooth)")
     for i, g in enumerate(spec.gears):
         if g.hub_radius_m >= g.root_radius_m:
-            raise fail(f"pair.hub_radius_mm[{i}]", g.hub_radius_m * 1e3, "mm",
-                       f"must be in (0, {g.root_radius_m * 1e3:.4g}) mm, below the root radius")
+            raise fail_range(f"hub_radius_m[{i}]", g.hub_radius_m,
+                             Field("m", 0.0, g.root_radius_m, lo_open=True, hi_open=True), "below the root radius")
         # Pointed tip: tooth thickness at the tip circle must stay positive.
         aa = math.acos(g.base_radius_m / g.tip_radius_m)
         half_angle_tip = g.pitch_thickness_m / (2 * g.pitch_radius_m) + inv(a) - inv(aa)
         if half_angle_tip <= 0:
-            raise fail(f"pair.profile_shift[{i}]", g.profile_shift, "",
+            raise fail(f"profile_shift[{i}]", g.profile_shift, "",
                        f"gives a pointed tooth (tip thickness {2e3 * g.tip_radius_m * half_angle_tip:.3g} mm"
                        " <= 0); reduce the profile shift or the addendum")
         if g.root_radius_m <= 0:
-            raise fail(f"pair.profile_shift[{i}]", g.profile_shift, "",
+            raise fail(f"profile_shift[{i}]", g.profile_shift, "",
                        "puts the root circle at or below the gear centre")
     if spec.centre_distance_m <= 0:
-        raise fail("pair.profile_shift", list(spec.profile_shift), "", "gives a non-positive centre distance")
-
-
-def load_toml(path: str | Path) -> dict[str, Any]:
-    """Read a TOML file, turning I/O and syntax problems into one-line InputErrors."""
-    p = Path(path)
-    try:
-        with p.open("rb") as fh:
-            return tomllib.load(fh)
-    except FileNotFoundError:
-        raise InputError(f"{p}: file not found") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"{p}: not valid TOML ({exc})") from None
-
-
-def load_pair(path: str | Path | None = None) -> PairSpec:
-    """Pair spec from a TOML file (scene or pair file); the built-in default if None."""
-    if path is None:
-        return default_pair()
-    return pair_from_dict(load_toml(path))
+        raise fail("profile_shift", list(spec.profile_shift), "", "gives a non-positive centre distance")
 
 
 def default_pair() -> PairSpec:
     """The paper's gear pair (Table 2) with this project's documented assumptions."""
-    return pair_from_dict({})
+    spec = PairSpec()
+    check_pair(spec)
+    return spec
 
 
 def replace_checked(spec: PairSpec, **changes: Any) -> PairSpec:

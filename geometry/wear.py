@@ -48,14 +48,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Any, Mapping
+
 
 import numpy as np
 
 from .kinematics import MeshGeometry
 from .profile import INVOLUTE, ToothProfile, tooth_profile
 from .spec import PairSpec
-from gearwear.core.validation import Field, InputError, check_scalar, fail, reject_unknown
 
 PHASE_DEPTHS_M = {"unworn": 0.0, "mild": 10e-6, "severe": 30e-6}
 WEAR_MODELS = ("archard", "paper_eq1")
@@ -95,59 +94,6 @@ class WearSpec:
         if self.max_depth_m is not None:
             return f"{self.max_depth_m * 1e6:g}um"
         return f"{self.hours:g}h"
-
-
-WEAR_KEYS = ("phase", "max_depth_um", "hours", "model", "archard_k_m2_per_N", "wear_intensity", "taper_mm")
-
-
-def wear_from_dict(table: Mapping[str, Any], torque_Nm: float = 40.0, speed_rpm: float = 1200.0,
-                   key: str = "effects.wear") -> WearSpec:
-    """Parse ``effects.wear`` = {phase = ...} | {max_depth_um = ...} | {hours = ...}."""
-    if isinstance(table, str):
-        table = {"phase": table}
-    reject_unknown(key, table.keys(), WEAR_KEYS)
-    given = [k for k in ("phase", "max_depth_um", "hours") if k in table]
-    if len(given) != 1:
-        raise InputError(f"{key}: give exactly one of phase, max_depth_um, hours (got {', '.join(given) or 'none'})")
-    kw: dict[str, Any] = {"torque_Nm": torque_Nm, "speed_rpm": speed_rpm}
-    if "phase" in table:
-        ph = table["phase"]
-        if ph not in PHASE_DEPTHS_M:
-            raise fail(f"{key}.phase", repr(ph), "", f"must be one of {', '.join(PHASE_DEPTHS_M)}")
-        kw["phase"] = ph
-    if "max_depth_um" in table:
-        kw["max_depth_m"] = check_scalar(f"{key}.max_depth_um", table["max_depth_um"], Field("um", 0, 20000)) * 1e-6
-    if "hours" in table:
-        kw["hours"] = check_scalar(f"{key}.hours", table["hours"], Field("h", 0, 1e7))
-    model = table.get("model", "archard")
-    if model not in WEAR_MODELS:
-        raise fail(f"{key}.model", repr(model), "", f"must be one of {', '.join(WEAR_MODELS)}")
-    kw["model"] = model
-    if "archard_k_m2_per_N" in table:
-        kw["archard_k_m2_per_N"] = check_scalar(f"{key}.archard_k_m2_per_N", table["archard_k_m2_per_N"],
-                                                Field("m^2/N", 0, 1e-9, lo_open=True))
-    if "wear_intensity" in table:
-        kw["wear_intensity"] = check_scalar(f"{key}.wear_intensity", table["wear_intensity"],
-                                            Field("", 0, 1e-2, lo_open=True))
-    if "taper_mm" in table:
-        kw["taper_m"] = check_scalar(f"{key}.taper_mm", table["taper_mm"], Field("mm", 0, 5)) * 1e-3
-    return WearSpec(**kw)
-
-
-def parse_wear_arg(text: str, torque_Nm: float = 40.0, speed_rpm: float = 1200.0) -> WearSpec:
-    """CLI form: a phase name, '<depth>um' or '<hours>h'."""
-    t = text.strip()
-    if t in PHASE_DEPTHS_M:
-        return WearSpec(phase=t, torque_Nm=torque_Nm, speed_rpm=speed_rpm)
-    try:
-        if t.endswith("um"):
-            return wear_from_dict({"max_depth_um": float(t[:-2])}, torque_Nm, speed_rpm, key="--wear")
-        if t.endswith("h"):
-            return wear_from_dict({"hours": float(t[:-1])}, torque_Nm, speed_rpm, key="--wear")
-    except ValueError:
-        pass
-    raise InputError(f"--wear = {text!r}: must be one of {', '.join(PHASE_DEPTHS_M)}, a depth like 25um, "
-                     "or running hours like 500h")
 
 
 # -- sliding and contact mechanics on the line of action --------------------------

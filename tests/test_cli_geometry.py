@@ -64,7 +64,7 @@ def test_bad_input_files_give_one_line_and_write_nothing(tmp_path, toml, message
 
 
 @pytest.mark.parametrize("args,message", [
-    (["--clearance-um", "-5"], "--clearance-um = -5 um: must be in [0, inf) um"),
+    (["--clearance-um", "-5"], "--clearance-um = -5 um: must be in [0, 10000] um"),
     (["--wear", "12000um"], "consumes the tooth"),
     (["--wear", "heavy"], "--wear = 'heavy'"),
 ])

@@ -12,7 +12,8 @@ import pytest
 from gearwear.fem.contact import check_complementarity, solve_contact
 from gearwear.fem.pair import (consistency, pair_contact, pair_model, solve_position, weber_approach_m,
                       write_fields)
-from gearwear.geometry.spec import default_pair, pair_from_dict
+from gearwear.geometry.spec import default_pair
+from gearwear.scene import pair_from_dict
 from gearwear.core.validation import InputError
 from gearwear.geometry.wear import WearSpec
 

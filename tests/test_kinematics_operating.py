@@ -8,7 +8,8 @@ import pytest
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.operating import backlash, centre_distance, operating_geometry
 from gearwear.geometry.profile import tooth_profile
-from gearwear.geometry.spec import default_pair, inv, pair_from_dict
+from gearwear.geometry.spec import default_pair, inv
+from gearwear.scene import pair_from_dict
 from gearwear.core.validation import InputError
 
 

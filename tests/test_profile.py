@@ -10,7 +10,8 @@ from hypothesis import given, settings, strategies as st
 
 from gearwear.geometry.profile import (FILLET, INVOLUTE, TIP_LAND, RackGeometry, UndercutError, fillet_points,
                               gear_outline, involute_points, polygon_area, tooth_profile)
-from gearwear.geometry.spec import default_pair, pair_from_dict
+from gearwear.geometry.spec import default_pair
+from gearwear.scene import pair_from_dict
 
 
 @pytest.fixture(scope="module")

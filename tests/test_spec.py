@@ -5,7 +5,8 @@ import math
 import pytest
 from hypothesis import given, strategies as st
 
-from gearwear.geometry.spec import default_pair, pair_from_dict
+from gearwear.geometry.spec import default_pair
+from gearwear.scene import pair_from_dict
 from gearwear.core.validation import InputError
 
 

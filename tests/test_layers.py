@@ -1,0 +1,62 @@
+"""Architecture: one import package, and imports that go one way.
+
+core <- geometry <- (analytic, fem) <- gearwear (the app wires them); dynamics takes
+arrays and uses only core. Checked on the source text (ast), so a violation fails
+even if no test happens to import the offending module."""
+
+import ast
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+LAYERS = ("core", "geometry", "analytic", "fem", "dynamics")
+#: which gearwear sub-packages each layer may import
+ALLOWED = {
+    "core": set(),
+    "geometry": {"core"},
+    "analytic": {"core", "geometry"},
+    "fem": {"core", "geometry"},
+    "dynamics": {"core"},
+}
+
+
+def _imports(path: Path):
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            yield from (a.name for a in node.names)
+        elif isinstance(node, ast.ImportFrom) and not node.level and node.module:
+            yield node.module
+
+
+def test_layers_import_one_way():
+    bad = []
+    for layer in LAYERS:
+        for path in sorted((ROOT / layer).glob("*.py")):
+            for name in _imports(path):
+                parts = name.split(".")
+                if parts[0] in LAYERS:
+                    bad.append(f"{layer}/{path.name} imports top-level {name} (must be gearwear.{name})")
+                if parts[0] == "gearwear":
+                    sub = parts[1] if len(parts) > 1 else ""
+                    if sub != layer and sub not in ALLOWED[layer]:
+                        bad.append(f"{layer}/{path.name} imports {name}")
+    assert not bad, "\n".join(bad)
+
+
+def test_nothing_imports_the_layers_as_top_level_packages():
+    for folder in ("gearwear", "tests", "benchmarks", "examples"):
+        for path in sorted((ROOT / folder).rglob("*.py")):
+            for name in _imports(path):
+                assert name.split(".")[0] not in LAYERS, f"{path.relative_to(ROOT)} imports {name}"
+
+
+def test_importing_everything_loads_only_gearwear_names():
+    """From a neutral folder, the whole package imports, and no module is loaded under a
+    second, top-level name (which would make two copies of every class)."""
+    code = ("import sys, gearwear, gearwear.cli, gearwear.schema, gearwear.scene, gearwear.fem.pair, "
+            "gearwear.analytic.tvms, gearwear.dynamics, gearwear.geometry.wear\n"
+            f"bad = [m for m in sys.modules if m.split('.')[0] in {LAYERS!r}]\n"
+            "assert not bad, bad\n"
+            "assert gearwear.geometry.__file__.endswith('geometry/__init__.py'), gearwear.geometry.__file__\n")
+    subprocess.run([sys.executable, "-c", code], check=True, cwd=ROOT.parent)
