@@ -3,7 +3,7 @@
 Choices (the paper does not give them): J = m r^2 / 2 of a solid disc of the gear mass
 with r = 75 mm (the reference radius, z = 30, m = 5 mm); base radii 70.477 mm
 (75 mm cos 20 deg); zeta_m = 0.05, zeta_b = 0.02 converted by
-``c_h = 2 zeta_m sqrt(k_mean m_e)``, ``c_b = 2 zeta_b sqrt(k_b m)``; the mesh stiffness
+:func:`gearwear.dynamics.model.damping_from_ratios`; the mesh stiffness
 is a smoothed rectangular wave between 2.9e8 (single pair) and 5.0e8 N/m (two pairs)
 with a double-contact fraction 0.6535 of the mesh period (contact ratio 1.6535). At
 40 N m the tooth deflection (~1.2 um) stays far above the dynamic fluctuation, so the
@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from .model import GearDynamics
+from .model import GearDynamics, damping_from_ratios
 
 _trapezoid = getattr(np, "trapezoid", None) or getattr(np, "trapz")
 
@@ -66,8 +66,7 @@ def paper_pair(torque_Nm: float = 40.0, speed_rpm: float = 1200.0, *, n_table: i
     if not tvms and k_constant is not None:
         km = k_constant
     me = 1.0 / (Rb * Rb / J * 2)
-    c_h = 2 * zeta_m * math.sqrt(km * me)
-    c_b = 2 * zeta_b * math.sqrt(kb * m)
+    c_h, c_b = damping_from_ratios(zeta_m, zeta_b, km, me, kb, m, m)
     e = None
     if te_amplitude_m is not None:
         e = te_amplitude_m * 0.5 * (1 - np.cos(2 * np.pi * phi / P))

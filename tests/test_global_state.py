@@ -142,3 +142,29 @@ def test_derived_constants_live_and_die_with_their_model():
     gc.collect()
     assert ref() is None
 
+
+# -- damping ratios -------------------------------------------------------------------------
+
+def test_damping_from_ratios_gives_the_damping_ratio_of_a_one_dof_oscillator():
+    """m x'' + c x' + k x = 0 has roots -zeta w_n +- i w_n sqrt(1 - zeta^2): the real
+    part over the modulus is -zeta."""
+    import numpy as np
+
+    from gearwear.dynamics.model import damping_from_ratios
+
+    k, me, kb, mp, mg = 4.0e8, 1.3, 2.6e8, 3.75, 7.5
+    c_h, (c_bp, c_bg) = damping_from_ratios(0.05, 0.02, k, me, kb, mp, mg)
+    for c, kk, m, zeta in ((c_h, k, me, 0.05), (c_bp, kb, mp, 0.02), (c_bg, kb, mg, 0.02)):
+        lam = np.roots([m, c, kk])
+        assert -lam[0].real / abs(lam[0]) == pytest.approx(zeta, rel=1e-12)
+
+
+def test_paper_pair_damping_uses_the_model_mean_stiffness_and_reduced_mass():
+    import math
+
+    from gearwear.dynamics.presets import paper_pair
+
+    m = paper_pair(zeta_m=0.07, zeta_b=0.03)
+    assert m.c_h == pytest.approx(2 * 0.07 * math.sqrt(m.k_mean * m.m_e), rel=1e-12)
+    assert m.c_b[0] == pytest.approx(2 * 0.03 * math.sqrt(m.k_b * m.m_p), rel=1e-15)
+    assert m.c_b[1] == pytest.approx(2 * 0.03 * math.sqrt(m.k_b * m.m_g), rel=1e-15)
