@@ -84,7 +84,7 @@ def _cmd_geometry(args: argparse.Namespace) -> int:
     from . import geometry_job
 
     scene = _load(args, loaded=False)
-    torque, clearance_um, wear = scene.operating.torque_Nm, scene.clearance_m * 1e6, scene.wear
+    torque, clearance_um, wear = scene.operating.torque_Nm, round(scene.clearance_m * 1e6, 9), scene.wear
     mesh_size = _float_arg("--mesh-size-mm", "mm", 1e-3)(args.mesh_size_mm)
     out = _check_out(args.out)
     res = geometry_job.compute(scene, wear, clearance_um * 1e-6, torque, build_mesh=not args.no_mesh,
@@ -289,6 +289,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
             fixed.append(item)
         else:
             axes.append(sweep.parse_axis(item))
+    from .scene import apply_overrides, scene_from_dict
+    scene_from_dict(apply_overrides(data, fixed), name=name)  # the fixed keys are checked first
     if not axes:
         raise InputError("--set: give at least one swept key, KEY=START:STOP:N or KEY=a,b,c")
     workers = _int_arg("--workers", args.workers, 1, 1024) if args.workers else None
@@ -313,9 +315,12 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
 
 
 def _cmd_scene(args: argparse.Namespace) -> int:
-    from .schema import json_schema, resolved_dict, to_toml
+    from .schema import json_schema, reference_markdown, resolved_dict, to_toml
     from .scene import builtin_scene_names
 
+    if args.reference:
+        print(reference_markdown(), end="")
+        return 0
     if args.schema:
         print(json.dumps(json_schema(), indent=2))
         return 0
@@ -508,6 +513,8 @@ def build_parser() -> argparse.ArgumentParser:
     sc.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help=SET_HELP)
     sc.add_argument("--schema", action="store_true", help="print the JSON Schema of a scene document")
     sc.add_argument("--list", action="store_true", help="list the built-in scene names")
+    sc.add_argument("--reference", action="store_true", help="print the scene reference (Markdown, "
+                                                                  "docs/scene-reference.md)")
     sc.add_argument("--json", action="store_true", help="print JSON instead of TOML")
     sc.set_defaults(func=_cmd_scene)
 

@@ -60,6 +60,16 @@ class Scene:
     wear: WearSpec | None = None
     doc: SceneDoc | None = None
 
+    @classmethod
+    def load(cls, source: str | Path | None = None, overrides: Mapping[str, Any] | None = None) -> "Scene":
+        """A scene from a built-in name or a TOML file (None: ``paper-default``), with
+        dotted-key overrides, e.g. ``Scene.load("paper-wear-severe",
+        {"operating.speed_rpm": 6000})``. Validated like a file."""
+        data, name = load_scene_dict(source)
+        for key, value in (overrides or {}).items():
+            set_key(data, key, value)
+        return scene_from_dict(data, name=name)
+
     @property
     def clearance_m(self) -> float:
         return self.effects.get("bearing_clearance", {}).get("clearance_m", 0.0)
@@ -293,17 +303,20 @@ def apply_overrides(data: dict[str, Any], overrides: list[str]) -> dict[str, Any
         if "=" not in item:
             raise InputError(f"--set {item!r}: must be KEY=VALUE with a dotted key, e.g. operating.speed_rpm=6000")
         key, text = item.split("=", 1)
-        key = key.strip()
-        value = parse_value(text.strip())
-        parts = key.split(".")
-        node = out
-        for part in parts[:-1]:
-            nxt = node.setdefault(part, {})
-            if not isinstance(nxt, dict):
-                raise InputError(f"--set {key}: {part} is not a table")
-            node = nxt
-        node[parts[-1]] = value
+        set_key(out, key.strip(), parse_value(text.strip()))
     return out
+
+
+def set_key(data: dict[str, Any], key: str, value: Any) -> None:
+    """Set a dotted key (``operating.speed_rpm``) in a raw document, making tables on the way."""
+    parts = key.split(".")
+    node = data
+    for part in parts[:-1]:
+        nxt = node.setdefault(part, {})
+        if not isinstance(nxt, dict):
+            raise InputError(f"--set {key}: {part} is not a table")
+        node = nxt
+    node[parts[-1]] = value
 
 
 def load_toml(path: str | Path) -> dict[str, Any]:

@@ -20,6 +20,7 @@ and its errors are renamed to scene keys here.
 from __future__ import annotations
 
 import difflib
+import inspect
 import math
 from typing import Annotated, Any, Literal, Mapping, Union
 
@@ -448,6 +449,70 @@ def json_schema() -> dict[str, Any]:
     s["$schema"] = "https://json-schema.org/draft/2020-12/schema"
     s["title"] = "gearwear scene"
     return s
+
+
+def reference_markdown() -> str:
+    """The scene reference (docs/scene-reference.md), generated from the models: every
+    table, key, type, unit, allowed range, default and description."""
+    lines = ["# Scene reference", "",
+             "Generated from `gearwear/schema.py` by `gearwear scene --reference`; do not edit by hand.",
+             "A scene is a TOML document; units are in the key names. `gearwear scene NAME|FILE` prints a",
+             "scene with every default filled in, `gearwear scene --schema` the JSON Schema.", ""]
+    for name, info in SceneDoc.model_fields.items():
+        model = _model_in(info.annotation)
+        if model is None:
+            lines += [f"- `{name}` (string): {'the scene name' if name == 'name' else 'free text'}", ""]
+    for name, info in SceneDoc.model_fields.items():
+        model = _model_in(info.annotation)
+        if model is None:
+            continue
+        lines += [f"## [{name}]", "", inspect.cleandoc(model.__doc__ or ""), ""]
+        if name == "effects":
+            for ename, einfo in model.model_fields.items():
+                emodel = _model_in(einfo.annotation)
+                lines += [f"### effects.{ename}", "", inspect.cleandoc(emodel.__doc__ or ""), ""]
+                lines += _key_table(emodel) if emodel.model_fields else ["No options: `" + ename + " = {}`.", ""]
+            continue
+        lines += _key_table(model)
+    lines += ["## Checks across keys", "", (cross_check.__doc__ or "").strip() + " The checks:", ""]
+    lines += [f"- {c}" for c in CROSS_CHECKS] + [""]
+    return "\n".join(lines)
+
+
+#: what :func:`cross_check` enforces, for the reference
+CROSS_CHECKS = (
+    '`mesh_stiffness.value_N_per_m` only with `source = "constant"`; `interpolation` not with it',
+    '`mesh_stiffness.path` needed by, and only used with, `source = "table"`',
+    "`wear`: exactly one of `phase`, `max_depth_um`, `hours`; `archard_k_m2_per_N` / `wear_intensity` "
+    "only with `hours` and their model",
+    '`wear` not with a user table, nor with a constant `value_N_per_m` and no `transmission_error`',
+    "`transmission_error` needs an excitation: wear with a depth > 0, or a table with `excitation_um`",
+    '`centre_distance` with `coupling = "static"` needs `bearing_clearance`',
+    "a damper is given as a ratio or as a coefficient, not both",
+    "`solver.discard_s` < `solver.duration_s`; `rtol`/`atol` only for dopri5, "
+    "`steps_per_mesh_period` only for rk4 (after `auto` is resolved)",
+)
+
+
+def _key_table(model: type[BaseModel]) -> list[str]:
+    rows = ["| key | type | unit | range | default | meaning |", "|---|---|---|---|---|---|"]
+    for key, info in model.model_fields.items():
+        extra = info.json_schema_extra if isinstance(info.json_schema_extra, dict) else {}
+        names = _literal_names(info.annotation)
+        kind = ("one of " + ", ".join(f"`{n}`" for n in names) if names
+                else "per gear" if extra.get("per_gear") else _type_name(info.annotation))
+        default = info.get_default(call_default_factory=True)
+        shown = "absent" if default is None else f"`{to_toml({'v': default}).split(' = ', 1)[1].strip()}`"
+        rows.append(f"| `{key}` | {kind} | {extra.get('unit', '') or ''} | {extra.get('range', '')} | {shown} | "
+                    f"{(info.description or '').replace('|', '/')} |")
+    return rows + [""]
+
+
+def _type_name(annotation: Any) -> str:
+    text = getattr(annotation, "__name__", None) or str(annotation)
+    return {"float": "number", "int": "whole number", "bool": "true/false", "str": "string"}.get(text, "list"
+                                                                                               if "list" in text
+                                                                                               else text)
 
 
 def to_toml(data: Mapping[str, Any]) -> str:

@@ -1,0 +1,119 @@
+"""The Python API in one place: ``import gearwear as gw``.
+
+    import gearwear as gw
+    pair = gw.paper_pair()                                   # Zhang et al. (2019), Table 2
+    k = gw.mesh_stiffness(pair, method="ishikawa", wear="severe")
+    k.angle_rad, k.k_N_per_m, k.mean_N_per_m                 # arrays/values, unit in the name
+    run = gw.simulate(gw.Scene.load("paper-wear-severe"))
+    run.summary()["harmonics"]["F_m_N"]                      # mesh-force harmonics, N
+    rows = gw.sweep("paper-wear-severe", {"operating.speed_rpm": [600, 1200, 2400]})
+
+Every function validates its inputs like the command line does (one-line
+:class:`InputError`). Units: SI inside; a keyword's unit is in its name.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Mapping, Sequence
+
+from gearwear.core.validation import InputError, renamed
+from gearwear.geometry.spec import PairSpec, default_pair
+from gearwear.geometry.wear import WearSpec
+
+from .scene import Scene, pair_from_dict, wear_from_dict
+
+METHODS = ("ishikawa", "energy", "iso6336", "fem")
+
+
+def paper_pair() -> PairSpec:
+    """The paper's pair: z = 30/30, m = 5 mm, alpha = 20 deg, with this project's
+    assumptions (face width 20 mm, E = 206 GPa, nu = 0.3, ISO 53 rack, bore 40 mm)."""
+    return default_pair()
+
+
+def pair(**keys: Any) -> PairSpec:
+    """A pair from ``[pair]`` scene keys (units in the names), e.g.
+    ``gw.pair(teeth=[21, 37], profile_shift=[0.25, -0.1])``; ``material={...}`` too."""
+    material = keys.pop("material", {})
+    return pair_from_dict({"pair": keys, "material": material})
+
+
+def wear(spec: str | Mapping[str, Any] | WearSpec | None, torque_Nm: float = 40.0,
+         speed_rpm: float = 1200.0) -> WearSpec | None:
+    """A wear spec from a phase name (``"severe"``), an ``[effects] wear`` table
+    (``{"max_depth_um": 25}``, ``{"hours": 500}``), a WearSpec, or None (unworn)."""
+    if spec is None or isinstance(spec, WearSpec):
+        return spec
+    return wear_from_dict(spec, torque_Nm, speed_rpm)
+
+
+def mesh_stiffness(pair: PairSpec | None = None, method: str = "ishikawa", wear: Any = None,
+                   torque_Nm: float = 40.0, clearance_um: float = 0.0, points: int | None = None):
+    """k_h over one mesh period: ``method`` ishikawa (paper Eqs. 2-6), energy, iso6336
+    (constant, ISO 6336-1 method B) or fem (resolved FE pair contact, ~10 s for 24
+    positions). Returns an object with ``angle_rad``, ``k_N_per_m``, ``excitation_m``,
+    ``mean_N_per_m``, ``contact_ratio`` and more (``gearwear.analytic.tvms.MeshStiffness``)."""
+    from . import stiffness_job
+
+    if method not in METHODS:
+        raise InputError(f"method = {method!r}: must be one of {', '.join(METHODS)}")
+    n = points if points is not None else (24 if method == "fem" else 360)
+    p = pair or default_pair()
+    curves = stiffness_job.compute(p, method, [globals()["wear"](wear, torque_Nm)], [clearance_um * 1e-6],
+                                   torque_Nm, n)
+    return curves[0].result
+
+
+def verify(pair: PairSpec | None = None, wear: Sequence[Any] = ("unworn", "mild", "severe"),
+           positions: int = 21, convergence: bool = False):
+    """FE single-tooth compliance against Ishikawa and the energy method, per wear phase
+    (``gearwear.verify_job.Verification``; ``.phases[i].fem`` etc. in um/(N/mm))."""
+    from . import verify_job
+
+    wears = [globals()["wear"](w) for w in wear]
+    return verify_job.run(pair or default_pair(), [None if w is None or w.is_unworn else w for w in wears],
+                          positions, convergence=convergence)
+
+
+def simulate(scene: Scene | str | None = None, **overrides: Any):
+    """Simulate a scene (a Scene, a built-in name or a TOML path). Keyword overrides use
+    the dotted keys with ``__`` for the dots: ``simulate("paper-default",
+    operating__speed_rpm=6000)``. Returns ``SimulationRun`` (``.summary()``,
+    ``.result.t``, ``.result.signals``)."""
+    from .simulate_job import SOLVER_KEYS, run
+
+    sc = _scene(scene, overrides)
+    try:
+        return run(sc)
+    except InputError as exc:
+        raise renamed(exc, SOLVER_KEYS) from None
+
+
+def sweep(scene: Scene | str | None, axes: Mapping[str, Sequence[Any]], workers: int | None = None,
+          progress: bool = False) -> list[dict[str, Any]]:
+    """Run a scene over the Cartesian grid of ``axes`` ({dotted key: values}) on local
+    processes; one summary dict per point, in grid order."""
+    from . import sweep as sw
+    from .scene import load_scene_dict
+
+    if isinstance(scene, Scene):
+        raise InputError("sweep: give the scene as a built-in name or a file path (a sweep re-reads it per point)")
+    data, name = load_scene_dict(scene, default="paper-wear-severe")
+    ax = [sw.Axis(k, tuple(v)) for k, v in axes.items()]
+    ex = sw.make_executor(workers)
+    try:
+        return sw.sweep(data, name, ax, executor=ex, progress=progress)
+    finally:
+        ex.shutdown()
+
+
+def _scene(scene: Scene | str | None, overrides: Mapping[str, Any]) -> Scene:
+    if isinstance(scene, Scene):
+        if overrides:
+            raise InputError("overrides: give them with Scene.load(name, {...}) or pass the scene by name")
+        return scene
+    return Scene.load(scene, {k.replace("__", "."): v for k, v in overrides.items()})
+
+
+__all__ = ["paper_pair", "pair", "wear", "mesh_stiffness", "verify", "simulate", "sweep", "Scene", "PairSpec",
+           "WearSpec", "InputError", "METHODS"]

@@ -1,0 +1,140 @@
+"""The scene schema: one place for every key, options that would be ignored are errors,
+the resolved scene is a fixed point, and the CLI's short flags are exact aliases of --set."""
+
+import json
+import subprocess
+import sys
+import tomllib
+from pathlib import Path
+
+import pytest
+
+from gearwear.core.validation import InputError
+from gearwear.schema import json_schema, reference_markdown, resolved_dict, to_toml, validate_document
+from gearwear.scene import builtin_scene_dict, builtin_scene_names, scene_from_dict
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def cli(*args):
+    return subprocess.run([sys.executable, "-m", "gearwear.cli", *args], capture_output=True, text=True)
+
+
+# Each of these was accepted and then silently ignored (or reported active and switched off).
+IGNORED = [
+    ({"effects": {"mesh_stiffness": {"source": "analytic", "value_N_per_m": 3e8}}},
+     'effects.mesh_stiffness.value_N_per_m = 3e+08 N/m: only used with source = "constant"'),
+    ({"effects": {"transmission_error": {}}}, "effects.transmission_error: there is no excitation on an unworn pair"),
+    ({"effects": {"wear": {"phase": "unworn"}, "transmission_error": {}}},
+     "effects.transmission_error: there is no excitation"),
+    ({"effects": {"wear": {"max_depth_um": 0}, "transmission_error": {}}},
+     "effects.transmission_error: there is no excitation"),
+    ({"effects": {"mesh_stiffness": {"source": "constant", "interpolation": "cubic"}}},
+     "effects.mesh_stiffness.interpolation = 'cubic': not used"),
+    ({"effects": {"mesh_stiffness": {"source": "analytic", "path": "k.csv"}}},
+     "effects.mesh_stiffness.path = 'k.csv': only used with source = \"table\""),
+    ({"effects": {"wear": {"phase": "mild", "archard_k_m2_per_N": 1e-16}}},
+     "effects.wear.archard_k_m2_per_N = 1e-16 m^2/N: only used with hours"),
+    ({"effects": {"wear": {"hours": 100, "model": "archard", "wear_intensity": 1e-8}}},
+     "effects.wear.wear_intensity = 1e-08: only used with hours and model = 'paper_eq1'"),
+    ({"effects": {"mesh_stiffness": {"source": "constant", "value_N_per_m": 3e8}, "wear": {"phase": "severe"}}},
+     "effects.wear: ignored with a constant mesh_stiffness.value_N_per_m"),
+    ({"effects": {"centre_distance": {"coupling": "static"}}},
+     'effects.centre_distance: coupling = "static" moves the centre distance by the bearing clearance only'),
+    ({"solver": {"rtol": 1e-6}}, "solver.rtol = 1e-06: only used by dopri5 (the solver is rk4 by auto"),
+    ({"solver": {"method": "rk4", "atol": 1e-9}}, "solver.atol = 1e-09: only used by dopri5"),
+    ({"effects": {"backlash": {}}, "solver": {"steps_per_mesh_period": 512}},
+     "solver.steps_per_mesh_period = 512: only used by rk4 (the solver is dopri5 by auto"),
+    ({"bodies": {"bearing_damping_ratio": 0.02, "bearing_damping_N_s_per_m": 100.0}},
+     "bodies.bearing_damping_N_s_per_m = [100.0, 100.0] N s/m: give either"),
+]
+
+
+@pytest.mark.parametrize("doc,message", IGNORED)
+def test_options_that_would_be_ignored_are_errors(doc, message):
+    with pytest.raises(InputError) as err:
+        scene_from_dict(doc)
+    assert str(err.value).startswith(message), str(err.value)
+    assert "\n" not in str(err.value)
+
+
+def test_the_same_options_are_accepted_where_they_act():
+    for doc in ({"effects": {"mesh_stiffness": {"source": "constant", "value_N_per_m": 3e8}}},
+                {"effects": {"wear": {"phase": "mild"}, "transmission_error": {}}},
+                {"effects": {"wear": {"hours": 100, "archard_k_m2_per_N": 1e-16}}},
+                {"effects": {"wear": {"hours": 100, "model": "paper_eq1", "wear_intensity": 1e-8}}},
+                {"effects": {"centre_distance": {"coupling": "dynamic"}}},
+                {"effects": {"bearing_clearance": {"clearance_um": 10}, "centre_distance": {}},
+                 "solver": {"rtol": 1e-6}},
+                {"solver": {"method": "rk4", "steps_per_mesh_period": 512}}):
+        scene_from_dict(doc)
+
+
+def test_typos_get_the_nearest_key_at_every_depth():
+    for doc, hint in (({"operatng": {}}, "did you mean operating?"),
+                      ({"bodies": {"mass_k": 3}}, "did you mean bodies.mass_kg?"),
+                      ({"effects": {"backlash": {"initial_mu": 3}}}, "did you mean effects.backlash.initial_um?"),
+                      ({"solver": {"duraton_s": 1}}, "did you mean solver.duration_s?")):
+        with pytest.raises(InputError, match=hint.replace("?", r"\?").replace(".", r"\.")):
+            validate_document(doc)
+
+
+def test_strings_are_not_read_as_numbers():
+    with pytest.raises(InputError, match=r"operating.speed_rpm = '1200': must be a number in \(0, 1e\+06\] rpm"):
+        validate_document({"operating": {"speed_rpm": "1200"}})
+
+
+@pytest.mark.parametrize("name", builtin_scene_names())
+def test_resolved_scene_is_a_fixed_point(name):
+    """Printing a scene with every default and reading it back gives the same scene."""
+    doc = validate_document(builtin_scene_dict(name), name=name)
+    text = to_toml(resolved_dict(doc))
+    again = validate_document(tomllib.loads(text))
+    assert resolved_dict(again) == resolved_dict(doc)
+    assert scene_from_dict(tomllib.loads(text)).pair == scene_from_dict(builtin_scene_dict(name)).pair
+
+
+def test_json_schema_describes_every_key_with_its_unit():
+    s = json_schema()
+    assert s["additionalProperties"] is False
+    pair = s["$defs"]["PairDoc"]["properties"]
+    assert pair["module_mm"]["unit"] == "mm" and pair["module_mm"]["exclusiveMinimum"] == 0
+    assert pair["module_mm"]["maximum"] == 100
+    # per-gear keys accept one value or a pair
+    assert {"anyOf"} <= set(s["$defs"]["BodiesDoc"]["properties"]["mass_kg"]) or \
+        "anyOf" in json.dumps(s["$defs"]["BodiesDoc"]["properties"]["mass_kg"])
+
+
+def test_scene_reference_in_docs_is_generated_from_the_schema():
+    """Regression: docs/scene-reference.md is the output of `gearwear scene --reference`."""
+    assert (ROOT / "docs" / "scene-reference.md").read_text() == reference_markdown()
+
+
+def test_cli_scene_schema_and_resolved_scene():
+    r = cli("scene", "--schema")
+    assert r.returncode == 0 and json.loads(r.stdout)["title"] == "gearwear scene"
+    r = cli("scene", "paper-wear-severe")
+    assert r.returncode == 0, r.stderr
+    data = tomllib.loads(r.stdout)
+    assert data["effects"]["bearing_clearance"]["clearance_um"] == 10
+    assert data["bodies"]["mesh_damping_ratio"] == 0.05 and data["solver"]["method"] == "auto"
+    r = cli("scene", "paper-default", "--set", "operating.speed_rpm=3000", "--json")
+    assert json.loads(r.stdout)["operating"]["speed_rpm"] == 3000
+
+
+def test_short_flags_are_aliases_of_set():
+    a = cli("geometry", "paper-default", "--no-mesh", "--json", "--clearance-um", "25", "--torque-Nm", "60")
+    b = cli("geometry", "paper-default", "--no-mesh", "--json", "--set", "effects.bearing_clearance.clearance_um=25",
+            "--set", "operating.torque_Nm=60")
+    assert a.returncode == 0 and b.returncode == 0, a.stderr + b.stderr
+    ja, jb = json.loads(a.stdout), json.loads(b.stdout)
+    ja.pop("wall_s"), jb.pop("wall_s")
+    assert ja == jb and ja["clearance_um"] == 25
+
+
+@pytest.mark.parametrize("command", ["geometry", "stiffness", "verify", "calibrate", "simulate", "sweep", "scene"])
+def test_every_command_takes_a_built_in_name_and_set(command):
+    """A bad --set value is caught before any work, naming the key, for every command."""
+    r = cli(command, "paper-wear-mild", "--set", "operating.speed_rpm=-1")
+    assert r.returncode == 2
+    assert r.stderr.strip() == "gearwear: error: operating.speed_rpm = -1 rpm: must be in (0, 1e+06] rpm"
