@@ -56,11 +56,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Callable
 
 import numpy as np
 
-from gearwear.geometry.loading import half_thickness_at_height, load_points, root_section
+from gearwear.geometry.loading import half_thickness_at_height, load_points, root_section, thickness_table
 from gearwear.geometry.profile import FILLET, INVOLUTE, TIP_LAND, ToothProfile
 from gearwear.geometry.spec import Material
 
@@ -132,6 +133,14 @@ def hertz_compliance_linear(material: Material, face_width_m: float) -> float:
     return 4.0 * (1.0 - nu ** 2) / (math.pi * material.youngs_modulus_Pa * face_width_m)
 
 
+@lru_cache(maxsize=8)
+def _gauss_legendre(n_gauss: int) -> tuple[np.ndarray, np.ndarray]:
+    """Nodes and weights of the n-point Gauss-Legendre rule on [-1, 1] (read-only)."""
+    xg, wg = np.polynomial.legendre.leggauss(n_gauss)
+    xg.flags.writeable = wg.flags.writeable = False  # shared by every call
+    return xg, wg
+
+
 def _cumulative_moments(half_thickness: Callable[[np.ndarray], np.ndarray], breaks: np.ndarray,
                         upper: np.ndarray, n_gauss: int) -> np.ndarray:
     """(4, n_pos) array of [J_0, J_1, J_2, K] from breaks[0] to ``upper`` (see module doc).
@@ -139,7 +148,7 @@ def _cumulative_moments(half_thickness: Callable[[np.ndarray], np.ndarray], brea
     Full pieces between consecutive breaks are integrated once; each position adds
     the partial piece from the last break below it.
     """
-    xg, wg = np.polynomial.legendre.leggauss(n_gauss)
+    xg, wg = _gauss_legendre(n_gauss)
     y0 = breaks[0]
 
     def moments(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -147,9 +156,10 @@ def _cumulative_moments(half_thickness: Callable[[np.ndarray], np.ndarray], brea
         y = (0.5 * (a + b))[:, None] + half[:, None] * xg[None, :]
         x = np.asarray(half_thickness(y.ravel()), dtype=float).reshape(y.shape)
         eta = y - y0
-        inv3 = 1.0 / x ** 3
-        f = np.stack([inv3, eta * inv3, eta ** 2 * inv3, 1.0 / x])
-        return (f * wg).sum(axis=-1) * half  # (4, n_pieces)
+        inv = 1.0 / x
+        inv3 = inv * inv * inv
+        eta_inv3 = eta * inv3
+        return np.stack([inv3 @ wg, eta_inv3 @ wg, (eta * eta_inv3) @ wg, inv @ wg]) * half  # (4, n_pieces)
 
     full = moments(breaks[:-1], breaks[1:])
     cum = np.concatenate([np.zeros((4, 1)), np.cumsum(full, axis=1)], axis=1)
@@ -254,12 +264,10 @@ def tooth_compliance(profile: ToothProfile, radius_m, material: Material, face_w
     if opposite is not None:
         breaks = np.unique(np.concatenate([breaks, profile_breaks(opposite, y_M)]))
         x_M = 0.5 * (x_M + float(half_thickness_at_height(opposite, np.array([y_M]))[0]))
+    ys, ts = thickness_table(profile, opposite)
 
-        def half(y):
-            return 0.5 * (half_thickness_at_height(profile, y) + half_thickness_at_height(opposite, y))
-    else:
-        def half(y):
-            return half_thickness_at_height(profile, y)
+    def half(y):
+        return 0.5 * np.interp(y, ys, ts)
     bending, shear, axial = beam_compliance(half, breaks, lp.x_m, lp.y_m, lp.w_rad,
                                             material, face_width_m, n_gauss)
     r_f = profile.gear.root_radius_m

@@ -34,13 +34,14 @@ A pair's compliance (Eq. 6) is (delta_1 + delta_2)_pinion + delta_3 + (delta_1 +
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
 from gearwear.geometry.profile import ToothProfile
 from gearwear.geometry.spec import Material
 
-from gearwear.geometry.loading import half_thickness_at_height, load_points, root_section
+from gearwear.geometry.loading import load_points, root_section, thickness_table
 
 DEFAULT_SLICES = 64
 
@@ -69,8 +70,8 @@ class SliceCompliance:
 def thickness_at_height(loaded: ToothProfile, y_m, opposite: ToothProfile | None = None) -> np.ndarray:
     """Full tooth thickness (m) at heights y: loaded flank plus the opposite flank
     (nominal by default), so one-flank wear thins the tooth by h, not 2 h."""
-    other = opposite if opposite is not None else loaded
-    return half_thickness_at_height(loaded, y_m) + half_thickness_at_height(other, y_m)
+    ys, ts = thickness_table(loaded, opposite)
+    return np.interp(np.asarray(y_m, dtype=float), ys, ts)
 
 
 def slice_beam_compliance(thickness_fn, y_M, y_F, x_F, w, E: float, nu: float, b: float, n_slices: int):
@@ -81,27 +82,51 @@ def slice_beam_compliance(thickness_fn, y_M, y_F, x_F, w, E: float, nu: float, b
     equal shape, one entry per load position). Each slice has the thickness at its
     mid-height; within a slice the integrals are exact, so a prismatic beam is exact
     for any n (Timoshenko: L^3/(3EI) + 1.2 L/(GA) at w = 0).
+
+    With S_j = k_j L (k_j = n - 1 - j slices above slice j), 1/I_j = 12 / (b t_j^3) and
+    1/A_j = 1 / (b t_j), the sums over j factor into three fixed weight vectors on
+    1/t_j^3 and one on 1/t_j:
+
+        bending = 12 / (E b) [cos^2 w L^3 sum (1 + 3 k_j + 3 k_j^2) / (3 t_j^3)
+                              - cos w sin w x_F L^2 sum (1 + 2 k_j) / t_j^3 + sin^2 w x_F^2 L sum 1 / t_j^3]
+        shear   = 12 (1 + nu) / (5 E b) cos^2 w L sum 1 / t_j,   axial = sin^2 w L / (E b) sum 1 / t_j
+
+    so all slices x positions are one interpolation, two reciprocals and one matrix
+    product (no powers, no per-term temporaries).
     """
     y_M = np.asarray(y_M, dtype=float)
     y_F, x_F, w = (np.asarray(v, dtype=float) for v in (y_F, x_F, w))
     L = (y_F - y_M) / n_slices
-    j = np.arange(n_slices)
-    y_lo = y_M[..., None] + L[..., None] * j
-    t = thickness_fn(y_lo + 0.5 * L[..., None])
-    if np.any(~(t > 0)):
+    # slices x positions: along each row the heights are sorted when the positions are,
+    # which np.interp's search exploits. Two arrays of that size, y and t, and no other:
+    # every further temporary that large makes the allocator hand memory back to the
+    # system and fault it in again on the next call, which costs more than the arithmetic
+    y = np.multiply.outer(np.arange(n_slices) + 0.5, L)
+    y += y_M
+    t = np.asarray(thickness_fn(y), dtype=float)
+    if np.may_share_memory(t, y):  # y is overwritten below
+        t = t.copy()
+    if t.size and not np.min(t) > 0:  # also catches NaN
         raise ValueError("slice thickness <= 0: the tooth is consumed (wear deeper than the tooth)")
-    A = t * b
-    I = t ** 3 * b / 12.0
-    Lc = L[..., None]
-    S = (n_slices - 1 - j) * Lc  # distance from the top of slice j to the load point
-    c, s = np.cos(w)[..., None], np.sin(w)[..., None]
-    xF = x_F[..., None]
-    bending = (c * c * (Lc ** 3 + 3 * Lc ** 2 * S + 3 * Lc * S ** 2) / (3 * I)
-               - c * s * xF * (Lc ** 2 + 2 * Lc * S) / I
-               + s * s * xF ** 2 * Lc / I).sum(axis=-1) / E
-    shear = (c * c * 12.0 * (1 + nu) * Lc / (5.0 * A)).sum(axis=-1) / E
-    axial = (s * s * Lc / A).sum(axis=-1) / E
+    inv_sum = np.divide(1.0, t, out=y).sum(axis=0)
+    cube = np.multiply(t, t, out=y)
+    cube *= t
+    sums = np.tensordot(_slice_weights(n_slices), np.divide(1.0, cube, out=cube), axes=(0, 0))
+    c, s = np.cos(w), np.sin(w)
+    bending = 12.0 / (E * b) * (c * c * L ** 3 * sums[0] - c * s * x_F * L ** 2 * sums[1]
+                                + s * s * x_F ** 2 * L * sums[2])
+    shear = 12.0 * (1 + nu) / (5.0 * E * b) * c * c * L * inv_sum
+    axial = s * s * L / (E * b) * inv_sum
     return bending, shear, axial
+
+
+@lru_cache(maxsize=8)
+def _slice_weights(n_slices: int) -> np.ndarray:
+    """(n, 3) weights of 1/t_j^3 in the bending sums of :func:`slice_beam_compliance`."""
+    k = np.arange(n_slices - 1, -1, -1, dtype=float)
+    W = np.column_stack([(1.0 + 3.0 * k + 3.0 * k * k) / 3.0, 1.0 + 2.0 * k, np.ones(n_slices)])
+    W.flags.writeable = False  # shared by every call
+    return W
 
 
 def tooth_compliance(loaded: ToothProfile, radius_m, material: Material, face_width_m: float,
@@ -116,21 +141,25 @@ def tooth_compliance(loaded: ToothProfile, radius_m, material: Material, face_wi
         raise ValueError(f"n_slices = {n_slices}: must be >= 1")
     lp = load_points(loaded, radius_m)
     y_M, _ = root_section(loaded)
-    if opposite is None:
-        opposite = loaded
+    ys, ts = thickness_table(loaded, opposite)  # one table for the slices and the root section
     bending, shear, axial = slice_beam_compliance(
-        lambda y: thickness_at_height(loaded, y, opposite), np.full_like(lp.y_m, y_M), lp.y_m, lp.x_m, lp.w_rad,
+        lambda y: np.interp(y, ys, ts), np.full_like(lp.y_m, y_M), lp.y_m, lp.x_m, lp.w_rad,
         material.youngs_modulus_Pa, material.poisson_ratio, face_width_m, n_slices)
-    foundation = weber_foundation(loaded, lp.y_axis_m, lp.w_rad, material, face_width_m, opposite)
+    foundation = _weber(lp.y_axis_m, lp.w_rad, y_M, float(np.interp(y_M, ys, ts)), material, face_width_m)
     return SliceCompliance(lp.radius_m, bending, shear, axial, foundation)
 
 
 def weber_foundation(loaded: ToothProfile, y_axis_m, w_rad, material: Material, face_width_m: float,
                      opposite: ToothProfile | None = None) -> np.ndarray:
     """Weber's root deflection per unit load, paper Eqs. 3-4 (m/N)."""
-    E, nu = material.youngs_modulus_Pa, material.poisson_ratio
     y_M, _ = root_section(loaded)
     s_f = float(thickness_at_height(loaded, np.array([y_M]), opposite)[0])  # 2 Y_M
+    return _weber(y_axis_m, w_rad, y_M, s_f, material, face_width_m)
+
+
+def _weber(y_axis_m, w_rad, y_M: float, s_f: float, material: Material, face_width_m: float) -> np.ndarray:
+    """Eqs. 3-4 from the root section height y_M and thickness s_f = 2 Y_M (m)."""
+    E, nu = material.youngs_modulus_Pa, material.poisson_ratio
     ratio = (np.asarray(y_axis_m) - y_M) / s_f  # L_f / (2 Y_M)
     w = np.asarray(w_rad)
     bracket = (5.306 * ratio ** 2 + 2.0 * (1 - nu - 2 * nu ** 2) / (1 - nu ** 2) * ratio

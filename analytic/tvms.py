@@ -207,34 +207,47 @@ def corner_gap_m(mesh: MeshGeometry, d, side: str) -> np.ndarray:
 
 # -- load sharing --------------------------------------------------------------------
 
-def _pair_load(e, c, a, expo, F0=None):
+def _pair_load(e, c, a, expo, warm=None):
     """Solve c F + a F^expo = e for F >= 0 (F = 0 where e <= 0) by Newton's method.
 
-    The left side is increasing and concave in F: from above, one step lands below the
-    root; from below the iterates rise monotonically to it. So any start converges;
-    a warm start from the previous outer iteration needs 2-4 steps."""
+    Returns (F, dF/de) with dF/de = 1 / (c + a expo F^(expo - 1)) where F > 0, else 0.
+
+    The left side is increasing and concave in F, so F(e) is convex: from above (the
+    bound e / c), one step lands below the root; from below the iterates rise
+    monotonically to it. ``warm`` = (F0, dF0, e0), the solution at an earlier e0 > e:
+    its tangent F0 + dF0 (e - e0) starts below the root, off by O((e - e0)^2), and
+    needs 1-2 steps. Only the pairs with e > 0 are iterated."""
     pos = e > 0
     F = np.where(pos, e / c, 0.0)
     if a == 0.0:
-        return F
-    if F0 is not None:
-        F = np.where(pos & (F0 > 0), np.minimum(F0, F), F)
+        return F, np.where(pos, 1.0 / c, 0.0)
+    if warm is not None:
+        F0, dF0, e0 = warm
+        tangent = F0 + dF0 * (e - e0)
+        F = np.where(pos & (tangent > 0), np.minimum(tangent, F), F)
+    idx = np.flatnonzero(pos)
+    ep, cp, Fk = e[idx], c[idx], F[idx]
+    a_expo = a * expo
     for _ in range(60):
-        Fp = np.maximum(F, 1e-300)
+        Fp = np.maximum(Fk, 1e-300)  # F^(expo - 1) is infinite at 0
         Fe = Fp ** (expo - 1.0)
-        phi = c * Fp + a * Fp * Fe - e
-        step = phi / (c + a * expo * Fe)
-        F = np.where(pos, np.maximum(F - step, 0.0), 0.0)
-        if np.all(np.abs(step[pos]) <= 1e-14 * F[pos]):
+        step = ((cp + a * Fe) * Fp - ep) / (cp + a_expo * Fe)
+        Fk = np.maximum(Fk - step, 0.0)
+        if np.all(np.abs(step) <= 1e-14 * Fk):
             break
-    return F
+    F[idx] = Fk
+    dF = np.zeros(F.shape)
+    dF[idx] = np.where(Fk > 0, 1.0 / (cp + a_expo * np.maximum(Fk, 1e-300) ** (expo - 1.0)), 0.0)
+    return F, dF
 
 
 def share_load(total_N: float, c: np.ndarray, gap: np.ndarray, a: float, expo: float):
     """Load sharing among candidate pairs (rows = angles, columns = pairs).
 
     c: linear compliance (m/N), inf where the slot has no candidate; gap (m); Hertz
-    a F^expo. Returns (F (n, p), Delta (n,)). Works on the flattened candidates.
+    a F^expo. Returns (F (n, p), Delta (n,)). Works on the flattened candidates of all
+    angles at once: Newton on every angle's Delta together, each step solving every
+    pair's load.
     """
     cand = np.isfinite(c) & np.isfinite(gap)
     n = c.shape[0]
@@ -249,18 +262,16 @@ def share_load(total_N: float, c: np.ndarray, gap: np.ndarray, a: float, expo: f
     k0 = np.argmin(gfull, axis=1)
     r = np.arange(n)
     delta = gfull[r, k0] + c[r, k0] * total_N + a * total_N ** expo
-    F = None
+    warm = None
     for _ in range(100):
-        F = _pair_load(delta[rows] - gg, cc, a, expo, F)
-        T = np.bincount(rows, F, n)
-        Fp = np.maximum(F, 1e-300)
-        dF = np.where(F > 0, 1.0 / (cc + (a * expo * Fp ** (expo - 1.0) if a else 0.0)), 0.0)
-        slope = np.bincount(rows, dF, n)
-        resid = T - total_N
-        delta = delta - np.where(slope > 0, resid / np.where(slope > 0, slope, 1.0), 0.0)
+        e = delta[rows] - gg
+        F, dF = _pair_load(e, cc, a, expo, warm)
+        resid = np.bincount(rows, F, n) - total_N
         if np.all(np.abs(resid) <= 1e-13 * total_N):
-            break
-    F = _pair_load(delta[rows] - gg, cc, a, expo, F)
+            break  # F belongs to this delta
+        slope = np.bincount(rows, dF, n)
+        delta = delta - np.where(slope > 0, resid / np.where(slope > 0, slope, 1.0), 0.0)
+        warm = (F, dF, e)
     # remove the last tiny Newton residual so the loads sum to the total exactly
     T = np.bincount(rows, F, n)
     F = F * (total_N / np.where(T > 0, T, 1.0))[rows]
@@ -312,19 +323,22 @@ def mesh_stiffness(pair: PairSpec, method: str = "ishikawa", points: int = 360, 
     entry = (d < A) & (d > lo) & corner_contact
     exit_ = (d > E) & (d < hi) & corner_contact
     cand = in_path | entry | exit_
-    # compliances: inside the path at the contact radii; corners at the path ends
+    # compliances: inside the path at the contact radii; corners at the path ends. All
+    # candidates of all angles in one pass per gear, each distinct position once (the
+    # corner candidates share the two path-end values)
     dc = np.clip(d, A, E)
-    r1 = np.sqrt(rb1 ** 2 + dc ** 2)
-    r2 = np.sqrt(rb2 ** 2 + (L - dc) ** 2)
+    d_u, at = np.unique(dc[cand], return_inverse=True)
+    r1 = np.sqrt(rb1 ** 2 + d_u ** 2)
+    r2 = np.sqrt(rb2 ** 2 + (L - d_u) ** 2)
+    c_u = np.zeros(d_u.shape)
+    for k, (gear_r, corr) in enumerate(zip((r1, r2), correction or (None, None))):
+        cg = _tooth_compliance(method, loaded[k], nominal[k], gear_r, pair, n_slices)
+        if corr is not None:
+            grid, factor = (np.asarray(a, dtype=float) for a in corr)
+            cg *= np.interp(gear_r, grid, factor)
+        c_u += cg
     c = np.full(d.shape, np.inf)
-    c1 = _tooth_compliance(method, loaded[0], nominal[0], r1[cand], pair, n_slices)
-    c2 = _tooth_compliance(method, loaded[1], nominal[1], r2[cand], pair, n_slices)
-    if correction is not None:
-        for k, (cg, rr) in enumerate(((c1, r1[cand]), (c2, r2[cand]))):
-            if correction[k] is not None:
-                grid, factor = (np.asarray(a, dtype=float) for a in correction[k])
-                cg *= np.interp(rr, grid, factor)
-    c[cand] = c1 + c2
+    c[cand] = c_u[at]
     if method == "ishikawa":
         a, expo = ishikawa.hertz_coefficient(pair.material, pair.face_width_m), 0.9
     else:
@@ -334,11 +348,10 @@ def mesh_stiffness(pair: PairSpec, method: str = "ishikawa", points: int = 360, 
     # gaps: wear inside the path, corner separation + end-of-path wear outside
     gap = np.full(d.shape, np.inf)
     if wear is not None and not wear.is_unworn:
-        h1, h2 = wear_on_line_of_action(mesh, wear, dc[cand])
-        wgap = h1 + h2
+        h1, h2 = wear_on_line_of_action(mesh, wear, d_u)
+        gap[cand] = (h1 + h2)[at]
     else:
-        wgap = np.zeros(int(cand.sum()))
-    gap[cand] = wgap
+        gap[cand] = 0.0
     if np.any(entry):
         gap[entry] += corner_gap_m(mesh, d[entry], "entry")
     if np.any(exit_):
