@@ -129,7 +129,7 @@ def test_short_flags_are_aliases_of_set():
     assert a.returncode == 0 and b.returncode == 0, a.stderr + b.stderr
     ja, jb = json.loads(a.stdout), json.loads(b.stdout)
     ja.pop("wall_s"), jb.pop("wall_s")
-    assert ja == jb and ja["clearance_um"] == 25
+    assert ja == jb and ja["clearance_um"] == pytest.approx(25, rel=1e-12) and ja["torque_Nm"] == 60
 
 
 @pytest.mark.parametrize("command", ["geometry", "stiffness", "verify", "calibrate", "simulate", "sweep", "scene"])
