@@ -93,7 +93,7 @@ def sweep(scene: Scene | str | None, axes: Mapping[str, Sequence[Any]], workers:
           progress: bool = False) -> list[dict[str, Any]]:
     """Run a scene over the Cartesian grid of ``axes`` ({dotted key: values}) on local
     processes; one summary dict per point, in grid order."""
-    from . import sweep as sw
+    from . import sweep_job as sw
     from .scene import load_scene_dict
 
     if isinstance(scene, Scene):

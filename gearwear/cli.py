@@ -277,7 +277,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
 
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
-    from . import sweep
+    from . import sweep_job as sweep
     from .scene import load_scene_dict
 
     data, name = load_scene_dict(args.scene, default="paper-wear-severe")

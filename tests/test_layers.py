@@ -60,3 +60,12 @@ def test_importing_everything_loads_only_gearwear_names():
             "assert not bad, bad\n"
             "assert gearwear.geometry.__file__.endswith('geometry/__init__.py'), gearwear.geometry.__file__\n")
     subprocess.run([sys.executable, "-c", code], check=True, cwd=ROOT.parent)
+
+
+def test_no_module_shadows_a_facade_name():
+    """``gw.sweep`` etc. are functions; a sub-module of the same name would replace the
+    function on the package as soon as anything imported it."""
+    import gearwear
+    for name in gearwear._API:
+        assert not (ROOT / "gearwear" / f"{name}.py").exists(), name
+        assert not (ROOT / name).is_dir() or name in LAYERS, name
