@@ -141,7 +141,7 @@ def energy_balance(result, model: GearDynamics) -> dict:
         how = "quadrature states"
     else:
         ms = mesh_state(model, t, Z)
-        cbp, cbg = model.c_b
+        cbp, cbg = model.c_b_pair
         p_in = model.F_s * Z[:, 9]
         p_d = cbp * (Z[:, 5] ** 2 + Z[:, 6] ** 2) + cbg * (Z[:, 7] ** 2 + Z[:, 8] ** 2) \
             + ms["F_damp"] * ms["delta_dot"]

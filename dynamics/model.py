@@ -228,7 +228,13 @@ class GearDynamics:
 
     @property
     def e_mean(self) -> float:
-        return _table_mean(self, self.e_table) if self.te_excitation else 0.0
+        return _table_mean(self, self.e_table) if self.te_excitation and self.e_table is not None else 0.0
+
+    @property
+    def c_b_pair(self) -> tuple[float, float]:
+        """(pinion, gear) bearing damping in N s/m (``c_b`` is normalised to this pair)."""
+        cb = self.c_b
+        return (cb, cb) if isinstance(cb, (int, float)) else (float(cb[0]), float(cb[1]))
 
     # Computed once per instance (the fields and the read-only tables never change after
     # __post_init__) and dropped with it. A module-level lru_cache would key on identity
@@ -317,7 +323,7 @@ def _compute_derived(model: GearDynamics):
     par[P_MP], par[P_MG], par[P_ME] = model.m_p, model.m_g, model.m_e
     par[P_FS] = model.F_s
     par[P_KB] = model.k_b
-    par[P_CBP], par[P_CBG] = model.c_b
+    par[P_CBP], par[P_CBG] = model.c_b_pair
     par[P_CH] = model.c_h
     par[P_SA], par[P_CA] = math.sin(model.alpha), math.cos(model.alpha)
     par[P_KC] = model.k_mean
@@ -534,7 +540,7 @@ def _accelerations(model: GearDynamics, t, z, k=None, e=None) -> np.ndarray:
     # generalised mesh forces: -F G + k (f_drive - f_back) Gb
     Q = -ms["F_m"][..., None] * ms["G"]
     Q[..., :4] += (ms["k_h"] * (ms["f_drive"] - ms["f_back"]))[..., None] * ms["Gb"]
-    cbp, cbg = model.c_b
+    cbp, cbg = model.c_b_pair
     fb = bearing_f(model, z[..., :4])
     a = np.empty(z.shape[:-1] + (5,))
     a[..., 0] = (Q[..., 0] - cbp * z[..., 5] - model.k_b * fb[..., 0]) / model.m_p
@@ -604,7 +610,7 @@ def rhs_python(t: float, y, model: GearDynamics) -> np.ndarray:
             return x
         return x - bb if x > bb else (x + bb if x < -bb else 0.0)
 
-    cbp, cbg = model.c_b
+    cbp, cbg = model.c_b_pair
     kb = model.k_b
     return np.array([vyp, vxp, vyg, vxg, vq,
                      (Q[0] - cbp * vyp - kb * fb(yp)) / model.m_p,
@@ -672,7 +678,7 @@ def _linear_matrices(model: GearDynamics, k: float):
     action g = d delta / d(y_p, x_p, y_g, x_g, q), bearings k_b and c_b, no dead zones)."""
     ca, sa = math.cos(model.alpha), math.sin(model.alpha)
     g = np.array([ca, sa, -ca, -sa, 1.0])
-    cbp, cbg = model.c_b
+    cbp, cbg = model.c_b_pair
     K = np.diag([model.k_b] * 4 + [0.0]) + k * np.outer(g, g)
     C = np.diag([cbp, cbp, cbg, cbg, 0.0]) + model.c_h * np.outer(g, g)
     M = np.diag([model.m_p, model.m_p, model.m_g, model.m_g, model.m_e])

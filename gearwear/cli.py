@@ -12,11 +12,12 @@ import json
 import os
 import sys
 from pathlib import Path
+from typing import Any
 
 from gearwear.core.validation import InputError, fail, renamed
 
 from . import __version__
-from .scene import wear_override
+from .scene import Scene, wear_override
 
 
 def _float_arg(name: str, unit: str, lo: float = 0.0):
@@ -53,7 +54,7 @@ ALIAS_KEYS = {"torque_Nm": ("operating.torque_Nm", "--torque-Nm"),
 
 
 def _load(args: argparse.Namespace, default: str = "paper-default", extra: list[str] | None = None,
-          loaded: bool = True):
+          loaded: bool = True) -> "Scene":
     """The command's scene: file or built-in name, short-flag aliases, then --set. A bad
     value given through a short flag is reported under the flag's name. ``loaded``: the
     command computes load sharing, so the torque must be > 0."""
@@ -71,7 +72,7 @@ def _load(args: argparse.Namespace, default: str = "paper-default", extra: list[
         raise renamed(exc, given) from None
 
 
-def _variants(args: argparse.Namespace) -> tuple[object, list, list[float]]:
+def _variants(args: argparse.Namespace) -> "tuple[Scene, list, list[float]]":
     """(scene, wear specs, clearances in m) for commands that overlay several --wear and
     --clearance-um values: each value is the scene with that alias applied."""
     scene = _load(args)
@@ -148,10 +149,10 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
         files += stiffness_job.write_fields(curves, out, fields)
     summaries = [c.summary() for c in curves]
     if args.json:
-        out = dict(summaries[0])
-        out["curves"] = summaries
-        out["files"] = [str(f) for f in files]
-        print(json.dumps(out, sort_keys=True, allow_nan=False, default=lambda o: None))
+        doc = dict(summaries[0])
+        doc["curves"] = summaries
+        doc["files"] = [str(f) for f in files]
+        print(json.dumps(doc, sort_keys=True, allow_nan=False, default=lambda o: None))
     else:
         hdr = f"{'method':<9}{'wear':<9}{'clear um':>9}{'mean N/m':>12}{'min N/m':>12}{'max N/m':>12}" \
               f"{'eps':>8}{'double':>12}{'single':>12}{'wall ms':>9}"
@@ -251,9 +252,11 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     else:
         print(f"{'wear':<9}{'clear um':>9}{'mean N/m':>12}{'analytic':>12}{'check res %':>12}{'FE err %':>9}  cache")
         for r in rows:
+            res: Any = r["check_residual"]
+            err: Any = r["fe_estimated_relative_error"]
             print(f"{r['wear']:<9}{r['clearance_um']:>9g}{r['mean_N_per_m']:>12.4e}"
-                  f"{r['uncorrected_mean_N_per_m']:>12.4e}{100 * max(r['check_residual']):>12.2f}"
-                  f"{100 * r['fe_estimated_relative_error']:>9.2f}  {'hit' if r['cache_hit'] else 'new'}")
+                  f"{r['uncorrected_mean_N_per_m']:>12.4e}{100 * max(res):>12.2f}"
+                  f"{100 * err:>9.2f}  {'hit' if r['cache_hit'] else 'new'}")
         for f in files:
             print(f"wrote {f}")
     return 0

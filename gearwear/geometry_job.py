@@ -64,7 +64,7 @@ class GeometryResult:
             "backlash_um": og.backlash_m * 1e6,
             "contact_line_length_mm": og.contact_line_length_m * 1e3,
             "base_pitch_mm": og.mesh.base_pitch_m * 1e3,
-            "max_wear_depth_um": max(g["max_wear_depth_um"] for g in per_gear),
+            "max_wear_depth_um": max(float(g["max_wear_depth_um"]) for g in per_gear),  # type: ignore[arg-type]
             "wear": self.wear.label if self.wear else "unworn",
             "clearance_um": og.clearance_m * 1e6,
             "torque_Nm": og.torque_Nm,
@@ -163,7 +163,7 @@ def tooth_figure(res: GeometryResult):
     ax.plot(o[:, 0] * 1e3, o[:, 1] * 1e3, "k-", lw=1.2, label="nominal")
     if worn.is_worn:
         w = tooth_outline(worn, nom)
-        ax.plot(w[:, 0] * 1e3, w[:, 1] * 1e3, "r-", lw=1.0, label=f"worn ({res.wear.label})")
+        ax.plot(w[:, 0] * 1e3, w[:, 1] * 1e3, "r-", lw=1.0, label=f"worn ({res.wear.label if res.wear else 'unworn'})")
         exaggeration = 50.0
         ex = nom.xy - exaggeration * worn.depth[:, None] * nom.normal
         ax.plot(ex[:, 0] * 1e3, ex[:, 1] * 1e3, "r--", lw=0.8, label=f"worn, depth x{exaggeration:g}")

@@ -9,11 +9,13 @@ rendering needs no backend, ``Figure.savefig`` picks the Agg canvas itself.
 
 from __future__ import annotations
 
+from typing import Literal
+
 from matplotlib.figure import Figure
 
 
 def subplots(nrows: int = 1, ncols: int = 1, *, figsize: tuple[float, float] | None = None,
-             layout: str | None = None, **subplot_kw):
+             layout: Literal["constrained", "compressed", "tight"] | None = None, **subplot_kw):
     """(Figure, axes) like ``pyplot.subplots``; ``figsize`` in inches, ``subplot_kw``
     (sharex, squeeze, ...) go to :meth:`Figure.subplots`."""
     fig = Figure(figsize=figsize, layout=layout)

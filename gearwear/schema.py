@@ -26,6 +26,7 @@ from typing import Annotated, Any, Literal, Mapping, Union
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, ValidationError
 from pydantic import Field as PField
+from pydantic.json_schema import JsonDict
 from pydantic_core import PydanticCustomError
 
 from gearwear.core.validation import Field, InputError, fail
@@ -45,7 +46,7 @@ def _num(unit: str = "", lo: float = -math.inf, hi: float = math.inf, *, lo_open
         kw["lt" if hi_open else "le"] = hi
     if not integer:
         kw["allow_inf_nan"] = False
-    extra = {"unit": unit, "range": f.range_text()}
+    extra: JsonDict = {"unit": unit, "range": f.range_text()}
     return Annotated[int if integer else float, PField(description=doc, json_schema_extra=extra, **kw)]
 
 
@@ -62,7 +63,7 @@ def _per_gear(unit: str = "", lo: float = -math.inf, hi: float = math.inf, *, lo
               hi_open: bool = False, integer: bool = False, doc: str = "") -> Any:
     item = _num(unit, lo, hi, lo_open=lo_open, hi_open=hi_open, integer=integer)
     f = Field(unit, lo, hi, lo_open, hi_open)
-    extra = {"unit": unit, "range": f.range_text(), "per_gear": True}
+    extra: JsonDict = {"unit": unit, "range": f.range_text(), "per_gear": True}
     return Annotated[tuple[item, item],  # type: ignore[valid-type]
                      BeforeValidator(_pair_of, json_schema_input_type=Union[item, tuple[item, item]]),  # type: ignore[valid-type]
                      PField(description=doc + " One value for both gears or [pinion, gear].",
@@ -115,8 +116,9 @@ class BodiesDoc(_Table):
 class OperatingDoc(_Table):
     """The operating point of the pinion (driver)."""
     speed_rpm: _num("rpm", 0, 1e6, lo_open=True, doc="Pinion speed.") = 1200.0  # type: ignore[valid-type]
-    torque_Nm: _num("N m", 0, 1e7, doc="Pinion torque (0: unloaded geometry only; the mesh stiffness and the "
-                                       "dynamics need a load).") = 40.0  # type: ignore[valid-type]
+    torque_Nm: _num("N m", 0, 1e7,  # type: ignore[valid-type]
+                    doc="Pinion torque (0: unloaded geometry only; the mesh stiffness and the dynamics need a "
+                        "load).") = 40.0
 
 
 class MeshStiffnessDoc(_Table):
@@ -200,7 +202,8 @@ class SolverDoc(_Table):
 class OutputDoc(_Table):
     """What the simulation reports."""
     signals: list[Literal["y_p", "x_p", "y_g", "x_g", "q", "delta", "F_m"]] = PField(
-        default_factory=lambda: ["y_p", "x_p", "delta", "F_m"], description="Signals to keep and analyse.")
+        default_factory=lambda: ["y_p", "x_p", "delta", "F_m"],  # type: ignore[arg-type]
+        description="Signals to keep and analyse.")
     harmonics: _num("", 1, 100, integer=True, doc="Mesh harmonics reported.") = 10  # type: ignore[valid-type]
 
 
@@ -208,13 +211,13 @@ class SceneDoc(_Table):
     """A gearwear scene: a gear pair, its bodies and operating point, and the effects to simulate."""
     name: str = "scene"
     description: str = ""
-    pair: PairDoc = PField(default_factory=PairDoc)
-    material: MaterialDoc = PField(default_factory=MaterialDoc)
-    bodies: BodiesDoc = PField(default_factory=BodiesDoc)
-    operating: OperatingDoc = PField(default_factory=OperatingDoc)
-    effects: EffectsDoc = PField(default_factory=EffectsDoc)
-    solver: SolverDoc = PField(default_factory=SolverDoc)
-    output: OutputDoc = PField(default_factory=OutputDoc)
+    pair: PairDoc = PField(default_factory=PairDoc)  # type: ignore[arg-type]
+    material: MaterialDoc = PField(default_factory=MaterialDoc)  # type: ignore[arg-type]
+    bodies: BodiesDoc = PField(default_factory=BodiesDoc)  # type: ignore[arg-type]
+    operating: OperatingDoc = PField(default_factory=OperatingDoc)  # type: ignore[arg-type]
+    effects: EffectsDoc = PField(default_factory=EffectsDoc)  # type: ignore[arg-type]
+    solver: SolverDoc = PField(default_factory=SolverDoc)  # type: ignore[arg-type]
+    output: OutputDoc = PField(default_factory=OutputDoc)  # type: ignore[arg-type]
 
 
 # -- errors --------------------------------------------------------------------------

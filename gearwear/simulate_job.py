@@ -89,6 +89,7 @@ def stiffness_input(scene: Scene, points: int = 360) -> StiffnessInput:
     source = ms["source"] if ms else "constant"
     wear = scene.wear
     if source == "table":
+        assert ms is not None
         phi, k = ms["angle_rad"], ms["k_N_per_m"]
         e = ms["excitation_m"] if ms["excitation_m"] is not None else np.zeros_like(k)
     elif source == "calibrated":

@@ -216,6 +216,8 @@ def wear_on_line_of_action(mesh: MeshGeometry, spec: WearSpec, d) -> tuple[np.nd
         n1, n2 = cycles(spec, mesh)
         return h1c * n1, h2c * n2
     target = PHASE_DEPTHS_M[spec.phase] if spec.phase is not None else spec.max_depth_m
+    if target is None:
+        raise ValueError("WearSpec: exactly one of phase, max_depth_m, hours must be set")
     if target == 0.0:
         return np.zeros_like(d), np.zeros_like(d)
     # scale so the pinion's maximum over its whole active flank equals the target
