@@ -187,27 +187,3 @@ def format_table(rows: list[dict]) -> str:
                      f"{r['observed_order_norm']:7.2f} {r['error_pct_max']:11.3f}"
                      + ("  <- default" if r["is_default"] else ""))
     return "\n".join(lines)
-
-
-def main(argv=None) -> int:  # pragma: no cover - exercised by hand / benchmarks
-    import argparse
-    import json
-
-    ap = argparse.ArgumentParser(description="FE single-tooth compliance: h- and p-convergence study")
-    ap.add_argument("--out", default="out/fem_convergence")
-    ap.add_argument("--wear", default=None, help="unworn | mild | severe")
-    args = ap.parse_args(argv)
-    wear = WearSpec(phase=args.wear) if args.wear else None
-    rows = convergence_table(wear=wear, progress=lambda r: print(
-        f"P{r['order']} scale {r['mesh_scale']:.3f}: {r['dofs']} dofs, {r['wall_s']:.2f} s", flush=True))
-    print(format_table(rows))
-    print(json.dumps(acceptance(rows), indent=1))
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    (out / "convergence.json").write_text(json.dumps(rows, indent=1))
-    print(plot_convergence(rows, out / "convergence.png"))
-    return 0
-
-
-if __name__ == "__main__":  # pragma: no cover
-    raise SystemExit(main())

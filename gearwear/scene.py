@@ -208,7 +208,6 @@ def read_stiffness_table(path: str | Path, z_pinion: int):
     period: the wrap-around gap (first row + period - last row) may not exceed the largest
     spacing between rows. Returns (angle_rad, k_N_per_m, excitation_m or None)."""
     import csv
-    import math
 
     import numpy as np
 

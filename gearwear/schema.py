@@ -17,7 +17,6 @@ geometric consistency of the pair is checked by ``gearwear.geometry.spec.check_p
 and its errors are renamed to scene keys here.
 """
 
-from __future__ import annotations
 
 import difflib
 import inspect
