@@ -3,7 +3,7 @@
 For each pinion angle theta over one mesh period (theta = 0 when a pair enters the
 path of contact at A) every candidate tooth pair k has
 
-* a position d_k on the line of action (kinematics.MeshGeometry.contacts),
+* a position d_k on the line of action (geometry.kinematics.MeshGeometry.slots),
 * a linear compliance c_k = (delta_1 + delta_2)_pinion + (delta_1 + delta_2)_gear per
   unit load (Ishikawa slices or the potential-energy method, true worn profiles),
 * a Hertzian approach: nonlinear a F^0.9 (paper Eq. 5) for ``ishikawa``, linear
@@ -42,6 +42,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from gearwear.geometry.curves import CurveStats
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.operating import operating_geometry
 from gearwear.geometry.profile import ToothProfile, tooth_profile
@@ -52,50 +53,6 @@ from gearwear.geometry.wear import WearSpec, flank_depth, key_roll_angles, wear_
 from . import ishikawa
 
 METHODS = ("ishikawa", "energy")
-
-
-class CurveStats:
-    """Statistics shared by every mesh-stiffness curve over one mesh period (this
-    module's analytic curves and fem.pair's FE curves): needs ``pair``, ``mesh``,
-    ``torque_Nm``, ``angle_rad``, ``k_N_per_m`` and ``pair_load_N``."""
-
-    @property
-    def mean_N_per_m(self) -> float:
-        return float(np.mean(self.k_N_per_m))
-
-    @property
-    def min_N_per_m(self) -> float:
-        return float(np.min(self.k_N_per_m))
-
-    @property
-    def max_N_per_m(self) -> float:
-        return float(np.max(self.k_N_per_m))
-
-    @property
-    def pairs_in_contact(self) -> np.ndarray:
-        """Number of pairs carrying load at each angle."""
-        return (self.pair_load_N > 0).sum(axis=1)
-
-    @property
-    def contact_ratio(self) -> float:
-        return self.mesh.contact_ratio
-
-    @property
-    def total_load_N(self) -> float:
-        return self.torque_Nm / self.pair.gear(0).base_radius_m
-
-    def zone_masks(self) -> dict[str, np.ndarray]:
-        """Angle masks of the double-contact zone at entry (A), the single-contact
-        zone (B) and the double-contact zone at exit (C) of the theoretical path."""
-        m = self.mesh
-        rb1 = self.pair.gear(0).base_radius_m
-        d_entry = m.path_start_m + rb1 * self.angle_rad  # position of the entering pair
-        pb = m.base_pitch_m
-        double = d_entry + pb <= m.path_end_m
-        if m.contact_ratio < 1:
-            return {"A": np.zeros_like(double), "B": d_entry <= m.path_end_m, "C": np.zeros_like(double)}
-        half = d_entry < m.path_start_m + 0.5 * (m.path_end_m - pb - m.path_start_m) + 1e-300
-        return {"A": double & half, "B": ~double, "C": double & ~half}
 
 
 @dataclass(frozen=True)
@@ -310,13 +267,11 @@ def mesh_stiffness(pair: PairSpec, method: str = "ishikawa", points: int = 360, 
     nominal, loaded = _profiles(pair, wear, mesh.centre_distance_m)
     theta = np.arange(points) * (mesh.mesh_angle_rad / points)
     rb1, rb2 = pair.gear(0).base_radius_m, pair.gear(1).base_radius_m
-    pb, L = mesh.base_pitch_m, mesh.line_of_action_m
+    L = mesh.line_of_action_m
     A, E = mesh.path_start_m, mesh.path_end_m
     # candidate slots: from one pitch before entry to beyond the exit
-    nslots = int(math.ceil(mesh.contact_ratio)) + 3
-    j = np.arange(-1, nslots - 1)
-    d = A + rb1 * theta[:, None] + j[None, :] * pb
-    in_path = (d >= A - 1e-12 * pb) & (d <= E + 1e-12 * pb)
+    _, d = mesh.slots(theta)
+    in_path = mesh.in_path(d)
     # extended (corner) contact is possible while the mating involute exists
     lo = max(rb1 * math.sqrt(max((nominal[0].form_radius_m / rb1) ** 2 - 1, 0)), 1e-9)
     hi = L - rb2 * math.sqrt(max((nominal[1].form_radius_m / rb2) ** 2 - 1, 0))

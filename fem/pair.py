@@ -18,14 +18,15 @@ resolved by the mesh.
 
 Kinematics. Fixed frame: pinion centre O1 = 0, its base-circle tangency point
 T1 = (0, r_b1), line of action (LOA) along +x to T2 = (L, r_b1), gear centre
-O2 = (L, r_b1 + r_b2). A tooth pair at LOA position d (the position analytic.tvms
-uses) is placed rigidly so that both nominal flanks pass through (d, r_b1): pinion
-tooth frame turned by gamma_1 = psi_b1 - d / r_b1, gear tooth frame by
+O2 = (L, r_b1 + r_b2). A tooth pair at LOA position d (the slots of
+geometry.kinematics.MeshGeometry.slots, shared with analytic.tvms) is placed
+rigidly so that both nominal flanks pass through (d, r_b1): pinion tooth frame
+turned by gamma_1 = psi_b1 - d / r_b1, gear tooth frame by
 gamma_2 = psi_b2 - (L - d) / r_b2 - pi (psi_b: half angular thickness on the base
 circle; the involute is beta = psi_b - (u - atan u)). Pinion slot j sits on tooth
--j, gear slot j on tooth +j (as analytic.tvms); pairs one base pitch apart are then
-exactly one tooth apart. The driven gear is held; the pinion turns by the extra
-angle dtheta, and the loaded STE is delta = r_b1 dtheta.
+-j, gear slot j on tooth +j (slot j entered j mesh periods earlier); pairs one
+base pitch apart are then exactly one tooth apart. The driven gear is held; the
+pinion turns by the extra angle dtheta, and the loaded STE is delta = r_b1 dtheta.
 
 Gaps from the exact profiles (node-to-surface). For each tooth pair the "slave" is
 the gear whose tip is nearer the contact (the pinion for d past mid-path, else the
@@ -97,7 +98,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from gearwear.geometry.loading import load_points
-from gearwear.analytic.tvms import CurveStats
+from gearwear.geometry.curves import CurveStats
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.operating import operating_geometry
 from gearwear.geometry.profile import INVOLUTE, tooth_profile
@@ -157,12 +158,6 @@ class PairFE(CurveStats):
     half_width_m: np.ndarray
     timings: dict = field(default_factory=dict)
     meta: dict = field(default_factory=dict)
-
-    def zone_means(self) -> dict[str, float]:
-        z = self.zone_masks()
-        dbl = z["A"] | z["C"]
-        return {"single": float(np.mean(self.k_N_per_m[z["B"]])) if z["B"].any() else float("nan"),
-                "double": float(np.mean(self.k_N_per_m[dbl])) if dbl.any() else float("nan")}
 
 
 # ---------------------------------------------------------------------------
@@ -379,14 +374,6 @@ class PositionSolution:
     w: np.ndarray
 
 
-def _slot_layout(pm: PairModel, theta: float):
-    m = pm.mesh
-    nslots = int(math.ceil(m.contact_ratio)) + 3
-    j = np.arange(-1, nslots - 1)
-    d = m.path_start_m + m.pair.gear(0).base_radius_m * theta + j * m.base_pitch_m
-    return j, d
-
-
 def _candidates(pm: PairModel, d: float, j: int) -> dict | None:
     """Candidate nodes, gaps, lever arms and load/read representations of the pair in
     slot j at LOA position d, or None when no node can reach the mating flank."""
@@ -473,7 +460,7 @@ def _flexibility(pm: PairModel, cands: list) -> np.ndarray:
 def solve_position(pm: PairModel, theta: float, total_N: float) -> PositionSolution:
     """Resolved contact at pinion angle theta (rad from the entry of a pair at A; any
     value, also outside one mesh period) under the torque-equivalent load total_N."""
-    j, d = _slot_layout(pm, theta)
+    j, d = pm.mesh.slots(theta)
     A, E = pm.mesh.path_start_m, pm.mesh.path_end_m
     ext = EXTENSION_PITCHES * pm.mesh.base_pitch_m
     cands, slots = [], []
@@ -537,9 +524,8 @@ def pair_contact(pair: PairSpec, wear: WearSpec | None = None, positions: int = 
     mesh = pm.mesh
     F = torque_Nm / pair.gear(0).base_radius_m
     theta = np.arange(positions) * (mesh.mesh_angle_rad / positions)
-    j, d0 = _slot_layout(pm, 0.0)
-    d = np.vstack([_slot_layout(pm, t)[1] for t in theta])
-    in_path = (d >= mesh.path_start_m - 1e-12 * mesh.base_pitch_m) & (d <= mesh.path_end_m + 1e-12 * mesh.base_pitch_m)
+    _, d = mesh.slots(theta)
+    in_path = mesh.in_path(d)
     loads = np.zeros(d.shape)
     gaps = np.full(d.shape, np.inf)
     hw = np.zeros(d.shape)

@@ -41,7 +41,7 @@ class Curve:
 
     def summary(self) -> dict[str, Any]:
         r = self.result
-        z = zone_means(r)
+        z = r.zone_means()
         return {"method": self.method, "wear": self.wear.label if self.wear else "unworn",
                 "clearance_um": self.clearance_m * 1e6, "torque_Nm": r.torque_Nm,
                 "mean_N_per_m": r.mean_N_per_m, "min_N_per_m": r.min_N_per_m, "max_N_per_m": r.max_N_per_m,
@@ -52,19 +52,6 @@ class Curve:
                 "ste_peak_to_peak_um": float(np.ptp(r.ste_m)) * 1e6,
                 "centre_distance_mm": r.mesh.centre_distance_m * 1e3,
                 "operating_pressure_angle_deg": math.degrees(r.mesh.pressure_angle_rad)}
-
-
-def zone_means(r: MeshStiffness) -> dict[str, float]:
-    """Mean stiffness over the theoretical double- and single-contact zones of the
-    mesh period and the zones' lengths in pinion angle."""
-    m = r.mesh
-    z = r.zone_masks()
-    double = z["A"] | z["C"]
-    per = math.degrees(m.mesh_angle_rad)
-    frac = max(min(m.contact_ratio - 1.0, 1.0), 0.0)
-    return {"double": float(r.k_N_per_m[double].mean()) if double.any() else float("nan"),
-            "single": float(r.k_N_per_m[~double].mean()) if (~double).any() else float("nan"),
-            "double_deg": frac * per, "single_deg": (1 - frac) * per}
 
 
 def iso_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float) -> MeshStiffness:
@@ -169,7 +156,7 @@ def figures(curves: list[Curve]):
             sel = [c for c in curves if (c.wear.label if c.wear else "unworn") == wl]
             sel.sort(key=lambda c: c.clearance_m)
             x = [c.clearance_m * 1e6 for c in sel]
-            zs = [zone_means(c.result) for c in sel]
+            zs = [c.result.zone_means() for c in sel]
             axs[0].plot(x, [c.result.mean_N_per_m / 1e8 for c in sel], "o-", label=wl)
             axs[1].plot(x, [z["double_deg"] for z in zs], "o-", label=f"double ({wl})")
             axs[1].plot(x, [z["single_deg"] for z in zs], "s--", label=f"single ({wl})")

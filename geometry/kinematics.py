@@ -120,25 +120,67 @@ class MeshGeometry:
         """EAP radii (pinion, gear) = tip radii."""
         return (self.pair.gear(0).tip_radius_m, self.pair.gear(1).tip_radius_m)
 
+    # -- which tooth pairs touch where ----------------------------------------------
+    def slots(self, theta_rad) -> tuple[np.ndarray, np.ndarray]:
+        """Tooth-pair slots and their LOA positions at pinion angles ``theta_rad`` (rad).
+
+        theta = 0 when a pair enters the path at A. Slot j holds the pair that entered
+        j mesh periods before that one; it sits at
+
+            d_j(theta) = d_A + r_b1 theta + j p_b
+
+        and, since p_b = r_b1 2 pi / z1, one mesh period later the same pair is in slot
+        j + 1 at the same theta. Slots j = -1 .. ceil(epsilon) + 1 reach from one pitch
+        before A to beyond E for theta in [0, 2 pi / z1) (tip-corner contact outside
+        the path needs the neighbours of the path too). theta is not wrapped.
+
+        Returns (j (m,), d_m (theta.shape + (m,)))."""
+        theta = np.asarray(theta_rad, dtype=float)
+        j = np.arange(-1, int(math.ceil(self.contact_ratio)) + 2)
+        d = self.path_start_m + self.pair.gear(0).base_radius_m * theta[..., None] + j * self.base_pitch_m
+        return j, d
+
+    def in_path(self, d_m) -> np.ndarray:
+        """True where LOA positions ``d_m`` lie on the path of contact [d_A, d_E]
+        (to 1e-12 p_b, so a pair exactly at A or E counts)."""
+        tol = 1e-12 * self.base_pitch_m
+        return (d_m >= self.path_start_m - tol) & (d_m <= self.path_end_m + tol)
+
+    @property
+    def double_contact_share(self) -> float:
+        """Fraction of a mesh period with two pairs on the path, epsilon - 1 clipped to [0, 1]."""
+        return min(max(self.contact_ratio - 1.0, 0.0), 1.0)
+
+    def contact_zones(self, theta_rad) -> dict[str, np.ndarray]:
+        """Masks over pinion angles ``theta_rad`` in [0, 2 pi / z1) of the theoretical
+        zones: "A" the first and "C" the second half of the double-contact interval
+        0 <= r_b1 theta <= d_E - p_b - d_A (the pair that entered at theta = 0 is at
+        d = d_A + r_b1 theta, the one ahead of it p_b further), "B" single contact.
+        For epsilon < 1: A and C empty, B where the entering pair is on the path."""
+        d_entry = self.path_start_m + self.pair.gear(0).base_radius_m * np.asarray(theta_rad, dtype=float)
+        pb = self.base_pitch_m
+        double = d_entry + pb <= self.path_end_m
+        if self.contact_ratio < 1:
+            return {"A": np.zeros_like(double), "B": d_entry <= self.path_end_m, "C": np.zeros_like(double)}
+        half = d_entry < self.path_start_m + 0.5 * (self.path_end_m - pb - self.path_start_m) + 1e-300
+        return {"A": double & half, "B": ~double, "C": double & ~half}
+
     def contacts(self, theta_rad) -> "Contacts":
         """Tooth pairs in contact at pinion angles ``theta_rad`` (rad).
 
         theta = 0 when a pair enters contact at A. Returns, per angle, up to
-        ceil(epsilon) + 1 slots; slot j is the pair that entered j mesh periods
-        earlier.
+        ceil(epsilon) + 1 slots (those of :meth:`slots` that can be on the path, at
+        theta wrapped into one mesh period); slot j is the pair that entered j mesh
+        periods earlier.
         """
         theta = np.atleast_1d(np.asarray(theta_rad, dtype=float))
-        pb = self.base_pitch_m
-        rb1 = self.pair.gear(0).base_radius_m
         cycles = np.floor(theta / self.mesh_angle_rad)
         frac = theta - cycles * self.mesh_angle_rad
-        nslots = int(math.ceil(self.contact_ratio)) + 1
-        j = np.arange(nslots)
-        d = self.path_start_m + rb1 * frac[:, None] + j[None, :] * pb
-        tol = 1e-12 * pb
-        active = (d >= self.path_start_m - tol) & (d <= self.path_end_m + tol)
+        j, d = self.slots(frac)
+        on = (j >= 0) & (j <= math.ceil(self.contact_ratio))
+        j, d = j[on], d[:, on]
         tooth = (cycles[:, None] - j[None, :]).astype(np.int64)
-        return Contacts(theta=theta, d=d, active=active, tooth=tooth, mesh=self)
+        return Contacts(theta=theta, d=d, active=self.in_path(d), tooth=tooth, mesh=self)
 
 
 @dataclass(frozen=True)
