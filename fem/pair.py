@@ -109,8 +109,8 @@ from gearwear.geometry.wear import WearSpec, flank_depth, hertz_half_width, key_
 from .contact import solve_contact
 from .pair_body import BodySizes, GearBody, build_body, involute_point, rot
 
-__all__ = ["PairFE", "PairModel", "pair_contact", "pair_model", "solve_position", "compare_with_analytic",
-           "weber_approach_m", "body_sizes", "extended_contact_widths", "consistency", "write_fields"]
+__all__ = ["PairFE", "PairModel", "pair_contact", "pair_model", "solve_position", "weber_approach_m",
+           "body_sizes", "extended_contact_widths", "consistency", "write_fields"]
 
 ELEMENTS_PER_HALF_WIDTH = 2.5   # h_c = a_ref / 2.5 at contact_scale 1
 WINDOW_HALF_WIDTHS = 3.0        # candidate window: +-3 a_ref of arc length (+ 2 h_c)
@@ -693,32 +693,8 @@ def consistency(pair: PairSpec, torque_Nm: float = 40.0, positions: int = 24, co
 
 
 # ---------------------------------------------------------------------------
-# comparison with the analytic model, fields
+# fields
 # ---------------------------------------------------------------------------
-
-
-def compare_with_analytic(fe: PairFE, corner_contact: bool = True) -> dict:
-    """Ishikawa mesh stiffness (analytic.tvms) at the same angles, torque, clearance and
-    wear: means, zone means and the per-position relative difference (FE / analytic - 1)."""
-    from gearwear.analytic.tvms import mesh_stiffness
-
-    an = mesh_stiffness(fe.pair, method="ishikawa", points=len(fe.angle_rad), torque_Nm=fe.torque_Nm,
-                        clearance_m=fe.meta.get("clearance_m", 0.0), wear=fe.wear,
-                        corner_contact=corner_contact)
-    if not np.allclose(an.angle_rad, fe.angle_rad, rtol=0, atol=1e-15):
-        raise RuntimeError("analytic and FE angles differ")
-    z = fe.zone_masks()
-    dbl = z["A"] | z["C"]
-    return {
-        "analytic": an,
-        "mean_fe_N_per_m": fe.mean_N_per_m,
-        "mean_analytic_N_per_m": an.mean_N_per_m,
-        "mean_rel_diff": fe.mean_N_per_m / an.mean_N_per_m - 1.0,
-        "per_position_rel_diff": fe.k_N_per_m / an.k_N_per_m - 1.0,
-        "single_fe": float(np.mean(fe.k_N_per_m[z["B"]])), "single_analytic": float(np.mean(an.k_N_per_m[z["B"]])),
-        "double_fe": float(np.mean(fe.k_N_per_m[dbl])), "double_analytic": float(np.mean(an.k_N_per_m[dbl])),
-        "ste_mean_fe_m": float(np.mean(fe.ste_m)), "ste_mean_analytic_m": float(np.mean(an.ste_m)),
-    }
 
 
 def _stress(body: GearBody, U: np.ndarray, material) -> np.ndarray:

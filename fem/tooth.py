@@ -57,9 +57,9 @@ the load radius) projected on e_F:
     c [um / (N/mm)] = c [m/N] * 1e6 * b [mm]
 
 It excludes the local contact flattening (the pair model adds it as the Hertzian
-delta_3) and is the FE counterpart of Ishikawa's delta_1 + delta_2
-(``analytic.ishikawa``), which is reported alongside at the same radii on the same
-(worn) profile.
+delta_3) and is the FE counterpart of Ishikawa's delta_1 + delta_2; the app layer
+(``gearwear.compare``) evaluates that and the energy method at the same radii on
+the same (worn) profiles, which :class:`ToothFE` carries for it.
 
 Mesh and solution
 -----------------
@@ -93,7 +93,6 @@ import skfem
 from skfem import Basis, ElementTriP1, asm
 from skfem.models.poisson import laplace
 
-from gearwear.analytic import ishikawa
 from gearwear.geometry.loading import load_points
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.fem.mesh import GearMesh, MeshError, MeshSizes, mesh_full_gear
@@ -134,7 +133,8 @@ class ToothFE:
     Compliances are in um per (N/mm): deflection per load per unit face width.
     ``timings`` (s): mesh_s, assemble_s (incl. the morph), factorize_s, solve_s
     (load vectors, solves, probes), fem_s (their sum) and total_s (whole call,
-    incl. profiles and the Ishikawa reference).
+    incl. profiles). ``nominal`` and ``loaded`` are the fine source profiles of the
+    tooth the model was built from (loaded: its worn right flank, else nominal).
     """
 
     pair: PairSpec
@@ -149,11 +149,12 @@ class ToothFE:
     half_width_m: np.ndarray
     force_direction: np.ndarray          # (n, 2) unit vectors e_F of the applied force
     fem_compliance_um_per_N_per_mm: np.ndarray
-    ishikawa_um_per_N_per_mm: np.ndarray
     ndofs: int
     n_elements: int
     worn_geometry: str = "morph"
     timings: dict = field(default_factory=dict)
+    nominal: ToothProfile | None = None
+    loaded: ToothProfile | None = None
 
     @property
     def radius_mm(self) -> np.ndarray:
@@ -164,11 +165,6 @@ class ToothFE:
         return np.degrees(self.roll_rad)
 
     @property
-    def difference_percent(self) -> np.ndarray:
-        """100 (FE - Ishikawa) / Ishikawa."""
-        return 100.0 * (self.fem_compliance_um_per_N_per_mm / self.ishikawa_um_per_N_per_mm - 1.0)
-
-    @property
     def wall_s(self) -> float:
         """Wall time of the FE curve: mesh + assemble + factorize + solves (s)."""
         return float(self.timings.get("fem_s", float("nan")))
@@ -176,11 +172,9 @@ class ToothFE:
     def rows(self) -> list[dict]:
         """One dict per load position (units in the keys)."""
         return [{"radius_mm": float(r), "roll_angle_deg": float(u), "hertz_half_width_um": float(a * 1e6),
-                 "fem_compliance_um_per_N_per_mm": float(c), "ishikawa_um_per_N_per_mm": float(i),
-                 "difference_percent": float(d)}
-                for r, u, a, c, i, d in zip(self.radius_mm, self.roll_angle_deg, self.half_width_m,
-                                            self.fem_compliance_um_per_N_per_mm,
-                                            self.ishikawa_um_per_N_per_mm, self.difference_percent)]
+                 "fem_compliance_um_per_N_per_mm": float(c)}
+                for r, u, a, c in zip(self.radius_mm, self.roll_angle_deg, self.half_width_m,
+                                      self.fem_compliance_um_per_N_per_mm)]
 
 
 def mesh_sizes(mesh_scale: float = 1.0) -> MeshSizes:
@@ -476,8 +470,8 @@ def single_tooth_compliance(pair: PairSpec, gear_index: int = 0, wear: WearSpec 
                    geometry.loading (where Weber's h ends; fem.pair's c_1, c_2).
 
     Returns a :class:`ToothFE`: compliance in um per (N/mm) at every position, the
-    Ishikawa delta_1 + delta_2 at the same radii on the same profiles, dofs,
-    elements and wall times.
+    profiles the model was built from, dofs, elements and wall times (the analytic
+    reference at the same radii: gearwear.compare.tooth_vs_analytic).
     """
     t_start = time.perf_counter()
     if radii_m is None and positions < 2:
@@ -534,7 +528,6 @@ def single_tooth_compliance(pair: PairSpec, gear_index: int = 0, wear: WearSpec 
     c_m_per_N = np.einsum("ij,ij->i", ui, e_F) / load_N
     t_solve = time.perf_counter() - t0
 
-    ish = ishikawa.tooth_compliance(tm.loaded, R, pair.material, b, opposite=tm.nominal).total_m_per_N
     to_um_per_N_per_mm = 1e6 * b * 1e3
     timings = {"mesh_s": tm.mesh_s, "assemble_s": model.timings["assemble_s"] + tm.morph_s,
                "factorize_s": model.timings["factorize_s"], "solve_s": t_solve}
@@ -544,6 +537,5 @@ def single_tooth_compliance(pair: PairSpec, gear_index: int = 0, wear: WearSpec 
                    order=order, plane=plane, mesh_scale=float(mesh_scale), load_N=float(load_N),
                    radius_m=R, roll_rad=u, half_width_m=a, force_direction=e_F,
                    fem_compliance_um_per_N_per_mm=c_m_per_N * to_um_per_N_per_mm,
-                   ishikawa_um_per_N_per_mm=ish * to_um_per_N_per_mm,
                    ndofs=int(model.ndofs), n_elements=int(gm.n_elements),
-                   worn_geometry=tm.worn_geometry, timings=timings)
+                   worn_geometry=tm.worn_geometry, timings=timings, nominal=tm.nominal, loaded=tm.loaded)

@@ -42,6 +42,7 @@ from gearwear.geometry.spec import PairSpec
 from gearwear.geometry.wear import WearSpec
 
 from . import tables
+from .compare import pair_vs_analytic, tooth_vs_analytic
 
 FIT_DEGREE = 2
 PAIR_POSITIONS = 24
@@ -113,21 +114,16 @@ class PairCorrection:
     fe_wall_s: float
 
 
-def _double_mask(result) -> np.ndarray:
-    """Angles where two or more pairs carry load: only there can the rim couple them."""
-    return (result.pair_load_N > 0).sum(axis=1) >= 2
-
-
 def pair_correction(pair: PairSpec, wear: WearSpec | None, clearance_m: float, torque_Nm: float,
                     corr: tuple, positions: int = 24) -> PairCorrection:
     """Fit the per-zone pair factor on the even FE positions, check on the odd ones."""
     from gearwear.fem.pair import pair_contact
 
     fe = pair_contact(pair, wear=wear, positions=positions, torque_Nm=torque_Nm, clearance_m=clearance_m)
-    st1 = mesh_stiffness(pair, method="ishikawa", points=positions, torque_Nm=torque_Nm, clearance_m=clearance_m,
-                         wear=wear, correction=corr)
+    st1 = pair_vs_analytic(fe, correction=corr)["analytic"]
     ratio = fe.k_N_per_m / st1.k_N_per_m
-    dbl = _double_mask(st1)
+    # two or more loaded pairs: only there can the rim couple them
+    dbl = st1.pairs_in_contact >= 2
     even = np.arange(positions) % 2 == 0
     factors = {}
     for name, zone in (("double", dbl), ("single", ~dbl)):
@@ -159,8 +155,8 @@ def run_fe(pair: PairSpec, wear: WearSpec | None, positions: int = 21, estimate_
         coarse = single_tooth_compliance(pair, gear_index=0, wear=wear, positions=positions, mesh_scale=math.sqrt(2))
         diff = np.abs(coarse.fem_compliance_um_per_N_per_mm / fe0.fem_compliance_um_per_N_per_mm - 1.0)
         err = float(diff.max() / (math.sqrt(2) ** 2 - 1.0))
-    corr = tuple(fit_correction(f.radius_m, f.fem_compliance_um_per_N_per_mm, f.ishikawa_um_per_N_per_mm)
-                 for f in (fe0, fe1))
+    corr = tuple(fit_correction(f.radius_m, f.fem_compliance_um_per_N_per_mm,
+                                tooth_vs_analytic(f).ishikawa_um_per_N_per_mm) for f in (fe0, fe1))
     return Calibration(pair, wear, (fe0, fe1), corr, err, time.perf_counter() - t0)
 
 
@@ -194,7 +190,7 @@ def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float =
     r = mesh_stiffness(pair, method="ishikawa", points=points, torque_Nm=torque_Nm, clearance_m=clearance_m,
                        wear=wear, correction=corr)
     pc = pair_correction(pair, wear, clearance_m, torque_Nm, corr, PAIR_POSITIONS)
-    s = np.where(_double_mask(r), pc.double, pc.single)
+    s = np.where(r.pairs_in_contact >= 2, pc.double, pc.single)
     k = r.k_N_per_m * s
     F = torque_Nm / pair.gear(0).base_radius_m
     # F = k (ste - e): keep the wear excitation, rescale the elastic part

@@ -21,12 +21,11 @@ from typing import Any
 
 import numpy as np
 
-from gearwear.analytic import energy
-from gearwear.analytic.tvms import _profiles
 from gearwear.geometry.spec import PairSpec
 from gearwear.geometry.wear import WearSpec
 
 from . import io
+from .compare import tooth_vs_analytic
 
 
 @dataclass
@@ -66,20 +65,13 @@ class Verification:
 
 
 def run_phase(pair: PairSpec, wear: WearSpec | None, positions: int = 21) -> PhaseResult:
-    from gearwear.analytic.ishikawa import tooth_compliance as ishikawa_compliance
     from gearwear.fem.tooth import single_tooth_compliance
 
     fe = single_tooth_compliance(pair, gear_index=0, wear=wear, positions=positions)
-    b_mm = pair.face_width_m * 1e3
-    nominal, loaded = _profiles(pair, wear, pair.centre_distance_m)
-    t0 = time.perf_counter()
-    ish = ishikawa_compliance(loaded[0], fe.radius_m, pair.material, pair.face_width_m, opposite=nominal[0])
-    t1 = time.perf_counter()
-    en = energy.tooth_compliance(loaded[0], fe.radius_m, pair.material, pair.face_width_m, opposite=nominal[0])
-    t2 = time.perf_counter()
+    cmp = tooth_vs_analytic(fe)
     return PhaseResult(wear.label if wear else "unworn", fe.radius_mm, fe.roll_angle_deg,
-                       fe.fem_compliance_um_per_N_per_mm, ish.total_m_per_N * 1e6 * b_mm,
-                       en.total_m_per_N * 1e6 * b_mm, fe.wall_s, t1 - t0, t2 - t1, int(fe.ndofs),
+                       fe.fem_compliance_um_per_N_per_mm, cmp.ishikawa_um_per_N_per_mm,
+                       cmp.energy_um_per_N_per_mm, fe.wall_s, cmp.ishikawa_wall_s, cmp.energy_wall_s, int(fe.ndofs),
                        int(fe.n_elements))
 
 
