@@ -76,8 +76,10 @@ def _variants(args: argparse.Namespace) -> "tuple[Scene, list, list[float]]":
     """(scene, wear specs, clearances in m) for commands that overlay several --wear and
     --clearance-um values: each value is the scene with that alias applied."""
     scene = _load(args)
-    wears = [_load(args, extra=[wear_override(w)]).wear for w in _split_multi(args.wear)] or [scene.wear]
-    clear = [_load(args, extra=[_clearance_set(c)]).clearance_m for c in _split_multi(args.clearance_um)]
+    wears = [_load(args, extra=[wear_override(w)]).wear for w in _split_multi(getattr(args, "wear", None))] \
+        or [scene.wear]
+    clear = [_load(args, extra=[_clearance_set(c)]).clearance_m
+             for c in _split_multi(getattr(args, "clearance_um", None))]
     return scene, wears, clear or [scene.clearance_m]
 
 
