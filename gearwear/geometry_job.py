@@ -30,7 +30,7 @@ class GeometryResult:
     operating: OperatingGeometry
     nominal: tuple[ToothProfile, ToothProfile]
     worn: tuple[ToothProfile, ToothProfile]
-    mesh: Any = None          # geometry.mesh.GearMesh of the pinion, if built
+    mesh: Any = None          # gearwear.fem.mesh.GearMesh of the pinion, if built
     mesh_build_s: float = 0.0
     wall_s: float = 0.0
 

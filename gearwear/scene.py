@@ -1,5 +1,5 @@
 """Scenes: a TOML file naming the gear pair, bodies, operating point and the effects
-to simulate (docs/scenes.md). An effect is modelled only if ``[effects]`` names it.
+to simulate (docs/scene-reference.md). An effect is modelled only if ``[effects]`` names it.
 
 The schema (keys, types, units, ranges, defaults, cross-key checks) is
 ``gearwear.schema``; this module loads documents (files, built-in names, ``--set``
