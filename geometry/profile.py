@@ -44,6 +44,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from scipy.optimize import brentq
 
+from .polyline import stitch
 from .spec import GearSpec, inv
 from gearwear.core.validation import InputError, fail
 
@@ -440,19 +441,41 @@ def _undercut_intersection(rack: RackGeometry, rb: float, psi_b: float, u_a: flo
     return phi_x, math.sqrt(max((R / rb) ** 2 - 1.0, 0.0))
 
 
-def tooth_outline(right: ToothProfile, left: ToothProfile | None = None) -> np.ndarray:
+def _flank_xy(flank) -> np.ndarray:
+    return flank.xy if isinstance(flank, ToothProfile) else np.asarray(flank, dtype=float)
+
+
+def tooth_outline(right, left=None) -> np.ndarray:
     """Closed-path segment of one tooth, counter-clockwise about the gear centre.
 
     Runs from the middle of the space on the right (beta = +pi/z) over the tip to the
-    middle of the space on the left (beta = -pi/z). ``left`` (default: ``right``) is
-    mirrored for the left flank, so wear can be put on one flank only. Since the
-    polar angle beta grows clockwise, counter-clockwise travel goes right -> left.
+    middle of the space on the left (beta = -pi/z). ``right`` and ``left`` (default:
+    ``right``) are right flanks, as :class:`ToothProfile` or (n, 2) points from the
+    space centre to the tooth axis; ``left`` is mirrored onto the left flank, so wear
+    can be put on one flank only. Since the polar angle beta grows clockwise,
+    counter-clockwise travel goes right -> left. Quadratic chains (points with
+    mid-points, ``geometry.polyline``) stay quadratic chains.
     """
-    left = right if left is None else left
-    rx = right.xy
-    lx = left.xy[::-1] * np.array([-1.0, 1.0])
-    # drop the duplicated tip-axis point
-    return np.vstack([rx, lx[1:]])
+    rx = _flank_xy(right)
+    lx = _flank_xy(right if left is None else left)[::-1] * np.array([-1.0, 1.0])
+    return stitch([rx, lx])  # the tip-axis point once
+
+
+def ring_outline(tooth, z: int, teeth=None) -> np.ndarray:
+    """Outer boundary of a gear from per-tooth outlines, counter-clockwise.
+
+    ``tooth(k)`` is the outline of tooth k in tooth 0's frame (space centre right ->
+    space centre left, e.g. :func:`tooth_outline`); tooth k is turned by +k 2 pi / z.
+    With ``teeth`` (consecutive indices) the open polyline over those teeth (sectors),
+    otherwise the closed polygon of all z teeth without a repeated last point.
+    """
+    order = list(range(z)) if teeth is None else list(teeth)
+    pieces = []
+    for k in order:
+        ang = 2.0 * math.pi * k / z
+        c, s = math.cos(ang), math.sin(ang)
+        pieces.append(tooth(k) @ np.array([[c, -s], [s, c]]).T)
+    return stitch(pieces, closed=teeth is None)  # neighbouring teeth share a space centre
 
 
 def gear_outline(nominal: ToothProfile, worn: ToothProfile | None = None,
@@ -479,19 +502,7 @@ def gear_outline(nominal: ToothProfile, worn: ToothProfile | None = None,
     wornout = None
     if worn is not None:
         wornout = tooth_outline(worn, nominal) if worn_flank == "right" else tooth_outline(nominal, worn)
-    order = list(range(z)) if teeth is None else list(teeth)
-    pieces = []
-    for k in order:
-        base = wornout if (k % z) in worn_set and wornout is not None else plain
-        ang = 2.0 * math.pi * k / z
-        c, s = math.cos(ang), math.sin(ang)
-        rot = np.array([[c, -s], [s, c]])
-        pts = base @ rot.T
-        pieces.append(pts if not pieces else pts[1:])  # shared space-centre point
-    out = np.vstack(pieces)
-    if teeth is None:
-        out = out[:-1]  # closed polygon: the last space centre equals the first
-    return out
+    return ring_outline(lambda k: wornout if (k % z) in worn_set and wornout is not None else plain, z, teeth)
 
 
 def polygon_area(xy: np.ndarray) -> float:
