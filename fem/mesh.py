@@ -1,9 +1,10 @@
 """Gmsh meshing of planar spur-gear bodies, returned as scikit-fem meshes.
 
 The API is deliberately generic: it meshes *a region bounded by a given
-polygon* (the toothed outline) and a hub circle, so it does not care how the
-tooth profile was generated (``geometry/profile.py`` supplies the polygon).
-All lengths are in metres, all angles in radians, areas in m^2.
+polygon* (the toothed outline, optionally with curved edges) and a hub circle,
+so it does not care how the tooth profile was generated (``geometry/profile.py``
+supplies the polygon). All lengths are in metres, all angles in radians, areas
+in m^2.
 
 Public API
 ----------
@@ -13,31 +14,42 @@ Public API
 ``mesh_sector``        a sector: toothed polyline, two radial cuts, hub arc
 ``write_mesh``         atomic ``.msh`` / ``.vtu`` output through meshio
 ``triangle_quality``   per-element normalised radius ratio
+``inverted_elements``  elements whose (isoparametric) map folds
+``CurvedMeshTri2``     the order-2 mesh class: skfem.MeshTri2 with point location
 ``MeshError``          every input or meshing failure (a ``ValueError``)
 
 Geometry and the "exact area"
 -----------------------------
-The toothed boundary is made of straight segments through exactly the given
-points, so it is reproduced exactly by the mesh (mid-side nodes of P2
-elements lie at the segment midpoints).  The bore / hub arc is a *true
-circular arc* in gmsh; in second-order meshes its mid-side nodes are placed
-on the circle (``Mesh.SecondOrderLinear = 0``).  The exact area of the region
-is therefore
+The toothed boundary runs through exactly the given points. Each edge is a
+straight segment (its P2 mid-side node at the segment midpoint) or, when a
+mid-point ``m`` of the true curve is given for it (``outline_mid_xy``), the
+quadratic Bezier curve through a, m, b (control point 2 m - (a + b) / 2, so
+B(1/2) = m): gmsh places second-order nodes on its curves at arc-length
+fractions (``Mesh.SecondOrderLinear = 0``), so the mid-side node of an
+unsplit curved edge is m and the isoparametric element edge is the parabola
+through a, m, b. An involute or fillet sampled at 0.4 mm is then within ~1 nm
+of its mid-side nodes instead of the chord sag h^2 / (8 rho) (1-10 um).
+The bore / hub arc is a *true circular arc* in gmsh, its mid-side nodes on
+the circle.  The exact area of the region is therefore
 
-* full gear: ``shoelace(outline) - pi * r_hub**2``
-* sector:    Green's theorem along polyline + straight cuts + true hub arc,
-  i.e. ``0.5 * sum(cross(P_i, P_i+1)) + 0.5*cross(P_n, H_to)
+* full gear: ``shoelace(outline) + bulges - pi * r_hub**2``, with the bulge
+  ``(2/3) cross(m - (a + b) / 2, b - a)`` of each curved edge (the area
+  between a parabola and its chord);
+* sector:    Green's theorem along polyline (+ bulges) + straight cuts + true
+  hub arc, i.e. ``0.5 * sum(cross(P_i, P_i+1)) + 0.5*cross(P_n, H_to)
   + 0.5*cross(H_from, P_0) - 0.5 * r_hub**2 * (angle_to - angle_from)``.
 
 A parabola through three points of a circle under-estimates each circular
 segment by ``r^2 * phi^5 / 30`` (``phi`` = half the subtended angle), so the P2
 area error comes only from the bore.  The bore is forced to use enough
 elements (``Mesh.MinimumCircleNodes``) to keep this error below 1e-8 of the
-region area -- two orders of magnitude below the 1e-6 acceptance tolerance --
-and every returned order-2 mesh is checked against the exact area
-(``MeshError`` if it deviates by more than 1e-6 relative).  Order-1 meshes
-have a polygonal bore (chords); they are checked against the exact area plus
-the analytic chord deficit instead.
+region area -- two orders of magnitude below the 1e-6 acceptance tolerance.
+Every mesh is checked twice: its elements must fill exactly (1e-9) the region
+its named boundaries enclose (a hole or an overlap fails), and that region
+must be the exact one: within 1e-9 after the analytic bore defect (chords for
+order 1, parabolas for order 2) for straight outlines, within 1e-6 for every
+order-2 mesh (curved edges that gmsh splits follow their parabola to a few
+nm only).
 
 Element sizes
 -------------
@@ -59,22 +71,21 @@ rejected with ``MeshError`` (it means a gap narrower than the element size).
 
 scikit-fem mesh class
 ---------------------
-Order 2 returns ``skfem.MeshTri2`` (isoparametric 6-node triangles; use it
-with ``ElementTriP2`` or lower-order bases).  Its ``t`` holds the three corner
-vertices (indices ``0 .. mesh.nvertices-1`` of ``mesh.p``); mid-side nodes
-are the edge DOFs (``mesh.dofs.element_dofs[3:]`` for edges 01, 12, 02).
-Caveat: ``MeshTri2`` does not implement ``element_finder`` (so point probing
-/ ``basis.probes`` does not work on it); probe on the linear copy
-``skfem.MeshTri1(mesh.p[:, :mesh.nvertices], mesh.t, sort_t=False)``.
-Order 1 returns ``skfem.MeshTri`` built with ``sort_t=False`` so that all
-elements keep their counter-clockwise orientation (skfem's default sorts the
-connectivity, which scrambles orientation; only Hermite-type
-``ElementGlobal`` elements care about that).
+Order 2 returns :class:`CurvedMeshTri2`, a ``skfem.MeshTri2`` (isoparametric
+6-node triangles; use it with ``ElementTriP2`` or lower-order bases) that also
+locates points, so ``basis.probes`` works (skfem's ``MeshTri2`` has no element
+finder).  Its ``t`` holds the three corner vertices (indices
+``0 .. mesh.nvertices-1`` of ``mesh.p``); the mid-side node of facet f is node
+``mesh.nvertices + f`` (the edge DOFs, ``mesh.dofs.element_dofs[3:]`` for
+edges 01, 12, 02).  Order 1 returns ``skfem.MeshTri`` built with
+``sort_t=False`` so that all elements keep their counter-clockwise orientation
+(skfem's default sorts the connectivity, which scrambles orientation; only
+Hermite-type ``ElementGlobal`` elements care about that).
 
 Boundaries
 ----------
-Each boundary group is the set of gmsh curves it was built from (polygon
-lines, hub arcs, cut lines); their 1D mesh edges are mapped to skfem facet
+Each boundary group is the set of gmsh curves it was built from (outline
+lines or curves, hub arcs, cut lines); their 1D mesh edges are mapped to skfem facet
 indices through the corner-vertex pairs, and checked to be boundary facets.
 The groups partition ``mesh.boundary_facets()``.
 
@@ -109,6 +120,7 @@ import numpy as np
 import skfem
 
 from gearwear.core.atomic import atomic_write
+from gearwear.geometry.polyline import project_to_segments
 
 __all__ = [
     "MeshError",
@@ -190,7 +202,7 @@ class MeshSizes:
 class GearMesh:
     """A meshed gear body.
 
-    mesh           skfem.MeshTri2 (order 2) or skfem.MeshTri (order 1);
+    mesh           CurvedMeshTri2 (order 2) or skfem.MeshTri (order 1);
                    coordinates in metres, all elements counter-clockwise.
                    ``mesh.boundaries`` holds the same facet groups.
     boundaries     facet-index arrays (indices into ``mesh.facets``):
@@ -257,15 +269,6 @@ def _as_refine_points(a, name: str) -> np.ndarray:
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
-
-
-def _point_segment_distance(p, a, b) -> np.ndarray:
-    ab = b - a
-    L2 = np.einsum("...i,...i->...", ab, ab)
-    t = np.einsum("...i,...i->...", p - a, ab) / np.where(L2 > 0, L2, 1.0)
-    t = np.clip(t, 0.0, 1.0)
-    d = p - (a + t[..., None] * ab)
-    return np.sqrt(np.einsum("...i,...i->...", d, d))
 
 
 def _check_simple_closed(poly: np.ndarray, name: str, scale: float) -> None:
@@ -337,10 +340,10 @@ def _raise_if_crossing(a, b, gi, jc, tol, name) -> None:
     proper = (o1 * o2 < 0) & (o3 * o4 < 0)
     dmin = np.minimum.reduce(
         [
-            _point_segment_distance(p1, q1, q2),
-            _point_segment_distance(p2, q1, q2),
-            _point_segment_distance(q1, p1, p2),
-            _point_segment_distance(q2, p1, p2),
+            project_to_segments(p1, q1, q2)[1],
+            project_to_segments(p2, q1, q2)[1],
+            project_to_segments(q1, p1, p2)[1],
+            project_to_segments(q2, p1, p2)[1],
         ]
     )
     bad = proper | (dmin <= tol)
@@ -358,7 +361,7 @@ def _min_dist_to_origin(poly: np.ndarray, closed: bool) -> float:
     b = np.roll(poly, -1, axis=0) if closed else poly[1:]
     if not closed:
         a = poly[:-1]
-    return float(np.min(_point_segment_distance(np.zeros_like(a), a, b)))
+    return float(np.min(project_to_segments(np.zeros_like(a), a, b)[1]))
 
 
 def _origin_inside(poly: np.ndarray) -> bool:
@@ -412,6 +415,12 @@ _BASE_OPTIONS: dict[str, float] = {
     "Mesh.RandomSeed": 1,
     "Mesh.RandomFactor": 1e-9,
     "Mesh.Algorithm": 6,  # Frontal-Delaunay: best-shaped triangles in 2D
+    # a curved outline edge is one element like a straight one unless the size
+    # field asks for more (gmsh's default puts at least 2 on every curved curve)
+    "Mesh.MinimumCurveNodes": 2,
+    # relative accuracy of the size integral along a curve (default 1e-9): at 1e-6 the
+    # 1D mesh of 1300 curved outline edges takes 0.3 s instead of 0.8 s
+    "Mesh.LcIntegrationPrecision": 1e-6,
     # point sizes are set deliberately (outline spacing, hub spacing) so that
     # the straight cuts of a sector grade from the fine outline to the hub
     "Mesh.MeshSizeFromPoints": 1,
@@ -609,15 +618,86 @@ def _extract(groups: dict[str, list[int]], order: int) -> dict:
 # ---------------------------------------------------------------------------
 
 
-def _p2_detj(x: np.ndarray, xi: float, eta: float) -> np.ndarray:
-    """det J of the 6-node isoparametric map at (xi, eta); x: (nel, 6, 2)."""
-    l0 = 1.0 - xi - eta
-    # dN/dxi, dN/deta for nodes [v0, v1, v2, m01, m12, m20]
-    dxi = np.array([-(4 * l0 - 1), 4 * xi - 1, 0.0, 4 * (l0 - xi), 4 * eta, -4 * eta])
-    deta = np.array([-(4 * l0 - 1), 0.0, 4 * eta - 1, -4 * xi, 4 * xi, 4 * (l0 - eta)])
-    jx = np.einsum("k,ekd->ed", dxi, x)
-    je = np.einsum("k,ekd->ed", deta, x)
-    return jx[:, 0] * je[:, 1] - jx[:, 1] * je[:, 0]
+#: candidates per point of the element search (nearest corner centroids)
+_FINDER_CANDIDATES = 8
+
+
+class CurvedMeshTri2(skfem.MeshTri2):
+    """``skfem.MeshTri2`` (isoparametric 6-node triangles) whose points can be located,
+    so ``Basis.probes`` works on it (skfem's quadratic meshes have no element finder).
+
+    A point's candidates are the elements with the nearest corner centroids; the
+    isoparametric map of each is inverted by Newton's method (x = sum N_i(X) x_i,
+    X <- X + DF(X)^-1 (x - F(X))) and the element whose reference coordinates are
+    inside (barycentric coordinates >= -1e-9) wins. A curved boundary element holds
+    points outside its corner triangle (the boundary bulges by up to the chord sag),
+    which the straight-triangle search of ``MeshTri1`` would miss."""
+
+    def element_finder(self, mapping=None):
+        if mapping is None:
+            mapping = self._mapping()
+        from scipy.spatial import cKDTree
+
+        tree = cKDTree(self.p[:, self.t].mean(axis=1).T)
+        nel = self.t.shape[1]
+
+        def violation(pts, cand):
+            n, k = cand.shape
+            x = np.repeat(pts, k, axis=1)[:, :, None]
+            tind = cand.ravel()
+            X = np.full(x.shape, 1.0 / 3.0)
+            with np.errstate(all="ignore"):
+                for _ in range(12):
+                    X = X + np.einsum("ijkl,jkl->ikl", mapping.invDF(X, tind), x - mapping.F(X, tind))
+                v = np.max([-X[0, :, 0], -X[1, :, 0], X[0, :, 0] + X[1, :, 0] - 1.0], axis=0)
+            return np.nan_to_num(v, nan=np.inf).reshape(n, k)
+
+        def finder(x, y):
+            pts = np.vstack([np.atleast_1d(x), np.atleast_1d(y)]).astype(float)
+            _, cand = tree.query(pts.T, min(_FINDER_CANDIDATES, nel))
+            cand = cand.reshape(pts.shape[1], -1)
+            v = violation(pts, cand)
+            best = np.argmin(v, axis=1)
+            out = cand[np.arange(len(best)), best]
+            for i in np.flatnonzero(v[np.arange(len(best)), best] > 1e-9):
+                vi = np.concatenate([violation(pts[:, i:i + 1], np.arange(j, min(j + 4096, nel))[None])[0]
+                                     for j in range(0, nel, 4096)])
+                if vi.min() > 1e-9:
+                    raise ValueError(f"point {pts[:, i].tolist()} is outside of the mesh")
+                out[i] = int(np.argmin(vi))
+            return out
+
+        return finder
+
+
+def inverted_elements(mesh) -> np.ndarray:
+    """True for every element whose map is not orientation-preserving: a corner
+    triangle with signed area <= 0, or (6-node elements) det J <= 0 at a corner, an
+    edge mid-point or the centroid. det J is quadratic on a 6-node triangle, so
+    these seven points catch every fold that matters in practice."""
+    t = mesh.dofs.element_dofs if isinstance(mesh, skfem.MeshTri2) else mesh.t
+    x = np.asarray(mesh.doflocs).T[t.T]  # (nel, 3 or 6, 2)
+    sa = _cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0])
+    bad = sa <= 0
+    if x.shape[1] == 6:
+        bad |= np.any(_p2_dets(x) <= 0, axis=0)
+    return bad
+
+
+
+def _p2_dets(x: np.ndarray) -> np.ndarray:
+    """det J of the 6-node isoparametric map (nodes [v0, v1, v2, m01, m12, m20]; x:
+    (nel, 6, 2)) at the corners, the edge mid-points and the centroid: (7, nel)."""
+    out = []
+    for xi, eta in ((0, 0), (1, 0), (0, 1), (.5, 0), (.5, .5), (0, .5), (1 / 3, 1 / 3)):
+        l0 = 1.0 - xi - eta
+        # dN/dxi, dN/deta for nodes [v0, v1, v2, m01, m12, m20]
+        dxi = np.array([-(4 * l0 - 1), 4 * xi - 1, 0.0, 4 * (l0 - xi), 4 * eta, -4 * eta])
+        deta = np.array([-(4 * l0 - 1), 0.0, 4 * eta - 1, -4 * xi, 4 * xi, 4 * (l0 - eta)])
+        jx = np.einsum("k,ekd->ed", dxi, x)
+        je = np.einsum("k,ekd->ed", deta, x)
+        out.append(jx[:, 0] * je[:, 1] - jx[:, 1] * je[:, 0])
+    return np.stack(out)
 
 
 def _to_skfem(raw: dict, order: int, scale: float):
@@ -653,10 +733,7 @@ def _to_skfem(raw: dict, order: int, scale: float):
 
     if order == 2:
         x = pts[t]  # (nel, 6, 2)
-        dets = np.stack(
-            [_p2_detj(x, a, b) for a, b in
-             ((0, 0), (1, 0), (0, 1), (.5, 0), (.5, .5), (0, .5), (1 / 3, 1 / 3))]
-        )
+        dets = _p2_dets(x)
         if np.any(dets <= 0):
             e = int(np.argmin(dets.min(axis=0)))
             raise MeshError(
@@ -666,7 +743,7 @@ def _to_skfem(raw: dict, order: int, scale: float):
             )
         # det J is quadratic: the edge-midpoint rule (weights 1/6) is exact
         area = float(np.sum(dets[3:6]) / 6.0)
-        mesh = skfem.MeshTri2(np.ascontiguousarray(pts.T), np.ascontiguousarray(t.T))
+        mesh = CurvedMeshTri2(np.ascontiguousarray(pts.T), np.ascontiguousarray(t.T))
     else:
         area = float(np.sum(sa) / 2.0)
         mesh = skfem.MeshTri(
@@ -714,7 +791,21 @@ def _hub_arc_defect(mesh, facets: np.ndarray, r: float, order: int) -> float:
     return float(np.sum(seg - approx))
 
 
-def _finish(raw, order, scale, exact_area, r_hub, hub_name, t0) -> GearMesh:
+def _boundary_area(mesh, facets: np.ndarray) -> float:
+    """(1/2) closed-integral of x dy - y dx over the boundary ``facets``, each oriented with the
+    mesh on its left: for a 6-node edge x(t) = a + t (b - a) + 4 t (1 - t) e,
+    e = m - (a + b) / 2, exactly (1/2) cross(a, b) + (2/3) cross(e, b - a)."""
+    f = np.asarray(facets)
+    a = mesh.p[:, mesh.facets[0, f]].T
+    b = mesh.p[:, mesh.facets[1, f]].T
+    c = mesh.p[:, mesh.t[:3, mesh.f2t[0, f]]].mean(axis=1).T
+    swap = _cross(b - a, c - a) < 0
+    a, b = np.where(swap[:, None], b, a), np.where(swap[:, None], a, b)
+    e = mesh.doflocs[:, mesh.nvertices + f].T - 0.5 * (a + b) if isinstance(mesh, skfem.MeshTri2) else 0.0 * a
+    return float(0.5 * np.sum(_cross(a, b)) + 2.0 / 3.0 * np.sum(_cross(e, b - a)))
+
+
+def _finish(raw, order, scale, exact_area, r_hub, hub_name, t0, curved=False) -> GearMesh:
     mesh, boundaries, area = _to_skfem(raw, order, scale)
     q = triangle_quality(mesh)
     if q.min() < MIN_QUALITY:
@@ -724,13 +815,24 @@ def _finish(raw, order, scale, exact_area, r_hub, hub_name, t0) -> GearMesh:
             f"{mesh.p[:, mesh.t[:3, e]].mean(axis=1).tolist()} m (feature narrower than "
             "the element size? reduce sizes.global_m)"
         )
-    # independent check against the exact region: catches holes, overlaps and
-    # a bore that is too coarse -- never return a silently wrong mesh
-    expected = exact_area + _hub_arc_defect(mesh, boundaries[hub_name], r_hub, order)
-    if abs(area - expected) > 1e-9 * exact_area:
+    # never return a silently wrong mesh: the elements must fill the region their
+    # named boundaries enclose (a hole has unnamed boundary facets, an overlap adds
+    # area), and that region must be the exact one up to the discretised bore
+    enclosed = sum(_boundary_area(mesh, f) for f in boundaries.values())
+    if abs(area - enclosed) > 1e-9 * exact_area:
         raise MeshError(
-            f"meshed area {area!r} m^2 differs from the expected {expected!r} m^2 "
-            f"(rel {abs(area - expected) / exact_area:.3e})"
+            f"meshed area {area!r} m^2 differs from the {enclosed!r} m^2 its boundaries enclose "
+            f"(rel {abs(area - enclosed) / exact_area:.3e}: a hole or an overlap)"
+        )
+    expected = exact_area + _hub_arc_defect(mesh, boundaries[hub_name], r_hub, order)
+    # Gmsh puts the nodes of a curved outline edge it splits at arc-length fractions of
+    # the quadratic, so the 6-node edges through them leave it slightly (measured up to
+    # 1.7e-7 of the area where coarse 2.3 mm edges span 60 degrees of a fillet): such
+    # outlines are held to the 1e-6 of every order-2 mesh below
+    if not curved and abs(enclosed - expected) > 1e-9 * exact_area:
+        raise MeshError(
+            f"meshed region {enclosed!r} m^2 differs from the expected {expected!r} m^2 "
+            f"(rel {abs(enclosed - expected) / exact_area:.3e})"
         )
     if order == 2 and abs(area - exact_area) > 1e-6 * exact_area:
         raise MeshError(
@@ -777,6 +879,87 @@ def _vertex_sizes(poly: np.ndarray, closed: bool) -> np.ndarray:
     return out
 
 
+def _as_mids(mids, poly: np.ndarray, closed: bool, order: int) -> np.ndarray | None:
+    """Mid-points (n_edges, 2) of the outline edges, NaN rows for straight edges."""
+    if mids is None:
+        return None
+    if order != 2:
+        raise MeshError("outline_mid_xy needs order 2 (a curved edge is a quadratic element edge)")
+    ne = len(poly) if closed else len(poly) - 1
+    try:
+        m = np.asarray(mids, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise MeshError("outline_mid_xy must be an (N,2) array of floats") from None
+    if m.shape != (ne, 2):
+        raise MeshError(f"outline_mid_xy must have shape ({ne}, 2) (one point per outline edge), got {m.shape}")
+    fin = np.isfinite(m)
+    if np.any(fin[:, 0] != fin[:, 1]):
+        raise MeshError("outline_mid_xy: a row must be two numbers or two NaNs (straight edge)")
+    a, b = poly[:ne], np.roll(poly, -1, axis=0)[:ne]
+    off = np.linalg.norm(m - 0.5 * (a + b), axis=1)
+    # beyond a quarter of the chord the quadratic edge bends too far to be meshed
+    bad = fin[:, 0] & (off > 0.25 * np.linalg.norm(b - a, axis=1))
+    if np.any(bad):
+        i = int(np.argmax(bad))
+        raise MeshError(f"outline_mid_xy[{i}] = {m[i].tolist()} is more than a quarter of its edge "
+                        "away from the edge's midpoint")
+    return m
+
+
+def _with_mids(poly: np.ndarray, mids: np.ndarray | None) -> np.ndarray:
+    """The outline with the finite mid-points inserted (a finer polygon of the curve)."""
+    if mids is None:
+        return poly
+    ne = len(mids)
+    rows = [poly[:1]]
+    for i in range(ne):
+        if np.isfinite(mids[i, 0]):
+            rows.append(mids[i:i + 1])
+        if i + 1 < len(poly):
+            rows.append(poly[i + 1:i + 2])
+    return np.vstack(rows)
+
+
+def _bulge_area(poly: np.ndarray, mids: np.ndarray | None) -> float:
+    """Area between the chords and the quadratic edges x(t) = a + t (b - a) + 4 t (1 - t) e,
+    e = mid - (a + b) / 2, each (2/3) cross(e, b - a) (positive outward of a CCW
+    boundary)."""
+    if mids is None:
+        return 0.0
+    ne = len(mids)
+    a, b = poly[:ne], np.roll(poly, -1, axis=0)[:ne]
+    e = mids - 0.5 * (a + b)
+    fin = np.isfinite(e[:, 0])
+    return float(2.0 / 3.0 * np.sum(_cross(e[fin], (b - a)[fin])))
+
+
+def _add_outline(poly: np.ndarray, mids: np.ndarray | None, closed: bool) -> tuple[list[int], list[int]]:
+    """The outline in gmsh, (curve tags, point tags): a point per vertex carrying the
+    local outline spacing, and one curve per edge, a line or a quadratic Bezier curve through the edge's
+    mid-point (control point 2 m - (a + b) / 2 puts B(1/2) on m), so Gmsh's
+    second-order nodes lie on the curve, not on the chord."""
+    geo = gmsh.model.geo
+    sizes = _vertex_sizes(poly, closed)
+    ptags = [geo.addPoint(float(x), float(y), 0.0, float(h)) for (x, y), h in zip(poly, sizes)]
+    n = len(ptags)
+    curves = []
+    for i in range(n if closed else n - 1):
+        j = (i + 1) % n
+        if mids is None or not np.isfinite(mids[i, 0]):
+            curves.append(geo.addLine(ptags[i], ptags[j]))
+            continue
+        c = 2.0 * mids[i] - 0.5 * (poly[i] + poly[j])
+        pc = geo.addPoint(float(c[0]), float(c[1]), 0.0, float(sizes[i]))
+        curves.append(geo.addBezier([ptags[i], pc, ptags[j]]))
+    return curves, ptags
+
+
+def _hub_size(r: float, exact_area: float, sizes: MeshSizes) -> tuple[int, float]:
+    """(minimum number of hub-circle nodes, hub element size)."""
+    n_circle = _circle_nodes_floor(r, exact_area)
+    return n_circle, min(float(sizes.global_m), 2 * math.pi * r / n_circle)
+
+
 def _add_arcs(center: int, r: float, a0: float, a1: float, start: int | None,
               end: int | None, size: float):
     """Circle arcs from angle a0 to a1 (either direction), each <= 90 deg."""
@@ -806,6 +989,7 @@ def mesh_full_gear(
     refine_points_xy: np.ndarray | None = None,
     fillet_points_xy: np.ndarray | None = None,
     order: int = 2,
+    outline_mid_xy: np.ndarray | None = None,
 ) -> GearMesh:
     """Mesh a whole gear: the polygon ``outline_xy`` minus the bore disc.
 
@@ -815,11 +999,19 @@ def mesh_full_gear(
     sizes             MeshSizes.
     refine_points_xy  (K,2) m load/contact points, refined to ``sizes.load_m``.
     fillet_points_xy  (M,2) m fillet points, refined to ``sizes.fillet_m``.
-    order             2 -> skfem.MeshTri2 (default), 1 -> skfem.MeshTri.
+    order             2 -> CurvedMeshTri2 (a skfem.MeshTri2, default),
+                      1 -> skfem.MeshTri.
+    outline_mid_xy    (N,2) m, optional, order 2 only: a point of the true
+                      curve between outline points i and i+1 (mid-point of
+                      edge i, ideally at half its arc length); the edge is
+                      then meshed as the quadratic through the three points
+                      and its P2 mid-side nodes lie on it. NaN rows keep an
+                      edge straight.
 
     Boundary groups: "outer" (polygon edges) and "bore" (hub circle), taken
     from the gmsh curves they were meshed on.  Exact area:
-    ``shoelace(outline) - pi r^2``.
+    ``shoelace(outline) + bulges - pi r^2``, the bulge of a curved edge being
+    ``(2/3) cross(m - (a+b)/2, b - a)``.
     """
     t0 = time.perf_counter()
     order = _check_order(order)
@@ -830,25 +1022,23 @@ def mesh_full_gear(
     fillet_pts = _as_refine_points(fillet_points_xy, "fillet_points_xy")
     load_pts = _as_refine_points(refine_points_xy, "refine_points_xy")
     _check_refine(sizes, fillet_pts, load_pts)
-    _check_simple_closed(poly, "outline_xy", scale)
-    twice_area = float(np.sum(_cross(poly, np.roll(poly, -1, axis=0))))
+    mids = _as_mids(outline_mid_xy, poly, True, order)
+    curve = _with_mids(poly, mids)
+    _check_simple_closed(curve, "outline_xy", scale)
+    twice_area = float(np.sum(_cross(poly, np.roll(poly, -1, axis=0)))) + 2.0 * _bulge_area(poly, mids)
     if twice_area <= 0:
         raise MeshError(
             f"outline_xy must be counter-clockwise (signed area {twice_area / 2!r} m^2 <= 0)"
         )
-    if not _origin_inside(poly):
+    if not _origin_inside(curve):
         raise MeshError("outline_xy does not enclose the origin (gear must be centred)")
-    r = _check_hub(hub_radius_m, _min_dist_to_origin(poly, closed=True))
+    r = _check_hub(hub_radius_m, _min_dist_to_origin(curve, closed=True))
     exact = 0.5 * twice_area - math.pi * r**2
-    n_circle = _circle_nodes_floor(r, exact)
-    hub_h = min(float(sizes.global_m), 2 * math.pi * r / n_circle)
-    vsize = _vertex_sizes(poly, closed=True)
+    n_circle, hub_h = _hub_size(r, exact, sizes)
 
     def build():
         geo = gmsh.model.geo
-        ptags = [geo.addPoint(float(x), float(y), 0.0, float(h)) for (x, y), h in zip(poly, vsize)]
-        n = len(ptags)
-        outer = [geo.addLine(ptags[i], ptags[(i + 1) % n]) for i in range(n)]
+        outer, _ = _add_outline(poly, mids, closed=True)
         c = geo.addPoint(0.0, 0.0, 0.0)
         p0 = geo.addPoint(r, 0.0, 0.0, hub_h)
         bore = _add_arcs(c, r, 0.0, 2 * math.pi, p0, p0, hub_h)
@@ -858,7 +1048,7 @@ def mesh_full_gear(
         return {"outer": outer, "bore": bore}
 
     raw = _run_gmsh(build, sizes, fillet_pts, load_pts, order, n_circle)
-    return _finish(raw, order, scale, exact, r, "bore", t0)
+    return _finish(raw, order, scale, exact, r, "bore", t0, curved=mids is not None)
 
 
 def mesh_sector(
@@ -871,6 +1061,7 @@ def mesh_sector(
     fillet_points_xy: np.ndarray | None = None,
     order: int = 2,
     ray_tol_rad: float = 1e-8,
+    outline_mid_xy: np.ndarray | None = None,
 ) -> GearMesh:
     """Mesh a gear sector bounded by a toothed polyline, two cuts and the hub arc.
 
@@ -879,6 +1070,7 @@ def mesh_sector(
                     ``angle_from_rad`` to the ray at ``angle_to_rad`` (first /
                     last point on those rays within ``ray_tol_rad``).
     angle_*_rad     0 < angle_to - angle_from < 2 pi.
+    outline_mid_xy  (N-1,2) m, optional: curved edges, as in :func:`mesh_full_gear`.
     Other arguments as in :func:`mesh_full_gear`.
 
     The cuts are straight lines from the polyline end points to the hub
@@ -911,8 +1103,10 @@ def mesh_sector(
                 f"{name} point of outline_xy {p.tolist()} is not on the ray at "
                 f"{a!r} rad (its polar angle is {ang!r})"
             )
+    mids = _as_mids(outline_mid_xy, poly, False, order)
+    curve = _with_mids(poly, mids)
     if poly.shape[0] > 1:
-        dmin = _min_dist_to_origin(poly, closed=False)
+        dmin = _min_dist_to_origin(curve, closed=False)
     else:
         dmin = float(np.hypot(*poly[0]))
     r = _check_hub(hub_radius_m, dmin)
@@ -920,8 +1114,8 @@ def mesh_sector(
     h_to = np.array([r * math.cos(a1), r * math.sin(a1)])
     # the chord H_to->H_from lies inside the hub disc, the polyline outside:
     # checking this closed polygon covers polyline, cuts and arc
-    _check_simple_closed(np.vstack([poly, h_to, h_from]), "sector boundary", scale)
-    green = float(np.sum(_cross(poly[:-1], poly[1:])))
+    _check_simple_closed(np.vstack([curve, h_to, h_from]), "sector boundary", scale)
+    green = float(np.sum(_cross(poly[:-1], poly[1:]))) + 2.0 * _bulge_area(poly, mids)
     green += float(_cross(poly[-1], h_to) + _cross(h_from, poly[0]))
     exact = 0.5 * green - 0.5 * r**2 * (a1 - a0)
     if exact <= 0:
@@ -930,14 +1124,11 @@ def mesh_sector(
             "(outline_xy must run counter-clockwise from angle_from to angle_to)"
         )
 
-    n_circle = _circle_nodes_floor(r, exact)
-    hub_h = min(float(sizes.global_m), 2 * math.pi * r / n_circle)
-    vsize = _vertex_sizes(poly, closed=False)
+    n_circle, hub_h = _hub_size(r, exact, sizes)
 
     def build():
         geo = gmsh.model.geo
-        ptags = [geo.addPoint(float(x), float(y), 0.0, float(h)) for (x, y), h in zip(poly, vsize)]
-        outer = [geo.addLine(ptags[i], ptags[i + 1]) for i in range(len(ptags) - 1)]
+        outer, ptags = _add_outline(poly, mids, closed=False)
         c = geo.addPoint(0.0, 0.0, 0.0)
         ht = geo.addPoint(float(h_to[0]), float(h_to[1]), 0.0, hub_h)
         hf = geo.addPoint(float(h_from[0]), float(h_from[1]), 0.0, hub_h)
@@ -949,7 +1140,7 @@ def mesh_sector(
         return {"outer": outer, "hub_arc": hub, "cut_left": [cut_left], "cut_right": [cut_right]}
 
     raw = _run_gmsh(build, sizes, fillet_pts, load_pts, order, n_circle)
-    return _finish(raw, order, scale, exact, r, "hub_arc", t0)
+    return _finish(raw, order, scale, exact, r, "hub_arc", t0, curved=mids is not None)
 
 
 def triangle_quality(mesh) -> np.ndarray:
