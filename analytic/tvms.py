@@ -116,8 +116,8 @@ def _tooth_compliance(method: str, loaded: ToothProfile, nominal: ToothProfile, 
                        f"makes a slice of the {loaded.gear.name} tooth non-positive ({exc})") from None
         return c.total_m_per_N
     from . import energy
-    c = energy.tooth_compliance(loaded, radius_m, pair.material, pair.face_width_m, opposite=nominal)
-    return np.asarray(c.total_m_per_N)
+    ce = energy.tooth_compliance(loaded, radius_m, pair.material, pair.face_width_m, opposite=nominal)
+    return np.asarray(ce.total_m_per_N)
 
 
 def _involute_fn(u):

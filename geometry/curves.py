@@ -13,6 +13,9 @@ import math
 
 import numpy as np
 
+from .kinematics import MeshGeometry
+from .spec import PairSpec
+
 
 def zone_means(k_N_per_m, zones: dict[str, np.ndarray]) -> dict[str, float]:
     """Mean stiffness (N/m) over the double-contact zones A | C and over the
@@ -28,6 +31,14 @@ class CurveStats:
     """Statistics of a mesh-stiffness curve over one mesh period. Needs ``pair``,
     ``mesh`` (geometry.kinematics.MeshGeometry), ``torque_Nm``, ``angle_rad``,
     ``k_N_per_m`` and ``pair_load_N`` (angles x slots)."""
+
+    # provided by the curve classes that mix this in (dataclass fields there)
+    pair: PairSpec
+    mesh: MeshGeometry
+    torque_Nm: float
+    angle_rad: np.ndarray
+    k_N_per_m: np.ndarray
+    pair_load_N: np.ndarray
 
     @property
     def mean_N_per_m(self) -> float:
