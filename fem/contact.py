@@ -92,6 +92,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.linalg as sla
 
+from gearwear.geometry.polyline import stitch
+
 __all__ = [
     "ContactSolution",
     "solve_contact",
@@ -330,31 +332,24 @@ class HertzCylinderResult:
 
 def _cylinder_outline(R: float, x_fine: float, h: float, h_max: float, growth: float = 1.15) -> np.ndarray:
     """CCW circle polygon (centre at the origin, contact pole at (0, R)): equal
-    x-spacing h for |x| <= x_fine, then arc steps growing by ``growth`` up to h_max."""
+    x-spacing h for |x| <= x_fine, then arc steps growing by ``growth`` up to h_max
+    down to the bottom (0, -R), the same on both sides."""
     n = int(math.ceil(x_fine / h))
-    xs = h * np.arange(-n, n + 1)
-    # polar angle phi from +y, CCW positive: (x, y) = R (-sin phi, cos phi)
-    phi_f = np.arcsin(-xs / R)  # decreasing in xs
-    phi_f = phi_f[::-1]
-    phi_end = float(phi_f[-1])
-    steps = []
+    xs = h * np.arange(n, -n - 1, -1)  # over the pole, counter-clockwise
+    fine = np.column_stack([xs, np.sqrt(R * R - xs * xs)])
+    # polar angle phi from +y, counter-clockwise: (x, y) = R (-sin phi, cos phi)
+    phi = [math.asin(n * h / R)]
     s = h
-    phi = phi_end
     while True:
         s = min(s * growth, h_max)
-        phi += s / R
-        if phi >= math.pi - 0.5 * s / R:
+        if phi[-1] + s / R >= math.pi - 0.5 * s / R:
             break
-        steps.append(phi)
-    right = np.array(steps)  # from the fine zone to the bottom (phi -> pi), one side
-    bottom = [math.pi]
-    if right.size and math.pi - right[-1] < 0.3 * s / R:
-        right = right[:-1]
-    # mirror for the other side: phi -> 2 pi - phi  (i.e. -phi)
-    phis = np.concatenate([phi_f, right, bottom, (2 * math.pi - right[::-1]), 2 * math.pi + phi_f[:1]])[:-1]
-    # make the sequence monotone CCW starting in the fine zone
-    xy = np.column_stack([-R * np.sin(phis), R * np.cos(phis)])
-    return xy
+        phi.append(phi[-1] + s / R)
+    if len(phi) > 1 and math.pi - phi[-1] < 0.3 * s / R:
+        phi.pop()
+    phi = np.array(phi[1:] + [math.pi])
+    side = np.vstack([fine[-1:], np.column_stack([-R * np.sin(phi), R * np.cos(phi)])])
+    return stitch([fine, side, (side * np.array([-1.0, 1.0]))[::-1]], closed=True)
 
 
 def _cylinder_body(R: float, E: float, nu: float, x_fine: float, h: float, x_cand: float,
