@@ -41,7 +41,7 @@ import numpy as np
 from gearwear.geometry.profile import ToothProfile
 from gearwear.geometry.spec import Material
 
-from gearwear.geometry.loading import load_points, root_section, thickness_table
+from gearwear.geometry.loading import load_points, root_height_m, root_section, thickness_table
 
 DEFAULT_SLICES = 64
 
@@ -140,7 +140,7 @@ def tooth_compliance(loaded: ToothProfile, radius_m, material: Material, face_wi
     if n_slices < 1:
         raise ValueError(f"n_slices = {n_slices}: must be >= 1")
     lp = load_points(loaded, radius_m)
-    y_M, _ = root_section(loaded)
+    y_M = root_height_m(loaded)
     ys, ts = thickness_table(loaded, opposite)  # one table for the slices and the root section
     bending, shear, axial = slice_beam_compliance(
         lambda y: np.interp(y, ys, ts), np.full_like(lp.y_m, y_M), lp.y_m, lp.x_m, lp.w_rad,

@@ -188,13 +188,15 @@ def _pair_load(e, c, a, expo, warm=None):
     for _ in range(60):
         Fp = np.maximum(Fk, 1e-300)  # F^(expo - 1) is infinite at 0
         Fe = Fp ** (expo - 1.0)
-        step = ((cp + a * Fe) * Fp - ep) / (cp + a_expo * Fe)
+        slope = cp + a_expo * Fe
+        step = ((cp + a * Fe) * Fp - ep) / slope
         Fk = np.maximum(Fk - step, 0.0)
         if np.all(np.abs(step) <= 1e-14 * Fk):
             break
     F[idx] = Fk
     dF = np.zeros(F.shape)
-    dF[idx] = np.where(Fk > 0, 1.0 / (cp + a_expo * np.maximum(Fk, 1e-300) ** (expo - 1.0)), 0.0)
+    # the slope before the last step, 1e-14 from the converged one: it only steers Newton
+    dF[idx] = np.where(Fk > 0, 1.0 / slope, 0.0)
     return F, dF
 
 
@@ -279,10 +281,16 @@ def mesh_stiffness(pair: PairSpec, method: str = "ishikawa", points: int = 360, 
     exit_ = (d > E) & (d < hi) & corner_contact
     cand = in_path | entry | exit_
     # compliances: inside the path at the contact radii; corners at the path ends. All
-    # candidates of all angles in one pass per gear, each distinct position once (the
-    # corner candidates share the two path-end values)
-    dc = np.clip(d, A, E)
-    d_u, at = np.unique(dc[cand], return_inverse=True)
+    # candidates of all angles in one pass per gear, each distinct position once. Taken
+    # slot by slot (columns; slot j covers [d_A + j p_b, d_A + (j + 1) p_b)) the clipped
+    # positions never decrease, so equal ones (the corner candidates at d_A and d_E)
+    # are runs, and the slice heights come sorted, which the interpolation exploits
+    cand_t = cand.T
+    dc = np.clip(d, A, E).T[cand_t]
+    first = np.empty(dc.shape, dtype=bool)
+    first[:1] = True
+    np.not_equal(dc[1:], dc[:-1], out=first[1:])
+    d_u, at = dc[first], np.cumsum(first) - 1
     r1 = np.sqrt(rb1 ** 2 + d_u ** 2)
     r2 = np.sqrt(rb2 ** 2 + (L - d_u) ** 2)
     c_u = np.zeros(d_u.shape)
@@ -293,7 +301,7 @@ def mesh_stiffness(pair: PairSpec, method: str = "ishikawa", points: int = 360, 
             cg *= np.interp(gear_r, grid, factor)
         c_u += cg
     c = np.full(d.shape, np.inf)
-    c[cand] = c_u[at]
+    c.T[cand_t] = c_u[at]
     if method == "ishikawa":
         a, expo = ishikawa.hertz_coefficient(pair.material, pair.face_width_m), 0.9
     else:
@@ -304,7 +312,7 @@ def mesh_stiffness(pair: PairSpec, method: str = "ishikawa", points: int = 360, 
     gap = np.full(d.shape, np.inf)
     if wear is not None and not wear.is_unworn:
         h1, h2 = wear_on_line_of_action(mesh, wear, d_u)
-        gap[cand] = (h1 + h2)[at]
+        gap.T[cand_t] = (h1 + h2)[at]
     else:
         gap[cand] = 0.0
     if np.any(entry):

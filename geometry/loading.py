@@ -46,10 +46,15 @@ def load_points(profile: ToothProfile, radius_m) -> LoadPoints:
     return LoadPoints(R, x, y, w, y - x * np.tan(w))
 
 
+def root_height_m(profile: ToothProfile) -> float:
+    """y_M (m): the root section of the tooth cantilever is taken at the root circle on
+    the tooth axis, y_M = r_f (Sainsot et al. 2004; Weber)."""
+    return profile.gear.root_radius_m
+
+
 def root_section(profile: ToothProfile) -> tuple[float, float]:
-    """(y_M, half thickness at y_M): the root section of the tooth cantilever is taken
-    at the root circle on the tooth axis, y_M = r_f (Sainsot et al. 2004; Weber)."""
-    y_M = profile.gear.root_radius_m
+    """(y_M, half thickness at y_M) (m) of the root section (:func:`root_height_m`)."""
+    y_M = root_height_m(profile)
     return y_M, float(half_thickness_at_height(profile, np.array([y_M]))[0])
 
 
