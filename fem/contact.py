@@ -347,8 +347,8 @@ def _cylinder_outline(R: float, x_fine: float, h: float, h_max: float, growth: f
         phi.append(phi[-1] + s / R)
     if len(phi) > 1 and math.pi - phi[-1] < 0.3 * s / R:
         phi.pop()
-    phi = np.array(phi[1:] + [math.pi])
-    side = np.vstack([fine[-1:], np.column_stack([-R * np.sin(phi), R * np.cos(phi)])])
+    ang = np.array(phi[1:] + [math.pi])
+    side = np.vstack([fine[-1:], np.column_stack([-R * np.sin(ang), R * np.cos(ang)])])
     return stitch([fine, side, (side * np.array([-1.0, 1.0]))[::-1]], closed=True)
 
 
