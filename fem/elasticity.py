@@ -14,7 +14,7 @@ The fixed boundary (the bore) is eliminated; the reduced matrix is factorized on
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 
 import numpy as np
 import scipy.sparse as sp
@@ -25,6 +25,8 @@ from skfem.helpers import dot
 from skfem.models.elasticity import lame_parameters, linear_elasticity
 
 from gearwear.geometry.spec import Material
+
+from .mesh import CurvedMeshTri2
 
 
 def lame(material: Material, plane: str = "stress") -> tuple[float, float]:
@@ -37,24 +39,19 @@ def lame(material: Material, plane: str = "stress") -> tuple[float, float]:
     return lam, mu
 
 
-def linear_mesh(mesh) -> skfem.MeshTri:
-    """A straight-sided MeshTri with the same vertices and triangles.
-
-    Gear boundaries are polygons (straight segments), so P2 elements on straight
-    triangles represent them exactly; only the bore arc is chorded (area change below
-    1e-8 relative for the Gmsh meshes used here, and the bore is fixed anyway).
-    Straight triangles also allow point probes (MeshTri2 has no element finder)."""
-    if isinstance(mesh, skfem.MeshTri) and not isinstance(mesh, skfem.MeshTri2):
-        return mesh
-    nv = int(mesh.t[:3].max()) + 1
-    return skfem.MeshTri(mesh.p[:, :nv].copy(), mesh.t[:3].copy(), sort_t=False)
+def located(mesh) -> skfem.Mesh:
+    """The mesh itself, or for a plain ``skfem.MeshTri2`` the same mesh as a
+    :class:`~gearwear.fem.mesh.CurvedMeshTri2`, whose points can be probed."""
+    if isinstance(mesh, skfem.MeshTri2) and not isinstance(mesh, CurvedMeshTri2):
+        return CurvedMeshTri2(**{f.name: getattr(mesh, f.name) for f in fields(mesh) if f.init})
+    return mesh
 
 
 @dataclass
 class ElasticModel:
     """Assembled and factorized elasticity problem with fixed dofs eliminated."""
 
-    mesh: skfem.MeshTri
+    mesh: skfem.Mesh
     basis: Basis
     K: sp.csr_matrix
     free: np.ndarray
@@ -93,11 +90,15 @@ class ElasticModel:
 
 def assemble(mesh, material: Material, thickness_m: float, fixed_facets: np.ndarray,
              plane: str = "stress", order: int = 2, factorize: bool = True) -> ElasticModel:
-    """Assemble K for a P1/P2 mesh, fix the dofs on ``fixed_facets`` and factorize
-    (``factorize=False``: no factorization, ``lu`` is None; fem.pair_body condenses
-    the matrix itself)."""
+    """Assemble K on ``mesh`` with P1/P2 elements, fix the dofs on ``fixed_facets`` and
+    factorize (``factorize=False``: no factorization, ``lu`` is None; fem.pair_body
+    condenses the matrix itself).
+
+    The mesh is used as given: a 6-node (Gmsh order 2) mesh is isoparametric, its
+    mid-side nodes on the curved boundary are the P2 nodes; a 3-node mesh has
+    straight edges."""
     t0 = time.perf_counter()
-    m = linear_mesh(mesh)
+    m = located(mesh)
     elem = ElementVector(ElementTriP2() if order == 2 else ElementTriP1())
     basis = Basis(m, elem, intorder=2 * order)
     lam, mu = lame(material, plane)

@@ -102,6 +102,7 @@ from gearwear.geometry.curves import CurveStats
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.operating import operating_geometry
 from gearwear.geometry.profile import INVOLUTE, tooth_profile
+from gearwear.geometry.sampling import FINE_SAG_M
 from gearwear.geometry.spec import PairSpec
 from gearwear.core.validation import fail
 from gearwear.geometry.wear import WearSpec, flank_depth, hertz_half_width, key_roll_angles
@@ -275,7 +276,8 @@ def pair_model(pair: PairSpec, wear: WearSpec | None = None, torque_Nm: float = 
     nb = int(math.ceil(mesh.contact_ratio + 2 * EXTENSION_PITCHES)) + 1
     bodies, depth, tim = [], [], {}
     for gi, g in enumerate(pair.gears):
-        nominal = tooth_profile(g, extra_roll=key_roll_angles(mesh, gi))
+        # the body outline is interpolated on this polyline: 1 nm sag keeps it on the curve
+        nominal = tooth_profile(g, sag_m=FINE_SAG_M, extra_roll=key_roll_angles(mesh, gi))
         r_lo = _candidate_radius_range(mesh, gi, window)
         lp = load_points(nominal, np.array([max(r_lo, nominal.form_radius_m), g.tip_radius_m * (1 - 1e-9)]))
         cy = (float(lp.y_axis_m.min()) - 1.0 * pair.module_m * 0.2, float(lp.y_axis_m.max()) + 0.2 * pair.module_m)

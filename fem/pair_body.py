@@ -1,16 +1,18 @@
 """Gear bodies for resolved FE pair contact: mesh, Schur-complement flexibility of
 the drive flank, and reading/loading vectors (SI units: m, N, rad, Pa).
 
-One full gear per distinct gear of a pair (all z teeth, Gmsh P2 triangles, plane
-stress by default, thickness = face width b, bore fixed). Tooth 0 (centred on +y,
-drive flank x > 0) has its drive flank sampled and refined to the contact element
-size h_c over the whole candidate range (a margin below the start of active
-profile up to and including the tip corner); Gmsh Distance + Threshold fields grade
-the size out (``geometry.mesh``). The neighbouring teeth +-1 .. +-n are sampled at
-the "near" size, the others coarser. The body only rotates rigidly in the pair, so
-its stiffness in its own frame never changes and one factorization serves every
-position and every wear state (wear enters the pair solve as initial gaps, see
-fem.pair).
+One full gear per distinct gear of a pair (all z teeth, Gmsh's curved 6-node
+triangles used as isoparametric P2 elements, plane stress by default, thickness =
+face width b, bore fixed). Tooth 0 (centred on +y, drive flank x > 0) has its
+drive flank sampled and refined to the contact element size h_c over the whole
+candidate range (a margin below the start of active profile up to and including
+the tip corner); Gmsh Distance + Threshold fields grade the size out
+(``fem.mesh``). The neighbouring teeth +-1 .. +-n are sampled at the "near" size,
+the others coarser. Every outline edge carries its arc mid-point (on the exact
+involute there), so the mid-side nodes lie on the flank. The body only rotates
+rigidly in the pair, so its stiffness in its own frame never changes and one
+factorization serves every position and every wear state (wear enters the pair
+solve as initial gaps, see fem.pair).
 
 Flexibility by static condensation
 ----------------------------------
@@ -29,11 +31,13 @@ dense triangular inversions. This replaces one sparse solve per flank node (abou
 30 ms each for 117k dofs, i.e. ~25 s for 900 nodes) by ~3 s in total, and gives the
 full 2 x 2 blocks (every force direction) at once.
 
-Reading and loading at arbitrary flank points: the trace of a P2 field on a
-straight boundary edge is quadratic in its three nodes, so a point at chord
-parameter t of the edge (v0, m, v1) has the weights (1 - t)(1 - 2 t), 4 t (1 - t),
-t (2 t - 1) (also the consistent nodal load of a point force there). Interior
-points (centre line) use the P2 basis of their element (skfem probes).
+Reading and loading at arbitrary flank points: on a boundary edge (v0, m, v1) the
+isoparametric map and the trace of a P2 field are the same quadratics in the edge
+parameter t, so the point x(t) has the weights (1 - t)(1 - 2 t), 4 t (1 - t),
+t (2 t - 1) (also the consistent nodal load of a point force there); t is the
+projection of the exact involute point onto the curved edge
+(``geometry.polyline.quadratic_parameter``). Interior points (centre line) use the
+P2 basis of their element (skfem probes, ``fem.mesh.CurvedMeshTri2``).
 """
 
 from __future__ import annotations
@@ -47,7 +51,9 @@ import scipy.linalg as sla
 import scipy.sparse.linalg as spla
 
 from gearwear.fem.mesh import MeshSizes, mesh_full_gear
-from gearwear.geometry.profile import FILLET, INVOLUTE, ROOT_LAND, TIP_LAND, ToothProfile
+from gearwear.geometry.polyline import cumulative_length, quadratic_parameter, with_midpoints
+from gearwear.geometry.profile import FILLET, INVOLUTE, ToothProfile, ring_outline, tooth_outline
+from gearwear.geometry.sampling import profile_at, region_junctions
 from gearwear.geometry.spec import GearSpec, Material
 
 from .elasticity import assemble
@@ -113,18 +119,14 @@ def _walk(a: float, b: float, spacing, keep: np.ndarray) -> list[float]:
 
 
 def _sample_flank(profile: ToothProfile, spacing, fine: tuple[float, float, float] | None = None) -> np.ndarray:
-    """Outline points of one right flank (space centre -> tip axis) with arc steps
-    spacing(s); region ends are kept and involute points are put on the exact
-    involute (the source polygon is off it by its chord sag). ``fine`` = (s_lo, s_hi,
-    h): equal steps <= h on [s_lo, s_hi], so the edge at the tip corner (s_hi) is a
-    full step at every refinement level (the corner contact is sensitive to it)."""
+    """One right flank (space centre -> tip axis) as a quadratic chain (vertex, arc
+    mid-point, vertex, ...; ``geometry.polyline``) with arc steps spacing(s); region
+    junctions are kept and involute points are put on the exact involute (the source
+    polygon is off it by its chord sag). ``fine`` = (s_lo, s_hi, h): equal steps <= h
+    on [s_lo, s_hi], so the edge at the tip corner (s_hi) is a full step at every
+    refinement level (the corner contact is sensitive to it)."""
     s = profile.s
-    keep = {0.0, float(s[-1])}
-    for r in (ROOT_LAND, FILLET, INVOLUTE, TIP_LAND):
-        sel = np.flatnonzero(profile.region == r)
-        if sel.size:
-            keep.update((float(s[sel[0]]), float(s[sel[-1]])))
-    keep = np.array(sorted(keep))
+    keep = s[region_junctions(profile)]
     if fine is None:
         sn = np.array(_walk(0.0, float(s[-1]), spacing, keep))
     else:
@@ -133,7 +135,8 @@ def _sample_flank(profile: ToothProfile, spacing, fine: tuple[float, float, floa
         below = _walk(lo, 0.0, spacing, keep)[::-1]
         above = _walk(hi, float(s[-1]), spacing, keep)
         sn = np.concatenate([below[:-1], np.linspace(lo, hi, n + 1), above[1:]])
-    xy = np.column_stack([np.interp(sn, s, profile.xy[:, 0]), np.interp(sn, s, profile.xy[:, 1])])
+    sn = with_midpoints(sn)
+    xy = profile_at(profile, sn).xy
     inv = np.flatnonzero(profile.region == INVOLUTE)
     on_inv = (sn >= s[inv[0]]) & (sn <= s[inv[-1]])
     r = np.hypot(xy[on_inv, 0], xy[on_inv, 1])
@@ -174,7 +177,8 @@ class GearBody:
 
     def edge_weights(self, tooth: int, radius_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(B positions (n, 3), weights (n, 3)) of points of tooth ``tooth``'s drive
-        flank at radii R: P2 edge shape functions at the chord parameter of R."""
+        flank at radii R: P2 edge shape functions at the edge parameter of the
+        involute point at R (its projection onto the curved edge)."""
         r = self.flank_r[tooth]
         xy = self.flank_xy[tooth]
         e = self.flank_edges[tooth]
@@ -184,10 +188,7 @@ class GearBody:
         if np.any(R < lo[0] - 1e-12) or np.any(R > hi[-1] + 1e-12):
             raise ValueError(f"flank point outside the condensed range of tooth {tooth} "
                              f"({R.min() * 1e3:.4f}..{R.max() * 1e3:.4f} mm)")
-        p = involute_point(self.gear, R)
-        a, b = xy[e[k, 0]], xy[e[k, 2]]
-        ab = b - a
-        t = np.clip(np.einsum("ij,ij->i", p - a, ab) / np.einsum("ij,ij->i", ab, ab), 0.0, 1.0)
+        t = quadratic_parameter(involute_point(self.gear, R), xy[e[k, 0]], xy[e[k, 1]], xy[e[k, 2]])
         w = np.column_stack([(1 - t) * (1 - 2 * t), 4 * t * (1 - t), t * (2 * t - 1)])
         return self.flank_b[tooth][e[k]], w
 
@@ -278,33 +279,27 @@ def build_body(gear: GearSpec, material: Material, face_width_m: float, nominal:
     far = lambda s: sizes.far_m  # noqa: E731
     right0 = _sample_flank(nominal, fine, (s_lo, s_hi, hc))
     side_near = _sample_flank(nominal, near)
-    side_far = _sample_flank(nominal, far)
+    # tooth 0, its condensed neighbours, the others
+    kinds = (tooth_outline(right0, side_near), tooth_outline(side_near), tooth_outline(_sample_flank(nominal, far)))
+
+    def tooth(k: int) -> np.ndarray:
+        away = min(k, z - k)  # teeth between tooth k and tooth 0
+        return kinds[0 if away == 0 else 1 if away <= neighbours else 2]
+
+    # a quadratic chain: even points are the vertices, odd ones the edge mid-points
+    outline = ring_outline(tooth, z)
     mirror = np.array([-1.0, 1.0])
-
-    def tooth(right, left):
-        return np.vstack([right, (left[::-1] * mirror)[1:]])
-
-    pieces = []
-    for k in range(z):
-        kk = k if k <= z // 2 else k - z
-        if kk == 0:
-            base = tooth(right0, side_near)
-        elif abs(kk) <= neighbours:
-            base = tooth(side_near, side_near)
-        else:
-            base = tooth(side_far, side_far)
-        pts = base @ rot(2.0 * math.pi * k / z).T
-        pieces.append(pts if not pieces else pts[1:])
-    outline = np.vstack(pieces)[:-1]
-    s_r0 = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(right0, axis=0).T))])
-    refine = right0[(s_r0 >= s_lo - 1e-12) & (s_r0 <= s_hi + 1e-12)]
+    v0 = right0[::2]
+    s_r0 = cumulative_length(v0)
+    refine = v0[(s_r0 >= s_lo - 1e-12) & (s_r0 <= s_hi + 1e-12)]
     fil = nominal.xy[nominal.region == FILLET]
     fil = fil[:: max(1, len(fil) // 10)]
     fillets = np.vstack([np.vstack([fil, fil * mirror]) @ rot(2.0 * math.pi * kk / z).T
                          for kk in range(-neighbours, neighbours + 1)])
     msz = MeshSizes(global_m=sizes.global_m, fillet_m=sizes.fillet_m, load_m=hc, load_dist_m=hc,
                     fillet_dist_m=2 * sizes.fillet_m, growth=GROWTH)
-    gm = mesh_full_gear(outline, g.hub_radius_m, msz, refine_points_xy=refine, fillet_points_xy=fillets, order=2)
+    gm = mesh_full_gear(outline[0::2], g.hub_radius_m, msz, refine_points_xy=refine, fillet_points_xy=fillets, order=2,
+                        outline_mid_xy=outline[1::2])
     t1 = time.perf_counter()
     model = assemble(gm.mesh, material, face_width_m, gm.boundaries["bore"], plane=plane, order=2, factorize=False)
     t2 = time.perf_counter()

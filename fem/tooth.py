@@ -67,18 +67,26 @@ One mesh for all positions: tooth 0 is sampled at its element size (``load_m``
 on the involute and tip, ``fillet_m`` on the fillets and root lands), both fillets
 and the whole active flank are refined, the other teeth are sampled at
 0.2 ``global_m``. The element sizes, the size gradient and the boundary sampling
-scale with ``mesh_scale`` (the size field h(x) becomes mesh_scale x h(x)), so the
-chordal boundary approximation (sag h^2 / (8 rho)) is part of the h-refinement. The stiffness matrix
-is factorized once and all positions are solved as right-hand sides.
+scale with ``mesh_scale`` (the size field h(x) becomes mesh_scale x h(x)). With P2
+(order 2) every outline edge also carries the point of the true curve at half its
+arc length, Gmsh meshes the edge as the parabola through the three points, and
+the analysis uses Gmsh's 6-node triangles as they are (isoparametric, mid-side
+nodes on the curve): the boundary follows the involute and fillet to ~1 nm
+(the 1 nm source polyline, ``geometry.sampling.FINE_SAG_M``) instead of the chord
+sag h^2 / (8 rho) of straight edges (1.4 um on the involute, 10 um in the fillet at
+0.4 mm). P1 (order 1) keeps straight edges, their sag part of the h-refinement.
+The stiffness matrix is factorized once and all positions are solved as
+right-hand sides.
 
 Worn flank: by default the *nominal* mesh is morphed (``worn_geometry="morph"``):
-the vertices on tooth 0's right flank move by -h(s) n(s) onto the worn flank and
-the interior vertices follow by a harmonic (Laplace) extension of that
-displacement. Nominal and worn models then have the same topology by
-construction, so the wear effect (0.01-0.1 % of the compliance for 10-30 um, below
-the 0.13 % discretisation error of the default level) is not mixed with a change
-of mesh. ``worn_geometry="remesh"`` meshes the worn outline instead; at the
-default level it agrees with the morph to 0.003 % for severe wear.
+the nodes on tooth 0's right flank (vertices and mid-side nodes) move by -h(s) n(s)
+onto the worn flank and the interior vertices follow by a harmonic (Laplace)
+extension of that displacement, the other mid-side nodes with their edges. Nominal
+and worn models then have the same topology by construction, so the wear effect
+(0.01-0.12 % of the compliance for 10-30 um, of the order of the 0.03 %
+discretisation error of the default level) is not mixed with a change of mesh.
+``worn_geometry="remesh"`` meshes the worn outline instead; at the default level
+it agrees with the morph to 0.002 % for severe wear.
 """
 
 from __future__ import annotations
@@ -95,18 +103,23 @@ from skfem.models.poisson import laplace
 
 from gearwear.geometry.loading import load_points
 from gearwear.geometry.kinematics import MeshGeometry
-from gearwear.fem.mesh import GearMesh, MeshError, MeshSizes, mesh_full_gear
-from gearwear.geometry.profile import FILLET, INVOLUTE, ROOT_LAND, TIP_LAND, ToothProfile, tooth_outline, tooth_profile
+from gearwear.fem.mesh import GearMesh, MeshError, MeshSizes, inverted_elements, mesh_full_gear
+from gearwear.geometry.polyline import cumulative_length, project_to_polyline, quadratic_eval
+from gearwear.geometry.profile import (FILLET, INVOLUTE, ROOT_LAND, TIP_LAND, ToothProfile, ring_outline, tooth_outline,
+                                       tooth_profile)
+from gearwear.geometry.sampling import FINE_SAG_M, resample_profile
 from gearwear.geometry.spec import PairSpec
 from gearwear.geometry.wear import WearSpec, flank_depth, hertz_half_width, key_roll_angles
 
-from .elasticity import assemble, linear_mesh
+from .elasticity import assemble
 
 #: Element sizes at mesh_scale = 1 (m); the sizes, the size gradient and the
 #: boundary sampling are multiplied by mesh_scale (see mesh_sizes). Chosen with
-#: fem.convergence: at scale 1 (56.6k P2 dofs) the compliance is within 0.13 % of
-#: the Richardson extrapolation at every position, differs from the 1/sqrt(2)
-#: level by < 0.08 %, and the 21-position curve takes ~2.2 s on 2 cores.
+#: fem.convergence: at scale 1 (49.8k P2 dofs, curved 6-node elements) the
+#: compliance is within 0.03 % of the Richardson extrapolation at every position
+#: (observed order 4.0; 0.13 % and order 2.5 with straight-edged elements), differs
+#: from the 1/sqrt(2) level by < 0.03 %, and the 21-position curve takes 1.2-1.6 s
+#: on 2 cores.
 GLOBAL_M = 4.0e-3
 LOAD_M = 0.40e-3
 FILLET_M = 0.40e-3
@@ -118,9 +131,11 @@ LOAD_DIST_M = 1.2e-3
 #: normal load is T / r_b1 (pinion base radius) for either gear.
 DEFAULT_TORQUE_NM = 40.0
 
-SOURCE_SAG_M = 0.2e-6       # chord sag of the profiles the polygons are resampled from
 OTHER_SPACING = 0.2         # polygon spacing of teeth 1 .. z-1, as a fraction of global_m
 PATCH_POINTS = 48           # Gauss-Chebyshev points per Hertz patch
+# sub-steps per flank edge when measuring arc length on it: a 0.4 mm edge at 14 mm
+# curvature radius is 1e-8 relative longer than its 16 sub-chords
+EDGE_SUBSTEPS = 16
 TIP_MARGIN_HALF_WIDTHS = 2.0  # top load: patch centre 2 a (arc length) below the tip corner
 WORN_GEOMETRIES = ("morph", "remesh")
 
@@ -193,56 +208,12 @@ def mesh_sizes(mesh_scale: float = 1.0) -> MeshSizes:
 
 # -- geometry ------------------------------------------------------------------------
 
-def resample_profile(profile: ToothProfile, spacing_m: dict) -> ToothProfile:
-    """The flank polygon resampled region by region at about ``spacing_m[region]``
-    of arc length, keeping every region's end points (space centre, fillet start,
-    fillet/involute joint, tip corner, tooth axis).
-
-    New vertices are interpolated on the fine source polygon (within its sag of the
-    true curve); normals are interpolated and renormalised. The polygon vertices
-    become mesh nodes, so sampling tooth 0 at its element size makes the boundary
-    approximation part of the h-refinement (chord sag h^2 / (8 rho)).
-    """
-    s = profile.s
-    idx = {0, len(s) - 1}
-    for r in (ROOT_LAND, FILLET, INVOLUTE, TIP_LAND):
-        sel = np.flatnonzero(profile.region == r)
-        if sel.size:
-            idx.update((int(sel[0]), int(sel[-1])))
-    idx = sorted(idx)
-    s_new, reg_new = [np.array([s[0]])], [np.array([profile.region[0]])]
-    for i0, i1 in zip(idx[:-1], idx[1:]):
-        r = int(profile.region[i1])
-        n = max(1, int(math.ceil((s[i1] - s[i0]) / float(spacing_m[r]) - 1e-9)))
-        s_new.append(np.linspace(s[i0], s[i1], n + 1)[1:])
-        reg_new.append(np.full(n, r))
-    sn = np.concatenate(s_new)
-    region = np.concatenate(reg_new).astype(np.int8)
-    xy = np.column_stack([np.interp(sn, s, profile.xy[:, 0]), np.interp(sn, s, profile.xy[:, 1])])
-    nrm = np.column_stack([np.interp(sn, s, profile.normal[:, 0]), np.interp(sn, s, profile.normal[:, 1])])
-    nrm /= np.linalg.norm(nrm, axis=1)[:, None]
-    rb = profile.gear.base_radius_m
-    radius = np.hypot(xy[:, 0], xy[:, 1])
-    roll = np.where(region == INVOLUTE, np.sqrt(np.maximum((radius / rb) ** 2 - 1.0, 0.0)), np.nan)
-    depth = np.interp(sn, s, profile.depth) if profile.depth is not None else np.zeros(len(sn))
-    return replace(profile, xy=xy, normal=nrm, s=sn, radius=radius, roll=roll, region=region, depth=depth)
-
-
-def _rotate(xy: np.ndarray, angle: float) -> np.ndarray:
-    c, s = math.cos(angle), math.sin(angle)
-    return xy @ np.array([[c, -s], [s, c]]).T
-
-
-def gear_polygon(loaded: ToothProfile, nominal: ToothProfile, other: ToothProfile) -> np.ndarray:
+def gear_polygon(loaded, nominal, other) -> np.ndarray:
     """Closed CCW outline: tooth 0 with the ``loaded`` right and ``nominal`` left flank,
-    teeth 1 .. z-1 from ``other`` (geometry.profile.gear_outline with one sampling
-    per tooth instead of one for all)."""
-    z = nominal.gear.teeth
-    pieces = [tooth_outline(loaded, nominal)]
-    rest = tooth_outline(other)
-    for k in range(1, z):
-        pieces.append(_rotate(rest, 2.0 * math.pi * k / z)[1:])  # shared space-centre point
-    return np.vstack(pieces)[:-1]
+    teeth 1 .. z-1 from ``other`` (profiles or point arrays; quadratic chains stay
+    quadratic chains)."""
+    t0, rest = tooth_outline(loaded, nominal), tooth_outline(other)
+    return ring_outline(lambda k: t0 if k == 0 else rest, nominal.gear.teeth)
 
 
 def load_radii(pair: PairSpec, gear_index: int, positions: int, load_N: float) -> tuple[np.ndarray, np.ndarray]:
@@ -268,74 +239,78 @@ def load_radii(pair: PairSpec, gear_index: int, positions: int, load_N: float) -
 
 # -- mesh helpers ------------------------------------------------------------------
 
-def _nodes_on_polyline(mesh: skfem.MeshTri, facets: np.ndarray, poly: np.ndarray, tol: float):
-    """Mesh vertices of ``facets`` lying on the polyline ``poly`` (within tol, m).
-
-    Returns (vertex indices, segment index, local parameter t in [0, 1]) sorted along
-    the polyline."""
-    v = np.unique(mesh.facets[:, facets])
-    p = mesh.p[:, v].T
-    lo, hi = poly.min(axis=0) - tol, poly.max(axis=0) + tol
-    near = np.all((p >= lo) & (p <= hi), axis=1)
-    v, p = v[near], p[near]
-    a, b = poly[:-1], poly[1:]
-    ab = b - a
-    L2 = np.einsum("ij,ij->i", ab, ab)
-    t = np.clip(np.einsum("kij,ij->ki", p[:, None, :] - a[None], ab) / L2[None], 0.0, 1.0)
-    dist = np.linalg.norm(p[:, None, :] - (a[None] + t[..., None] * ab[None]), axis=2)
-    seg = np.argmin(dist, axis=1)
-    keep = dist[np.arange(len(v)), seg] <= tol
-    v, seg = v[keep], seg[keep]
-    tt = t[np.flatnonzero(keep), seg]
-    order = np.lexsort((tt, seg))
-    return v[order], seg[order], tt[order]
+def _flank_nodes(mesh, facets: np.ndarray, flank: ToothProfile, tol: float) -> tuple[np.ndarray, np.ndarray]:
+    """Nodes on the flank polyline, sorted root -> tip, and their profile arc parameter
+    s: the vertices of ``facets`` within ``tol`` (m) of it and, on a 6-node mesh, the
+    mid-side nodes of the facets between two of them (``mesh.doflocs`` indices)."""
+    f = np.asarray(facets)
+    nodes = np.unique(mesh.facets[:, f])
+    nodes = nodes[project_to_polyline(mesh.p[:, nodes].T, flank.xy, max_distance=tol).distance <= tol]
+    if isinstance(mesh, skfem.MeshTri2):
+        both = np.isin(mesh.facets[:, f], nodes).all(axis=0)
+        nodes = np.concatenate([nodes, mesh.nvertices + f[both]])
+    pr = project_to_polyline(mesh.doflocs[:, nodes].T, flank.xy)
+    s = flank.s[pr.segment] + pr.t * (flank.s[pr.segment + 1] - flank.s[pr.segment])
+    order = np.argsort(s, kind="stable")
+    return nodes[order], s[order]
 
 
-def morph_to_worn(mesh: skfem.MeshTri, boundary_facets: np.ndarray, flank_vertices: np.ndarray,
-                  flank_s: np.ndarray, nominal: ToothProfile, loaded: ToothProfile) -> skfem.MeshTri:
+def morph_to_worn(mesh, boundary_facets: np.ndarray, flank_nodes: np.ndarray, flank_s: np.ndarray,
+                  nominal: ToothProfile, loaded: ToothProfile):
     """The nominal mesh with tooth 0's right flank moved onto the worn flank.
 
-    ``flank_vertices`` are the mesh vertices on the nominal flank polygon and
-    ``flank_s`` their profile arc parameter s (linear along each polygon segment);
-    each moves by (worn - nominal)(s) = -h(s) n(s). The other boundary vertices stay;
-    interior vertices get the harmonic extension of the boundary displacement (P1
-    Laplace with those Dirichlet values), which keeps elements valid for
-    displacements well below the element size (checked: every triangle must keep a
-    positive area).
+    ``flank_nodes`` are the mesh nodes (``mesh.doflocs`` indices: vertices and, on a
+    6-node mesh, mid-side nodes) on the nominal flank and ``flank_s`` their profile arc
+    parameter s (linear along each source segment); each moves by
+    (worn - nominal)(s) = -h(s) n(s). The other boundary vertices stay; interior
+    vertices get the harmonic extension of the boundary displacement (P1 Laplace on
+    the vertices with those Dirichlet values, which keeps elements valid for
+    displacements well below the element size), and every other mid-side node moves
+    with the mean of its edge's two vertices (an unmoved edge keeps its shape).
+    Checked: no element may fold (``fem.mesh.inverted_elements``).
     """
     disp = np.column_stack([np.interp(flank_s, nominal.s, loaded.xy[:, k] - nominal.xy[:, k]) for k in (0, 1)])
+    nv = mesh.nvertices
     basis = Basis(mesh, ElementTriP1())
     L = asm(laplace, basis).tocsr()
     fixed = np.unique(mesh.facets[:, boundary_facets])
-    free = np.setdiff1d(np.arange(mesh.nvertices), fixed)
-    D = np.zeros((mesh.nvertices, 2))
-    D[flank_vertices] = disp
+    free = np.setdiff1d(np.arange(nv), fixed)
+    D = np.zeros((nv, 2))
+    vert = flank_nodes < nv
+    D[flank_nodes[vert]] = disp[vert]
     if free.size:
         lu = spla.splu(L[free][:, free].tocsc())
         D[free] = lu.solve(-np.asarray(L[free][:, fixed] @ D[fixed]))
-    p = mesh.p + D.T
-    out = skfem.MeshTri(p, mesh.t.copy(), sort_t=False)
-    a, b, c = (p[:, out.t[i]] for i in range(3))
-    area = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]))
-    if np.any(area <= 0):
-        raise MeshError(f"morphing the mesh onto the worn flank inverts {int(np.sum(area <= 0))} triangles "
+    p = np.array(mesh.doflocs, dtype=float)
+    p[:, :nv] += D.T
+    if p.shape[1] > nv:  # mid-side node of facet f is node nv + f
+        p[:, nv:] += 0.5 * (D[mesh.facets[0]] + D[mesh.facets[1]]).T
+        p[:, flank_nodes[~vert]] = mesh.doflocs[:, flank_nodes[~vert]] + disp[~vert].T
+    out = replace(mesh, doflocs=p)
+    bad = inverted_elements(out)
+    if np.any(bad):
+        raise MeshError(f"morphing the mesh onto the worn flank inverts {int(np.sum(bad))} elements "
                         "(wear depth comparable to the element size; use worn_geometry='remesh')")
     return out
 
 
-def hertz_patch_forces(flank_xy: np.ndarray, s_lo: float, s_hi: float, radius_m: np.ndarray,
+def hertz_patch_forces(flank: np.ndarray, v_lo: int, v_hi: int, radius_m: np.ndarray,
                        half_width_m: np.ndarray, force_dir: np.ndarray, load_N: float,
                        n_points: int = PATCH_POINTS):
-    """Quadrature points and point forces of the Hertz patches on a flank polyline.
+    """Quadrature points and point forces of the Hertz patches on the meshed flank.
 
-    ``flank_xy`` (m, root -> tip) is the meshed flank; the patches must lie in its
-    arc range [s_lo, s_hi] (the involute). Returns (points (n, k, 2), forces (n, k, 2)):
-    points at arc distance a t_k from the contact point at radius R, nudged 1e-9 m
-    inside so the element search never misses; forces (2 F / pi) w_k e_F.
+    ``flank`` (m, root -> tip) is the meshed flank as a quadratic chain (its element
+    edges, ``geometry.polyline``); the patches must lie between its vertices v_lo and
+    v_hi (the involute). Arc length is measured on the edges at EDGE_SUBSTEPS sub-steps
+    each. Returns (points (n, k, 2), forces (n, k, 2)): points on the edges' curves at
+    arc distance a t_k from the contact point at radius R, moved 1e-9 m along the
+    inward normal so the element search never misses; forces (2 F / pi) w_k e_F.
     """
-    seg = np.linalg.norm(np.diff(flank_xy, axis=0), axis=1)
-    s_poly = np.concatenate([[0.0], np.cumsum(seg)])
-    r_poly = np.hypot(flank_xy[:, 0], flank_xy[:, 1])
+    u_poly = np.arange((len(flank) - 1) // 2 * EDGE_SUBSTEPS + 1) / EDGE_SUBSTEPS
+    xy_poly = quadratic_eval(flank, u_poly)[0]
+    s_poly = cumulative_length(xy_poly)
+    s_lo, s_hi = s_poly[v_lo * EDGE_SUBSTEPS], s_poly[v_hi * EDGE_SUBSTEPS]
+    r_poly = np.hypot(xy_poly[:, 0], xy_poly[:, 1])
     sel = (s_poly >= s_lo - 1e-12) & (s_poly <= s_hi + 1e-12)
     if np.any(np.diff(r_poly[sel]) <= 0):
         raise ValueError("the meshed flank radius is not monotone on the involute (wear too deep?)")
@@ -345,12 +320,8 @@ def hertz_patch_forces(flank_xy: np.ndarray, s_lo: float, s_hi: float, radius_m:
     if np.any(s_k < s_lo) or np.any(s_k > s_hi):
         raise ValueError("a Hertz patch leaves the involute part of the flank (load too close to the tip "
                          "corner or below the form circle)")
-    x = np.interp(s_k, s_poly, flank_xy[:, 0])
-    y = np.interp(s_k, s_poly, flank_xy[:, 1])
-    # outward normal of the polygon segment holding each point (CCW outline: right-hand normal of the tangent)
-    k = np.clip(np.searchsorted(s_poly, s_k) - 1, 0, len(seg) - 1)
-    tx, ty = (flank_xy[k + 1, 0] - flank_xy[k, 0]) / seg[k], (flank_xy[k + 1, 1] - flank_xy[k, 1]) / seg[k]
-    pts = np.stack([x + 1e-9 * (-ty), y + 1e-9 * tx], axis=-1)  # inward = left of the root -> tip tangent
+    xy, tan = quadratic_eval(flank, np.interp(s_k, s_poly, u_poly))
+    pts = xy + 1e-9 * np.stack([-tan[..., 1], tan[..., 0]], axis=-1)  # inward = left of the root -> tip tangent
     mag = load_N * (2.0 / np.pi) * w[None, :] * np.ones_like(s_k)
     return pts, mag[..., None] * force_dir[:, None, :]
 
@@ -366,25 +337,58 @@ def _patch_nodes(n: int) -> tuple[np.ndarray, np.ndarray]:
 class ToothMesh:
     """The meshed gear of :func:`tooth_mesh` (SI units).
 
-    mesh            straight-sided skfem.MeshTri used for the analysis (morphed onto
-                    the worn flank when worn_geometry == "morph")
+    mesh            the analysis mesh: Gmsh's 6-node triangles (order 2, curved
+                    boundary, ``fem.mesh.CurvedMeshTri2``) or 3-node ones (order 1),
+                    morphed onto the worn flank when worn_geometry == "morph"
     gear_mesh       the Gmsh result (boundaries "bore", "outer" index mesh.facets)
     nominal, loaded fine source profiles of tooth 0 (loaded = worn right flank or nominal)
-    meshed_poly     the resampled right-flank polygon that was meshed
-    flank_vertices  mesh vertices on tooth 0's right flank, root -> tip
-    flank_s         their profile arc parameter s (m), as on ``nominal``/``loaded``
+    meshed_poly     the resampled right flank that was meshed (order 2: a quadratic
+                    chain, vertex, edge mid-point, vertex, ...)
+    flank_nodes     mesh nodes (``mesh.doflocs`` indices) on tooth 0's right flank,
+                    root -> tip: vertices and, order 2, the mid-side nodes between
+    flank_node_s    their profile arc parameter s (m), as on ``nominal``/``loaded``
     """
 
-    mesh: skfem.MeshTri
+    mesh: skfem.Mesh
     gear_mesh: GearMesh
     nominal: ToothProfile
     loaded: ToothProfile
     meshed_poly: ToothProfile
-    flank_vertices: np.ndarray
-    flank_s: np.ndarray
+    flank_nodes: np.ndarray
+    flank_node_s: np.ndarray
     worn_geometry: str
     mesh_s: float
     morph_s: float
+
+    @property
+    def flank_vertices(self) -> np.ndarray:
+        """Mesh vertices on tooth 0's right flank, root -> tip."""
+        return self.flank_nodes[self.flank_nodes < self.mesh.nvertices]
+
+    @property
+    def flank_s(self) -> np.ndarray:
+        """Profile arc parameter s (m) of :attr:`flank_vertices`."""
+        return self.flank_node_s[self.flank_nodes < self.mesh.nvertices]
+
+    def flank_curve(self) -> tuple[np.ndarray, int, int]:
+        """The meshed flank as it is in the analysis mesh, root -> tip, as a quadratic
+        chain (order 1: straight edges), and the first and last vertex of its
+        involute (vertex k is chain point 2 k)."""
+        xy = self.mesh.doflocs[:, self.flank_nodes].T
+        v = self.flank_nodes < self.mesh.nvertices
+        if np.all(v):  # straight edges: the mid-points are the chord centres
+            chain = np.empty((2 * len(xy) - 1, 2))
+            chain[0::2], chain[1::2] = xy, 0.5 * (xy[:-1] + xy[1:])
+            vs = self.flank_node_s
+        else:
+            if not (np.all(v[0::2]) and not np.any(v[1::2]) and v[-1]):
+                raise RuntimeError("the flank nodes do not alternate vertex / mid-side node")
+            chain, vs = xy, self.flank_node_s[0::2]
+        poly = self.meshed_poly
+        k_inv = np.flatnonzero(poly.region == INVOLUTE)
+        eps = 1e-9 * poly.gear.tip_radius_m
+        on_inv = np.flatnonzero((vs >= poly.s[k_inv[0]] - eps) & (vs <= poly.s[k_inv[-1]] + eps))
+        return chain, int(on_inv[0]), int(on_inv[-1])
 
 
 def tooth_mesh(pair: PairSpec, gear_index: int = 0, wear: WearSpec | None = None, order: int = 2,
@@ -393,8 +397,9 @@ def tooth_mesh(pair: PairSpec, gear_index: int = 0, wear: WearSpec | None = None
 
     Tooth 0 is sampled at its element size (``load_m`` on the involute and tip land,
     ``fillet_m`` on fillets and root lands), the other teeth at OTHER_SPACING x
-    global_m. Refined: the flank from 2 load_m below the lowest to load_m above the
-    highest of ``load_radii_m`` (default: SAP to tip) and both fillets of tooth 0.
+    global_m, all with curved edges for order 2. Refined: the flank from 2 load_m
+    below the lowest to load_m above the highest of ``load_radii_m`` (default: SAP to
+    tip) and both fillets of tooth 0.
     """
     if order not in (1, 2):
         raise ValueError(f"order = {order}: must be 1 or 2")
@@ -406,15 +411,19 @@ def tooth_mesh(pair: PairSpec, gear_index: int = 0, wear: WearSpec | None = None
     worn = wear is not None and not wear.is_unworn
     # the polygons come from a wear-independent source, so every wear state of a level
     # gets the identical nominal mesh; the worn flank is sampled with the wear peaks
-    base = tooth_profile(g, sag_m=SOURCE_SAG_M, extra_roll=key_roll_angles(mg, gear_index))
-    nominal = tooth_profile(g, sag_m=SOURCE_SAG_M, extra_roll=key_roll_angles(mg, gear_index, wear)) if worn else base
+    base = tooth_profile(g, sag_m=FINE_SAG_M, extra_roll=key_roll_angles(mg, gear_index))
+    nominal = tooth_profile(g, sag_m=FINE_SAG_M, extra_roll=key_roll_angles(mg, gear_index, wear)) if worn else base
     loaded = nominal.worn(flank_depth(nominal, gear_index, mg, wear)) if worn else nominal
     spacing = {ROOT_LAND: sizes.fillet_m, FILLET: sizes.fillet_m, INVOLUTE: sizes.load_m, TIP_LAND: sizes.load_m}
-    nominal_poly = resample_profile(base, spacing)
+    # order 2: every outline edge carries its arc mid-point, Gmsh meshes it as the
+    # quadratic through the three points and puts its mid-side nodes on the curve
+    quad = order == 2
+    nominal_poly = resample_profile(base, spacing, midpoints=quad)
     remesh = worn and worn_geometry == "remesh"
-    meshed_poly = resample_profile(loaded, spacing) if remesh else nominal_poly
-    other = resample_profile(base, {r: OTHER_SPACING * sizes.global_m for r in spacing})
+    meshed_poly = resample_profile(loaded, spacing, midpoints=quad) if remesh else nominal_poly
+    other = resample_profile(base, {r: OTHER_SPACING * sizes.global_m for r in spacing}, midpoints=quad)
     outline = gear_polygon(meshed_poly, nominal_poly, other)
+    step = 2 if quad else 1  # the vertices of a quadratic chain
 
     if load_radii_m is None:
         load_radii_m = [mg.start_of_active_profile_m[gear_index], g.tip_radius_m]
@@ -423,23 +432,27 @@ def tooth_mesh(pair: PairSpec, gear_index: int = 0, wear: WearSpec | None = None
     s_c = np.interp(R, meshed_poly.radius[inv], meshed_poly.s[inv])
     s_ref = np.arange(s_c[0] - 2 * sizes.load_m, s_c[-1] + sizes.load_m, 0.5 * sizes.load_m)
     refine = np.column_stack([np.interp(s_ref, meshed_poly.s, meshed_poly.xy[:, k]) for k in (0, 1)])
-    fil = nominal_poly.xy[(nominal_poly.region == FILLET) | (nominal_poly.region == ROOT_LAND)]
+    vert = nominal_poly.xy[::step]
+    reg = nominal_poly.region[::step]
+    fil = vert[(reg == FILLET) | (reg == ROOT_LAND)]
     fillets = np.vstack([fil, fil * np.array([-1.0, 1.0])])
     t0 = time.perf_counter()
-    gm = mesh_full_gear(outline, g.hub_radius_m, sizes, refine_points_xy=refine, fillet_points_xy=fillets,
-                        order=order)
+    gm = mesh_full_gear(outline[::step], g.hub_radius_m, sizes, refine_points_xy=refine, fillet_points_xy=fillets,
+                        order=order, outline_mid_xy=outline[1::2] if quad else None)
     t_mesh = time.perf_counter() - t0
 
-    # the meshed flank of tooth 0: vertices sorted root -> tip, with their profile parameter
+    # the meshed flank of tooth 0: its nodes sorted root -> tip, with their profile
+    # parameter; vertices lie on the source polyline, Gmsh's own nodes on the
+    # quadratic edges within ~1e-8 m of it, every other node >= one spacing away
     t0 = time.perf_counter()
-    mesh = linear_mesh(gm.mesh)
-    v, seg, t = _nodes_on_polyline(mesh, gm.boundaries["outer"], meshed_poly.xy, 1e-9 * g.tip_radius_m)
-    s_v = meshed_poly.s[seg] + t * (meshed_poly.s[seg + 1] - meshed_poly.s[seg])
+    mesh = gm.mesh
+    nodes, s_n = _flank_nodes(mesh, gm.boundaries["outer"], loaded if remesh else nominal,
+                              1e-3 * mesh_scale * min(LOAD_M, FILLET_M))
     if worn and not remesh:  # same topology as the nominal model
-        mesh = morph_to_worn(mesh, np.concatenate([gm.boundaries["outer"], gm.boundaries["bore"]]), v, s_v,
+        mesh = morph_to_worn(mesh, np.concatenate([gm.boundaries["outer"], gm.boundaries["bore"]]), nodes, s_n,
                              nominal, loaded)
     return ToothMesh(mesh=mesh, gear_mesh=gm, nominal=nominal, loaded=loaded, meshed_poly=meshed_poly,
-                     flank_vertices=v, flank_s=s_v,
+                     flank_nodes=nodes, flank_node_s=s_n,
                      worn_geometry=(worn_geometry if worn else "nominal"), mesh_s=t_mesh,
                      morph_s=time.perf_counter() - t0)
 
@@ -498,20 +511,16 @@ def single_tooth_compliance(pair: PairSpec, gear_index: int = 0, wear: WearSpec 
 
     tm = tooth_mesh(pair, gear_index, wear, order=order, mesh_scale=mesh_scale, load_radii_m=R,
                     worn_geometry=worn_geometry)
-    mesh, gm, v, s_v, meshed_poly = tm.mesh, tm.gear_mesh, tm.flank_vertices, tm.flank_s, tm.meshed_poly
+    mesh, gm = tm.mesh, tm.gear_mesh
     lp = load_points(tm.loaded, R)
     e_F = -np.column_stack([np.cos(lp.w_rad), np.sin(lp.w_rad)])
 
     model = assemble(mesh, pair.material, b, gm.boundaries["bore"], plane=plane, order=order)
 
-    # -- loads: Hertz patches on the meshed flank, all positions as right-hand sides
+    # -- loads: Hertz patches on the meshed (curved) flank, all positions as right-hand sides
     t0 = time.perf_counter()
-    flank = mesh.p[:, v].T
-    s_flank = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(flank, axis=0), axis=1))])
-    k_inv = np.flatnonzero(meshed_poly.region == INVOLUTE)
-    eps = 1e-9 * g.tip_radius_m
-    on_inv = np.flatnonzero((s_v >= meshed_poly.s[k_inv[0]] - eps) & (s_v <= meshed_poly.s[k_inv[-1]] + eps))
-    pts, forces = hertz_patch_forces(flank, s_flank[on_inv[0]], s_flank[on_inv[-1]], R, a, e_F, load_N)
+    flank, v_lo, v_hi = tm.flank_curve()
+    pts, forces = hertz_patch_forces(flank, v_lo, v_hi, R, a, e_F, load_N)
     n, k = pts.shape[:2]
     P = model.probe(pts.reshape(-1, 2))  # rows 2 j, 2 j + 1: x, y at point j
     G = np.zeros((2 * n * k, n))

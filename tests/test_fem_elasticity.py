@@ -12,7 +12,7 @@ import pytest
 import scipy.sparse.linalg as spla
 import skfem
 
-from gearwear.fem.elasticity import assemble, lame, linear_mesh, traction_load
+from gearwear.fem.elasticity import assemble, lame, traction_load
 from gearwear.geometry.spec import Material
 
 STEEL = Material(206e9, 0.3)
@@ -260,23 +260,26 @@ def test_gear_tooth_radial_load_is_symmetric():
     pressure on the tip land of tooth 0 (symmetric about the tooth axis, x = 0):
     the displacement field is mirror-symmetric to within the discretisation error
     (0.5 % of the largest displacement), and the axis points move radially."""
-    from gearwear.fem.tooth import gear_polygon, mesh_sizes, resample_profile
+    from gearwear.fem.tooth import gear_polygon, mesh_sizes
     from gearwear.fem.mesh import mesh_full_gear
     from gearwear.geometry.profile import FILLET, INVOLUTE, ROOT_LAND, TIP_LAND, tooth_profile
+    from gearwear.geometry.sampling import resample_profile
     from gearwear.geometry.spec import default_pair
 
     pair = default_pair()
     g = pair.gear(0)
     sizes = mesh_sizes(2.0)
-    prof = tooth_profile(g)
+    prof = tooth_profile(g, sag_m=1e-9)
     poly = resample_profile(prof, {ROOT_LAND: sizes.fillet_m, FILLET: sizes.fillet_m, INVOLUTE: sizes.load_m,
-                                   TIP_LAND: sizes.load_m})
-    other = resample_profile(prof, {r: 0.2 * sizes.global_m for r in (ROOT_LAND, FILLET, INVOLUTE, TIP_LAND)})
-    gm = mesh_full_gear(gear_polygon(poly, poly, other), g.hub_radius_m, sizes, order=2)
-    mesh = linear_mesh(gm.mesh)
-    # the facet numbering of the straight copy is the curved mesh's (boundaries stay valid)
-    assert np.array_equal(mesh.facets, gm.mesh.facets)
+                                   TIP_LAND: sizes.load_m}, midpoints=True)
+    other = resample_profile(prof, {r: 0.2 * sizes.global_m for r in (ROOT_LAND, FILLET, INVOLUTE, TIP_LAND)},
+                             midpoints=True)
+    outline = gear_polygon(poly, poly, other)  # vertex, edge mid-point, vertex, ...
+    gm = mesh_full_gear(outline[0::2], g.hub_radius_m, sizes, order=2, outline_mid_xy=outline[1::2])
+    mesh = gm.mesh
     model = assemble(gm.mesh, pair.material, pair.face_width_m, gm.boundaries["bore"], order=2)
+    # the FE runs on Gmsh's curved 6-node mesh itself: its P2 dofs sit on Gmsh's nodes
+    assert np.array_equal(model.basis.doflocs[:, 0::2], gm.mesh.doflocs)
     mid = mesh.p[:, mesh.facets[:, gm.boundaries["outer"]]].mean(axis=1)
     # tip-land chords of tooth 0 (midpoints sag ~1 um below the tip circle)
     tip = gm.boundaries["outer"][(np.hypot(*mid) > g.tip_radius_m - 10e-6) & (np.abs(mid[0]) < 5e-3) & (mid[1] > 0)]
@@ -326,3 +329,123 @@ def test_solve_many_right_hand_sides_matches_single():
     assert np.all(Um[model.fixed] == 0)
     r = model.K @ Um[:, 0] - F[:, 0]
     assert np.max(np.abs(r[model.free])) < 1e-8 * np.max(np.abs(F))
+
+
+# -- isoparametric P2 on Gmsh's curved 6-node mesh ------------------------------------
+
+R_DISC, R_BORE, N_DISC = 0.010, 0.004, 48
+
+
+@pytest.fixture(scope="module")
+def curved_disc():
+    """A disc with a bore, its outer circle given as N_DISC points plus the exact
+    circle point at the middle of every edge (Gmsh meshes each edge as the parabola
+    through the three), mesh size 1.5 mm (> the 1.3 mm edges, so none is split):
+    curved 6-node triangles."""
+    from gearwear.fem.mesh import MeshSizes, mesh_full_gear
+
+    th = np.linspace(0.0, 2 * np.pi, N_DISC, endpoint=False)
+    mid = th + np.pi / N_DISC
+    gm = mesh_full_gear(R_DISC * np.column_stack([np.cos(th), np.sin(th)]), R_BORE, MeshSizes(global_m=1.5e-3),
+                        outline_mid_xy=R_DISC * np.column_stack([np.cos(mid), np.sin(mid)]))
+    assert isinstance(gm.mesh, skfem.MeshTri2)
+    return gm
+
+
+def _linear_field(x, plane):
+    sig = (120e6, -45e6, 35e6)
+    exx, eyy, gxy = compliance_strains(*sig, plane)
+    ux = exx * x[0] + 0.5 * gxy * x[1] + 1e-5 - 2e-4 * x[1]
+    uy = 0.5 * gxy * x[0] + eyy * x[1] - 3e-5 + 2e-4 * x[0]
+    return sig, ux, uy
+
+
+def test_curved_mesh_mid_side_nodes_are_on_the_circle(curved_disc):
+    """Gmsh's mid-side nodes on the outer boundary are the given circle points, where
+    a straight edge's mid-point sags by R (1 - cos(pi / 48)) = 21 um; the mesh fills
+    the region of the parabolic edges: polygon + 48 x (2/3) chord x sag."""
+    m = curved_disc.mesh
+    f = curved_disc.boundaries["outer"]
+    assert len(f) == N_DISC
+    mids = m.doflocs[:, m.nvertices + f]
+    sag = R_DISC * (1 - np.cos(np.pi / N_DISC))
+    assert np.max(np.abs(np.hypot(*mids) - R_DISC)) < 1e-12 * R_DISC
+    chord = m.p[:, m.facets[:, f]].mean(axis=1)
+    assert np.allclose(R_DISC - np.hypot(*chord), sag, rtol=1e-9)  # the chord centres are not the nodes
+    polygon = 0.5 * N_DISC * R_DISC ** 2 * np.sin(2 * np.pi / N_DISC)
+    bulges = N_DISC * 2 / 3 * (2 * R_DISC * np.sin(np.pi / N_DISC)) * sag
+    exact = polygon + bulges - np.pi * R_BORE ** 2
+    assert curved_disc.exact_area_m2 == pytest.approx(exact, rel=1e-12)
+    assert curved_disc.area_m2 == pytest.approx(exact, rel=1e-8)  # the bore's P2 chords: 1e-8 by design
+
+
+@pytest.mark.parametrize("plane", ["stress", "strain"])
+def test_isoparametric_displacement_patch_test(curved_disc, plane):
+    """Irons' patch test on the curved mesh: a linear displacement (uniform stress +
+    rigid motion) imposed on every boundary node, corner and mid-side, is reproduced
+    at every interior node to round-off, and the stress is uniform at every
+    quadrature point (isoparametric elements contain the linear fields exactly)."""
+    m = curved_disc.mesh
+    model = assemble(m, STEEL, 0.01, m.boundary_facets(), plane=plane, order=2)
+    sig, ux, uy = _linear_field(model.basis.doflocs, plane)
+    U_exact = np.where(np.arange(model.ndofs) % 2 == 0, ux, uy)
+    U = solve_with_prescribed(model, U_exact[model.fixed])
+    assert model.free.size > 100
+    assert np.max(np.abs(U - U_exact)) <= 1e-10 * np.max(np.abs(U_exact))
+    got = stresses_at_quadrature(model, U)
+    for g, want in zip(got, sig):
+        assert np.max(np.abs(g - want)) <= 1e-9 * max(abs(s) for s in sig)
+
+
+def test_isoparametric_traction_patch_test_on_the_curved_boundary(curved_disc):
+    """The same uniform stress sigma carried by the traction sigma n on the curved
+    outer boundary (n the normal of the curved element edges), the exact linear
+    displacement prescribed on the bore only: the FE solution is that field at every
+    node to round-off (consistent load on the curved edges, exact quadrature of the
+    isoparametric P2 stiffness for a linear field)."""
+    from skfem import FacetBasis, LinearForm
+
+    m = curved_disc.mesh
+    plane = "stress"
+    model = assemble(m, STEEL, 0.01, curved_disc.boundaries["bore"], plane=plane, order=2)
+    sig, ux, uy = _linear_field(model.basis.doflocs, plane)
+    S = np.array([[sig[0], sig[2]], [sig[2], sig[1]]])
+    fb = FacetBasis(m, model.basis.elem, facets=curved_disc.boundaries["outer"], intorder=8)
+
+    @LinearForm
+    def traction(v, w):
+        t = np.einsum("ij,j...->i...", S, w.n)
+        return t[0] * v[0] + t[1] * v[1]
+
+    F = traction.assemble(fb) * model.thickness_m
+    U_exact = np.where(np.arange(model.ndofs) % 2 == 0, ux, uy)
+    U = solve_with_prescribed(model, U_exact[model.fixed], F)
+    assert np.max(np.abs(U - U_exact)) <= 1e-9 * np.max(np.abs(U_exact))
+
+
+def test_probe_finds_points_in_the_curved_boundary_elements(curved_disc):
+    """Points between a boundary edge's chord and the circle lie outside every corner
+    triangle but inside the curved elements: the probe finds them and interpolates a
+    linear field exactly; a point outside the disc is rejected."""
+    m = curved_disc.mesh
+    model = assemble(m, STEEL, 0.01, curved_disc.boundaries["bore"], order=2)
+    x = model.basis.doflocs
+    U = np.where(np.arange(model.ndofs) % 2 == 0, 1 + 2e3 * x[0] - 3e3 * x[1], -4 + 5e3 * x[0] + 7e3 * x[1])
+    ang = np.linspace(0.01, 2 * np.pi - 0.01, 40)
+    r = R_DISC - 0.2 * R_DISC * (1 - np.cos(np.pi / 24))  # inside the circle, outside most chords
+    pts = r * np.column_stack([np.cos(ang), np.sin(ang)])
+    got = model.probe(pts) @ U
+    want = np.column_stack([1 + 2e3 * pts[:, 0] - 3e3 * pts[:, 1], -4 + 5e3 * pts[:, 0] + 7e3 * pts[:, 1]]).ravel()
+    assert np.allclose(got, want, rtol=0, atol=1e-11)
+    with pytest.raises(ValueError, match="outside"):
+        model.probe(np.array([[R_DISC * 1.001, 0.0]]))
+
+
+def test_plain_skfem_quadratic_mesh_can_be_probed():
+    """A MeshTri2 from skfem itself (no Gmsh) is assembled as it is and probed."""
+    m = skfem.MeshTri2.init_circle(2)
+    model = assemble(m, STEEL, 0.01, m.boundary_facets(), order=2)
+    x = model.basis.doflocs
+    U = np.where(np.arange(model.ndofs) % 2 == 0, 2 * x[0] + x[1], x[0] - x[1])
+    got = model.probe(np.array([[0.3, -0.2], [0.0, 0.99]])) @ U
+    assert np.allclose(got, [0.4, 0.5, 0.99, -0.99], rtol=0, atol=1e-13)

@@ -15,7 +15,7 @@ from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.spec import default_pair
 from gearwear.geometry.wear import WearSpec
 
-COARSE = 2.0  # mesh_scale of the fast models (22.8k P2 dofs, ~1 s)
+COARSE = 2.0  # mesh_scale of the fast models (20.6k P2 dofs, ~1 s)
 
 
 @pytest.fixture(scope="module")

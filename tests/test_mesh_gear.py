@@ -61,3 +61,49 @@ def test_three_tooth_sector_area(profiles):
     assert np.all(_signed_corner_areas(gm.mesh) > 0)
     for key in ("outer", "hub_arc", "cut_left", "cut_right"):
         assert len(gm.boundaries[key]) > 0
+
+
+def test_tooth_fe_mesh_carries_gmsh_mid_side_nodes_on_the_flank():
+    """The single-tooth FE (P2) runs on Gmsh's 6-node mesh with its mid-side nodes:
+    on tooth 0's loaded flank they lie on the exact involute (polar form
+    beta = psi_b - inv(alpha_R)) and on the exact trochoidal fillet (dense
+    geometry.profile.fillet_points) to < 1e-2 of each edge's chord sag (measured
+    ~1e-4: the 1 nm source polyline), where straight edges would put them on the
+    chord; the order-1 model has 3-node elements and no mid-side nodes."""
+    import skfem
+
+    from gearwear.fem.elasticity import assemble
+    from gearwear.fem.tooth import tooth_mesh
+    from gearwear.geometry.polyline import project_to_polyline
+    from gearwear.geometry.profile import RackGeometry, fillet_points
+
+    pair = default_pair()
+    g = pair.gear(0)
+    tm = tooth_mesh(pair, mesh_scale=2.0)
+    m = tm.mesh
+    assert isinstance(m, skfem.MeshTri2)
+    model = assemble(m, pair.material, pair.face_width_m, tm.gear_mesh.boundaries["bore"], order=2)
+    assert np.array_equal(model.basis.doflocs[:, 0::2], m.doflocs)  # the P2 nodes are Gmsh's nodes
+    nodes = tm.flank_nodes
+    assert np.all(nodes[0::2] < m.nvertices) and np.all(nodes[1::2] >= m.nvertices)  # vertex, mid, vertex, ...
+    a, mid, b = (m.doflocs[:, nodes[k:-1 if k < 2 else None:2]].T for k in (0, 1, 2))
+    a, b = a[: len(mid)], b[: len(mid)]
+    ab, am = b - a, mid - a
+    sag = np.abs(ab[:, 0] * am[:, 1] - ab[:, 1] * am[:, 0]) / np.hypot(*ab.T)  # node's distance from the chord
+    R = np.hypot(*mid.T)
+    rb = g.base_radius_m
+    alpha = g.pressure_angle_rad
+    psi_b = g.pitch_thickness_m / (2 * g.pitch_radius_m) + np.tan(alpha) - alpha
+    on_inv = R > tm.nominal.form_radius_m * (1 + 1e-6)
+    on_inv &= R < g.tip_radius_m * (1 - 1e-6)
+    alpha_R = np.arccos(rb / R[on_inv])
+    beta_exact = psi_b - (np.tan(alpha_R) - alpha_R)
+    dev = R[on_inv] * np.abs(np.arctan2(mid[on_inv, 0], mid[on_inv, 1]) - beta_exact)  # >= distance to the curve
+    assert on_inv.sum() >= 8 and np.all(dev < 1e-2 * sag[on_inv]), (dev / sag[on_inv]).max()
+    rack = RackGeometry.of(g)
+    fil, _ = fillet_points(rack, np.linspace(rack.phi_root, rack.phi_tangent, 20001))
+    on_fil = (R < tm.nominal.form_radius_m * (1 - 1e-6)) & (R > g.root_radius_m * (1 + 1e-6))
+    d_fil = project_to_polyline(mid[on_fil], fil).distance
+    assert on_fil.sum() >= 3 and np.all(d_fil < 1e-2 * sag[on_fil]), (d_fil / sag[on_fil]).max()
+    p1 = tooth_mesh(pair, mesh_scale=2.0, order=1)
+    assert type(p1.mesh) is skfem.MeshTri1 and p1.mesh.doflocs.shape[1] == p1.mesh.nvertices
