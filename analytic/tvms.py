@@ -258,7 +258,7 @@ def mesh_stiffness(pair: PairSpec, method: str = "ishikawa", points: int = 360, 
     """
     t0 = time.perf_counter()
     if method not in METHODS:
-        raise fail("--method", repr(method), "", f"must be one of {', '.join(METHODS)} (iso6336 is a constant)")
+        raise fail("method", repr(method), "", f"must be one of {', '.join(METHODS)} (iso6336 is a constant)")
     if not isinstance(points, (int, np.integer)) or points < 8:
         raise fail("points", points, "", "must be a whole number >= 8")
     if not (torque_Nm > 0 and math.isfinite(torque_Nm)):

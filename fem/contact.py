@@ -176,11 +176,12 @@ def solve_contact(flexibility, gap0_m, total_force_N: float | None = None,
     if max_iter is None:
         max_iter = 10 * n + 20
     force_control = total_force_N is not None
-    if force_control:
+    P = delta = math.nan  # the one of them not given stays NaN and is never used
+    if total_force_N is not None:
         P = float(total_force_N)
         if not (P > 0 and math.isfinite(P)):
             raise ValueError(f"total_force_N = {total_force_N!r}: must be finite and > 0")
-    else:
+    elif approach_m is not None:
         delta = float(approach_m)
         if not math.isfinite(delta):
             raise ValueError(f"approach_m = {approach_m!r}: must be finite")
@@ -212,7 +213,7 @@ def solve_contact(flexibility, gap0_m, total_force_N: float | None = None,
         return sla.solve(C[np.ix_(idx, idx)], delta - g[idx], assume_a="pos"), delta
 
     it = 0
-    d_cur = delta if not force_control else None
+    d_cur = delta if not force_control else math.nan
     while True:
         # inner loop: equality solve on S, back off to feasibility while a force is <= 0
         while S:
@@ -376,10 +377,10 @@ def _cylinder_body(R: float, E: float, nu: float, x_fine: float, h: float, x_can
     outer = np.asarray(gm.boundaries["outer"])
     basis = model.basis
     verts = np.unique(m.facets[:, outer])
-    ydofs = list(basis.nodal_dofs[1, verts])
+    ydof_list = list(basis.nodal_dofs[1, verts])
     if order == 2:
-        ydofs += list(basis.facet_dofs[1, outer])
-    ydofs = np.asarray(ydofs, dtype=int)
+        ydof_list += list(basis.facet_dofs[1, outer])
+    ydofs = np.asarray(ydof_list, dtype=int)
     loc = basis.doflocs[:, ydofs]
     sel = (np.abs(loc[0]) <= x_cand * (1 + 1e-9)) & (loc[1] > 0)
     ydofs, loc = ydofs[sel], loc[:, sel]

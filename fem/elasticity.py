@@ -16,6 +16,8 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field, fields
 
+from typing import Any
+
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
@@ -56,7 +58,7 @@ class ElasticModel:
     K: sp.csr_matrix
     free: np.ndarray
     fixed: np.ndarray
-    lu: object
+    lu: Any  # scipy SuperLU, or None without factorization
     thickness_m: float
     plane: str
     order: int

@@ -583,7 +583,7 @@ def _extract(groups: dict[str, list[int]], order: int) -> dict:
         conn.append(np.asarray(nt, dtype=np.int64).reshape(-1, nper))
     if not conn or sum(c.shape[0] for c in conn) == 0:
         raise MeshError("gmsh produced no triangles (boundary recovery failed?)")
-    conn = np.vstack(conn)
+    conn_all = np.vstack(conn)
     tags, coords, _ = gmsh.model.mesh.getNodes()
     tags = np.asarray(tags, dtype=np.int64)
     xyz = np.asarray(coords, dtype=np.float64).reshape(-1, 3)
@@ -601,7 +601,7 @@ def _extract(groups: dict[str, list[int]], order: int) -> dict:
     for gname, ctags in groups.items():
         if gname == "outer":
             continue
-        parts = []
+        parts: list[np.ndarray] = []
         for c in ctags:
             _, et, _ = gmsh.model.mesh.getElements(dim=1, tag=c)
             parts.extend(np.asarray(x, dtype=np.int64) for x in et)
@@ -610,7 +610,7 @@ def _extract(groups: dict[str, list[int]], order: int) -> dict:
         lines[gname] = all_nodes[np.isin(all_tags, et), :2]
     rest = ~np.isin(all_tags, np.concatenate(claimed)) if claimed else np.ones(all_tags.size, bool)
     lines["outer"] = all_nodes[rest, :2]
-    return {"conn": conn, "tags": tags, "xyz": xyz, "lines": lines}
+    return {"conn": conn_all, "tags": tags, "xyz": xyz, "lines": lines}
 
 
 # ---------------------------------------------------------------------------

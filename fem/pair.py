@@ -239,8 +239,9 @@ class PairModel:
 
     @property
     def psi_b(self) -> tuple[float, float]:
-        return tuple(g.pitch_thickness_m / (2 * g.pitch_radius_m) + math.tan(g.pressure_angle_rad)
-                     - g.pressure_angle_rad for g in self.pair.gears)
+        g1, g2 = (g.pitch_thickness_m / (2 * g.pitch_radius_m) + math.tan(g.pressure_angle_rad)
+                  - g.pressure_angle_rad for g in self.pair.gears)
+        return (g1, g2)
 
 
 def _candidate_radius_range(mesh: MeshGeometry, gi: int, window_m: float) -> float:
@@ -274,7 +275,9 @@ def pair_model(pair: PairSpec, wear: WearSpec | None = None, torque_Nm: float = 
     sizes, a_ref = body_sizes(pair, torque_Nm, contact_scale, mesh_scale)
     window = WINDOW_HALF_WIDTHS * a_ref + 2.0 * sizes.contact_m
     nb = int(math.ceil(mesh.contact_ratio + 2 * EXTENSION_PITCHES)) + 1
-    bodies, depth, tim = [], [], {}
+    bodies: list[GearBody] = []
+    depth: list[tuple[np.ndarray, np.ndarray] | None] = []
+    tim: dict[str, float] = {}
     for gi, g in enumerate(pair.gears):
         # the body outline is interpolated on this polyline: 1 nm sag keeps it on the curve
         nominal = tooth_profile(g, sag_m=FINE_SAG_M, extra_roll=key_roll_angles(mesh, gi))
@@ -732,7 +735,7 @@ def write_fields(pm: PairModel, positions: list[int], n_positions: int, torque_N
     files = []
     for i in positions:
         if isinstance(i, bool) or not isinstance(i, (int, np.integer)) or not 0 <= i < n_positions:
-            raise fail("--fields", i, "", f"must be a position index in [0, {n_positions - 1}]")
+            raise fail("fields", i, "", f"must be a position index in [0, {n_positions - 1}]")
         theta = i * pm.mesh.mesh_angle_rad / n_positions
         ps = solve_position(pm, theta, F)
         ref = max(ps.cand, key=lambda c: float(c["force_N"].sum()))

@@ -56,7 +56,7 @@ from gearwear.geometry.profile import FILLET, INVOLUTE, ToothProfile, ring_outli
 from gearwear.geometry.sampling import profile_at, region_junctions
 from gearwear.geometry.spec import GearSpec, Material
 
-from .elasticity import assemble
+from .elasticity import ElasticModel, assemble
 
 __all__ = ["BodySizes", "GearBody", "build_body", "involute_point", "rot"]
 
@@ -159,7 +159,7 @@ class GearBody:
     gear: GearSpec
     sizes: BodySizes
     r_lo: float
-    model: object
+    model: ElasticModel
     flank_r: dict
     flank_xy: dict
     flank_edges: dict

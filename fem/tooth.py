@@ -413,7 +413,7 @@ def tooth_mesh(pair: PairSpec, gear_index: int = 0, wear: WearSpec | None = None
     # gets the identical nominal mesh; the worn flank is sampled with the wear peaks
     base = tooth_profile(g, sag_m=FINE_SAG_M, extra_roll=key_roll_angles(mg, gear_index))
     nominal = tooth_profile(g, sag_m=FINE_SAG_M, extra_roll=key_roll_angles(mg, gear_index, wear)) if worn else base
-    loaded = nominal.worn(flank_depth(nominal, gear_index, mg, wear)) if worn else nominal
+    loaded = nominal.worn(flank_depth(nominal, gear_index, mg, wear)) if worn and wear else nominal
     spacing = {ROOT_LAND: sizes.fillet_m, FILLET: sizes.fillet_m, INVOLUTE: sizes.load_m, TIP_LAND: sizes.load_m}
     # order 2: every outline edge carries its arc mid-point, Gmsh meshes it as the
     # quadratic through the three points and puts its mid-side nodes on the curve
@@ -430,7 +430,8 @@ def tooth_mesh(pair: PairSpec, gear_index: int = 0, wear: WearSpec | None = None
     R = np.sort(np.atleast_1d(np.asarray(load_radii_m, dtype=float)))
     inv = np.flatnonzero(meshed_poly.region == INVOLUTE)
     s_c = np.interp(R, meshed_poly.radius[inv], meshed_poly.s[inv])
-    s_ref = np.arange(s_c[0] - 2 * sizes.load_m, s_c[-1] + sizes.load_m, 0.5 * sizes.load_m)
+    load_m = float(sizes.load_m or sizes.global_m)  # mesh_sizes always sets load_m
+    s_ref = np.arange(s_c[0] - 2 * load_m, s_c[-1] + load_m, 0.5 * load_m)
     refine = np.column_stack([np.interp(s_ref, meshed_poly.s, meshed_poly.xy[:, k]) for k in (0, 1)])
     vert = nominal_poly.xy[::step]
     reg = nominal_poly.region[::step]

@@ -173,7 +173,7 @@ class ToothProfile:
     region: np.ndarray
     form_radius_m: float
     undercut: bool
-    depth: np.ndarray = field(default=None)  # type: ignore[assignment]
+    depth: np.ndarray = field(default=None)  # type: ignore[arg-type]  # set in __post_init__
 
     # -- derived ---------------------------------------------------------------
     @property
