@@ -142,17 +142,19 @@ class MeshError(ValueError):
 # ---------------------------------------------------------------------------
 
 
-def _positive(name: str, value: float | None, allow_none: bool = False) -> None:
+def _positive(name: str, value: float | None, allow_none: bool = False) -> float | None:
+    """``value`` as a finite float > 0 (or None if allowed); MeshError naming ``name``."""
     if value is None:
         if allow_none:
-            return
-        raise MeshError(f"MeshSizes.{name} must be given, got None")
+            return None
+        raise MeshError(f"{name} must be given, got None")
     try:
         v = float(value)
     except (TypeError, ValueError):
-        raise MeshError(f"MeshSizes.{name} must be a number, got {value!r}") from None
+        raise MeshError(f"{name} must be a number, got {value!r}") from None
     if not (math.isfinite(v) and v > 0.0):
-        raise MeshError(f"MeshSizes.{name} must be finite and > 0, got {value!r}")
+        raise MeshError(f"{name} must be finite and > 0, got {value!r}")
+    return v
 
 
 @dataclass(frozen=True)
@@ -184,12 +186,12 @@ class MeshSizes:
     growth: float = 0.25
 
     def __post_init__(self) -> None:
-        _positive("global_m", self.global_m)
-        _positive("fillet_m", self.fillet_m, allow_none=True)
-        _positive("load_m", self.load_m, allow_none=True)
-        _positive("fillet_dist_m", self.fillet_dist_m, allow_none=True)
-        _positive("load_dist_m", self.load_dist_m, allow_none=True)
-        _positive("growth", self.growth)
+        _positive("MeshSizes.global_m", self.global_m)
+        _positive("MeshSizes.fillet_m", self.fillet_m, allow_none=True)
+        _positive("MeshSizes.load_m", self.load_m, allow_none=True)
+        _positive("MeshSizes.fillet_dist_m", self.fillet_dist_m, allow_none=True)
+        _positive("MeshSizes.load_dist_m", self.load_dist_m, allow_none=True)
+        _positive("MeshSizes.growth", self.growth)
         for name in ("fillet_m", "load_m"):
             v = getattr(self, name)
             if v is not None and v > self.global_m:
@@ -375,12 +377,7 @@ def _origin_inside(poly: np.ndarray) -> bool:
 
 
 def _check_hub(hub_radius_m: float, dmin: float) -> float:
-    try:
-        r = float(hub_radius_m)
-    except (TypeError, ValueError):
-        raise MeshError(f"hub_radius_m must be a number, got {hub_radius_m!r}") from None
-    if not (math.isfinite(r) and r > 0):
-        raise MeshError(f"hub_radius_m must be finite and > 0, got {hub_radius_m!r}")
+    r = float(_positive("hub_radius_m", hub_radius_m) or 0.0)
     if r >= dmin:
         raise MeshError(
             f"hub_radius_m={r!r} is not strictly inside the outline "
