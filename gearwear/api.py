@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from typing import Any, Mapping, Sequence
 
-from gearwear.core.validation import InputError, renamed
+from gearwear.core.validation import InputError
 from gearwear.geometry.spec import PairSpec, default_pair
 from gearwear.geometry.wear import WearSpec
 
@@ -38,13 +38,16 @@ def pair(**keys: Any) -> PairSpec:
     return pair_from_dict({"pair": keys, "material": material})
 
 
-def wear(spec: str | Mapping[str, Any] | WearSpec | None, torque_Nm: float = 40.0,
-         speed_rpm: float = 1200.0) -> WearSpec | None:
+def wear_spec(spec: str | Mapping[str, Any] | WearSpec | None, torque_Nm: float = 40.0,
+              speed_rpm: float = 1200.0) -> WearSpec | None:
     """A wear spec from a phase name (``"severe"``), an ``[effects] wear`` table
     (``{"max_depth_um": 25}``, ``{"hours": 500}``), a WearSpec, or None (unworn)."""
     if spec is None or isinstance(spec, WearSpec):
         return spec
     return wear_from_dict(spec, torque_Nm, speed_rpm)
+
+
+wear = wear_spec  # gw.wear("severe"); functions below take a ``wear`` argument, so they call wear_spec
 
 
 def mesh_stiffness(pair: PairSpec | None = None, method: str = "ishikawa", wear: Any = None,
@@ -59,7 +62,7 @@ def mesh_stiffness(pair: PairSpec | None = None, method: str = "ishikawa", wear:
         raise InputError(f"method = {method!r}: must be one of {', '.join(METHODS)}")
     n = points if points is not None else (24 if method == "fem" else 360)
     p = pair or default_pair()
-    curves = stiffness_job.compute(p, method, [globals()["wear"](wear, torque_Nm)], [clearance_um * 1e-6],
+    curves = stiffness_job.compute(p, method, [wear_spec(wear, torque_Nm)], [clearance_um * 1e-6],
                                    torque_Nm, n)
     return curves[0].result
 
@@ -70,7 +73,7 @@ def verify(pair: PairSpec | None = None, wear: Sequence[Any] = ("unworn", "mild"
     (``gearwear.verify_job.Verification``; ``.phases[i].fem`` etc. in um/(N/mm))."""
     from . import verify_job
 
-    wears = [globals()["wear"](w) for w in wear]
+    wears = [wear_spec(w) for w in wear]
     return verify_job.run(pair or default_pair(), [None if w is None or w.is_unworn else w for w in wears],
                           positions, convergence=convergence)
 
@@ -80,13 +83,9 @@ def simulate(scene: Scene | str | None = None, **overrides: Any):
     the dotted keys with ``__`` for the dots: ``simulate("paper-default",
     operating__speed_rpm=6000)``. Returns ``SimulationRun`` (``.summary()``,
     ``.result.t``, ``.result.signals``)."""
-    from .simulate_job import SOLVER_KEYS, run
+    from .simulate_job import run
 
-    sc = _scene(scene, overrides)
-    try:
-        return run(sc)
-    except InputError as exc:
-        raise renamed(exc, SOLVER_KEYS) from None
+    return run(_scene(scene, overrides))  # run() already names errors by scene key
 
 
 def sweep(scene: Scene | str | None, axes: Mapping[str, Sequence[Any]], workers: int | None = None,

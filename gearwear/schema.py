@@ -300,11 +300,12 @@ def _translate(err: Mapping[str, Any], data: Mapping[str, Any]) -> InputError:
         return fail(key, repr(value), "", "must be a string")
     if kind in ("list_type", "tuple_type"):
         return fail(key, repr(value), "", "must be a list")
-    if kind.startswith(("int_", "float_")) and kind not in ("float_type", "int_type", "int_parsing", "float_parsing") \
-            or kind in ("greater_than", "greater_than_equal", "less_than", "less_than_equal", "finite_number"):
-        if kind == "int_from_float":
-            return fail(key, value, unit, f"must be a whole number in {rng}")
-        return fail(key, value, unit, f"must be in {rng}" if kind != "finite_number" else f"must be finite, in {rng}")
+    if kind == "int_from_float":
+        return fail(key, value, unit, f"must be a whole number in {rng}")
+    if kind == "finite_number":
+        return fail(key, value, unit, f"must be finite, in {rng}")
+    if kind in ("greater_than", "greater_than_equal", "less_than", "less_than_equal"):
+        return fail(key, value, unit, f"must be in {rng}")
     if kind in ("float_type", "int_type", "int_parsing", "float_parsing"):
         what = "a whole number" if kind.startswith("int") else "a number"
         return fail(key, repr(value), "", f"must be {what} in {rng}" if rng else f"must be {what}")
