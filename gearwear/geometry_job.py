@@ -129,7 +129,9 @@ def pinion_mesh(res: GeometryResult, global_size_m: float):
     r_hp = float(res.operating.mesh.pinion_radius_at(d_hp))
     beta = float(nominal.half_angle_at_radius(r_hp)[0])
     load = np.array([[r_hp * math.sin(beta), r_hp * math.cos(beta)]])
-    sizes = MeshSizes(global_m=global_size_m, fillet_m=0.4e-3, load_m=0.2e-3)
+    # the refinements never ask for coarser elements than the global size
+    sizes = MeshSizes(global_m=global_size_m, fillet_m=min(0.4e-3, global_size_m),
+                      load_m=min(0.2e-3, global_size_m))
     return mesh_full_gear(outline, g.hub_radius_m, sizes, refine_points_xy=load,
                           fillet_points_xy=np.array(fillet_pts))
 

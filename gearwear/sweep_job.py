@@ -47,7 +47,10 @@ def parse_axis(item: str) -> Axis:
             raise InputError(f"--set {key}={spec}: N = {count} must be in [1, 10000]")
         vals = np.linspace(start, stop, count)
         return Axis(key, tuple(float(v) for v in vals))
-    return Axis(key, tuple(parse_value(v.strip()) for v in spec.split(",") if v.strip()))
+    values = tuple(parse_value(v.strip()) for v in spec.split(",") if v.strip())
+    if not values:
+        raise InputError(f"--set {key}={spec}: no values to sweep; give KEY=START:STOP:N or KEY=a,b,c")
+    return Axis(key, values)
 
 
 def grid(axes: list[Axis]) -> list[dict[str, Any]]:
