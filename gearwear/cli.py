@@ -72,6 +72,9 @@ def _load(args: argparse.Namespace, default: str = "paper-default", extra: list[
         return scene
     except InputError as exc:
         given = {key: flag for attr, (key, flag) in ALIAS_KEYS.items() if getattr(args, attr, None) is not None}
+        for key, flag in given.items():  # a sub-key of an alias (--wear=-5um sets effects.wear.max_depth_um)
+            if str(exc).startswith(key + "."):
+                raise type(exc)(f"{flag}: {exc}") from None
         raise renamed(exc, given) from None
 
 
@@ -430,8 +433,15 @@ def _scene_options(sp: argparse.ArgumentParser, default: str, multi: bool = Fals
         sp.add_argument("--torque-Nm", help="alias of --set operating.torque_Nm=X, pinion torque in N m")
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with the one-line error of every other bad input (no usage block)."""
+
+    def error(self, message: str):  # type: ignore[override]
+        self.exit(2, f"gearwear: error: {message} (see {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="gearwear", description=(
+    p = _Parser(prog="gearwear", description=(
         "FE-verified mesh stiffness and dynamics of spur gears with wear, backlash and bearing "
         "clearance. Without a file every command uses the built-in paper pair (Zhang et al. 2019, Table 2)."))
     p.add_argument("--version", action="version", version=f"gearwear {__version__}")

@@ -1,0 +1,224 @@
+"""Every bad input, on every command: one line naming the key and its value, exit 2, nothing written.
+
+The contract (README, "Bad input"): ``gearwear: error: <key> = <value> <unit>: <allowed range or
+reason>`` on stderr, exit status 2, and no file created anywhere (not in ``--out``, not in the
+working folder, not in the table cache). Each row of ``CASES`` is one input a new user could
+plausibly type, across all commands; the key and the value it must name are written out by
+hand, from the scene reference (docs/scene-reference.md) and ``--help``, not read from the code.
+
+The commands run in-process (``gearwear.cli.main``), which is what the console script calls;
+an exception other than the one-line error would propagate here and fail the test. One test
+runs the real console script to check that no traceback reaches the terminal.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from gearwear.cli import main
+
+# A pair whose contact ratio is about 2.2: the zone statistics have no single-contact zone.
+HIGH_CONTACT_RATIO = ["--set", "pair.teeth=[60,60]", "--set", "pair.pressure_angle_deg=14.5",
+                      "--set", "pair.addendum_coefficient=1.4", "--set", "pair.dedendum_coefficient=1.7",
+                      "--set", "pair.rack_tip_radius_coefficient=0.1", "--set", "pair.allow_undercut=true"]
+
+
+def _files(root: Path) -> list[Path]:
+    return sorted(p for p in root.rglob("*") if p.is_file())
+
+
+def _setup(tmp: Path) -> None:
+    """Files that some rows refer to (made before the run, so they are not counted as output)."""
+    (tmp / "a_file.txt").write_text("not a folder\n")
+    (tmp / "folder.toml").mkdir()
+    (tmp / "latin1.toml").write_bytes(b"name = \"\xe9t\xe9\"\n")
+    (tmp / "broken.toml").write_text("[pair\nteeth = [30, 30]\n")
+    (tmp / "unknown_key.toml").write_text("[pair]\nteth = [30, 30]\n")
+    (tmp / "string_number.toml").write_text("[operating]\nspeed_rpm = \"1200\"\n")
+    (tmp / "garbage_table.csv").write_text("angle_deg,k_N_per_m\n0,4e8\nzero,abc\n")
+    (tmp / "short_table.csv").write_text("angle_deg,k_N_per_m\n0,4e8\n")
+    (tmp / "negative_table.csv").write_text("angle_deg,k_N_per_m\n" + "".join(
+        f"{a},{-1e8 if a == 5 else 4e8:g}\n" for a in range(12)))
+    for name in ("garbage_table", "short_table", "negative_table", "missing_table"):
+        (tmp / f"{name}.toml").write_text(
+            f'[effects]\nmesh_stiffness = {{ source = "table", path = "{name}.csv" }}\n')
+    (tmp / "wear_on_table.toml").write_text(
+        '[effects]\nmesh_stiffness = { source = "table", path = "short_table.csv" }\nwear = "severe"\n')
+    (tmp / "foreign_out").mkdir()
+    (tmp / "foreign_out" / "my_notes.txt").write_text("keep me\n")
+    (tmp / "cache_is_a_file").write_text("x\n")
+
+
+S = "--set"
+# (id, argv, key the line must name, value it must name, environment overrides)
+CASES: list[tuple[str, list[str], str, str | None, dict[str, str]]] = [
+    # ---- scene files and the scene argument
+    ("scene-missing", ["simulate", "no_such_scene.toml"], "no_such_scene.toml", None, {}),
+    ("scene-unknown-builtin", ["simulate", "paper-defualt"], "paper-defualt", None, {}),
+    ("scene-is-folder", ["geometry", "folder.toml"], "folder.toml", None, {}),
+    ("scene-not-utf8", ["geometry", "latin1.toml"], "latin1.toml", None, {}),
+    ("scene-toml-syntax", ["geometry", "broken.toml"], "broken.toml", None, {}),
+    ("scene-unknown-key", ["geometry", "unknown_key.toml"], "pair.teth", "pair.teeth", {}),
+    ("scene-string-for-number", ["simulate", "string_number.toml"], "operating.speed_rpm", "1200", {}),
+    # ---- --set syntax and types
+    ("set-no-equals", ["geometry", S, "pair.teeth"], "pair.teeth", None, {}),
+    ("set-unknown-section", ["geometry", S, "gear.teeth=[30,30]"], "gear", None, {}),
+    ("set-unknown-key", ["simulate", S, "operating.speed=1200"], "operating.speed", "speed_rpm", {}),
+    ("set-bool-as-number", ["geometry", S, "pair.allow_undercut=2"], "pair.allow_undercut", "2", {}),
+    ("set-list-length", ["geometry", S, "pair.teeth=[30,30,30]"], "pair.teeth", None, {}),
+    # ---- pair keys, one at a time
+    ("teeth-too-few", ["geometry", S, "pair.teeth=[4,30]"], "pair.teeth[0]", "4", {}),
+    ("teeth-fraction", ["geometry", S, "pair.teeth=[30.5,30]"], "pair.teeth[0]", "30.5", {}),
+    ("module-zero", ["geometry", S, "pair.module_mm=0"], "pair.module_mm", "0", {}),
+    ("module-negative", ["geometry", S, "pair.module_mm=-5"], "pair.module_mm", "-5", {}),
+    ("module-nan", ["geometry", S, "pair.module_mm=nan"], "pair.module_mm", "nan", {}),
+    ("pressure-angle-high", ["geometry", S, "pair.pressure_angle_deg=50"], "pair.pressure_angle_deg", "50", {}),
+    ("face-width-inf", ["geometry", S, "pair.face_width_mm=inf"], "pair.face_width_mm", "inf", {}),
+    ("shift-too-large", ["geometry", S, "pair.profile_shift=[3,0]"], "pair.profile_shift[0]", "3", {}),
+    ("hub-above-root", ["geometry", S, "pair.hub_radius_mm=[80,40]"], "pair.hub_radius_mm[0]", "80", {}),
+    ("dedendum-below-addendum", ["geometry", S, "pair.dedendum_coefficient=0.9"],
+     "pair.dedendum_coefficient", "0.9", {}),
+    ("rack-round-too-big", ["geometry", S, "pair.rack_tip_radius_coefficient=0.9"],
+     "pair.rack_tip_radius_coefficient", "0.9", {}),
+    ("pointed-tooth", ["geometry", S, "pair.teeth=[8,30]", S, "pair.profile_shift=[2,0]",
+                       S, "pair.hub_radius_mm=[5,40]"], "pair.profile_shift[0]", "2", {}),
+    ("tip-inside-base", ["geometry", S, "pair.teeth=[8,30]", S, "pair.profile_shift=[-1.5,0]",
+                         S, "pair.allow_undercut=true", S, "pair.hub_radius_mm=[5,40]"],
+     "pair.profile_shift[0]", "-1.5", {}),
+    ("undercut-not-allowed", ["geometry", S, "pair.teeth=[12,30]", S, "pair.hub_radius_mm=[10,40]"],
+     "pair.teeth[0]", "12", {}),
+    ("tip-root-interference", ["stiffness", S, "pair.teeth=[5,5]", S, "pair.allow_undercut=true",
+                               S, "pair.hub_radius_mm=[3,3]"], "pair.", None, {}),
+    ("youngs-modulus-zero", ["geometry", S, "material.youngs_modulus_GPa=0"], "material.youngs_modulus_GPa", "0", {}),
+    ("poisson-half", ["geometry", S, "material.poisson_ratio=0.5"], "material.poisson_ratio", "0.5", {}),
+    # ---- wear
+    ("wear-unknown-phase", ["geometry", "--wear", "worn-out"], "--wear", "worn-out", {}),
+    ("wear-negative-depth", ["geometry", "--wear=-5um"], "--wear", "-5", {}),
+    ("wear-deeper-than-tooth", ["stiffness", "--wear", "5000um"], "--wear", "5000", {}),
+    ("wear-unknown-model", ["geometry", S, 'effects.wear={hours=500, model="magic"}'],
+     "effects.wear.model", "magic", {}),
+    ("wear-negative-hours", ["geometry", "--wear=-10h"], "--wear", "-10", {}),
+    # ---- operating point and the short aliases
+    ("torque-huge", ["simulate", "--torque-Nm", "1e12"], "--torque-Nm", "1e+12", {}),
+    ("torque-text", ["simulate", "--torque-Nm", "forty"], "--torque-Nm", "forty", {}),
+    ("torque-zero-loaded", ["stiffness", "--torque-Nm", "0"], "--torque-Nm", "0", {}),
+    ("speed-negative", ["simulate", S, "operating.speed_rpm=-100"], "operating.speed_rpm", "-100", {}),
+    ("speed-absurd", ["simulate", S, "operating.speed_rpm=1e9"], "operating.speed_rpm", "1e+09", {}),
+    ("clearance-negative", ["geometry", "--clearance-um", "-5"], "--clearance-um", "-5", {}),
+    ("clearance-multi-one-bad", ["stiffness", "--clearance-um", "0", "-10"], "--clearance-um", "-10", {}),
+    ("backlash-negative", ["simulate", S, "effects.backlash.initial_um=-1"], "effects.backlash.initial_um", "-1", {}),
+    # ---- bodies
+    ("mass-zero", ["simulate", S, "bodies.mass_kg=[0,3.75]"], "bodies.mass_kg[0]", "0", {}),
+    ("bearing-stiffness-zero", ["simulate", S, "bodies.bearing_stiffness_N_per_m=0"],
+     "bodies.bearing_stiffness_N_per_m", "0", {}),
+    ("damping-ratio-above-one", ["simulate", S, "bodies.mesh_damping_ratio=2"], "bodies.mesh_damping_ratio", "2", {}),
+    ("damping-both-forms", ["simulate", S, "bodies.mesh_damping_ratio=0.05",
+                            S, "bodies.mesh_damping_N_s_per_m=2500"], "bodies.mesh_damping", None, {}),
+    # ---- solver
+    ("solver-unknown-method", ["simulate", S, "solver.method=euler"], "solver.method", "euler", {}),
+    ("solver-few-steps", ["simulate", S, "solver.steps_per_mesh_period=3"], "solver.steps_per_mesh_period", "3", {}),
+    ("solver-zero-duration", ["simulate", S, "solver.duration_s=0"], "solver.duration_s", "0", {}),
+    ("solver-rtol-one", ["simulate", S, "solver.method=dopri5", S, "solver.rtol=1"], "solver.rtol", "1", {}),
+    ("solver-rk4-unstable", ["simulate", S, "operating.speed_rpm=20000", S, "solver.steps_per_mesh_period=8"],
+     "solver.steps_per_mesh_period", "8", {}),
+    ("solver-output-too-large", ["simulate", S, "solver.duration_s=1000", S, "solver.settle_s=0"],
+     "solver.duration_s", "1000", {}),
+    # ---- mesh-stiffness sources
+    ("table-missing", ["simulate", "missing_table.toml"], "effects.mesh_stiffness.path", "missing_table.csv", {}),
+    ("table-garbage", ["simulate", "garbage_table.toml"], "garbage_table.csv", None, {}),
+    ("table-too-short", ["simulate", "short_table.toml"], "short_table.csv", None, {}),
+    ("table-negative-k", ["simulate", "negative_table.toml"], "k_N_per_m", "-1e+08", {}),
+    ("wear-on-user-table", ["simulate", "wear_on_table.toml"], "effects.wear", None, {}),
+    ("constant-value-wrong-source", ["simulate", S, "effects.mesh_stiffness.value_N_per_m=4e8"],
+     "effects.mesh_stiffness.value_N_per_m", None, {}),
+    # ---- command flags
+    ("stiffness-method", ["stiffness", "--method", "magic"], "--method", "magic", {}),
+    ("stiffness-points-few", ["stiffness", "--points", "3"], "--points", "3", {}),
+    ("stiffness-points-text", ["stiffness", "--points", "many"], "--points", "many", {}),
+    ("stiffness-fields-without-fem", ["stiffness", "--fields", "2", "--out", "o"], "--fields", "2", {}),
+    ("stiffness-fields-out-of-range", ["stiffness", "--method", "fem", "--points", "8", "--fields", "9",
+                                       "--out", "o"], "--fields", "9", {}),
+    ("geometry-mesh-size-small", ["geometry", "--mesh-size-mm", "0.1", "--out", "o"], "--mesh-size-mm", "0.1", {}),
+    ("geometry-mesh-size-text", ["geometry", "--mesh-size-mm", "fine"], "--mesh-size-mm", "fine", {}),
+    ("verify-positions-few", ["verify", "--positions", "2"], "--positions", "2", {}),
+    ("verify-positions-many", ["verify", "--positions", "1000"], "--positions", "1000", {}),
+    ("verify-bad-wear", ["verify", "--wear", "unworn", "25xx"], "--wear", "25xx", {}),
+    ("calibrate-points-few", ["calibrate", "--points", "2"], "--points", "2", {}),
+    ("calibrate-cache-is-file", ["calibrate", "--points", "16", "--wear", "unworn"], "GEARWEAR_CACHE",
+     "cache_is_a_file", {"GEARWEAR_CACHE": "cache_is_a_file"}),
+    ("sweep-empty-list", ["sweep", S, "operating.speed_rpm=,"], "operating.speed_rpm", None, {}),
+    ("sweep-zero-points", ["sweep", S, "operating.speed_rpm=1000:2000:0"], "operating.speed_rpm", "0", {}),
+    ("sweep-bad-range", ["sweep", S, "operating.speed_rpm=1000:x:3"], "operating.speed_rpm", "x", {}),
+    ("sweep-one-bad-value", ["sweep", S, "operating.speed_rpm=1200,-5"], "operating.speed_rpm", "-5", {}),
+    ("sweep-nothing-swept", ["sweep", S, "operating.speed_rpm=1200"], "--set", None, {}),
+    ("sweep-workers-zero", ["sweep", S, "operating.speed_rpm=1000,1200", "--workers", "0"], "--workers", "0", {}),
+    ("scene-bad-set", ["scene", S, "pair.teeth=[1,2]"], "pair.teeth[0]", "1", {}),
+    # ---- --out, checked before any work
+    ("out-empty", ["geometry", "--no-mesh", "--out", ""], "--out", None, {}),
+    ("out-is-file", ["simulate", "--out", "a_file.txt"], "--out", "a_file.txt", {}),
+    ("out-under-file", ["stiffness", "--out", "a_file.txt/sub"], "--out", "a_file.txt/sub", {}),
+    ("out-foreign-folder", ["geometry", "--no-mesh", "--out", "foreign_out"], "--out", "foreign_out", {}),
+    ("report-out-is-file", ["report", "paper", "--out", "a_file.txt"], "--out", "a_file.txt", {}),
+    # ---- argparse-level mistakes keep the one-line form too
+    ("unknown-command", ["simulte"], "simulte", None, {}),
+    ("unknown-flag", ["simulate", "--speed", "1200"], "--speed", None, {}),
+    ("report-unknown", ["report", "book", "--out", "o"], "book", None, {}),
+]
+
+
+def test_the_table_is_broad():
+    commands = {argv[0] for _, argv, *_ in CASES}
+    assert len(CASES) >= 60
+    assert {"geometry", "stiffness", "verify", "calibrate", "simulate", "sweep", "scene", "report"} <= commands
+    assert len({c[0] for c in CASES}) == len(CASES)
+
+
+@pytest.mark.parametrize("case", CASES, ids=[c[0] for c in CASES])
+def test_bad_input_one_line_exit_2_nothing_written(case, tmp_path, monkeypatch, capsys):
+    _, argv, key, value, env = case
+    work = tmp_path / "work"
+    work.mkdir()
+    _setup(work)
+    cache = tmp_path / "cache"
+    monkeypatch.setenv("GEARWEAR_CACHE", str(cache))
+    for k, v in env.items():
+        monkeypatch.setenv(k, v)
+    monkeypatch.chdir(work)
+    before = {p: p.stat().st_mtime_ns for p in _files(work)}
+    rc = _run(argv)
+    err = capsys.readouterr().err
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    assert rc == 2, err
+    assert len(lines) == 1, err
+    assert lines[0].startswith("gearwear: error: "), err
+    assert key in lines[0], lines[0]
+    if value is not None:
+        assert value in lines[0], lines[0]
+    assert "Traceback" not in err
+    after = {p: p.stat().st_mtime_ns for p in _files(work)}
+    assert after == before, f"files written or changed: {sorted(set(after) ^ set(before))}"
+    assert not cache.exists() or not _files(cache)
+
+
+def _run(argv: list[str]) -> int | str | None:
+    """The exit status, whether the command returns it or argparse exits."""
+    try:
+        return main(argv)
+    except SystemExit as exc:
+        return exc.code
+
+
+def test_console_script_never_shows_a_traceback(tmp_path):
+    """The installed entry point, as a user runs it: an internal failure is one line, exit 1."""
+    env = {**os.environ, "GEARWEAR_CACHE": str(tmp_path / "cache")}
+    r = subprocess.run([sys.executable, "-m", "gearwear.cli", "simulate", "--set", "pair.teeth=[4,30]"],
+                       capture_output=True, text=True, cwd=tmp_path, env=env)
+    assert r.returncode == 2 and r.stderr.count("\n") == 1 and "Traceback" not in r.stderr
+    r = subprocess.run([sys.executable, "-m", "gearwear.cli", "--debug", "simulate", "--set", "pair.teeth=[4,30]"],
+                       capture_output=True, text=True, cwd=tmp_path, env=env)
+    assert r.returncode != 0 and "Traceback" in r.stderr    # --debug shows where it came from
