@@ -1,0 +1,86 @@
+"""The stated range of every numeric scene key is exactly the enforced one.
+
+For each key the JSON Schema publishes with a range (``gearwear scene --schema``), the
+nearest representable value outside each finite bound (the bound itself when the bound is
+open) must be refused, in one line that names the key, the value and that same published
+range. The keys and bounds are read from the schema, so a key added later is covered.
+"""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from gearwear.core.validation import InputError
+from gearwear.scene import scene_from_dict
+from gearwear.schema import json_schema
+
+
+def _ranged_keys():
+    schema = json_schema()
+    defs = schema["$defs"]
+
+    def walk(node, path):
+        if "$ref" in node:
+            node = defs[node["$ref"].split("/")[-1]]
+        for option in node.get("anyOf", []):
+            yield from walk(option, path)
+        for key, prop in node.get("properties", {}).items():
+            if "range" in prop:
+                yield ".".join(path + [key]), prop
+            else:
+                yield from walk(prop, path + [key])
+    return sorted(dict(walk(schema, [])).items())
+
+
+def _bounds(prop):
+    """(lower, lower_open, upper, upper_open, integer) from the schema's keywords; per-gear keys
+    keep them on their items."""
+    if "anyOf" in prop:
+        item = next(o for o in prop["anyOf"] if o.get("type") in ("number", "integer"))
+    else:
+        item = prop
+    lo, lo_open = (item["exclusiveMinimum"], True) if "exclusiveMinimum" in item else (item.get("minimum"), False)
+    hi, hi_open = (item["exclusiveMaximum"], True) if "exclusiveMaximum" in item else (item.get("maximum"), False)
+    return lo, lo_open, hi, hi_open, item.get("type") == "integer"
+
+
+def _outside(bound, is_open, integer, direction):
+    if is_open:
+        return bound
+    if integer:
+        return bound + direction
+    return math.nextafter(float(bound), direction * math.inf)
+
+
+CASES = []
+for key, prop in _ranged_keys():
+    lo, lo_open, hi, hi_open, integer = _bounds(prop)
+    for bound, is_open, direction in ((lo, lo_open, -1), (hi, hi_open, +1)):
+        if bound is not None:
+            CASES.append((key, prop, _outside(bound, is_open, integer, direction)))
+
+
+def test_every_ranged_key_is_covered():
+    keys = {c[0] for c in CASES}
+    assert len(keys) >= 30
+    assert {"pair.module_mm", "operating.torque_Nm", "pair.teeth", "solver.duration_s"} <= keys
+
+
+@pytest.mark.parametrize("key,prop,value", CASES, ids=[f"{c[0]}={c[2]!r}" for c in CASES])
+def test_just_outside_the_published_range_is_refused_with_that_range(key, prop, value):
+    doc: dict = {}
+    node = doc
+    parts = key.split(".")
+    for p in parts[:-1]:
+        node = node.setdefault(p, {})
+    if prop.get("per_gear"):  # the pinion out of range, the gear at its default (or the same value)
+        value = [value, prop["default"][1] if prop.get("default") else value]
+    node[parts[-1]] = value
+    with pytest.raises(InputError) as exc:
+        scene_from_dict(doc)
+    msg = str(exc.value)
+    assert "\n" not in msg
+    assert msg.startswith(key + ("[0]" if prop.get("per_gear") else "")), msg
+    assert prop["range"] in msg, msg
