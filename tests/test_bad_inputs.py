@@ -222,3 +222,18 @@ def test_console_script_never_shows_a_traceback(tmp_path):
     r = subprocess.run([sys.executable, "-m", "gearwear.cli", "--debug", "simulate", "--set", "pair.teeth=[4,30]"],
                        capture_output=True, text=True, cwd=tmp_path, env=env)
     assert r.returncode != 0 and "Traceback" in r.stderr    # --debug shows where it came from
+
+
+def test_ctrl_c_is_one_line_exit_130_and_writes_nothing(tmp_path, monkeypatch, capsys):
+    """Ctrl-C in the middle of the computation: exit 130 (128 + SIGINT), one line, no --out folder."""
+    from gearwear import simulate_job
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(simulate_job, "run", interrupted)
+    monkeypatch.chdir(tmp_path)
+    rc = main(["simulate", "--out", "sim"])
+    err = capsys.readouterr().err
+    assert rc == 130 and len(err.strip().splitlines()) == 1 and "interrupted" in err
+    assert not list(tmp_path.iterdir())
