@@ -26,16 +26,32 @@ corner contact). The stage-1 correction is unchanged; see README for the new
 numbers. CALIBRATION_VERSION is part of the cache key, so a version-1 table is never
 reused.
 
-Tables are cached by the SHA-256 of all inputs (gearwear.tables).
+Tables are cached by the SHA-256 of all inputs (gearwear.tables). The inputs include
+CALIBRATION_VERSION and :func:`code_fingerprint`, the SHA-256 over the source of every
+gearwear module a calibrated table depends on: this module and the modules it imports,
+followed transitively through their gearwear imports (also those inside functions),
+i.e. the geometry, analytic and fem modules it uses, gearwear.compare, gearwear.tables,
+gearwear.io and gearwear.core (:func:`code_modules`). Each module enters as its dotted
+name and its bytes (line endings normalised), sorted by name, so the fingerprint is the
+same in a fresh clone, an editable install and a wheel, and any edit of that code gives
+a new key instead of a stale table. A cache entry that fails its checks on read
+(gearwear.tables.lookup: truncated, unreadable, non-finite, bytes not matching the
+sidecar) is recomputed, and :func:`calibrated_table` says so through ``notify`` (one
+line on stderr by default).
 """
 
 from __future__ import annotations
 
 import dataclasses
+import functools
+import hashlib
+import importlib.util
 import math
+import re
 import time
 from dataclasses import dataclass
-from typing import Any
+from pathlib import Path
+from typing import Any, Callable, Iterable
 
 import numpy as np
 
@@ -52,6 +68,107 @@ PAIR_POSITIONS = 24
 #: 1 = pair FE with Weber's local term, 2 = resolved pair contact (fem.pair),
 #: 3 = both FE models on Gmsh's curved 6-node meshes (isoparametric P2).
 CALIBRATION_VERSION = 3
+
+#: the code fingerprint starts here and follows every gearwear import
+FINGERPRINT_ROOT = "gearwear.calibrate"
+#: not followed: the app package's __init__ (its __version__ is in every key already, and
+#: its lazy API import would pull in the whole app)
+FINGERPRINT_SKIP = frozenset({"gearwear"})
+
+
+# -- code fingerprint ------------------------------------------------------------------
+
+@functools.lru_cache(maxsize=None)
+def _spec(name: str):
+    """The import spec of a gearwear module, or None if ``name`` is not a module."""
+    parent = name.rpartition(".")[0]
+    if parent and parent != "gearwear":  # only a package's attribute can be a submodule
+        ps = _spec(parent)
+        if ps is None or ps.submodule_search_locations is None:
+            return None
+    try:
+        return importlib.util.find_spec(name)
+    except (ImportError, ValueError):
+        return None
+
+
+def _source_bytes(name: str) -> bytes:
+    """The source of module ``name`` (line endings normalised, so a checkout with CRLF hashes alike)."""
+    spec = _spec(name)
+    if spec is None or not spec.origin or not spec.has_location:
+        return b"<no source>"
+    return Path(spec.origin).read_bytes().replace(b"\r\n", b"\n")
+
+
+#: ``from X import a, (b, c)`` and ``import X, Y as Z`` at any indentation (imports inside
+#: functions count); a match inside a docstring only adds a module, never drops one
+_FROM = re.compile(rb"^[ \t]*from[ \t]+(\.*[\w.]*)[ \t]+import[ \t]+(\([^)]*\)|[^\n#;]*)", re.M)
+_IMPORT = re.compile(rb"^[ \t]*import[ \t]+([\w., \t]+)", re.M)
+
+
+def _imports(name: str, source: bytes) -> set[str]:
+    """The gearwear modules ``name`` imports anywhere in its source, with their parent packages."""
+    spec = _spec(name)
+    package = name if spec is not None and spec.submodule_search_locations is not None else name.rpartition(".")[0]
+    found: set[str] = set()
+    for m in _IMPORT.finditer(source):
+        found.update(part.split()[0] for part in m.group(1).decode().split(",") if part.strip())
+    for m in _FROM.finditer(source):
+        mod = m.group(1).decode()
+        level = len(mod) - len(mod.lstrip("."))
+        if level:
+            parts = package.split(".")
+            base = ".".join(parts[:len(parts) - level + 1] + ([mod[level:]] if mod[level:] else []))
+        else:
+            base = mod
+        found.add(base)
+        names = m.group(2).decode().strip("() \t\n").replace("\n", " ")
+        for part in names.split(","):
+            word = part.split()[0] if part.split() else ""
+            if word.isidentifier() and _spec(f"{base}.{word}") is not None:
+                found.add(f"{base}.{word}")
+    out: set[str] = set()
+    for mod in found:
+        parts = mod.split(".")
+        out.update(".".join(parts[:i]) for i in range(1, len(parts) + 1))
+    return {m for m in out if (m == "gearwear" or m.startswith("gearwear.")) and _spec(m) is not None}
+
+
+def dependencies(root: str, read: Callable[[str], bytes] = _source_bytes,
+                 skip: Iterable[str] = FINGERPRINT_SKIP) -> tuple[str, ...]:
+    """``root`` and every gearwear module reachable from it through imports, sorted."""
+    skip = frozenset(skip)
+    seen: set[str] = set()
+    todo = [root]
+    while todo:
+        mod = todo.pop()
+        if mod in seen or mod in skip:
+            continue
+        seen.add(mod)
+        todo.extend(_imports(mod, read(mod)))
+    return tuple(sorted(seen))
+
+
+def fingerprint(modules: Iterable[str], read: Callable[[str], bytes] = _source_bytes) -> str:
+    """SHA-256 over (dotted name, source bytes) of each module, in sorted order."""
+    h = hashlib.sha256()
+    for mod in sorted(modules):
+        src = read(mod)
+        h.update(f"{mod}\0{len(src)}\0".encode())
+        h.update(src)
+    return h.hexdigest()
+
+
+@functools.lru_cache(maxsize=None)
+def code_modules() -> tuple[str, ...]:
+    """The modules whose source can change a calibrated table (computed once per process)."""
+    return dependencies(FINGERPRINT_ROOT)
+
+
+@functools.lru_cache(maxsize=None)
+def code_fingerprint() -> str:
+    """SHA-256 of the calibration code (:func:`code_modules`); part of every table's inputs."""
+    return fingerprint(code_modules())
 
 
 @dataclass
@@ -172,22 +289,40 @@ def table_inputs(pair: PairSpec, wear: WearSpec | None, clearance_m: float, torq
             "clearance_m": clearance_m, "torque_Nm": torque_Nm, "points": points,
             "fe": {"positions": positions, "order": 2, "plane": "stress", "mesh_scale": 1.0,
                    "sizes": dataclasses.asdict(tooth.mesh_sizes(1.0)), "fit_degree": FIT_DEGREE},
-            "calibration_version": CALIBRATION_VERSION,
+            "calibration_version": CALIBRATION_VERSION, "code_sha256": code_fingerprint(),
             "fe_pair": {"positions": PAIR_POSITIONS, "order": 2, "plane": "stress", "local_contact": "resolved",
                         "contact_elements_per_half_width": fe_pair.ELEMENTS_PER_HALF_WIDTH,
                         "candidate_half_widths": fe_pair.WINDOW_HALF_WIDTHS, "corner_contact": True,
                         "zone_factors": "median"}}
 
 
+def table_label(wear: WearSpec | None, clearance_m: float) -> str:
+    """How a table is named in messages: ``unworn, 0 um``, ``severe, 10 um``."""
+    return f"{'unworn' if wear is None or wear.is_unworn else wear.label}, {clearance_m * 1e6:g} um"
+
+
 def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float = 0.0, torque_Nm: float = 40.0,
-                     points: int = 360, positions: int = 21, calibration: Calibration | None = None,
-                     refresh: bool = False) -> tables.StiffnessTable:
-    """The calibrated k_h table, from the cache when these exact inputs were run before."""
+                     points: int = 360, positions: int = 21,
+                     calibration: Calibration | Callable[[], Calibration] | None = None,
+                     refresh: bool = False, notify: tables.Notify | None = tables.to_stderr) -> tables.StiffnessTable:
+    """The calibrated k_h table, from the cache when these exact inputs were run before.
+
+    ``calibration``: the FE stage (run_fe) to use on a cache miss, or a function that
+    returns it (called only on a miss, so a caller can share one FE run between tables
+    without running it when every table is cached); None runs it here.
+    ``notify``: gets one line when a cache entry exists but fails its checks and is
+    recomputed (default: printed to stderr; None: silent). The returned table's
+    ``from_cache`` tells whether it came from the cache. A bad $GEARWEAR_CACHE raises
+    InputError before anything is computed.
+    """
+    folder = tables.cache_dir()
     inputs = table_inputs(pair, wear, clearance_m, torque_Nm, points, positions)
     if not refresh:
-        hit = tables.cached(inputs)
+        hit = tables.cached(inputs, folder, notify, table_label(wear, clearance_m))
         if hit is not None:
             return hit
+    if callable(calibration):
+        calibration = calibration()
     cal = calibration or run_fe(pair, wear, positions)
     corr = tuple(c.grid() for c in cal.corrections)
     r = mesh_stiffness(pair, method="ishikawa", points=points, torque_Nm=torque_Nm, clearance_m=clearance_m,
@@ -200,7 +335,9 @@ def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float =
     ste = r.excitation_m + F / k
     tab = tables.StiffnessTable(r.angle_rad, k, r.excitation_m, ste, r.pairs_in_contact, {})
     fe0 = cal.fe[0]
-    csv = tables.store(tab, inputs, "ishikawa slices corrected to FE single-tooth compliance (fem.tooth)", extra={
+    method = "ishikawa slices corrected to FE single-tooth compliance (fem.tooth)"
+    tables.store(tab, inputs, method, folder, extra={
+        "code_modules": list(code_modules()),
         "fe_mesh": {"dofs": int(fe0.ndofs), "elements": int(fe0.n_elements), "order": fe0.order,
                     "plane": fe0.plane},
         "fe_estimated_relative_error": cal.error_estimate,
@@ -215,5 +352,5 @@ def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float =
         "uncorrected_mean_N_per_m": mesh_stiffness(pair, points=points, torque_Nm=torque_Nm,
                                                    clearance_m=clearance_m, wear=wear).mean_N_per_m,
     })
-    # return what a later cache hit returns, so cold and cached calls are bit-identical
-    return tables.StiffnessTable.from_files(csv)
+    # store() leaves in tab what a later cache hit returns: cold and cached calls are bit-identical
+    return tab

@@ -1,4 +1,6 @@
-"""Calibrated tables: correction fit/check, cache by input hash, no stale reuse, CLIs."""
+"""Calibrated tables: correction fit/check, cache by input hash, no stale reuse, CLIs.
+
+The cache checks on read and the code fingerprint are in tests/test_cache.py."""
 
 import json
 import subprocess
@@ -30,6 +32,9 @@ def test_cache_hit_is_identical_and_inputs_change_the_key(tmp_path, monkeypatch,
     files = sorted(p.name for p in tmp_path.iterdir())
     b = calibrate.calibrated_table(pair, None, points=64, positions=9, calibration=None)  # must not run FE
     assert np.array_equal(a.k_N_per_m, b.k_N_per_m) and a.meta == b.meta
+    # the real table passes every check on read (tables.lookup) and carries its code fingerprint
+    assert b.from_cache and not a.from_cache and len(b.k_N_per_m) == 64
+    assert b.meta["inputs"]["code_sha256"] == calibrate.code_fingerprint() and len(b.meta["csv_sha256"]) == 64
     assert sorted(p.name for p in tmp_path.iterdir()) == files
     assert not [n for n in files if n.endswith(".tmp")]
     # a changed input (torque, face width) gets its own key: never the stale table
