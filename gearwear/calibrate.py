@@ -280,6 +280,22 @@ def run_fe(pair: PairSpec, wear: WearSpec | None, positions: int = 21, estimate_
     return Calibration(pair, wear, (fe0, fe1), corr, err, time.perf_counter() - t0)
 
 
+@functools.lru_cache(maxsize=1)
+def library_versions() -> dict[str, str]:
+    """Versions of the libraries that shape a calibrated table (a Gmsh upgrade can move
+    mesh nodes, a scikit-fem or SciPy upgrade the assembly or the factorisation), so a
+    table cached under other versions is recomputed rather than reused."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    out = {}
+    for dist in ("gmsh", "scikit-fem", "numpy", "scipy", "meshio"):
+        try:
+            out[dist] = version(dist)
+        except PackageNotFoundError:
+            out[dist] = "absent"
+    return out
+
+
 def table_inputs(pair: PairSpec, wear: WearSpec | None, clearance_m: float, torque_Nm: float, points: int,
                  positions: int) -> dict[str, Any]:
     from gearwear.fem import pair as fe_pair
@@ -290,6 +306,7 @@ def table_inputs(pair: PairSpec, wear: WearSpec | None, clearance_m: float, torq
             "fe": {"positions": positions, "order": 2, "plane": "stress", "mesh_scale": 1.0,
                    "sizes": dataclasses.asdict(tooth.mesh_sizes(1.0)), "fit_degree": FIT_DEGREE},
             "calibration_version": CALIBRATION_VERSION, "code_sha256": code_fingerprint(),
+            "libraries": library_versions(),
             "fe_pair": {"positions": PAIR_POSITIONS, "order": 2, "plane": "stress", "local_contact": "resolved",
                         "contact_elements_per_half_width": fe_pair.ELEMENTS_PER_HALF_WIDTH,
                         "candidate_half_widths": fe_pair.WINDOW_HALF_WIDTHS, "corner_contact": True,

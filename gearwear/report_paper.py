@@ -82,28 +82,42 @@ def _scene(base: str, sets: list[str]):
     return scene_from_dict(apply_overrides(builtin_scene_dict(base), sets), name=base)
 
 
-def compute(progress: Callable[[str], None] | None = None) -> dict[str, Any]:
-    from .calibrate import calibrated_table, run_fe
+def compute(progress: Callable[[str], None] | None = None,
+            notify: Callable[[str], None] | None = None) -> dict[str, Any]:
+    """Every number of the paper report. ``notify`` receives the cache's one-line notes
+    (a damaged entry being recomputed); the FE calibration of a wear phase runs only
+    when one of its tables is not in the cache."""
+    from . import tables
+    from .calibrate import Calibration, calibrated_table, run_fe
     from .simulate_job import run
 
+    tables.cache_dir()  # a bad GEARWEAR_CACHE stops here, before any FE run
     say = progress or (lambda msg: None)
+    note = notify or tables.to_stderr
     pair = default_pair()
     T = 40.0
     wears = {p: (None if p == "unworn" else WearSpec(phase=p)) for p in PHASES}
-    cal = {}
-    for p in PHASES:
-        cal[p] = run_fe(pair, wears[p])  # with the FE error estimate: it goes into the table sidecars
-        say(f"FE single-tooth compliance ({p})")
+    fe_runs: dict[str, Calibration] = {}
+
+    def calibration(p: str) -> Callable[[], Calibration]:
+        def get() -> Calibration:
+            if p not in fe_runs:  # with the FE error estimate: it goes into the table sidecars
+                fe_runs[p] = run_fe(pair, wears[p])
+                say(f"FE single-tooth compliance ({p})")
+            return fe_runs[p]
+        return get
+
+    cal = {p: calibration(p) for p in PHASES}
     # wear study: the built-in wear scenes (10 um clearance, static coupling)
     tabs_wear, sims_wear = {}, {}
     for p in PHASES:
-        tabs_wear[p] = calibrated_table(pair, wears[p], 10e-6, T, 360, calibration=cal[p])
+        tabs_wear[p] = calibrated_table(pair, wears[p], 10e-6, T, 360, calibration=cal[p], notify=note)
         say(f"calibrated table + FE pair ({p})")
         sims_wear[p] = run(_scene(f"paper-wear-{p}", ['effects.mesh_stiffness={source = "calibrated"}']))
         say(f"simulation, wear {p}")
     tabs_cl, sims_cl = {}, {}
     for c in CLEARANCES_UM:
-        tabs_cl[c] = calibrated_table(pair, None, c * 1e-6, T, 360, calibration=cal["unworn"])
+        tabs_cl[c] = calibrated_table(pair, None, c * 1e-6, T, 360, calibration=cal["unworn"], notify=note)
         say(f"calibrated table + FE pair (clearance {c:g} um)")
         sims_cl[c] = run(_scene("paper-clearance", ['effects.mesh_stiffness={source = "calibrated"}',
                                                     f"effects.bearing_clearance.clearance_um={c}"]))
@@ -354,7 +368,7 @@ def _why_harmonic(name: str, k: int) -> str:
 
 # -- markdown ---------------------------------------------------------------------------
 
-def markdown(res: dict[str, Any], rows: list[dict[str, str]], figs: list[str], wall_s: float) -> str:
+def markdown(res: dict[str, Any], rows: list[dict[str, str]], figs: list[str]) -> str:
     pair = res["pair"]
     n_agree = sum(r["verdict"] == "agree" for r in rows)
     L = ["# Reproduction of Zhang et al. (2019) with gearwear", "",
@@ -364,7 +378,7 @@ def markdown(res: dict[str, Any], rows: list[dict[str, str]], figs: list[str], w
          "typos fixed. Wear study: built-in scenes `paper-wear-unworn|mild|severe` (40 N m, 1200 rpm, 10 um "
          "clearance, 50 um initial backlash, static centre distance); clearance study: `paper-clearance` "
          f"(unworn) at {', '.join(f'{c:g}' for c in CLEARANCES_UM)} um.", "",
-         f"Trend claims: {len(rows)}, of which {n_agree} agree with this tool. Run time {wall_s:.0f} s.", "",
+         f"Trend claims: {len(rows)}, of which {n_agree} agree with this tool.", "",
          "## Trends: the paper versus this tool", "",
          "| where | paper says | this tool finds | verdict | why |", "|---|---|---|---|---|"]
     for r in rows:
@@ -395,7 +409,31 @@ def markdown(res: dict[str, Any], rows: list[dict[str, str]], figs: list[str], w
     return "\n".join(L) + "\n"
 
 
+def provenance(res: dict[str, Any]) -> dict[str, Any]:
+    """What the report was made from: the resolved scene of every simulation (by its
+    SHA-256, see gearwear.io.scene_inputs) and the fixed study parameters."""
+    scenes = {f"wear {p}": io.scene_inputs(res["sims_wear"][p].scene)["scene_sha256"] for p in PHASES}
+    scenes.update({f"clearance {c:g} um": io.scene_inputs(res["sims_cl"][c].scene)["scene_sha256"]
+                   for c in CLEARANCES_UM})
+    return {"report": "paper", "phases": list(PHASES), "clearances_um": list(CLEARANCES_UM),
+            "table_points": 360, "torque_Nm": 40.0, "scene_sha256": scenes}
+
+
+def write(res: dict[str, Any], out: Path) -> list[Path]:
+    """The figures, README.md and trends.json into the folder ``out`` (no wall times)."""
+    figs = figures(res)
+    rows = trends(res)
+    files = []
+    for name, fig in figs.items():
+        files.append(io.write_figure(fig, out / name, dpi=110))
+    files.append(io.write_text(out / "README.md", markdown(res, rows, list(figs))))
+    files.append(io.write_text(out / "trends.json", json.dumps(rows, indent=1) + "\n"))
+    return files
+
+
 def run_report(out: Path, progress: bool = True) -> list[Path]:
+    """Compute the report and write it into ``out`` as a whole (gearwear.io.write_folder:
+    complete or absent, replacing an earlier report; the run time goes to timing.json)."""
     from tqdm import tqdm
 
     t0 = time.perf_counter()
@@ -405,12 +443,5 @@ def run_report(out: Path, progress: bool = True) -> list[Path]:
             bar.set_postfix_str(msg[:40])
             bar.update(1)
         res = compute(say)
-    figs = figures(res)
-    rows = trends(res)
-    files = []
-    for name, fig in figs.items():
-        files.append(io.write_figure(fig, out / name, dpi=110))
-    wall = time.perf_counter() - t0
-    files.append(io.write_text(out / "README.md", markdown(res, rows, list(figs), wall)))
-    files.append(io.write_text(out / "trends.json", json.dumps(rows, indent=1) + "\n"))
-    return files
+    return io.write_folder(out, "report paper", provenance(res), lambda d: write(res, d),
+                           {"total_s": time.perf_counter() - t0})
