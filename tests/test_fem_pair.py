@@ -1,7 +1,7 @@
 """Resolved FE pair contact (fem.pair): load balance, complementarity, symmetry,
 solver-tolerance independence, h-convergence of the contact zone, the resolved
-Hertz half-width, the single-tooth consistency identity, wear, an unequal
-profile-shifted pair, fields output and bad inputs. Coarse contact meshes
+Hertz half-width, single contact against the single-tooth FE plus Weber's local
+term, wear, an unequal profile-shifted pair, fields output and bad inputs. Coarse contact meshes
 (contact_scale 2: h = a / 1.25); the full cycles are in benchmarks/bench_fem_pair.py."""
 
 import math
@@ -146,16 +146,24 @@ def test_contact_zone_h_convergence(pair):
 
 
 @pytest.mark.slow
-def test_single_contact_consistency_identity(pair):
-    """In single contact k_pair = 1 / (c_1 + c_2 + c_local): c_1, c_2 read in the pair FE
-    at the centre-line points equal the single-tooth FE (own mesh, Hertz patch) there,
-    and c_local lies between Weber's plane-stress and plane-strain values +- 10 %."""
+def test_single_contact_against_single_tooth_fe_and_weber(pair):
+    """In single contact the pair is three springs in series. Checked against models
+    the pair FE does not use: c_1, c_2 read in the pair FE at the centre-line points
+    equal the single-tooth FE (fem.tooth: own mesh, Hertz patch) there; and the pair
+    stiffness k_pair = F / STE equals 1 / (c_1,tooth + c_2,tooth + c_Weber), with the
+    single-tooth FE compliances and Weber's closed-form plane-stress local approach
+    (no pair-FE quantity on that side), to within the 4.5 % by which the resolved local
+    approach exceeds the half-plane formula: measured k_pair 1.4-1.6 % softer. (The
+    code's own k_identity = 1 / (c_1,tooth + c_2,tooth + c_local) holds by construction
+    once c_i agree, since c_local = STE / F - c_1 - c_2; it is not asserted.)"""
     rows = consistency(pair, positions=8, contact_scale=COARSE)
-    assert rows
+    assert len(rows) >= 2
     for r in rows:
         assert r["c1_m_per_N"] == pytest.approx(r["c1_tooth_m_per_N"], rel=0.01)
         assert r["c2_m_per_N"] == pytest.approx(r["c2_tooth_m_per_N"], rel=0.01)
-        assert r["k_pair_N_per_m"] == pytest.approx(r["k_identity_N_per_m"], rel=0.01)
+        k_pair = 1.0 / r["c_pair_m_per_N"]                     # F / STE of the pair FE
+        k_series = 1.0 / (r["c1_tooth_m_per_N"] + r["c2_tooth_m_per_N"] + r["weber_stress_m_per_N"])
+        assert -0.04 < k_pair / k_series - 1.0 < 0.0, (k_pair, k_series)
         lo, hi = sorted((r["weber_strain_m_per_N"], r["weber_stress_m_per_N"]))
         assert 0.9 * lo < r["c_local_m_per_N"] < 1.1 * hi
 
