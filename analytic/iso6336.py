@@ -182,7 +182,8 @@ def iso6336_stiffness(pair: PairSpec, torque_Nm: float | None = None,
     contact ratio eps_alpha at the nominal centre distance (geometry.kinematics).
     ``web_thickness_m`` / ``rim_thickness_m`` describe a webbed blank (C_R); by
     default the blank is a solid disc (C_R = 1). Both gears share the basic rack, so
-    one C_B applies, and one material (material factor E / E_st). See the module
+    one C_B applies (the mean of the two when a given root diameter changes a gear's
+    tool dedendum), and one material (material factor E / E_st). See the module
     docstring for the equations.
     """
     if K_A <= 0:
@@ -191,7 +192,10 @@ def iso6336_stiffness(pair: PairSpec, torque_Nm: float | None = None,
     x1, x2 = pair.profile_shift
     c_th = single_stiffness_theoretical(z1, z2, x1, x2)
     C_R = gear_blank_factor(pair.face_width_m, pair.module_m, web_thickness_m, rim_thickness_m)
-    C_B = basic_rack_factor(pair.dedendum_coefficient, pair.pressure_angle_rad)
+    # ISO 6336-1: racks that differ (a given root diameter sets each gear's tool
+    # dedendum) give C_B = (C_B1 + C_B2) / 2
+    C_B = 0.5 * (basic_rack_factor(pair.gear(0).dedendum_coefficient, pair.pressure_angle_rad)
+                 + basic_rack_factor(pair.gear(1).dedendum_coefficient, pair.pressure_angle_rad))
     cos_beta = 1.0  # spur gears
     # Both gears share one material here, so E = 2 E1 E2 / (E1 + E2) = E1.
     material_factor = pair.material.youngs_modulus_Pa / E_STEEL_ISO_Pa

@@ -9,6 +9,7 @@ overrides) and resolves a validated document into the SI specs the layers below 
 from __future__ import annotations
 
 import math
+import re
 import tomllib
 from dataclasses import dataclass, field
 from importlib import resources
@@ -88,25 +89,50 @@ class Scene:
 
 
 #: geometry's own parameter names -> scene keys (with unit conversion)
-PAIR_KEYS = {"dedendum_coefficient": "pair.dedendum_coefficient",
+PAIR_KEYS = {"teeth": "pair.teeth", "addendum_coefficient": "pair.addendum_coefficient",
+             "dedendum_coefficient": "pair.dedendum_coefficient",
              "rack_tip_radius_coefficient": "pair.rack_tip_radius_coefficient",
-             "profile_shift": "pair.profile_shift", "hub_radius_m": ("pair.hub_radius_mm", 1e3, "mm")}
+             "profile_shift": "pair.profile_shift", "hub_radius_m": ("pair.hub_radius_mm", 1e3, "mm"),
+             "tip_diameter_m": ("pair.tip_diameter_mm", 1e3, "mm"),
+             "root_diameter_m": ("pair.root_diameter_mm", 1e3, "mm")}
+
+#: unitless own names that a geometry message may mention after its key ("profile_shift[0] >= 0.3")
+_PAIR_WORDS = re.compile(r"(?<![\w.])(profile_shift|allow_undercut|addendum_coefficient|teeth)(?=\[\d\]|\s*(?:>=|<=|=))")
+
+
+def renamed_pair_error(exc: InputError) -> InputError:
+    """A geometry error with its key and the unitless own names in its text renamed to
+    scene keys (``teeth[0] = 12: ...; allow_undercut = true ...`` ->
+    ``pair.teeth[0] = 12: ...; pair.allow_undercut = true ...``)."""
+    out = renamed(exc, PAIR_KEYS)
+    text = str(out)
+    head, sep, body = text.partition(": ")
+    body = _PAIR_WORDS.sub(lambda m: "pair." + m.group(1), body)
+    if sep and body != text.partition(": ")[2]:
+        new = type(out)(head + sep + body)
+        for attr in ("key", "value", "unit", "why", "field", "note"):
+            if attr in vars(out):
+                setattr(new, attr, getattr(out, attr))
+        return new
+    return out
 
 
 def pair_spec(doc: SceneDoc) -> PairSpec:
     """The SI pair spec of a validated document, checked for geometric consistency."""
     p, m = doc.pair, doc.material
+    mm = (lambda v: None if v is None else (v[0] * 1e-3, v[1] * 1e-3))
     spec = PairSpec(
         teeth=p.teeth, module_m=p.module_mm * 1e-3, pressure_angle_rad=math.radians(p.pressure_angle_deg),
         face_width_m=p.face_width_mm * 1e-3, addendum_coefficient=p.addendum_coefficient,
         dedendum_coefficient=p.dedendum_coefficient, rack_tip_radius_coefficient=p.rack_tip_radius_coefficient,
         profile_shift=p.profile_shift, hub_radius_m=(p.hub_radius_mm[0] * 1e-3, p.hub_radius_mm[1] * 1e-3),
         allow_undercut=p.allow_undercut,
-        material=Material(m.youngs_modulus_GPa * 1e9, m.poisson_ratio, m.density_kg_per_m3))
+        material=Material(m.youngs_modulus_GPa * 1e9, m.poisson_ratio, m.density_kg_per_m3),
+        tip_diameter_m=mm(p.tip_diameter_mm), root_diameter_m=mm(p.root_diameter_mm))
     try:
         check_pair(spec)
     except InputError as exc:
-        raise renamed(exc, PAIR_KEYS) from None
+        raise renamed_pair_error(exc) from None
     return spec
 
 

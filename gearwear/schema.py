@@ -59,10 +59,15 @@ def _pair_of(value: Any) -> Any:
 
 
 def _per_gear(unit: str = "", lo: float = -math.inf, hi: float = math.inf, *, lo_open: bool = False,
-              hi_open: bool = False, integer: bool = False, doc: str = "") -> Any:
+              hi_open: bool = False, integer: bool = False, doc: str = "", limits: str = "") -> Any:
+    """``limits``: the geometric range that depends on other keys (checked when the pair
+    is resolved, ``gearwear.geometry.spec.check_pair``), published as ``limits``."""
     item = _num(unit, lo, hi, lo_open=lo_open, hi_open=hi_open, integer=integer)
     f = Field(unit, lo, hi, lo_open, hi_open)
     extra: JsonDict = {"unit": unit, "range": f.range_text(), "per_gear": True}
+    if limits:
+        extra["limits"] = limits
+        doc = f"{doc} Limits: {limits}."
     return Annotated[tuple[item, item],  # type: ignore[valid-type]
                      BeforeValidator(_pair_of, json_schema_input_type=Union[item, tuple[item, item]]),  # type: ignore[valid-type]
                      PField(description=doc + " One value for both gears or [pinion, gear].",
@@ -90,6 +95,21 @@ class PairDoc(_Table):
     profile_shift: _per_gear("", -1.5, 2.0, doc="Profile shift coefficient x.") = (0.0, 0.0)  # type: ignore[valid-type]
     hub_radius_mm: _per_gear("mm", 0, 10000, lo_open=True, doc="Bore radius (fixed in the FE).") = (40.0, 40.0)  # type: ignore[valid-type]
     allow_undercut: bool = PField(False, description="Generate undercut profiles instead of refusing them.")
+    tip_diameter_mm: _per_gear(  # type: ignore[valid-type]
+        "mm", 0, 20000, lo_open=True,
+        doc="Tip diameter d_a; absent: d + 2 (h_a* + x + k) m with the ISO 21771 tip shortening k = "
+            "(a_w - a) / m - (x1 + x2) <= 0, which keeps the bottom clearance (h_f* - h_a*) m at the working "
+            "centre distance a_w.",
+        limits="d_a above the base circle d_b and the root circle d_f, at most the pointed-tooth diameter, "
+               "at most 2 a_w - d_f of the mate (tip clearance), and free of tip/root interference with the "
+               "mate") = None
+    root_diameter_mm: _per_gear(  # type: ignore[valid-type]
+        "mm", 0, 20000, lo_open=True,
+        doc="Root diameter d_f; absent: d - 2 (h_f* - x) m. Given, it sets this gear's tool dedendum "
+            "h_f* = (d - d_f) / (2 m) + x, which generates the root, the fillet and the form circle.",
+        limits="d_f above the hub (2 hub_radius_mm), no deeper than the rack tip round allows (h_f* <= "
+               "(pi/4 - rho* (1 - sin alpha) / cos alpha) / tan alpha), below 2 a_w - d_a of the mate "
+               "(tip clearance > 0); the generated root is always below the form circle") = None
 
 
 class MaterialDoc(_Table):

@@ -302,22 +302,22 @@ def tooth_profile(g: GearSpec, sag_m: float = 0.2e-6, n_involute: int | None = N
     rack = RackGeometry.of(g)
     a = g.pressure_angle_rad
     rb, ra, rf = g.base_radius_m, g.tip_radius_m, g.root_radius_m
-    u_F = (g.pitch_radius_m * math.sin(a) + rack.flank_end_y / math.sin(a)) / rb
+    u_F = _flank_end_roll(g, rack)
     undercut = u_F < 0.0
     if undercut and not g.allow_undercut:
-        z_min = 2 * ((g.dedendum_coefficient - g.profile_shift) - g.rack_tip_radius_coefficient
-                     * (1 - math.sin(a))) / math.sin(a) ** 2
-        raise UndercutError(
-            f"{g.name}: teeth = {g.teeth} with profile_shift = {g.profile_shift:g} is undercut by the "
-            f"basic rack (needs teeth >= {math.ceil(z_min - 1e-9)} at this shift, or more profile shift); "
-            "allow_undercut = true generates the undercut profile")
+        raise undercut_error(g, ("pinion", "gear").index(g.name) if g.name in ("pinion", "gear") else None)
     psi_b = g.pitch_thickness_m / (2.0 * g.pitch_radius_m) + inv(a)
+    if not ra > rb:
+        raise fail("tip_radius_m", ra, "m", f"must exceed the base radius {rb:g} m (no involute flank)")
     u_a = math.sqrt((ra / rb) ** 2 - 1.0)
 
     phi0, phi1 = rack.phi_root, rack.phi_tangent
     u_start = max(u_F, 0.0)
     if undercut:
-        phi1, u_start = _undercut_intersection(rack, rb, psi_b, u_a)
+        phi1, u_start = _undercut_intersection(rack, rb, psi_b)
+    if not u_a > u_start:
+        raise fail("tip_radius_m", ra, "m", f"must exceed the form radius {rb * math.sqrt(1 + u_start ** 2):g} m "
+                   "(the tip circle lies below the start of the involute)")
     # -- involute, sampled in roll angle with spacing for the sag tolerance
     if n_involute is None:
         # sag = ds^2 / (8 rho_c), ds = rb u du, rho_c = rb u  =>  du = sqrt(8 sag / (rb u))
@@ -413,22 +413,89 @@ def _arc_length(g, rack, xy, region, roll, n_root, phi, rb) -> np.ndarray:
     return s
 
 
-def _undercut_intersection(rack: RackGeometry, rb: float, psi_b: float, u_a: float):
+def _flank_end_roll(g: GearSpec, rack: RackGeometry | None = None) -> float:
+    """Roll angle u_F = (r sin(alpha) + y_T / sin(alpha)) / r_b (rad) that the lower end
+    of the rack's straight flank (height y_T) generates: the point where the line of
+    action meets the line y = y_T lies |y_T| / sin(alpha) from the pitch point, i.e.
+    r sin(alpha) + y_T / sin(alpha) from T (Litvin & Fuentes ch. 10). u_F < 0: undercut."""
+    rack = rack or RackGeometry.of(g)
+    a = g.pressure_angle_rad
+    return (g.pitch_radius_m * math.sin(a) + rack.flank_end_y / math.sin(a)) / g.base_radius_m
+
+
+def involute_start(g: GearSpec) -> tuple[float, bool]:
+    """(u_Nf, undercut): roll angle (rad) where the generated involute of ``g`` starts,
+    and whether the basic rack undercuts it. The form radius (true involute start) is
+    r_Nf = r_b sqrt(1 + u_Nf^2), m.
+
+    Without undercut u_Nf = u_F (:func:`_flank_end_roll`, >= 0); with undercut it is
+    the roll angle where the fillet trochoid crosses the involute
+    (:func:`_undercut_intersection`), the same value :func:`tooth_profile` uses.
+    Computed whether or not ``g.allow_undercut`` is set."""
+    rack = RackGeometry.of(g)
+    u_F = _flank_end_roll(g, rack)
+    if u_F >= 0.0:
+        return u_F, False
+    psi_b = g.pitch_thickness_m / (2.0 * g.pitch_radius_m) + inv(g.pressure_angle_rad)
+    return _undercut_intersection(rack, g.base_radius_m, psi_b)[1], True
+
+
+def form_radius_m(g: GearSpec) -> float:
+    """Form radius r_Nf (m): where the generated involute of ``g`` starts (ISO 21771)."""
+    u, _ = involute_start(g)
+    return g.base_radius_m * math.sqrt(1.0 + u * u)
+
+
+def undercut_limits(g: GearSpec) -> tuple[int, float]:
+    """(z_min, x_min): fewest teeth at this shift, and least shift at these teeth, for
+    which the basic rack (dedendum h_f*, tip round rho*) does not undercut ``g``.
+
+    No undercut while u_F >= 0: (z / 2) sin^2(alpha) >= h_f* - x - rho* (1 - sin(alpha))
+    (the ISO 21771 limit with a rounded rack tip)."""
+    a = g.pressure_angle_rad
+    depth = g.dedendum_coefficient - g.rack_tip_radius_coefficient * (1 - math.sin(a))
+    z_min = 2 * (depth - g.profile_shift) / math.sin(a) ** 2
+    x_min = depth - 0.5 * g.teeth * math.sin(a) ** 2
+    return max(1, math.ceil(z_min - 1e-9)), x_min
+
+
+def undercut_error(g: GearSpec, index: int | None = None) -> UndercutError:
+    """The one-line refusal of an undercut gear, naming this layer's own parameters
+    (``teeth[i]``, ``profile_shift[i]``, ``allow_undercut``; the app renames them)."""
+    z_min, x_min = undercut_limits(g)
+    idx = "" if index is None else f"[{index}]"
+    x_up = math.ceil(x_min * 1e4 - 1e-9) / 1e4  # rounded up, so the shift quoted is enough
+    err = fail(f"teeth{idx}", g.teeth, "",
+               f"undercut by the basic rack at profile_shift {g.profile_shift:g} (needs teeth >= {z_min} "
+               f"or profile_shift{idx} >= {x_up:.4f}); allow_undercut = true generates the undercut profile")
+    out = UndercutError(str(err))
+    out.key, out.value, out.unit, out.why = err.key, err.value, err.unit, err.why
+    return out
+
+
+def _undercut_intersection(rack: RackGeometry, rb: float, psi_b: float):
     """Rack position and roll angle where the fillet trochoid crosses the involute.
 
     Below the crossing the trochoid lies inside the involute (smaller half-angle at
     the same radius) and forms the boundary; above it the involute does.
     """
+    def gaps(phi: np.ndarray) -> np.ndarray:
+        xy, _ = fillet_points(rack, phi)
+        R = np.hypot(xy[:, 0], xy[:, 1])
+        beta = np.arctan2(xy[:, 0], xy[:, 1])
+        # inside the base circle compare with the involute's start (u = 0)
+        u = np.sqrt(np.maximum((R / rb) ** 2 - 1.0, 0.0))
+        return (psi_b - (u - np.arctan(u))) - beta  # > 0 where trochoid is inside
+
     def gap(phi: float) -> float:
         xy, _ = fillet_points(rack, np.array([phi]))
         R = float(np.hypot(*xy[0]))
         beta = float(np.arctan2(xy[0, 0], xy[0, 1]))
-        # inside the base circle compare with the involute's start (u = 0)
         u = math.sqrt(max((R / rb) ** 2 - 1.0, 0.0))
-        return (psi_b - (u - math.atan(u))) - beta  # > 0 where trochoid is inside
+        return (psi_b - (u - math.atan(u))) - beta
 
     phis = np.linspace(rack.phi_root, rack.phi_tangent, 2001)
-    g = np.array([gap(p) for p in phis])
+    g = gaps(phis)
     idx = np.flatnonzero((g[:-1] > 0) & (g[1:] <= 0))
     if len(idx) == 0:
         idx = np.flatnonzero(np.sign(g[:-1]) != np.sign(g[1:]))

@@ -10,8 +10,7 @@ from hypothesis import given, settings, strategies as st
 
 from gearwear.geometry.profile import (FILLET, INVOLUTE, TIP_LAND, RackGeometry, UndercutError, fillet_points,
                               gear_outline, involute_points, polygon_area, tooth_profile)
-from gearwear.geometry.spec import default_pair
-from gearwear.scene import pair_from_dict
+from gearwear.geometry.spec import GearSpec, PairSpec, default_pair
 
 
 @pytest.fixture(scope="module")
@@ -115,11 +114,17 @@ def _to_rack(pts: np.ndarray, phi: float, r: float) -> np.ndarray:
     return np.column_stack([X - r * phi, Y - r])
 
 
+def _gear(teeth: int, shift: float, undercut: bool, **kw) -> GearSpec:
+    """One rack-generated gear, unchecked as a pair: these tests are about the single
+    gear's profile (a pinion undercut this much interferes with most mates, which the
+    pair check refuses; tests/test_geometry_limits.py covers that)."""
+    return PairSpec(teeth=(teeth, 1000), profile_shift=(shift, 0.0), allow_undercut=undercut,
+                    hub_radius_m=(0.2 * teeth * kw.get("module_m", 5e-3), 0.4), **kw).gear(0)
+
+
 @pytest.mark.parametrize("teeth,shift,undercut", [(30, 0.0, False), (17, 0.4, False), (12, 0.0, True)])
 def test_rack_never_penetrates_and_touches_every_point(teeth, shift, undercut):
-    pair = pair_from_dict({"pair": {"teeth": [teeth, 30], "profile_shift": [shift, 0.0],
-                                    "allow_undercut": undercut, "hub_radius_mm": [10.0, 40.0]}})
-    g = pair.gear(0)
+    g = _gear(teeth, shift, undercut)
     prof = tooth_profile(g)
     assert prof.undercut == undercut
     rack = RackGeometry.of(g)
@@ -137,14 +142,12 @@ def test_rack_never_penetrates_and_touches_every_point(teeth, shift, undercut):
 
 @pytest.mark.parametrize("teeth,shift,expected", [(12, 0.0, True), (12, 0.3, False), (17, 0.0, True), (18, 0.0, False)])
 def test_undercut_detection(teeth, shift, expected):
-    data = {"pair": {"teeth": [teeth, 40], "profile_shift": [shift, 0.0], "hub_radius_mm": [10.0, 40.0]}}
     if expected:
         with pytest.raises(UndercutError, match="undercut"):
-            tooth_profile(pair_from_dict(data).gear(0))
-        data["pair"]["allow_undercut"] = True
-        assert tooth_profile(pair_from_dict(data).gear(0)).undercut
+            tooth_profile(_gear(teeth, shift, False))
+        assert tooth_profile(_gear(teeth, shift, True)).undercut
     else:
-        assert not tooth_profile(pair_from_dict(data).gear(0)).undercut
+        assert not tooth_profile(_gear(teeth, shift, False)).undercut
 
 
 def test_gear_outline_area_matches_independent_estimate(paper):
@@ -172,11 +175,8 @@ def test_profile_properties_hold_for_any_valid_gear(teeth, module_mm, alpha_deg,
     rho_star = 0.25 if alpha_deg > 22 else 0.38
     # ISO undercut limit with a rounded rack: z_min = 2 (h_f* - x - rho* (1 - sin a)) / sin^2 a
     z_min = 2 * (1.25 - shift - rho_star * (1 - math.sin(a))) / math.sin(a) ** 2
-    data = {"pair": {"teeth": [teeth, 40], "module_mm": module_mm, "pressure_angle_deg": alpha_deg,
-                     "profile_shift": [shift, 0.0], "rack_tip_radius_coefficient": rho_star,
-                     "hub_radius_mm": [0.3 * teeth * module_mm, 0.3 * 40 * module_mm], "allow_undercut": True}}
-    pair = pair_from_dict(data)
-    g = pair.gear(0)
+    g = _gear(teeth, shift, True, module_m=module_mm * 1e-3, pressure_angle_rad=a,
+              rack_tip_radius_coefficient=rho_star)
     prof = tooth_profile(g)
     assert prof.undercut == (teeth < z_min)
     m = module_mm * 1e-3
