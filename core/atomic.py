@@ -1,14 +1,21 @@
-"""Atomic file writing, shared by every layer (geometry is the bottom of the import graph).
+"""Atomic file and folder writing, shared by every layer (core is the bottom of the
+import graph).
 
 A file is written to a temporary name in its destination folder and renamed over
-the target, so an error never leaves a half-written file."""
+the target, so an error never leaves a half-written file. A whole folder
+(:func:`atomic_folder`) is written into a temporary folder next to it and swapped in
+as a whole, so a set of files is complete or absent, never mixed with an earlier set."""
 
 from __future__ import annotations
 
 import os
 import secrets
+import shutil
+import signal
+import threading
+from contextlib import contextmanager
 from pathlib import Path
-from typing import Callable
+from typing import Callable, Iterator
 
 
 def _create_temp(p: Path) -> str:
@@ -52,3 +59,89 @@ def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> Path:
         with open(tmp, "wb") as fh:
             fh.write(data)
     return atomic_write(path, write)
+
+
+# -- whole folders ----------------------------------------------------------------------
+
+def _new_sibling_dir(p: Path, tag: str) -> Path:
+    """Create a new, empty folder next to ``p`` (same filesystem, so renames are atomic),
+    hidden and named after it. ``os.mkdir(..., 0o777)`` lets the umask set the mode, as
+    for an ordinary folder (tempfile.mkdtemp would make it 0700)."""
+    for _ in range(100):
+        d = p.parent / f".{p.name}.{secrets.token_hex(6)}.{tag}"
+        try:
+            os.mkdir(d, 0o777)
+        except FileExistsError:
+            continue
+        return d
+    raise FileExistsError(f"{p}: no free temporary folder name in {p.parent}")
+
+
+@contextmanager
+def _interrupts_deferred() -> Iterator[list[int]]:
+    """While inside, SIGINT (Ctrl-C) is recorded instead of raising KeyboardInterrupt;
+    the list it yields holds the signals received. Only in the main thread (the only one
+    where Python runs signal handlers); elsewhere nothing is deferred."""
+    hits: list[int] = []
+    if threading.current_thread() is not threading.main_thread():
+        yield hits
+        return
+    old = signal.getsignal(signal.SIGINT)
+    signal.signal(signal.SIGINT, lambda signum, frame: hits.append(signum))
+    try:
+        yield hits
+    finally:
+        signal.signal(signal.SIGINT, old)
+
+
+def swap_in(new: Path, target: Path) -> None:
+    """Put the folder ``new`` at ``target`` as a whole: rename the old ``target`` aside,
+    rename ``new`` in, delete the old one. A Ctrl-C during the two renames undoes them
+    (the old folder is back, ``new`` is removed) and raises KeyboardInterrupt; after the
+    second rename the swap is done, and a Ctrl-C while the old folder is deleted is
+    ignored (the command has finished)."""
+    old: Path | None = None
+    with _interrupts_deferred() as hits:
+        try:
+            if target.exists():
+                old = _new_sibling_dir(target, "old")
+                os.rmdir(old)  # only the free name is wanted: rename(dir, dir) needs no target
+                os.rename(target, old)
+            os.rename(new, target)
+        except BaseException:
+            if old is not None and old.exists() and not target.exists():
+                os.rename(old, target)
+            raise
+        if hits:  # Ctrl-C during the renames: put the old folder back
+            os.rename(target, new)
+            if old is not None:
+                os.rename(old, target)
+        elif old is not None:
+            shutil.rmtree(old, ignore_errors=True)
+    if hits:
+        shutil.rmtree(new, ignore_errors=True)
+        raise KeyboardInterrupt
+
+
+@contextmanager
+def atomic_folder(path: str | os.PathLike) -> Iterator[Path]:
+    """Write a whole folder atomically: yields a fresh, empty temporary folder next to
+    ``path``; when the block ends normally, that folder replaces ``path`` as a whole
+    (:func:`swap_in`), so ``path`` afterwards holds exactly what the block wrote -- no
+    file of an earlier content survives. On any exception, KeyboardInterrupt included,
+    the temporary folder is removed and ``path`` is left as it was.
+
+    A symlink at ``path`` is followed: the folder it points to is replaced. The caller
+    decides whether ``path`` may be replaced at all (gearwear.io checks that it is
+    empty or written by gearwear)."""
+    p = Path(path)
+    if p.is_symlink():
+        p = p.resolve()
+    p.parent.mkdir(parents=True, exist_ok=True)
+    tmp = _new_sibling_dir(p, "tmp")
+    try:
+        yield tmp
+        swap_in(tmp, p)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise

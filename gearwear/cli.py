@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import sys
 from pathlib import Path
 from typing import Any
@@ -95,14 +94,17 @@ def _cmd_geometry(args: argparse.Namespace) -> int:
     scene = _load(args, loaded=False)
     torque, clearance_um, wear = scene.operating.torque_Nm, round(scene.clearance_m * 1e6, 9), scene.wear
     mesh_size = _bounded_float("--mesh-size-mm", args.mesh_size_mm, "mm", *MESH_SIZE_RANGE_MM)
-    out = _check_out(args.out)
+    out = _check_out(args.out, "geometry")
     res = geometry_job.compute(scene, wear, clearance_um * 1e-6, torque, build_mesh=not args.no_mesh,
                                mesh_size_mm=mesh_size)
-    inputs = {"scene": scene.name, "pair": _pair_inputs(scene), "wear": wear.label if wear else "unworn",
-              "wear_model": wear.model if wear else None, "clearance_um": clearance_um, "torque_Nm": torque,
+    inputs = {**_scene_inputs(scene), "pair": _pair_inputs(scene), "wear": wear.label if wear else "unworn",
+              "wear_spec": _wear_dict(wear), "clearance_um": clearance_um, "torque_Nm": torque,
               "bearing_stiffness_N_per_m": scene.bodies.bearing_stiffness_N_per_m,
-              "initial_backlash_um": scene.initial_backlash_m * 1e6, "mesh_size_mm": mesh_size}
-    files = geometry_job.write(res, out, inputs) if out else []
+              "initial_backlash_um": scene.initial_backlash_m * 1e6, "mesh": not args.no_mesh,
+              "mesh_size_mm": mesh_size}
+    files = _write(out, "geometry", scene, inputs,
+                   lambda d: geometry_job.write(res, d, inputs, _labels(scene)),
+                   {"total_s": res.wall_s, "mesh_build_s": res.mesh_build_s})
     summary = res.summary()
     summary["files"] = [str(f) for f in files]
     if args.json:
@@ -112,17 +114,46 @@ def _cmd_geometry(args: argparse.Namespace) -> int:
     return 0
 
 
-def _check_out(out: str | None) -> Path | None:
-    """--out is checked before any work: it must be a folder we can create and write."""
+def _check_out(out: str | None, command: str) -> Path | None:
+    """--out is checked before any work: a new folder, an empty one, or one gearwear
+    wrote (it has a manifest.json), since the command's output replaces it as a whole
+    (gearwear.io.check_out; the parent must be writable, '' is refused)."""
+    from . import io
+
+    return io.check_out(out, command)
+
+
+def _scene_inputs(scene) -> dict:
+    """The hashed part of a result's inputs that comes from the scene: the fully resolved
+    scene (every default; referenced files by content) and its SHA-256."""
+    from . import io
+
+    return io.scene_inputs(scene)
+
+
+def _wear_dict(wear) -> dict | None:
+    """Every field of a wear definition (not only its label): part of the hashed inputs."""
+    import dataclasses
+
+    return None if wear is None else dataclasses.asdict(wear)
+
+
+def _labels(scene) -> dict:
+    """The scene's name and referenced file paths: recorded next to the hashed inputs."""
+    from . import io
+
+    return io.scene_labels(scene)
+
+
+def _write(out: Path | None, command: str, scene, inputs: dict, writer, timing: dict | None = None) -> list[Path]:
+    """Write a command's files into ``out`` as a whole (gearwear.io.write_folder): the
+    manifest gets the inputs, the scene's name and referenced file paths."""
+    from . import io
+
     if out is None:
-        return None
-    p = Path(out)
-    if p.exists() and not p.is_dir():
-        raise InputError(f"--out = {out}: exists and is not a folder")
-    parent = next((q for q in [p, *p.parents] if q.exists()), Path("."))
-    if not parent.is_dir() or not os.access(parent, os.W_OK | os.X_OK):
-        raise InputError(f"--out = {out}: {parent} is not a writable folder")
-    return p
+        return []
+    prov = {**inputs, **(io.scene_labels(scene) if scene is not None else {})}
+    return io.write_folder(out, command, prov, writer, timing)
 
 
 def _split_multi(values: list[str] | str | None) -> list[str]:
@@ -145,16 +176,19 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
     if args.points is None:
         args.points = "24" if args.method == "fem" else "360"  # FE: 24 positions take ~10 s
     points = _int_arg("--points", args.points, 8, 1_000_000)
-    out = _check_out(args.out)
+    out = _check_out(args.out, "stiffness")
     fields = [_int_arg("--fields", f, 0, points - 1) for f in _split_multi(args.fields)]
     if fields and (args.method != "fem" or not args.out):
         raise InputError(f"--fields = {','.join(map(str, fields))}: needs --method fem and --out")
     curves = stiffness_job.compute(scene.pair, args.method, wears, clearances, torque, points)
-    inputs = {"scene": scene.name, "pair": _pair_inputs(scene), "method": args.method, "torque_Nm": torque,
+    inputs = {**_scene_inputs(scene), "pair": _pair_inputs(scene), "method": args.method, "torque_Nm": torque,
               "points": points}
-    files = stiffness_job.write(curves, out, inputs) if out else []
-    if fields and out:
-        files += stiffness_job.write_fields(curves, out, fields)
+
+    def write_stiffness(folder: Path) -> list[Path]:
+        written = stiffness_job.write(curves, folder, inputs, _labels(scene))
+        return written + (stiffness_job.write_fields(curves, folder, fields) if fields else [])
+    files = _write(out, "stiffness", scene, {**inputs, "fields": fields}, write_stiffness,
+                   {"curves": {c.slug: c.result.wall_s for c in curves}})
     summaries = [c.summary() for c in curves]
     if args.json:
         doc = dict(summaries[0])
@@ -191,16 +225,21 @@ def _cmd_verify(args: argparse.Namespace) -> int:
     scene, wears, _ = _variants(args)
     wears = _unworn_as_none(wears)
     positions = _int_arg("--positions", args.positions, 5, 201)
-    out = _check_out(args.out)
+    out = _check_out(args.out, "verify")
     steps = len(wears) + (0 if args.no_convergence else 12)
     with tqdm(total=steps, desc="verify", unit="run", disable=args.json or None, file=sys.stderr) as bar:
         def progress(msg):
             bar.set_postfix_str(msg)
             bar.update(1)
         v = verify_job.run(scene.pair, wears, positions, convergence=not args.no_convergence, progress=progress)
-    inputs = {"scene": scene.name, "pair": _pair_inputs(scene), "wear": [w.label if w else "unworn" for w in wears],
+    inputs = {**_scene_inputs(scene), "pair": _pair_inputs(scene),
+              "wear": [w.label if w else "unworn" for w in wears], "wear_spec": [_wear_dict(w) for w in wears],
               "positions": positions, "convergence": not args.no_convergence}
-    files = verify_job.write(v, out, inputs) if out else []
+    timing = {"total_s": v.wall_s, "phases": {ph.label: {"fem_s": ph.fem_wall_s, "ishikawa_s": ph.ishikawa_wall_s,
+                                                         "energy_s": ph.energy_wall_s} for ph in v.phases},
+              "convergence": [{k: r.get(k) for k in ("order", "mesh_scale", "dofs", "wall_s")}
+                              for r in v.convergence or []]}
+    files = _write(out, "verify", scene, inputs, lambda d: verify_job.write(v, d, inputs, _labels(scene)), timing)
     js = verify_job.to_json(v)
     js["files"] = [str(f) for f in files]
     if args.json:
@@ -228,8 +267,10 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     wears = _unworn_as_none(wears)
     torque = scene.operating.torque_Nm
     points = _int_arg("--points", args.points, 8, 1_000_000)
-    out = _check_out(args.out)
-    rows, files = [], []
+    out = _check_out(args.out, "calibrate")
+    rows: list[dict] = []
+    copies: dict[str, bytes] = {}  # the cached tables, copied into --out as a whole at the end
+    fe_s: dict[str, float] = {}
     for w in wears:
         cal = None
         for c in clearances:
@@ -243,9 +284,10 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
             label = f"{w.label if w else 'unworn'}_clearance{c * 1e6:g}um"
             if out:
                 src = tables.cache_dir() / f"{key}.csv"
-                files.append(io.write_bytes(out / f"calibrated_{label}.csv", src.read_bytes()))
-                files.append(io.write_bytes(out / f"calibrated_{label}.csv.json",
-                                            Path(str(src) + ".json").read_bytes()))
+                copies[f"calibrated_{label}.csv"] = src.read_bytes()
+                copies[f"calibrated_{label}.csv.json"] = Path(str(src) + ".json").read_bytes()
+                if hit is None and cal is not None:
+                    fe_s[label] = cal.wall_s
             m = tab.meta
             rows.append({"wear": w.label if w else "unworn", "clearance_um": c * 1e6, "cache_hit": hit is not None,
                          "mean_N_per_m": tab.mean_N_per_m, "min_N_per_m": float(tab.k_N_per_m.min()),
@@ -254,6 +296,11 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
                          "check_residual": m.get("check_residual"), "fit_residual": m.get("fit_residual"),
                          "fe_estimated_relative_error": m.get("fe_estimated_relative_error"),
                          "input_sha256": m.get("input_sha256"), "points": int(len(tab.k_N_per_m))})
+    inputs = {**_scene_inputs(scene), "wear": [w.label if w else "unworn" for w in wears],
+              "wear_spec": [_wear_dict(w) for w in wears], "clearance_um": [c * 1e6 for c in clearances],
+              "torque_Nm": torque, "points": points}
+    files = _write(out, "calibrate", scene, inputs, lambda d: [io.write_bytes(d / n, b) for n, b in copies.items()],
+                   {"fe_calibration_s": fe_s})
     if args.json:
         print(json.dumps({"tables": rows, "files": [str(f) for f in files]}, sort_keys=True,
                          allow_nan=False, default=lambda o: None))
@@ -274,11 +321,13 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     from . import simulate_io, simulate_job
 
     scene = _load(args, default="paper-wear-severe")
-    name = scene.name
-    out = _check_out(args.out)
+    out = _check_out(args.out, "simulate")
     run = simulate_job.run(scene, on_compile=lambda msg: print(msg, file=sys.stderr, flush=True))
     summary = run.summary()
-    files = simulate_io.write(run, out, {"scene": name, "overrides": _alias_sets(args)}) if out else []
+    files = _write(out, "simulate", scene, _scene_inputs(scene),
+                   lambda d: simulate_io.write(run, d, _scene_inputs(scene), _labels(scene)),
+                   {"total_s": summary["wall_s"], "integration_s": summary["integration_wall_s"],
+                    "compile_s": summary["compile_s"]})
     summary["files"] = [str(f) for f in files]
     if args.json:
         print(json.dumps(summary, sort_keys=True, allow_nan=False, default=lambda o: None))
@@ -292,7 +341,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     from .scene import load_scene_dict
 
     data, name = load_scene_dict(args.scene, default="paper-wear-severe")
-    out = _check_out(args.out)
+    out = _check_out(args.out, "sweep")
     axes, fixed = [], []
     for item in _alias_sets(args):
         spec = item.split("=", 1)[1].strip() if "=" in item else ""
@@ -308,8 +357,12 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     executor = sweep.make_executor(workers, args.scheduler)
     results = sweep.sweep(data, name, axes, fixed, executor=executor, progress=not args.json)
     executor.shutdown()
-    inputs = {"scene": name, "axes": {a.key: list(a.values) for a in axes}, "fixed": fixed}
-    files = sweep.write(axes, results, out, inputs) if out else []
+    base = scene_from_dict(apply_overrides(data, fixed), name=name)  # the scene every point starts from
+    inputs = {**_scene_inputs(base), "axes": {a.key: list(a.values) for a in axes}}
+    labels = {**_labels(base), "fixed": fixed}
+    files = _write(out, "sweep", base, {**inputs, "fixed": fixed},
+                   lambda d: sweep.write(axes, results, d, inputs, labels),
+                   {"points": [{"point": r["point"], "wall_s": r["wall_s"]} for r in results]})
     if args.json:
         print(json.dumps({"points": results, "files": [str(f) for f in files]}, sort_keys=True,
                          allow_nan=False, default=lambda o: None))
@@ -350,7 +403,7 @@ def _cmd_report(args: argparse.Namespace) -> int:
 
     if args.which != "paper":
         raise InputError(f"report {args.which!r}: unknown (available: paper)")
-    out = _check_out(args.out)
+    out = _check_out(args.out, "report paper")
     assert out is not None
     files = report_paper.run_report(out, progress=True)
     for f in files:

@@ -197,22 +197,23 @@ def tooth_figure(res: GeometryResult):
     return fig
 
 
-def write(res: GeometryResult, out: Path, inputs: dict[str, Any]) -> list[Path]:
-    """Write profile CSV (+ sidecar), tooth PNG, mesh .vtu (+ sidecar) and summary JSON."""
-    import json
-
+def write(res: GeometryResult, out: Path, inputs: dict[str, Any], labels: dict[str, Any] | None = None) -> list[Path]:
+    """Write profile CSV (+ sidecar), tooth PNG, mesh .vtu (+ sidecar) and summary JSON
+    into the folder ``out``. No wall times (they go to timing.json); ``labels`` (the
+    scene's name) are recorded in the sidecars but not hashed."""
     files = []
     csv = io.write_text(out / "profile.csv", profile_table(res))
     files += [csv, io.sidecar(csv, inputs, "rack-generated involute + trochoid; wear " +
-                              (res.wear.model if res.wear else "none"))]
+                              (res.wear.model if res.wear else "none"), labels)]
     files.append(io.write_figure(tooth_figure(res), out / "tooth.png"))
     if res.mesh is not None:
         from gearwear.fem.mesh import write_mesh
         vtu = out / "pinion_mesh.vtu"
         write_mesh(res.mesh, path_vtu=str(vtu))
         files += [vtu, io.sidecar(vtu, inputs, "gmsh P2 triangles, full pinion",
-                                  {"elements": int(res.mesh.mesh.t.shape[1])})]
-    summ = res.summary()
-    summ["files"] = [str(f) for f in files] + [str(out / "summary.json")]
-    files.append(io.write_text(out / "summary.json", json.dumps(summ, indent=2, sort_keys=True) + "\n"))
+                                  {**(labels or {}), "elements": int(res.mesh.mesh.t.shape[1])})]
+    summ = io.without_timing(res.summary())
+    # names relative to the folder: the bytes do not depend on where the folder is
+    summ["files"] = [f.name for f in files] + ["summary.json"]
+    files.append(io.write_json(out / "summary.json", summ))
     return files

@@ -1,23 +1,60 @@
-"""Atomic, traceable output files.
+"""Atomic, traceable output folders.
 
-Every file is written to a temporary name in the destination folder and renamed
-over the target, so a crash or an error never leaves a half-written file. Result
-files get a JSON sidecar (``<file>.json``) with the inputs, their SHA-256 hash,
-the method and the software version.
+Every command that writes files (``--out FOLDER``) writes them into a fresh temporary
+folder next to FOLDER and swaps it in as a whole (``gearwear.core.atomic.atomic_folder``):
+the set of files is complete or absent, and a re-run replaces the previous set with no
+stale leftovers. Each folder gets
+
+* ``manifest.json``: the command, the software version, the provenance of the inputs
+  (the fully resolved scene, its SHA-256, the SHA-256 of every file the scene refers
+  to, the command's options) and the SHA-256 and size of every file in the folder.
+  It also marks the folder as gearwear's: only an empty folder, a folder with a
+  gearwear manifest that holds nothing but gearwear outputs, or (outputs committed
+  before manifests existed) a folder holding only names the command writes may be
+  replaced (:func:`check_out`, :func:`foreign_entry`); a user's file is never deleted.
+* ``timing.json``: wall times of the run; the only file that differs between two runs
+  with the same inputs. No result file holds a wall time.
+
+Result CSVs (and the mesh ``.vtu``) also get a JSON sidecar (``<file>.json``) with the
+inputs, their SHA-256 (inputs + software version), the method and the version.
 """
 
 from __future__ import annotations
 
+import fnmatch
 import hashlib
 import io
 import json
+import os
+import zipfile
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable, Iterable
 
-from gearwear.core.atomic import atomic_write_bytes
+from gearwear.core.atomic import atomic_folder, atomic_write_bytes
+from gearwear.core.validation import InputError
 
 from . import __version__
 
+MANIFEST = "manifest.json"
+TIMING = "timing.json"
+
+#: The names each command writes at the top of its folder (fnmatch patterns; a trailing
+#: "/" marks a sub-folder). A folder without a manifest is replaced only if it holds
+#: nothing else: outputs committed before manifests existed.
+OUTPUT_NAMES: dict[str, tuple[str, ...]] = {
+    "geometry": ("profile.csv", "profile.csv.json", "tooth.png", "pinion_mesh.vtu", "pinion_mesh.vtu.json",
+                 "summary.json"),
+    "stiffness": ("stiffness_*.csv", "stiffness_*.csv.json", "stiffness.png", "mean_vs_clearance.png",
+                  "stiffness_summary.json", "fields_*/"),
+    "verify": ("compliance.png", "convergence.png", "verification.md", "verification.json"),
+    "calibrate": ("calibrated_*.csv", "calibrated_*.csv.json"),
+    "simulate": ("signals.npz", "signals.csv", "signals.csv.json", "response.png", "summary.json"),
+    "sweep": ("sweep.csv", "sweep.csv.json", "harmonics_*.png"),
+    "report paper": ("README.md", "fig[0-9][0-9]_*.png", "trends.json"),
+}
+
+
+# -- single files ------------------------------------------------------------------------
 
 def write_bytes(path: str | Path, data: bytes) -> Path:
     return atomic_write_bytes(path, data)
@@ -27,11 +64,33 @@ def write_text(path: str | Path, text: str) -> Path:
     return write_bytes(path, text.encode("utf-8"))
 
 
+def write_json(path: str | Path, obj: Any, indent: int | None = 2) -> Path:
+    """JSON with sorted keys and a final newline: the same object gives the same bytes."""
+    return write_text(path, json.dumps(obj, indent=indent, sort_keys=True, default=_default) + "\n")
+
+
 def write_figure(fig, path: str | Path, dpi: int = 130) -> Path:
     """Save a matplotlib figure atomically (PNG, deterministic metadata)."""
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=dpi, metadata={"Software": None}, bbox_inches="tight")
     return write_bytes(path, buf.getvalue())
+
+
+def npz_bytes(arrays: dict[str, Any]) -> bytes:
+    """A compressed ``.npz`` (readable by ``numpy.load``) with fixed zip timestamps and
+    permissions, so the same arrays give the same bytes (``np.savez`` stamps the clock)."""
+    import numpy as np
+
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w", compression=zipfile.ZIP_DEFLATED) as zf:
+        for name, arr in arrays.items():
+            info = zipfile.ZipInfo(f"{name}.npy", date_time=(1980, 1, 1, 0, 0, 0))
+            info.compress_type = zipfile.ZIP_DEFLATED
+            info.external_attr = 0o644 << 16
+            member = io.BytesIO()
+            np.lib.format.write_array(member, np.asanyarray(arr), allow_pickle=False)
+            zf.writestr(info, member.getvalue())
+    return buf.getvalue()
 
 
 def canonical_json(obj: Any) -> str:
@@ -51,10 +110,168 @@ def input_hash(inputs: Any) -> str:
     return hashlib.sha256((canonical_json(inputs) + __version__).encode()).hexdigest()
 
 
+def file_sha256(path: str | Path) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
 def sidecar(path: str | Path, inputs: Any, method: str, extra: dict | None = None) -> Path:
-    """Write ``<path>.json`` describing how ``path`` was made."""
+    """Write ``<path>.json`` describing how ``path`` was made. ``inputs`` is hashed;
+    ``extra`` (e.g. the scene's name, a summary) is recorded but not hashed."""
     meta = {"file": Path(path).name, "software": "gearwear", "version": __version__,
             "method": method, "inputs": inputs, "input_sha256": input_hash(inputs)}
     if extra:
         meta.update(extra)
-    return write_text(str(path) + ".json", json.dumps(meta, indent=2, sort_keys=True, default=_default) + "\n")
+    return write_json(str(path) + ".json", meta)
+
+
+# -- timing ------------------------------------------------------------------------------
+
+def is_timing_key(key: str) -> bool:
+    return key == "wall_s" or key.endswith("_wall_s") or key in ("compile_s", "build_s", "timings")
+
+
+def without_timing(obj: Any) -> Any:
+    """``obj`` (nested dicts and lists) without its wall-time keys (``wall_s``,
+    ``*_wall_s``, ``compile_s``, ``build_s``, ``timings``): what goes into a result file."""
+    if isinstance(obj, dict):
+        return {k: without_timing(v) for k, v in obj.items() if not is_timing_key(str(k))}
+    if isinstance(obj, (list, tuple)):
+        return [without_timing(v) for v in obj]
+    return obj
+
+
+# -- provenance --------------------------------------------------------------------------
+
+def scene_inputs(scene) -> dict[str, Any]:
+    """What a scene contributes to the inputs of a result: the fully resolved scene
+    (``gearwear.schema.resolved_dict``: every default filled in) and its SHA-256.
+
+    A file the scene refers to (``effects.mesh_stiffness.path``) enters by its content:
+    the path is replaced by ``sha256:<hex>`` of the file, so editing the table changes
+    the hash and moving it does not. The scene's ``name`` and ``description`` are left
+    out: they label a run but change no number, so two files with the same content and
+    different names hash the same (the name is recorded next to the hash, see
+    :func:`scene_labels`)."""
+    from .schema import resolved_dict
+
+    doc = resolved_dict(scene.doc)
+    doc.pop("name", None)
+    doc.pop("description", None)
+    ms = doc.get("effects", {}).get("mesh_stiffness")
+    if isinstance(ms, dict) and ms.get("path"):
+        ms["path"] = f"sha256:{file_sha256(ms['path'])}"
+    return {"scene_sha256": hashlib.sha256(canonical_json(doc).encode()).hexdigest(), "scene": doc}
+
+
+def scene_labels(scene) -> dict[str, Any]:
+    """The scene's name and the paths of the files it refers to: recorded, not hashed."""
+    out: dict[str, Any] = {"scene_name": scene.name}
+    path = (scene.doc.effects.mesh_stiffness.path if scene.doc is not None and scene.doc.effects.mesh_stiffness
+            else None)
+    if path:
+        out["referenced_files"] = {"effects.mesh_stiffness.path": {"path": str(path),
+                                                                   "sha256": file_sha256(path)}}
+    return out
+
+
+# -- output folders ----------------------------------------------------------------------
+
+def check_out(out: str | None, command: str) -> Path | None:
+    """The --out folder, checked before any work: a new folder, an empty one, or one
+    gearwear wrote (it is replaced as a whole, :func:`foreign_entry`). Raises a
+    one-line InputError otherwise."""
+    if out is None:
+        return None
+    if not str(out).strip():
+        raise InputError(f"--out = {out!r}: empty; give a folder name")
+    p = Path(out)
+    real = Path(os.path.realpath(p))
+    cwd = Path(os.path.realpath(os.getcwd()))
+    if real == cwd or real in cwd.parents:
+        raise InputError(f"--out = {out}: is the current folder or contains it, and the output folder is replaced "
+                         "as a whole; give a sub-folder")
+    if p.exists() and not p.is_dir():
+        raise InputError(f"--out = {out}: exists and is not a folder")
+    parent = next((q for q in real.parents if q.exists()), Path("/"))
+    if not parent.is_dir() or not os.access(parent, os.W_OK | os.X_OK):
+        raise InputError(f"--out = {out}: {parent} is not a writable folder")
+    if p.is_dir():
+        bad = foreign_entry(p, command)
+        if bad is not None and read_manifest(p) is None:
+            raise InputError(f"--out = {out}: exists, is not empty and was not written by gearwear "
+                             f"(no {MANIFEST}; it holds {bad}); give a new or empty folder")
+        if bad is not None:
+            raise InputError(f"--out = {out}: holds {bad}, which gearwear did not write, and the folder is replaced "
+                             "as a whole; move it away or give a new or empty folder")
+    return p
+
+
+def read_manifest(folder: Path) -> dict[str, Any] | None:
+    try:
+        m = json.loads((folder / MANIFEST).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    return m if isinstance(m, dict) and m.get("software") == "gearwear" and isinstance(m.get("files"), dict) else None
+
+
+def _output_name(name: str, commands) -> bool:
+    return any(fnmatch.fnmatchcase(name, pat) for c in commands for pat in OUTPUT_NAMES[c] + (MANIFEST, TIMING))
+
+
+def foreign_entry(folder: Path, command: str) -> str | None:
+    """The first entry of ``folder`` that gearwear did not write, or None if the
+    output of ``command`` may replace the folder as a whole.
+
+    * A folder with a gearwear manifest: every entry is listed in it, or has the name
+      of some command's output (a stale file of an earlier run), or is a sub-folder
+      that is itself gearwear's (e.g. another command's --out inside it).
+    * A folder without a manifest (outputs committed before manifests existed, e.g.
+      reports/): every entry has a name ``command`` writes.
+    * An empty folder.
+
+    So a file of the user's (a scene, notes) is never deleted by a re-run."""
+    m = read_manifest(folder)
+    listed = {Path(f).parts[0] for f in (m or {}).get("files", {})}
+    commands = list(OUTPUT_NAMES) if m is not None else [command]
+    for e in sorted(folder.iterdir()):
+        if e.is_symlink() or not (e.is_dir() or e.is_file()):
+            return e.name
+        if e.name in listed or _output_name(e.name + ("/" if e.is_dir() else ""), commands):
+            continue
+        if m is not None and e.is_dir() and read_manifest(e) is not None and foreign_entry(e, command) is None:
+            continue
+        return e.name + ("/" if e.is_dir() else "")
+    return None
+
+
+def replaceable(folder: Path, command: str) -> bool:
+    """May ``folder`` be replaced by the output of ``command``? (:func:`foreign_entry`)"""
+    return foreign_entry(folder, command) is None
+
+
+def manifest(folder: Path, command: str, provenance: dict[str, Any]) -> dict[str, Any]:
+    files = {}
+    for p in sorted(folder.rglob("*")):
+        rel = p.relative_to(folder).as_posix()
+        if p.is_file() and rel not in (MANIFEST, TIMING):
+            files[rel] = {"sha256": file_sha256(p), "bytes": p.stat().st_size}
+    return {"software": "gearwear", "version": __version__, "command": command,
+            "provenance": provenance, "files": files,
+            "note": f"every file in this folder but {TIMING} (wall times) with its SHA-256; the folder is "
+                    "replaced as a whole when gearwear writes into it again"}
+
+
+def write_folder(out: Path, command: str, provenance: dict[str, Any],
+                 writer: Callable[[Path], Iterable[Path]], timing: dict[str, Any] | None = None) -> list[Path]:
+    """Run ``writer(folder)`` in a fresh temporary folder, add ``timing.json`` and
+    ``manifest.json``, and swap the folder in at ``out`` as a whole. Returns the written
+    files at their final place. On any error or Ctrl-C nothing at ``out`` changes."""
+    with atomic_folder(out) as tmp:
+        written = list(writer(tmp))
+        written.append(write_json(tmp / TIMING, {"command": command, "wall_s": timing or {}}))
+        written.append(write_json(tmp / MANIFEST, manifest(tmp, command, provenance)))
+    return [out / Path(p).relative_to(tmp) for p in written]

@@ -4,7 +4,6 @@ of paper Figs. 7, 9, 11, 13 (time trace and spectrum), summary JSON."""
 from __future__ import annotations
 
 import io as _io
-import json
 from pathlib import Path
 from typing import Any
 
@@ -53,16 +52,18 @@ def figure(run: SimulationRun):
     return fig
 
 
-def write(run: SimulationRun, out: Path, inputs: dict[str, Any]) -> list[Path]:
+def write(run: SimulationRun, out: Path, inputs: dict[str, Any], labels: dict[str, Any] | None = None) -> list[Path]:
+    """signals.npz, signals.csv (+ sidecar), response.png and summary.json into the
+    folder ``out``. The NPZ has fixed zip timestamps and summary.json no wall times, so
+    the same inputs give the same bytes (timing goes to timing.json)."""
     files = []
     r = run.result
-    buf = _io.BytesIO()
-    np.savez_compressed(buf, t_s=r.t, **{n: r.signals[n] for n in run.output["signals"]})
-    files.append(io.write_bytes(out / "signals.npz", buf.getvalue()))
+    arrays = {"t_s": r.t, **{n: r.signals[n] for n in run.output["signals"]}}
+    files.append(io.write_bytes(out / "signals.npz", io.npz_bytes(arrays)))
     csv = io.write_text(out / "signals.csv", signals_csv(run))
-    files += [csv, io.sidecar(csv, inputs, f"dynamics.simulate ({r.method})")]
+    files += [csv, io.sidecar(csv, inputs, f"dynamics.simulate ({r.method})", labels)]
     files.append(io.write_figure(figure(run), out / "response.png"))
-    files.append(io.write_text(out / "summary.json", json.dumps(run.summary(), indent=2, sort_keys=True) + "\n"))
+    files.append(io.write_json(out / "summary.json", io.without_timing(run.summary())))
     return files
 
 

@@ -174,18 +174,20 @@ def figures(curves: list[Curve]):
     return figs
 
 
-def write(curves: list[Curve], out: Path, inputs: dict[str, Any]) -> list[Path]:
-    import json
-
+def write(curves: list[Curve], out: Path, inputs: dict[str, Any], labels: dict[str, Any] | None = None) -> list[Path]:
+    """One CSV + sidecar per curve, the overlay PNGs and stiffness_summary.json into the
+    folder ``out``. The sidecar's hashed inputs hold every field of the wear definition
+    (not only its label); ``labels`` (the scene's name) are recorded, not hashed. No
+    wall times: the same inputs give the same bytes (timing goes to timing.json)."""
     files = []
     for c in curves:
         p = io.write_text(out / f"stiffness_{c.slug}.csv", curve_csv(c))
-        # no wall times in a sidecar: the same inputs give the same bytes
-        summary = {k: v for k, v in c.summary().items() if k != "wall_s"}
-        files += [p, io.sidecar(p, {**inputs, "wear": c.wear.label if c.wear else "unworn",
-                                    "clearance_um": c.clearance_m * 1e6}, c.method, {"summary": summary})]
+        summary = io.without_timing(c.summary())
+        wear = None if c.wear is None else dataclasses.asdict(c.wear)
+        files += [p, io.sidecar(p, {**inputs, "wear": c.wear.label if c.wear else "unworn", "wear_spec": wear,
+                                    "clearance_um": c.clearance_m * 1e6}, c.method,
+                                {**(labels or {}), "summary": summary})]
     for name, fig in figures(curves).items():
         files.append(io.write_figure(fig, out / name))
-    files.append(io.write_text(out / "stiffness_summary.json",
-                               json.dumps([c.summary() for c in curves], indent=2, sort_keys=True) + "\n"))
+    files.append(io.write_json(out / "stiffness_summary.json", [io.without_timing(c.summary()) for c in curves]))
     return files

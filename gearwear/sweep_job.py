@@ -115,7 +115,7 @@ def table_csv(axes: list[Axis], results: list[dict[str, Any]]) -> str:
     sig_keys = list(first["harmonics"])
     n = len(first["harmonics"][sig_keys[0]])
     cols = [a.key for a in axes] + ["separation_fraction", "backside_fraction", "bearing_contact_pinion",
-                                    "bearing_contact_gear", "steps", "wall_s"]
+                                    "bearing_contact_gear", "steps"]
     for k in sig_keys:
         cols += [f"rms_{k}", f"p2p_{k}"] + [f"h{j}_{k}" for j in range(1, n + 1)]
     rows = [",".join(cols)]
@@ -125,7 +125,7 @@ def table_csv(axes: list[Axis], results: list[dict[str, Any]]) -> str:
         bc = r["bearing_contact_fraction"]
         vals += [f"{r['separation_fraction']:.6g}", f"{r['backside_fraction']:.6g}",
                  f"{bc.get('pinion', float('nan')):.6g}", f"{bc.get('gear', float('nan')):.6g}",
-                 str(r["steps"]), f"{r['wall_s']:.4g}"]
+                 str(r["steps"])]
         for k in sig_keys:
             vals += [f"{r['rms'][k]:.8g}", f"{r['peak_to_peak'][k]:.8g}"] + [f"{x:.8g}" for x in r["harmonics"][k]]
         rows.append(",".join(vals))
@@ -173,10 +173,13 @@ def figures(axes: list[Axis], results: list[dict[str, Any]]):
     return figs
 
 
-def write(axes: list[Axis], results: list[dict[str, Any]], out: Path, inputs: dict[str, Any]) -> list[Path]:
+def write(axes: list[Axis], results: list[dict[str, Any]], out: Path, inputs: dict[str, Any],
+          labels: dict[str, Any] | None = None) -> list[Path]:
+    """sweep.csv (+ sidecar; no wall times, they go to timing.json) and the
+    harmonics-versus-parameter PNGs into the folder ``out``."""
     files = []
     csv = io.write_text(out / "sweep.csv", table_csv(axes, results))
-    files += [csv, io.sidecar(csv, inputs, "gearwear sweep (dynamics.simulate per point)")]
+    files += [csv, io.sidecar(csv, inputs, "gearwear sweep (dynamics.simulate per point)", labels)]
     for name, fig in figures(axes, results).items():
         files.append(io.write_figure(fig, out / name))
     return files

@@ -13,7 +13,6 @@ FE). Writes verification.md, PNGs and verification.json.
 
 from __future__ import annotations
 
-import json
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -151,8 +150,8 @@ def markdown(v: Verification, files: dict[str, str]) -> str:
         lines += [f"![compliance]({files['compliance.png']})", ""]
     for ph in v.phases:
         lines += [f"## Wear: {ph.label}", "",
-                  f"FE: {ph.dofs} dofs, {ph.elements} elements, {ph.fem_wall_s:.2f} s for {len(ph.radius_mm)} "
-                  f"positions; Ishikawa {ph.ishikawa_wall_s * 1e3:.2f} ms; energy {ph.energy_wall_s * 1e3:.2f} ms.",
+                  f"FE: {ph.dofs} dofs, {ph.elements} elements, {len(ph.radius_mm)} positions (wall times: "
+                  "timing.json).",
                   "", "| radius (mm) | roll (deg) | FE | Ishikawa | diff % | energy | diff % |",
                   "|---|---|---|---|---|---|---|"]
         for k in range(len(ph.radius_mm)):
@@ -161,13 +160,12 @@ def markdown(v: Verification, files: dict[str, str]) -> str:
                          f"{ph.energy[k]:.5f} | {100 * (ph.energy[k] / ph.fem[k] - 1):+.1f} |")
         lines.append("")
     if v.convergence:
-        from gearwear.fem.convergence import format_table
         lines += ["## FE convergence (unworn, h- and p-refinement, Richardson extrapolation)", "",
-                  "```", format_table(v.convergence), "```", ""]
+                  "```", _convergence_table(v.convergence), "```", ""]
         if "convergence.png" in files:
             lines += [f"![convergence]({files['convergence.png']})", ""]
         a = v.acceptance or {}
-        lines += [f"Default level: {a.get('default_dofs')} dofs, {a.get('default_wall_s', float('nan')):.2f} s; "
+        lines += [f"Default level: {a.get('default_dofs')} dofs; "
                   f"change to the next finer P2 level {a.get('default_vs_finer_change_pct', float('nan')):.3f} %; "
                   f"two finest P2 levels differ by {a.get('finest_p2_change_pct', float('nan')):.3f} %; "
                   f"error vs extrapolation {a.get('default_error_vs_extrapolation_pct', float('nan')):.3f} %.", ""]
@@ -186,28 +184,68 @@ def markdown(v: Verification, files: dict[str, str]) -> str:
                          f"{r['weber_strain_m_per_N'] * f:.4f} | {r['k_pair_N_per_m']:.5e} | "
                          f"{r['k_identity_N_per_m']:.5e} |")
         lines.append("")
-    lines.append(f"Total wall time: {v.wall_s:.1f} s.")
-    return "\n".join(lines) + "\n"
+    return "\n".join(lines)
 
 
-def write(v: Verification, out: Path, inputs: dict[str, Any]) -> list[Path]:
+def _convergence_table(rows: list[dict]) -> str:
+    """fem.convergence.format_table without its wall-time column: verification.md is a
+    result file, the same inputs give the same bytes (wall times: timing.json)."""
+    from gearwear.fem.convergence import format_table
+
+    lines = format_table(rows).splitlines()
+    start = lines[0].index("dofs") + len("dofs")
+    end = lines[0].index("wall s") + len("wall s")
+    return "\n".join(line[:start] + line[end:] for line in lines)
+
+
+def _convergence_figure(rows: list[dict]):
+    """Accuracy against cost in degrees of freedom (fem.convergence.plot_convergence
+    without its wall-time panel: a result figure, so the same inputs give the same
+    bytes; the wall time of every level is in timing.json)."""
+    from matplotlib.ticker import NullFormatter
+
+    from .plotting import subplots
+
+    fig, ax = subplots(figsize=(6, 4.2))
+    for order, style in ((1, "s--"), (2, "o-")):
+        # the reference level's own error is ~0 by construction; leave it out of the log plot
+        lev = sorted((r for r in rows if r["order"] == order and r["error_pct_max"] > 0), key=lambda r: r["dofs"])
+        if not lev:
+            continue
+        ax.loglog([r["dofs"] for r in lev], [r["error_pct_max"] for r in lev], style, label=f"P{order}")
+        for r in lev:
+            if r["is_default"]:
+                ax.loglog([r["dofs"]], [r["error_pct_max"]], "o", ms=14, mfc="none", mec="k", label="default level")
+    ax.set_xlabel("degrees of freedom")
+    ax.set_ylabel("max error over the positions vs Richardson, %")
+    ax.axhline(0.5, color="0.6", lw=0.8, ls=":")
+    ax.grid(True, which="both", lw=0.3)
+    ax.legend()
+    ax.xaxis.set_minor_formatter(NullFormatter())
+    ax.set_title("FE single-tooth compliance: accuracy versus cost\n(full gear, bore fixed)", fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+def write(v: Verification, out: Path, inputs: dict[str, Any], labels: dict[str, Any] | None = None) -> list[Path]:
+    """verification.md, the PNGs and verification.json (with its provenance inside)
+    into the folder ``out``; no wall times (timing.json)."""
     files: list[Path] = []
     names: dict[str, str] = {}
     for name, fig in figures(v).items():
         files.append(io.write_figure(fig, out / name))
         names[name] = name
     if v.convergence:
-        from gearwear.fem.convergence import plot_convergence
-        files.append(plot_convergence(v.convergence, out / "convergence.png"))
+        files.append(io.write_figure(_convergence_figure(v.convergence), out / "convergence.png", dpi=120))
         names["convergence.png"] = "convergence.png"
     files.append(io.write_text(out / "verification.md", markdown(v, names)))
-    js = to_json(v)
+    js = io.without_timing(to_json(v))
     # a JSON result carries its provenance inside instead of a .json.json sidecar
     from . import __version__
     js["provenance"] = {"software": "gearwear", "version": __version__, "inputs": inputs,
                         "input_sha256": io.input_hash(inputs),
-                        "method": "fem.tooth vs analytic.ishikawa / analytic.energy"}
-    files.append(io.write_text(out / "verification.json", json.dumps(js, indent=1, sort_keys=True) + "\n"))
+                        "method": "fem.tooth vs analytic.ishikawa / analytic.energy", **(labels or {})}
+    files.append(io.write_json(out / "verification.json", js, indent=1))
     return files
 
 
