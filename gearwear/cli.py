@@ -15,7 +15,7 @@ from typing import Any
 
 from gearwear.core.validation import InputError, fail, renamed
 
-from . import __version__
+from . import __version__, io
 from .scene import Scene, wear_override
 
 
@@ -108,7 +108,7 @@ def _cmd_geometry(args: argparse.Namespace) -> int:
     summary = res.summary()
     summary["files"] = [str(f) for f in files]
     if args.json:
-        print(json.dumps(summary, sort_keys=True))
+        print(io.json_text(summary, indent=None))
     else:
         _print_geometry(summary)
     return 0
@@ -118,7 +118,6 @@ def _check_out(out: str | None, command: str) -> Path | None:
     """--out is checked before any work: a new folder, an empty one, or one gearwear
     wrote (it has a manifest.json), since the command's output replaces it as a whole
     (gearwear.io.check_out; the parent must be writable, '' is refused)."""
-    from . import io
 
     return io.check_out(out, command)
 
@@ -126,7 +125,6 @@ def _check_out(out: str | None, command: str) -> Path | None:
 def _scene_inputs(scene) -> dict:
     """The hashed part of a result's inputs that comes from the scene: the fully resolved
     scene (every default; referenced files by content) and its SHA-256."""
-    from . import io
 
     return io.scene_inputs(scene)
 
@@ -140,7 +138,6 @@ def _wear_dict(wear) -> dict | None:
 
 def _labels(scene) -> dict:
     """The scene's name and referenced file paths: recorded next to the hashed inputs."""
-    from . import io
 
     return io.scene_labels(scene)
 
@@ -148,7 +145,6 @@ def _labels(scene) -> dict:
 def _write(out: Path | None, command: str, scene, inputs: dict, writer, timing: dict | None = None) -> list[Path]:
     """Write a command's files into ``out`` as a whole (gearwear.io.write_folder): the
     manifest gets the inputs, the scene's name and referenced file paths."""
-    from . import io
 
     if out is None:
         return []
@@ -194,7 +190,7 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
         doc = dict(summaries[0])
         doc["curves"] = summaries
         doc["files"] = [str(f) for f in files]
-        print(json.dumps(doc, sort_keys=True, allow_nan=False, default=lambda o: None))
+        print(io.json_text(doc, indent=None))
     else:
         hdr = f"{'method':<9}{'wear':<9}{'clear um':>9}{'mean N/m':>12}{'min N/m':>12}{'max N/m':>12}" \
               f"{'eps':>8}{'double':>12}{'single':>12}{'wall ms':>9}"
@@ -243,7 +239,7 @@ def _cmd_verify(args: argparse.Namespace) -> int:
     js = verify_job.to_json(v)
     js["files"] = [str(f) for f in files]
     if args.json:
-        print(json.dumps(js, sort_keys=True, allow_nan=False, default=lambda o: None))
+        print(io.json_text(js, indent=None))
     else:
         print(f"{'wear':<9}{'FE s':>7}{'dofs':>9}{'Ishikawa-FE % (min..max)':>28}{'energy-FE % (min..max)':>26}")
         for ph in v.phases:
@@ -302,8 +298,7 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     files = _write(out, "calibrate", scene, inputs, lambda d: [io.write_bytes(d / n, b) for n, b in copies.items()],
                    {"fe_calibration_s": fe_s})
     if args.json:
-        print(json.dumps({"tables": rows, "files": [str(f) for f in files]}, sort_keys=True,
-                         allow_nan=False, default=lambda o: None))
+        print(io.json_text({"tables": rows, "files": [str(f) for f in files]}, indent=None))
     else:
         print(f"{'wear':<9}{'clear um':>9}{'mean N/m':>12}{'analytic':>12}{'check res %':>12}{'FE err %':>9}  cache")
         for r in rows:
@@ -330,7 +325,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
                     "compile_s": summary["compile_s"]})
     summary["files"] = [str(f) for f in files]
     if args.json:
-        print(json.dumps(summary, sort_keys=True, allow_nan=False, default=lambda o: None))
+        print(io.json_text(summary, indent=None))
     else:
         simulate_io.print_summary(summary)
     return 0
@@ -364,8 +359,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
                    lambda d: sweep.write(axes, results, d, inputs, labels),
                    {"points": [{"point": r["point"], "wall_s": r["wall_s"]} for r in results]})
     if args.json:
-        print(json.dumps({"points": results, "files": [str(f) for f in files]}, sort_keys=True,
-                         allow_nan=False, default=lambda o: None))
+        print(io.json_text({"points": results, "files": [str(f) for f in files]}, indent=None))
     else:
         print(sweep.table_csv(axes, results).splitlines()[0][:200])
         for r in results:

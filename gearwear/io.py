@@ -25,6 +25,7 @@ import fnmatch
 import hashlib
 import io
 import json
+import math
 import os
 import zipfile
 from pathlib import Path
@@ -64,9 +65,28 @@ def write_text(path: str | Path, text: str) -> Path:
     return write_bytes(path, text.encode("utf-8"))
 
 
+def json_text(obj: Any, indent: int | None = 2) -> str:
+    """Strict JSON (RFC 8259) with sorted keys: NaN and infinities become ``null``, since
+    JSON has no such numbers and Python's ``NaN`` token breaks other readers; numpy
+    arrays and scalars become lists and numbers."""
+    return json.dumps(_strict(obj), indent=indent, sort_keys=True, allow_nan=False, default=_default)
+
+
+def _strict(o: Any) -> Any:
+    if isinstance(o, float):
+        return o if math.isfinite(o) else None
+    if isinstance(o, dict):
+        return {k: _strict(v) for k, v in o.items()}
+    if isinstance(o, (list, tuple)):
+        return [_strict(v) for v in o]
+    if hasattr(o, "tolist"):
+        return _strict(o.tolist())
+    return o
+
+
 def write_json(path: str | Path, obj: Any, indent: int | None = 2) -> Path:
-    """JSON with sorted keys and a final newline: the same object gives the same bytes."""
-    return write_text(path, json.dumps(obj, indent=indent, sort_keys=True, default=_default) + "\n")
+    """Strict JSON (:func:`json_text`) and a final newline: the same object gives the same bytes."""
+    return write_text(path, json_text(obj, indent) + "\n")
 
 
 def write_figure(fig, path: str | Path, dpi: int = 130) -> Path:
