@@ -49,6 +49,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from gearwear.core.validation import fail
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.spec import PairSpec
 
@@ -202,6 +203,11 @@ def iso6336_stiffness(pair: PairSpec, torque_Nm: float | None = None,
     c_prime = c_th * C_M_SOLID * C_R * C_B * cos_beta * material_factor
     eps = (MeshGeometry(pair, pair.centre_distance_m).contact_ratio
            if contact_ratio is None else float(contact_ratio))
+    if eps < 1.0:
+        # c_gamma_alpha = c' (0.75 eps + 0.25) is a mean over overlapping pairs (ISO 6336-1
+        # states it for eps >= 1.2); with gaps in the contact there is no such mean
+        raise fail("method", "'iso6336'", "", f"ISO 6336-1 method B needs a contact ratio >= 1 (overlapping "
+                   f"tooth pairs), but it is {eps:.3f}; the analytic methods (ishikawa, energy) model the gaps")
     b_mm = pair.face_width_m * 1e3
     line_load = None
     if torque_Nm is not None:

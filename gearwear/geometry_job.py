@@ -17,7 +17,7 @@ import numpy as np
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.operating import OperatingGeometry, operating_geometry
 from gearwear.geometry.profile import REGION_NAMES, ToothProfile, gear_outline
-from gearwear.geometry.wear import WearSpec, key_roll_angles, worn_profiles
+from gearwear.geometry.wear import WearSpec, key_roll_angles, wear_warnings, worn_profiles
 
 from . import io
 from .scene import Scene
@@ -41,13 +41,17 @@ class GeometryResult:
         per_gear = []
         for i, g in enumerate(pair.gears):
             prof = self.nominal[i]
+            # the reference circle may lie below the root (large shifts): then the ISO value
+            # s = m (pi/2 + 2 x tan alpha) of the extended involute
+            on_profile = prof.radius.min() <= g.pitch_radius_m <= prof.radius.max()
+            s_pitch = float(prof.thickness_at_radius(g.pitch_radius_m)) if on_profile else g.pitch_thickness_m
             per_gear.append({
                 "name": g.name, "teeth": g.teeth, "profile_shift": g.profile_shift,
                 "base_radius_mm": g.base_radius_m * 1e3, "pitch_radius_mm": g.pitch_radius_m * 1e3,
                 "tip_radius_mm": g.tip_radius_m * 1e3, "root_radius_mm": g.root_radius_m * 1e3,
                 "form_radius_mm": prof.form_radius_m * 1e3,
                 "start_of_active_profile_mm": og.mesh.start_of_active_profile_m[i] * 1e3,
-                "pitch_thickness_mm": float(prof.thickness_at_radius(g.pitch_radius_m)) * 1e3,
+                "pitch_thickness_mm": s_pitch * 1e3,
                 "undercut": prof.undercut,
                 "max_wear_depth_um": float(self.worn[i].depth.max()) * 1e6,
                 "hub_radius_mm": g.hub_radius_m * 1e3,
@@ -71,6 +75,7 @@ class GeometryResult:
             "bearing_stiffness_N_per_m": og.bearing_stiffness_N_per_m,
             "face_width_mm": pair.face_width_m * 1e3,
             "gears": per_gear,
+            "warnings": og.mesh.contact_ratio_warnings() + wear_warnings(og.mesh, self.wear),
             "wall_s": self.wall_s,
         }
         if self.mesh is not None:

@@ -18,7 +18,8 @@ from typing import Any, Mapping
 
 from gearwear.core.validation import InputError, fail, renamed
 from gearwear.geometry.spec import Material, PairSpec, check_pair
-from gearwear.geometry.wear import PHASE_DEPTHS_M, WearSpec
+from gearwear.geometry.kinematics import MeshGeometry
+from gearwear.geometry.wear import PHASE_DEPTHS_M, WearSpec, check_wear
 
 from .schema import (DEFAULT_BEARING_DAMPING_RATIO, DEFAULT_MESH_DAMPING_RATIO, OperatingDoc, SceneDoc, WearDoc,
                      resolved_method, validate_document)
@@ -141,8 +142,17 @@ def pair_from_dict(data: Mapping[str, Any]) -> PairSpec:
     return pair_spec(validate_document(data))
 
 
-def wear_spec(w: WearDoc, operating: OperatingDoc) -> WearSpec:
-    """The SI wear spec of a validated ``[effects] wear`` table at the operating point."""
+#: geometry.wear's own parameter names -> scene keys
+WEAR_KEYS = {"max_depth_m": ("effects.wear.max_depth_um", 1e6, "um"), "hours": "effects.wear.hours",
+             "phase": "effects.wear.phase"}
+
+
+def wear_spec(w: WearDoc, operating: OperatingDoc, pair: PairSpec | None = None) -> WearSpec:
+    """The SI wear spec of a validated ``[effects] wear`` table at the operating point.
+
+    With ``pair``, wear deeper than ``geometry.wear.MAX_DEPTH_FRACTION`` (1/3) of the
+    tooth's half thickness where it is deepest is refused (``geometry.wear.check_wear``,
+    on the nominal mesh), naming ``effects.wear.max_depth_um`` / ``hours`` / ``phase``."""
     kw: dict[str, Any] = {"phase": w.phase, "model": w.model, "torque_Nm": operating.torque_Nm,
                           "speed_rpm": operating.speed_rpm, "taper_m": w.taper_mm * 1e-3}
     if w.max_depth_um is not None:
@@ -153,15 +163,23 @@ def wear_spec(w: WearDoc, operating: OperatingDoc) -> WearSpec:
         kw["archard_k_m2_per_N"] = w.archard_k_m2_per_N
     if w.wear_intensity is not None:
         kw["wear_intensity"] = w.wear_intensity
-    return WearSpec(**kw)
+    spec = WearSpec(**kw)
+    if pair is not None:
+        try:
+            check_wear(MeshGeometry(pair, pair.centre_distance_m), spec)
+        except InputError as exc:
+            raise renamed(exc, WEAR_KEYS) from None
+    return spec
 
 
-def wear_from_dict(table: Mapping[str, Any] | str, torque_Nm: float = 40.0, speed_rpm: float = 1200.0) -> WearSpec:
-    """A wear spec from an ``[effects] wear`` table (or a phase name), validated."""
+def wear_from_dict(table: Mapping[str, Any] | str, torque_Nm: float = 40.0, speed_rpm: float = 1200.0,
+                   pair: PairSpec | None = None) -> WearSpec:
+    """A wear spec from an ``[effects] wear`` table (or a phase name), validated (with
+    ``pair``: also against the depth limit of that pair, see :func:`wear_spec`)."""
     doc = validate_document({"effects": {"wear": table}, "operating": {"torque_Nm": torque_Nm,
                                                                       "speed_rpm": speed_rpm}})
     assert doc.effects.wear is not None
-    return wear_spec(doc.effects.wear, doc.operating)
+    return wear_spec(doc.effects.wear, doc.operating, pair)
 
 
 def wear_override(text: str) -> str:
@@ -208,7 +226,7 @@ def scene_from_doc(doc: SceneDoc) -> Scene:
         effects["centre_distance"] = {"coupling": e.centre_distance.coupling}
     if e.transmission_error is not None:
         effects["transmission_error"] = {}
-    wear = wear_spec(e.wear, doc.operating) if e.wear is not None else None
+    wear = wear_spec(e.wear, doc.operating, pair) if e.wear is not None else None
     ms = effects.get("mesh_stiffness", {})
     if ms.get("source") == "table":
         tab = read_stiffness_table(ms["path"], pair.teeth[0])

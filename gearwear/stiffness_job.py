@@ -40,18 +40,32 @@ class Curve:
         return f"{self.method}_{w}_clearance{self.clearance_m * 1e6:g}um"
 
     def summary(self) -> dict[str, Any]:
+        """Curve statistics. Zone means by the number of pairs on the path
+        (``zone_means_N_per_m``: "1", "2", "3", ...; null where that count never occurs,
+        e.g. no single-contact zone above a contact ratio of 2); the double/single keys
+        are the "2" and "1" entries. ``warnings``: one-line notes (contact ratio below 1,
+        wear beyond the severe phase)."""
+        from gearwear.geometry.wear import wear_warnings
+
         r = self.result
         z = r.zone_means()
+
+        def null(v: float) -> float | None:
+            return None if v is None or math.isnan(v) else v
+
         return {"method": self.method, "wear": self.wear.label if self.wear else "unworn",
                 "clearance_um": self.clearance_m * 1e6, "torque_Nm": r.torque_Nm,
                 "mean_N_per_m": r.mean_N_per_m, "min_N_per_m": r.min_N_per_m, "max_N_per_m": r.max_N_per_m,
                 "contact_ratio": r.contact_ratio, "points": int(len(r.angle_rad)), "wall_s": r.wall_s,
-                "double_zone_mean_N_per_m": z["double"], "single_zone_mean_N_per_m": z["single"],
+                "double_zone_mean_N_per_m": null(z["double"]), "single_zone_mean_N_per_m": null(z["single"]),
                 "double_zone_length_deg": z["double_deg"], "single_zone_length_deg": z["single_deg"],
+                "zone_means_N_per_m": {str(n): v for n, v in z["by_count"].items()},
+                "zone_lengths_deg": {str(n): v for n, v in z["deg_by_count"].items()},
                 "ste_mean_um": float(np.mean(r.ste_m)) * 1e6,
                 "ste_peak_to_peak_um": float(np.ptp(r.ste_m)) * 1e6,
                 "centre_distance_mm": r.mesh.centre_distance_m * 1e3,
-                "operating_pressure_angle_deg": math.degrees(r.mesh.pressure_angle_rad)}
+                "operating_pressure_angle_deg": math.degrees(r.mesh.pressure_angle_rad),
+                "warnings": r.mesh.contact_ratio_warnings() + wear_warnings(r.mesh, self.wear)}
 
 
 def iso_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float) -> MeshStiffness:

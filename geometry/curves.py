@@ -27,6 +27,21 @@ def zone_means(k_N_per_m, zones: dict[str, np.ndarray]) -> dict[str, float]:
             "single": float(k[single].mean()) if single.any() else float("nan")}
 
 
+def zone_means_by_count(k_N_per_m, pairs: np.ndarray) -> dict[int, float | None]:
+    """Mean stiffness (N/m) over the angles with n pairs on the path, for every n from 1
+    to max(3, the largest n present) (and n = 0 when there are gaps); None for a count
+    that never occurs, never NaN. ``pairs``: the number of pairs at the angles of k
+    (``MeshGeometry.pairs_on_path``)."""
+    k = np.asarray(k_N_per_m, dtype=float)
+    pairs = np.asarray(pairs)
+    top = max(3, int(pairs.max()) if pairs.size else 0)
+    out: dict[int, float | None] = {}
+    for n in range(0 if np.any(pairs == 0) else 1, top + 1):
+        sel = pairs == n
+        out[n] = float(k[sel].mean()) if sel.any() else None
+    return out
+
+
 class CurveStats:
     """Statistics of a mesh-stiffness curve over one mesh period. Needs ``pair``,
     ``mesh`` (geometry.kinematics.MeshGeometry), ``torque_Nm``, ``angle_rad``,
@@ -71,12 +86,23 @@ class CurveStats:
         (MeshGeometry.contact_zones)."""
         return self.mesh.contact_zones(self.angle_rad)
 
-    def zone_means(self) -> dict[str, float]:
-        """Mean stiffness over the double- ("double") and single-contact ("single")
-        zones (N/m) and the zones' lengths per mesh period ("double_deg",
-        "single_deg", pinion rotation in deg: (epsilon - 1) and (2 - epsilon) of the
-        period)."""
+    def zone_means(self) -> dict:
+        """Zone statistics over one mesh period, by the number n of pairs on the path
+        (``MeshGeometry.pairs_on_path``):
+
+        * "by_count": n -> mean stiffness (N/m), None where n never occurs;
+        * "deg_by_count": n -> the zone's length (pinion rotation, deg): with
+          n0 = floor(epsilon), (epsilon - n0) of the period for n0 + 1 pairs and the
+          rest for n0 pairs;
+        * "double", "single": the means over n = 2 and n = 1 (NaN when absent; for
+          1 <= epsilon < 2 these are the zones A | C and B), and "double_deg",
+          "single_deg" their lengths ((epsilon - 1) and (2 - epsilon) of the period
+          then)."""
         period_deg = math.degrees(self.mesh.mesh_angle_rad)
-        share = self.mesh.double_contact_share
-        return {**zone_means(self.k_N_per_m, self.zone_masks()),
-                "double_deg": share * period_deg, "single_deg": (1.0 - share) * period_deg}
+        by = zone_means_by_count(self.k_N_per_m, self.mesh.pairs_on_path(self.angle_rad))
+        shares = self.mesh.zone_shares()
+        deg = {n: shares.get(n, 0.0) * period_deg for n in by}
+        nan = float("nan")
+        return {"double": nan if by.get(2) is None else by[2], "single": nan if by.get(1) is None else by[1],
+                "double_deg": deg.get(2, 0.0), "single_deg": deg.get(1, 0.0),
+                "by_count": by, "deg_by_count": deg}

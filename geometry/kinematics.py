@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .spec import PairSpec
-from gearwear.core.validation import InputError
+from gearwear.core.validation import InputError, fail
 
 
 @dataclass(frozen=True)
@@ -164,6 +164,53 @@ class MeshGeometry:
             return {"A": np.zeros_like(double), "B": d_entry <= self.path_end_m, "C": np.zeros_like(double)}
         half = d_entry < self.path_start_m + 0.5 * (self.path_end_m - pb - self.path_start_m) + 1e-300
         return {"A": double & half, "B": ~double, "C": double & ~half}
+
+    def contact_ratio_warnings(self) -> list[str]:
+        """A one-line note when the contact ratio is below 1: for 1 - epsilon of every
+        mesh period no pair is on the path (the mesh stiffness is 0 there)."""
+        eps = self.contact_ratio
+        if eps >= 1.0:
+            return []
+        return [f"contact ratio {eps:.3f} < 1: no pair is in contact on the path of contact for "
+                f"{100 * (1 - eps):.1f} % of each mesh period (only tip-corner contact, where a model has it, "
+                "carries the load there; otherwise the mesh stiffness is 0)"]
+
+    def require_overlap(self, method: str) -> None:
+        """Refuse ``method`` (a stiffness model that needs a pair on the path at every
+        angle) when the contact ratio is below 1. Names the parameter ``method``."""
+        eps = self.contact_ratio
+        if eps >= 1.0:
+            return
+        raise fail("method", repr(method), "",
+                   f"needs a contact ratio >= 1 (a tooth pair on the path of contact at every angle), but it is "
+                   f"{eps:.3f} at centre distance {self.centre_distance_m * 1e3:.6g} mm; the analytic methods "
+                   "(ishikawa, energy) model the gaps")
+
+    def pairs_on_path(self, theta_rad) -> np.ndarray:
+        """Theoretical number of tooth pairs on the path of contact at pinion angles
+        ``theta_rad`` in [0, 2 pi / z1): the pair that entered at theta = 0 is at
+        d_A + r_b1 theta and the ones ahead of it one, two, ... base pitches further, so
+        n = #{j >= 0 : d_A + r_b1 theta + j p_b <= d_E} (the inequality of
+        :meth:`contact_zones`: n == 2 is A | C and n == 1 is B for 1 <= epsilon < 2).
+        0 in the gaps of a contact ratio below 1."""
+        d_entry = self.path_start_m + self.pair.gear(0).base_radius_m * np.asarray(theta_rad, dtype=float)
+        pb = self.base_pitch_m
+        n = (d_entry <= self.path_end_m).astype(np.int64)
+        for j in range(1, int(math.ceil(self.contact_ratio)) + 1):
+            n += d_entry + (pb if j == 1 else j * pb) <= self.path_end_m
+        return n
+
+    def zone_shares(self) -> dict[int, float]:
+        """Fraction of a mesh period with n pairs on the path, n -> share: with
+        n0 = floor(epsilon), n0 + 1 pairs for epsilon - n0 of the period and n0 pairs for
+        the rest (n0 = 0: no pair, the gap of a contact ratio below 1)."""
+        eps = self.contact_ratio
+        n0 = int(math.floor(eps))
+        if n0 == 1:
+            share = self.double_contact_share  # the same float as the double zone
+            return {1: 1.0 - share, 2: share}
+        frac = eps - n0
+        return {n0: 1.0 - frac, n0 + 1: frac}
 
     def contacts(self, theta_rad) -> "Contacts":
         """Tooth pairs in contact at pinion angles ``theta_rad`` (rad).

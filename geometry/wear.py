@@ -47,6 +47,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from fractions import Fraction
 from functools import lru_cache
 
 
@@ -55,9 +56,19 @@ import numpy as np
 from .kinematics import MeshGeometry
 from .profile import INVOLUTE, ToothProfile, tooth_profile
 from .spec import PairSpec
+from gearwear.core.validation import Field, fail, fail_range
 
 PHASE_DEPTHS_M = {"unworn": 0.0, "mild": 10e-6, "severe": 30e-6}
 WEAR_MODELS = ("archard", "paper_eq1")
+
+#: Largest accepted wear depth, as a fraction of the tooth's half thickness at the radius of
+#: the deepest wear. Beyond a third of the local half thickness the tooth has lost a third
+#: of its section there and the flank's shape is no longer a small offset of the involute:
+#: the wear laws here do not feed the profile change back into the pressure (module doc),
+#: the worn flank no longer meshes near its nominal path, and the slice/FE stiffness models
+#: would describe a different tooth. The named phases are far below it (severe 30 um is
+#: about 1/40 of the paper pair's half thickness near the tip).
+MAX_DEPTH_FRACTION = 1.0 / 3.0
 
 
 @dataclass(frozen=True)
@@ -265,6 +276,110 @@ def _flank_reference(mesh: MeshGeometry, spec: WearSpec) -> tuple[float, float, 
     return float(np.max(h1)), float(d[np.argmax(h1)]), float(d[np.argmax(h2)])
 
 
+@lru_cache(maxsize=64)
+def _flank_extremes(mesh: MeshGeometry, spec: WearSpec) -> tuple[float, float, float, float]:
+    """(largest pinion depth per contact, its LOA position, largest gear depth per
+    contact, its LOA position) on the grid of :func:`_flank_reference`."""
+    d = np.linspace(mesh.path_start_m, mesh.path_end_m, 40001)
+    h1, h2 = depth_per_contact(mesh, d, spec)
+    i1, i2 = int(np.argmax(h1)), int(np.argmax(h2))
+    return float(h1[i1]), float(d[i1]), float(h2[i2]), float(d[i2])
+
+
+def max_depths_m(mesh: MeshGeometry, spec: WearSpec) -> tuple[float, float]:
+    """Largest wear depth (m) on the pinion and on the gear flank for ``spec`` (the
+    maxima of :func:`wear_on_line_of_action` over the path of contact)."""
+    if spec.is_unworn:
+        return 0.0, 0.0
+    h1, _, h2, _ = _flank_extremes(mesh, spec)
+    z1, z2 = mesh.pair.teeth
+    if spec.hours is not None:
+        n1, n2 = cycles(spec, mesh)
+        return h1 * n1, h2 * n2
+    target = PHASE_DEPTHS_M[spec.phase] if spec.phase is not None else spec.max_depth_m
+    assert target is not None
+    return target, h2 * (target / h1) * z1 / z2
+
+
+def half_thickness_at_contact_m(mesh: MeshGeometry, gear_index: int, d: float) -> tuple[float, float]:
+    """(radius R, half arc tooth thickness s_R / 2) (m) of the nominal involute flank of
+    gear ``gear_index`` where it touches LOA position d: roll u = d / r_b1 (pinion) or
+    (T1T2 - d) / r_b2 (gear), R = r_b sqrt(1 + u^2), s_R / 2 = R (psi_b - inv(alpha_R))
+    with inv(alpha_R) = u - atan(u) and psi_b = s / (2 r) + inv(alpha) (ISO 21771)."""
+    g = mesh.pair.gear(gear_index)
+    rb = g.base_radius_m
+    u = (d if gear_index == 0 else mesh.line_of_action_m - d) / rb
+    psi_b = g.pitch_thickness_m / (2.0 * g.pitch_radius_m) + math.tan(g.pressure_angle_rad) - g.pressure_angle_rad
+    R = rb * math.sqrt(1.0 + u * u)
+    return R, R * (psi_b - (u - math.atan(u)))
+
+
+def depth_limits(mesh: MeshGeometry, spec: WearSpec) -> dict[str, float]:
+    """The deepest wear accepted for this pair: MAX_DEPTH_FRACTION of the local half
+    thickness (:func:`half_thickness_at_contact_m`) where each flank wears deepest.
+
+    Returns "pinion_m" and "gear_m" (each flank's own limit, m), "max_depth_m" (the
+    largest pinion depth that keeps both flanks within their limits, the quantity a
+    phase or ``max_depth_m`` sets), "radius_m" and "half_thickness_m" of the flank that
+    sets it, "gear_index", and for ``hours`` "hours" (the running time that reaches it;
+    the depth is linear in the time)."""
+    h1, d1, h2, d2 = _flank_extremes(mesh, spec)
+    z1, z2 = mesh.pair.teeth
+    R1, t1 = half_thickness_at_contact_m(mesh, 0, d1)
+    R2, t2 = half_thickness_at_contact_m(mesh, 1, d2)
+    lim1, lim2 = MAX_DEPTH_FRACTION * t1, MAX_DEPTH_FRACTION * t2
+    # the pinion depth that brings the gear flank to its limit
+    via_gear = lim2 * h1 / (h2 * z1 / z2) if h2 > 0 else math.inf
+    i = 0 if lim1 <= via_gear else 1
+    out = {"pinion_m": lim1, "gear_m": lim2, "max_depth_m": min(lim1, via_gear), "gear_index": float(i),
+           "radius_m": (R1, R2)[i], "half_thickness_m": (t1, t2)[i]}
+    per_hour1 = h1 * spec.speed_rpm * 60.0
+    per_hour2 = h2 * spec.speed_rpm * 60.0 * z1 / z2
+    out["hours"] = min(lim1 / per_hour1 if per_hour1 > 0 else math.inf,
+                       lim2 / per_hour2 if per_hour2 > 0 else math.inf)
+    return out
+
+
+def check_wear(mesh: MeshGeometry, spec: WearSpec) -> None:
+    """Refuse wear deeper than MAX_DEPTH_FRACTION (1/3) of the tooth's half thickness at
+    the radius of the deepest wear, on either flank. Names this layer's parameters:
+    ``max_depth_m`` (m), ``hours`` (h) or ``phase``."""
+    if spec.is_unworn:
+        return
+    depth1, depth2 = max_depths_m(mesh, spec)
+    lim = depth_limits(mesh, spec)
+    if depth1 <= lim["pinion_m"] and depth2 <= lim["gear_m"]:
+        return
+    name = ("pinion", "gear")[int(lim["gear_index"])]
+    frac = Fraction(MAX_DEPTH_FRACTION).limit_denominator(100)
+    where = (f"{frac} of the {name}'s half tooth thickness ({lim['half_thickness_m'] * 1e3:.3f} mm) at "
+             f"r = {lim['radius_m'] * 1e3:.3f} mm, where its flank wears deepest")
+    if spec.hours is not None:
+        hi = math.floor(lim["hours"] * 1e3) / 1e3
+        raise fail_range("hours", spec.hours, Field("h", 0.0, hi),
+                         f"the wear would reach {depth1 * 1e6:.4g} um on the pinion and {depth2 * 1e6:.4g} um on "
+                         f"the gear, beyond {where}")
+    hi_m = math.floor(lim["max_depth_m"] * 1e7) / 1e7  # 0.1 um below the limit, so the quoted value is allowed
+    if spec.phase is not None:
+        raise fail("phase", repr(spec.phase), "", f"its {depth1 * 1e6:g} um exceed {where} "
+                   f"(at most {hi_m * 1e6:.4g} um for this pair)")
+    raise fail_range("max_depth_m", depth1, Field("m", 0.0, hi_m), "the deepest wear accepted is " + where)
+
+
+def wear_warnings(mesh: MeshGeometry, spec: WearSpec | None) -> list[str]:
+    """One-line warnings about a wear spec that is accepted but outside the documented
+    range: running hours whose depth exceeds the 'severe' phase (30 um)."""
+    if spec is None or spec.hours is None or spec.is_unworn:
+        return []
+    d1, d2 = max_depths_m(mesh, spec)
+    severe = PHASE_DEPTHS_M["severe"]
+    if max(d1, d2) <= severe:
+        return []
+    return [f"wear after {spec.hours:g} h reaches {d1 * 1e6:.4g} um on the pinion and {d2 * 1e6:.4g} um on the gear, "
+            f"beyond the 'severe' phase ({severe * 1e6:g} um): the wear model has no profile feedback, so "
+            "this depth is an extrapolation"]
+
+
 def wear_peaks(mesh: MeshGeometry, spec: WearSpec) -> np.ndarray:
     """LOA positions (m) of the deepest wear on the pinion and on the gear flank."""
     return np.array(_flank_reference(mesh, spec)[1:])
@@ -289,6 +404,7 @@ def worn_profiles(pair: PairSpec, spec: WearSpec, mesh: MeshGeometry | None = No
     The wear pattern is computed on the nominal mesh geometry unless ``mesh`` is given.
     """
     mesh = mesh or MeshGeometry(pair, pair.centre_distance_m)
+    check_wear(mesh, spec)
     nominal = tuple(tooth_profile(g, sag_m=sag_m, extra_roll=key_roll_angles(mesh, i, spec))
                     for i, g in enumerate(pair.gears))
     worn = tuple(p.worn(flank_depth(p, i, mesh, spec)) for i, p in enumerate(nominal))

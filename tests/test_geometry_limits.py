@@ -278,3 +278,54 @@ def test_given_diameters_out_of_range(key, value):
         assert lo >= 2 * 75 * math.cos(ALPHA)
     else:
         assert hi == pytest.approx(140.0, abs=1e-9)
+
+
+# -- 5. contact ratio above 2 and below 1 in the summaries -----------------------------------
+
+HIGH_CR = ["--set", "pair.teeth=[60,60]", "--set", "pair.pressure_angle_deg=14.5",
+           "--set", "pair.addendum_coefficient=1.4", "--set", "pair.dedendum_coefficient=1.7",
+           "--set", "pair.rack_tip_radius_coefficient=0.1", "--set", "pair.allow_undercut=true"]
+
+
+def _json_run(argv, capsys):
+    import json
+
+    from gearwear.cli import main
+
+    rc = main(argv)
+    out, err = capsys.readouterr()
+    assert rc == 0, err
+    return json.loads(out)  # the strict parser: NaN would not get here as a number
+
+
+def test_stiffness_json_above_a_contact_ratio_of_two(capsys):
+    import json
+
+    d = _json_run(["stiffness", *HIGH_CR, "--json", "--method", "ishikawa", "--points", "120"], capsys)
+    assert 2.9 < d["contact_ratio"] < 3
+    assert d["single_zone_mean_N_per_m"] is None
+    zm = d["zone_means_N_per_m"]
+    assert zm["1"] is None and zm["2"] > 0 and zm["3"] > zm["2"]   # three pairs share the load: stiffer
+    assert d["double_zone_mean_N_per_m"] == zm["2"]
+    eps, period = d["contact_ratio"], 6.0
+    assert d["zone_lengths_deg"]["3"] == pytest.approx((eps - 2) * period, rel=1e-9)
+    assert d["zone_lengths_deg"]["2"] == pytest.approx((3 - eps) * period, rel=1e-9)
+    assert d["warnings"] == []
+    json.dumps(d, allow_nan=False)
+
+
+def test_contact_ratio_below_one_in_the_summaries(capsys):
+    from gearwear.cli import main
+
+    d = _json_run(["stiffness", "--clearance-um", "5000", "--json"], capsys)
+    eps = d["contact_ratio"]
+    assert eps < 1 and d["double_zone_mean_N_per_m"] is None
+    assert d["warnings"] and d["warnings"][0].startswith(f"contact ratio {eps:.3f} < 1")
+    assert f"{100 * (1 - eps):.1f} % of each mesh period" in d["warnings"][0]
+    g = _json_run(["geometry", "--no-mesh", "--clearance-um", "5000", "--json"], capsys)
+    assert g["warnings"] == [d["warnings"][0]]
+    # ISO 6336 has no mean stiffness without overlapping pairs: one line naming --method
+    assert main(["stiffness", "--clearance-um", "5000", "--method", "iso6336"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("gearwear: error: --method = 'iso6336': ISO 6336-1 method B needs a "
+                                               "contact ratio >= 1")

@@ -127,3 +127,66 @@ def test_contact_ratio_below_one_and_out_of_mesh():
         operating_geometry(pair, 10.0e-3)
     with pytest.raises(InputError, match="clearance_um"):
         operating_geometry(pair, -1e-6)
+
+
+HIGH_CONTACT_RATIO = {"teeth": [60, 60], "pressure_angle_deg": 14.5, "addendum_coefficient": 1.4,
+                      "dedendum_coefficient": 1.7, "rack_tip_radius_coefficient": 0.1, "allow_undercut": True}
+
+
+def test_pairs_on_path_and_zone_shares_above_a_contact_ratio_of_two():
+    """z = 60/60, alpha = 14.5 deg, h_a* = 1.4: epsilon = 2.907 by the textbook formula.
+    Over a mesh period 3 pairs are on the path for (epsilon - 2) of it and 2 pairs for
+    (3 - epsilon); the mean number of pairs is epsilon."""
+    pair = pair_from_dict({"pair": HIGH_CONTACT_RATIO})
+    mesh = MeshGeometry(pair, pair.centre_distance_m)
+    m, a = 5e-3, math.radians(14.5)
+    r = 30 * m
+    rb, ra = r * math.cos(a), r + 1.4 * m
+    eps = (2 * math.sqrt(ra ** 2 - rb ** 2) - 2 * r * math.sin(a)) / (math.pi * m * math.cos(a))
+    assert eps == pytest.approx(2.907, abs=1e-3)
+    assert mesh.contact_ratio == pytest.approx(eps, rel=1e-12)
+    n = 20000
+    theta = np.arange(n) * (mesh.mesh_angle_rad / n)
+    pairs = mesh.pairs_on_path(theta)
+    assert set(np.unique(pairs)) == {2, 3}
+    assert pairs.mean() == pytest.approx(eps, abs=2.0 / n)
+    assert np.mean(pairs == 3) == pytest.approx(eps - 2, abs=2.0 / n)
+    shares = mesh.zone_shares()
+    assert shares[3] == pytest.approx(eps - 2, rel=1e-12) and shares[2] == pytest.approx(3 - eps, rel=1e-12)
+    # the same count as the slot bookkeeping (contacts on the path)
+    assert np.mean(mesh.contacts(theta).count != pairs) < 1e-3
+
+
+def test_zone_means_by_number_of_pairs_never_nan():
+    from gearwear.geometry.curves import CurveStats, zone_means_by_count
+
+    pair = pair_from_dict({"pair": HIGH_CONTACT_RATIO})
+    mesh = MeshGeometry(pair, pair.centre_distance_m)
+
+    class Curve(CurveStats):
+        def __init__(self, theta, k):
+            self.mesh, self.angle_rad, self.k_N_per_m = mesh, theta, k
+
+    theta = np.arange(360) * (mesh.mesh_angle_rad / 360)
+    k = 1e8 * mesh.pairs_on_path(theta)          # 1e8 N/m per pair on the path
+    z = Curve(theta, k).zone_means()
+    assert z["by_count"] == {1: None, 2: 2e8, 3: 3e8}
+    assert math.isnan(z["single"]) and z["double"] == 2e8
+    assert z["deg_by_count"][3] == pytest.approx((mesh.contact_ratio - 2) * 6.0, rel=1e-12)
+    assert z["single_deg"] == 0.0
+    # a contact ratio below 1: the gap is the zone of 0 pairs
+    assert zone_means_by_count([0.0, 5.0, 5.0], np.array([0, 1, 1])) == {0: 0.0, 1: 5.0, 2: None, 3: None}
+
+
+def test_contact_ratio_below_one_is_stated():
+    pair = default_pair()
+    og = operating_geometry(pair, 5.0e-3)
+    eps = og.contact_ratio
+    assert eps == pytest.approx(textbook_contact_ratio(30, 30, 5e-3, math.radians(20), og.centre_distance_m),
+                                rel=1e-12)
+    (w,) = og.mesh.contact_ratio_warnings()
+    assert w.startswith(f"contact ratio {eps:.3f} < 1: no pair is in contact on the path of contact for "
+                        f"{100 * (1 - eps):.1f} % of each mesh period")
+    assert MeshGeometry(pair, pair.centre_distance_m).contact_ratio_warnings() == []
+    with pytest.raises(InputError, match=r"^method = 'fem': needs a contact ratio >= 1"):
+        og.mesh.require_overlap("fem")

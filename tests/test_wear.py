@@ -132,8 +132,67 @@ def test_worn_points_lie_at_depth_from_nominal_flank():
 
 def test_wear_that_consumes_the_tooth_is_a_clear_error():
     pair = default_pair()
+    prof = tooth_profile(pair.gear(0))
+    depth = np.where(prof.region == INVOLUTE, 12e-3, 0.0)
     with pytest.raises(InputError, match=r"wear depth = .* um: consumes the tooth"):
+        prof.worn(depth)
+    # through the wear models it never gets that far: the depth limit refuses it first
+    with pytest.raises(InputError, match=r"^max_depth_m = 0.012 m: must be in \[0, "):
         worn_profiles(pair, WearSpec(max_depth_m=12e-3))
+
+
+def _half_thickness_iso(g, R):
+    """ISO 21771 half arc thickness at radius R on the involute:
+    s_R / 2 = R (s / (2 r) + inv(alpha) - inv(alpha_R)), cos(alpha_R) = r_b / R."""
+    aR = math.acos(g.base_radius_m / R)
+    a = g.pressure_angle_rad
+    return R * (g.pitch_thickness_m / (2 * g.pitch_radius_m) + math.tan(a) - a - (math.tan(aR) - aR))
+
+
+def test_absurd_wear_depth_is_refused_with_the_allowed_maximum(mesh):
+    """5 mm of wear on a 5 mm module tooth: one line naming effects.wear.max_depth_um, the
+    value, the unit and the maximum for this pair, 1/3 of the local half thickness where
+    the flank wears deepest (the radius it names lies on the active flank)."""
+    import re
+
+    from gearwear.cli import main
+
+    with pytest.raises(InputError) as err:
+        wear_from_dict({"max_depth_um": 5000.0}, pair=default_pair())
+    msg = str(err.value)
+    m = re.fullmatch(r"effects\.wear\.max_depth_um = 5000 um: must be in \[0, ([\d.]+)\] um, the deepest wear "
+                     r"accepted is 1/3 of the pinion's half tooth thickness \(([\d.]+) mm\) at r = ([\d.]+) mm, "
+                     r"where its flank wears deepest", msg)
+    assert m, msg
+    limit_um, half_mm, R_mm = (float(v) for v in m.groups())
+    g = default_pair().gear(0)
+    sap, tip = mesh.start_of_active_profile_m[0], g.tip_radius_m
+    assert sap - 0.2e-3 <= R_mm * 1e-3 <= tip        # within the Hertz band of the active flank
+    half = _half_thickness_iso(g, R_mm * 1e-3)
+    assert half_mm == pytest.approx(half * 1e3, abs=1e-3)
+    assert limit_um == pytest.approx(half / 3 * 1e6, abs=2.0)
+    assert 1000 < limit_um < 2000                    # a third of a ~4.7 mm half thickness
+    assert wear_from_dict({"max_depth_um": limit_um}, pair=default_pair()).max_depth_m == pytest.approx(
+        limit_um * 1e-6)
+    # the command line: one line, the alias named, exit 2
+    assert main(["geometry", "--no-mesh", "--wear", "5000um"]) == 2
+
+
+def test_running_hours_beyond_severe_are_flagged_and_absurd_ones_refused(mesh):
+    from gearwear import geometry_job
+    from gearwear.scene import Scene
+
+    spec = wear_from_dict({"hours": 500.0}, pair=default_pair())
+    h1, _ = wear_on_line_of_action(mesh, spec, np.linspace(mesh.path_start_m, mesh.path_end_m, 4001))
+    assert 30e-6 < h1.max() < 1e-3                   # beyond the severe phase, far below the tooth
+    scene = Scene.load(None, {"effects.wear": {"hours": 500.0}})
+    res = geometry_job.compute(scene, scene.wear, 0.0, 40.0, build_mesh=False)
+    warn = res.summary()["warnings"]
+    assert len(warn) == 1 and "beyond the 'severe' phase (30 um)" in warn[0] and "500 h" in warn[0]
+    assert geometry_job.compute(scene, wear_from_dict("severe"), 0.0, 40.0, build_mesh=False).summary()[
+        "warnings"] == []
+    with pytest.raises(InputError, match=r"^effects\.wear\.hours = 5e\+06 h: must be in \[0, [\d.]+\] h"):
+        Scene.load(None, {"effects.wear": {"hours": 5e6}})
 
 
 def test_wear_inputs():
