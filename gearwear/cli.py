@@ -267,25 +267,28 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     rows: list[dict] = []
     copies: dict[str, bytes] = {}  # the cached tables, copied into --out as a whole at the end
     fe_s: dict[str, float] = {}
+    folder = tables.cache_dir()  # a bad GEARWEAR_CACHE: exit 2 before any FE run
     for w in wears:
-        cal = None
+        fe: list = []
+
+        def calibration(w=w, fe=fe):  # one FE run per wear, and only on a cache miss
+            if not fe:
+                fe.append(calibrate.run_fe(scene.pair, w))
+            return fe[0]
+
         for c in clearances:
-            inputs = calibrate.table_inputs(scene.pair, w, c, torque, points, 21)
-            hit = None if args.refresh else tables.cached(inputs)
-            if hit is None and cal is None:
-                cal = calibrate.run_fe(scene.pair, w)
-            tab = hit or calibrate.calibrated_table(scene.pair, w, c, torque, points, calibration=cal,
-                                                    refresh=args.refresh)
-            key = tables.table_key(inputs)
+            tab = calibrate.calibrated_table(scene.pair, w, c, torque, points, calibration=calibration,
+                                             refresh=args.refresh)  # a damaged entry: one line, recomputed
+            hit = tab.from_cache
             label = f"{w.label if w else 'unworn'}_clearance{c * 1e6:g}um"
             if out:
-                src = tables.cache_dir() / f"{key}.csv"
+                src = folder / f"{tab.meta['input_sha256']}.csv"
                 copies[f"calibrated_{label}.csv"] = src.read_bytes()
                 copies[f"calibrated_{label}.csv.json"] = Path(str(src) + ".json").read_bytes()
-                if hit is None and cal is not None:
-                    fe_s[label] = cal.wall_s
+            if not hit and fe:
+                fe_s[label] = fe[0].wall_s
             m = tab.meta
-            rows.append({"wear": w.label if w else "unworn", "clearance_um": c * 1e6, "cache_hit": hit is not None,
+            rows.append({"wear": w.label if w else "unworn", "clearance_um": c * 1e6, "cache_hit": hit,
                          "mean_N_per_m": tab.mean_N_per_m, "min_N_per_m": float(tab.k_N_per_m.min()),
                          "max_N_per_m": float(tab.k_N_per_m.max()),
                          "uncorrected_mean_N_per_m": m.get("uncorrected_mean_N_per_m"),
