@@ -429,22 +429,54 @@ def check_interference(spec: PairSpec, involute_start_roll: tuple[float, float],
         where = (f"r = {r_contact * 1e3:.4f} mm" if reach[i] >= 0 else
                  f"{-reach[i] * 1e3:.3f} mm beyond its interference point T{i + 1} on the line of action "
                  f"(r = {r_contact * 1e3:.4f} mm on the far side of the base circle)")
-        fix_tip = (f"a {names[j]} tip diameter <= {2e3 * math.hypot(rb[j], free):.4f} mm"
-                   if free > 0 else f"no {names[j]} tip is short enough")
+        fixes = [f"a {names[j]} tip diameter <= {2e3 * math.hypot(rb[j], free):.4f} mm"] if free > 0 else []
+        helps = _shifts_that_help(spec, i)
+        if helps:
+            fixes.append("more profile shift on the " + " or the ".join(names[k] for k in helps))
         msg = (f"tip/root interference: the {names[j]} tip circle (r_a = {ra[j] * 1e3:.4f} mm) starts contact on the "
                f"{names[i]} flank at {where}, below the {names[i]}'s involute start (form radius "
-               f"r_Nf = {r_nf * 1e3:.4f} mm), so it cuts into the fillet; needs {fix_tip} "
-               f"or more profile shift on the {names[i]}")
+               f"r_Nf = {r_nf * 1e3:.4f} mm), so it cuts into the fillet; needs "
+               + (" or ".join(fixes) if fixes else "another pair (no shorter tip or added shift clears it)"))
         if spec.tip_diameter_m is not None and free > 0:
             d_hi = 2 * math.hypot(rb[j], free)
             raise fail_range(f"tip_diameter_m[{j}]", spec.tip_diameter_m[j],
                              Field("m", 2 * rb[j], d_hi, lo_open=True), msg)
-        raise fail(f"profile_shift[{i}]", spec.profile_shift[i], "", msg)
+        k = helps[0] if helps else i  # name a shift that helps
+        raise fail(f"profile_shift[{k}]", spec.profile_shift[k], "", msg)
     if d_E - d_A <= 0:
         key, value, unit = (("tip_diameter_m[0]", spec.tip_diameter_m[0], "m") if spec.tip_diameter_m
                             else ("addendum_coefficient", spec.addendum_coefficient, ""))
         raise fail(key, value, unit, f"the tip circles do not overlap on the line of action (path of contact "
                    f"{(d_E - d_A) * 1e3:.4g} mm <= 0): the gears are out of mesh")
+
+
+def _interference_margin(spec: PairSpec, i: int) -> float:
+    """Roll length (m) by which the mate's tip stays above the involute start of flank
+    i at the working centre distance (negative: interference); see check_interference."""
+    from .profile import involute_start  # profile imports this module
+
+    g1, g2 = spec.gears
+    rb = (g1.base_radius_m, g2.base_radius_m)
+    ra = (g1.tip_radius_m, g2.tip_radius_m)
+    C = spec.centre_distance_m
+    L = C * math.sin(math.acos(min(1.0, sum(rb) / C)))
+    reach = (L - math.sqrt(ra[1] ** 2 - rb[1] ** 2), L - math.sqrt(ra[0] ** 2 - rb[0] ** 2))
+    return reach[i] - rb[i] * involute_start(spec.gears[i])[0]
+
+
+def _shifts_that_help(spec: PairSpec, i: int, step: float = 0.1) -> list[int]:
+    """Gears (0, 1) whose profile shift, raised by ``step``, reduces the interference on
+    flank i (both tried, the other shift kept; the tip shortening follows)."""
+    base = _interference_margin(spec, i)
+    out = []
+    for k in (i, 1 - i):
+        try:
+            trial = replace(spec, profile_shift=_with(spec.profile_shift, k, spec.profile_shift[k] + step))
+            if _interference_margin(trial, i) > base:
+                out.append(k)
+        except (ValueError, ZeroDivisionError):
+            continue
+    return out
 
 
 def default_pair() -> PairSpec:

@@ -329,3 +329,23 @@ def test_contact_ratio_below_one_in_the_summaries(capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("gearwear: error: --method = 'iso6336': ISO 6336-1 method B needs a "
                                                "contact ratio >= 1")
+
+
+def test_interference_of_a_large_pinion_shift_and_the_fix_it_names():
+    """z = 30/30, x = +1.3/-0.3 (ISO 53 rack): the rack that cut the pinion was withdrawn so
+    far that its flank end (y_T above the pitch line) starts the involute at
+    r_b u_F = r sin(alpha) + y_T / sin(alpha); the shortened gear tip reaches below it.
+    More shift on the gear (x2 = +0.3) clears it; the message names that key."""
+    def pinion_margin(x1, x2):
+        alpha_w, a_w, k = working(30, 30, x1, x2)
+        r, rb = 75e-3, 75e-3 * math.cos(ALPHA)
+        ra2 = tip_radius(30, x2, k)
+        d_A = a_w * math.sin(alpha_w) - math.sqrt(ra2 ** 2 - rb ** 2)
+        y_T = -(1.25 - x1) * M + 0.38 * M * (1 - math.sin(ALPHA))
+        return d_A - (r * math.sin(ALPHA) + y_T / math.sin(ALPHA))
+
+    assert pinion_margin(1.3, -0.3) < 0 < pinion_margin(1.3, 0.3)
+    msg = refused({"profile_shift": [1.3, -0.3]})
+    assert msg.startswith("pair.profile_shift[1] = -0.3: tip/root interference: the gear tip circle")
+    assert msg.endswith("or more profile shift on the gear")
+    pair_from_dict({"pair": {"profile_shift": [1.3, 0.3]}})
