@@ -54,7 +54,7 @@ study, wall = median_wall(lambda: convergence_table(pair, levels={1: (2.0, sq, 1
 rows = [dict(x) for x in study]
 for x in rows:
     x["is_default"] = x["order"] == 2 and x is rows[-1]
-acc = acceptance(rows, max_change_pct=1.0, max_wall_s=math.inf)
+acc = acceptance(rows, max_change_pct=1.0)
 line("coarse convergence study: its 'default' level (wall_s)", acc["default_wall_s"], 60.0,
      f"whole study {wall:.1f} s")
 

@@ -123,11 +123,12 @@ def reference(rows: list[dict]) -> np.ndarray:
     return np.asarray(finest["compliance"])
 
 
-def acceptance(rows: list[dict], max_change_pct: float = 0.5, max_wall_s: float = 10.0) -> dict:
-    """Checks of the default level: the two finest P2 levels differ by less than
-    ``max_change_pct`` at every position, the default level differs from the next
-    finer P2 level by less than that, and the default 21-position curve takes at most
-    ``max_wall_s`` (mesh + assemble + factorize + solves)."""
+def acceptance(rows: list[dict], max_change_pct: float = 0.5) -> dict:
+    """Accuracy checks of the default level: the two finest P2 levels differ by less
+    than ``max_change_pct`` at every position, and the default level differs from the
+    next finer P2 level by less than that. Its cost is reported (``default_dofs``,
+    ``default_wall_s``) but not judged here: a verdict on wall time would make the same
+    inputs give different results; benchmarks/bench_fem_targets.py times it."""
     p2 = sorted((r for r in rows if r["order"] == 2), key=lambda r: -r["mesh_scale"])
     default = next(r for r in p2 if r["is_default"])
     i = p2.index(default)
@@ -137,53 +138,63 @@ def acceptance(rows: list[dict], max_change_pct: float = 0.5, max_wall_s: float 
            "default_error_vs_extrapolation_pct": default["error_pct_max"],
            "default_wall_s": default["wall_s"], "default_dofs": default["dofs"]}
     out["ok"] = bool(out["finest_p2_change_pct"] < max_change_pct
-                     and (finer is None or out["default_vs_finer_change_pct"] < max_change_pct)
-                     and out["default_wall_s"] <= max_wall_s)
+                     and (finer is None or out["default_vs_finer_change_pct"] < max_change_pct))
     return out
 
 
-def plot_convergence(rows: list[dict], path: str | Path) -> Path:
-    """PNG: largest relative error (vs the reference extrapolation, %) against dofs
-    and against wall time, log-log, one line per element order; the default level
-    is circled. Written atomically; no pyplot, the caller's backend is left alone."""
+def convergence_figure(rows: list[dict], wall_time: bool = True):
+    """Largest relative error (vs the reference extrapolation, %) against dofs, and with
+    ``wall_time`` also against wall time, log-log, one line per element order; the default
+    level is circled. A result figure leaves the wall-time panel out, so the same inputs
+    give the same bytes. No pyplot: the caller's backend is left alone."""
     from matplotlib.figure import Figure
     from matplotlib.ticker import NullFormatter
 
-    from gearwear.core.atomic import atomic_write
-
-    fig = Figure(figsize=(10, 4.2), layout="constrained")
-    axes = fig.subplots(1, 2)
+    keys = ("dofs", "wall_s") if wall_time else ("dofs",)
+    fig = Figure(figsize=(5 * len(keys) + (1 if len(keys) == 1 else 0), 4.2), layout="constrained")
+    axes = fig.subplots(1, len(keys), squeeze=False)[0]
     for order, style in ((1, "s--"), (2, "o-")):
-        lev = sorted((r for r in rows if r["order"] == order), key=lambda r: r["dofs"])
-        if not lev:
-            continue
         # the reference level's own error is ~0 by construction; leave it out of the log plot
-        lev = [r for r in lev if r["error_pct_max"] > 0]
-        for ax, key in zip(axes, ("dofs", "wall_s")):
+        lev = sorted((r for r in rows if r["order"] == order and r["error_pct_max"] > 0), key=lambda r: r["dofs"])
+        for ax, key in zip(axes, keys):
+            if not lev:
+                continue
             ax.loglog([r[key] for r in lev], [r["error_pct_max"] for r in lev], style, label=f"P{order}")
             for r in lev:
                 if r["is_default"]:
                     ax.loglog([r[key]], [r["error_pct_max"]], "o", ms=14, mfc="none", mec="k",
                               label="default level")
-    for ax, xl in zip(axes, ("degrees of freedom", "wall time (mesh + assemble + factorize + 21 solves), s")):
-        ax.set_xlabel(xl)
-        ax.set_ylabel("max error over 21 positions vs Richardson, %")
+    labels = {"dofs": "degrees of freedom", "wall_s": "wall time (mesh + assemble + factorize + solves), s"}
+    for ax, key in zip(axes, keys):
+        ax.set_xlabel(labels[key])
+        ax.set_ylabel("max error over the positions vs Richardson, %")
         ax.axhline(0.5, color="0.6", lw=0.8, ls=":")
         ax.grid(True, which="both", lw=0.3)
         ax.legend()
         ax.xaxis.set_minor_formatter(NullFormatter())
-    fig.suptitle("FE single-tooth compliance: accuracy versus cost (full gear, bore fixed)")
-    return atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=120))
+    fig.suptitle("FE single-tooth compliance: accuracy versus cost (full gear, bore fixed)", fontsize=10)
+    return fig
 
 
-def format_table(rows: list[dict]) -> str:
-    """Plain-text summary table (one line per level)."""
-    head = (f"{'order':>5} {'scale':>7} {'h_load mm':>9} {'dofs':>8} {'wall s':>7} {'max chg %':>9} "
+def plot_convergence(rows: list[dict], path: str | Path, wall_time: bool = True) -> Path:
+    """:func:`convergence_figure` written atomically as a PNG."""
+    from gearwear.core.atomic import atomic_write
+
+    fig = convergence_figure(rows, wall_time)
+    return atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=120, metadata={"Software": None}))
+
+
+def format_table(rows: list[dict], wall_time: bool = True) -> str:
+    """Plain-text summary table (one line per level); a result file leaves the wall-time
+    column out (``wall_time=False``) so the same inputs give the same bytes."""
+    wall_head = f" {'wall s':>7}" if wall_time else ""
+    head = (f"{'order':>5} {'scale':>7} {'h_load mm':>9} {'dofs':>8}{wall_head} {'max chg %':>9} "
             f"{'p median':>8} {'p norm':>7} {'err % (max)':>11}")
     lines = [head]
     for r in rows:
-        lines.append(f"{'P%d' % r['order']:>5} {r['mesh_scale']:7.3f} {r['load_size_mm']:9.3f} {r['dofs']:8d} "
-                     f"{r['wall_s']:7.2f} {r['max_change_pct']:9.3f} {r['observed_order_median']:8.2f} "
+        wall = f" {r['wall_s']:7.2f}" if wall_time else ""
+        lines.append(f"{'P%d' % r['order']:>5} {r['mesh_scale']:7.3f} {r['load_size_mm']:9.3f} {r['dofs']:8d}"
+                     f"{wall} {r['max_change_pct']:9.3f} {r['observed_order_median']:8.2f} "
                      f"{r['observed_order_norm']:7.2f} {r['error_pct_max']:11.3f}"
                      + ("  <- default" if r["is_default"] else ""))
     return "\n".join(lines)

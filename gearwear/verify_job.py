@@ -161,7 +161,7 @@ def markdown(v: Verification, files: dict[str, str]) -> str:
         lines.append("")
     if v.convergence:
         lines += ["## FE convergence (unworn, h- and p-refinement, Richardson extrapolation)", "",
-                  "```", _convergence_table(v.convergence), "```", ""]
+                  "```", _table(v.convergence), "```", ""]
         if "convergence.png" in files:
             lines += [f"![convergence]({files['convergence.png']})", ""]
         a = v.acceptance or {}
@@ -187,44 +187,9 @@ def markdown(v: Verification, files: dict[str, str]) -> str:
     return "\n".join(lines)
 
 
-def _convergence_table(rows: list[dict]) -> str:
-    """fem.convergence.format_table without its wall-time column: verification.md is a
-    result file, the same inputs give the same bytes (wall times: timing.json)."""
+def _table(rows: list[dict]) -> str:
     from gearwear.fem.convergence import format_table
-
-    lines = format_table(rows).splitlines()
-    start = lines[0].index("dofs") + len("dofs")
-    end = lines[0].index("wall s") + len("wall s")
-    return "\n".join(line[:start] + line[end:] for line in lines)
-
-
-def _convergence_figure(rows: list[dict]):
-    """Accuracy against cost in degrees of freedom (fem.convergence.plot_convergence
-    without its wall-time panel: a result figure, so the same inputs give the same
-    bytes; the wall time of every level is in timing.json)."""
-    from matplotlib.ticker import NullFormatter
-
-    from .plotting import subplots
-
-    fig, ax = subplots(figsize=(6, 4.2))
-    for order, style in ((1, "s--"), (2, "o-")):
-        # the reference level's own error is ~0 by construction; leave it out of the log plot
-        lev = sorted((r for r in rows if r["order"] == order and r["error_pct_max"] > 0), key=lambda r: r["dofs"])
-        if not lev:
-            continue
-        ax.loglog([r["dofs"] for r in lev], [r["error_pct_max"] for r in lev], style, label=f"P{order}")
-        for r in lev:
-            if r["is_default"]:
-                ax.loglog([r["dofs"]], [r["error_pct_max"]], "o", ms=14, mfc="none", mec="k", label="default level")
-    ax.set_xlabel("degrees of freedom")
-    ax.set_ylabel("max error over the positions vs Richardson, %")
-    ax.axhline(0.5, color="0.6", lw=0.8, ls=":")
-    ax.grid(True, which="both", lw=0.3)
-    ax.legend()
-    ax.xaxis.set_minor_formatter(NullFormatter())
-    ax.set_title("FE single-tooth compliance: accuracy versus cost\n(full gear, bore fixed)", fontsize=10)
-    fig.tight_layout()
-    return fig
+    return format_table(rows, wall_time=False)  # a result file: wall times go to timing.json
 
 
 def write(v: Verification, out: Path, inputs: dict[str, Any], labels: dict[str, Any] | None = None) -> list[Path]:
@@ -236,7 +201,9 @@ def write(v: Verification, out: Path, inputs: dict[str, Any], labels: dict[str, 
         files.append(io.write_figure(fig, out / name))
         names[name] = name
     if v.convergence:
-        files.append(io.write_figure(_convergence_figure(v.convergence), out / "convergence.png", dpi=120))
+        from gearwear.fem.convergence import convergence_figure
+        files.append(io.write_figure(convergence_figure(v.convergence, wall_time=False), out / "convergence.png",
+                                     dpi=120))
         names["convergence.png"] = "convergence.png"
     files.append(io.write_text(out / "verification.md", markdown(v, names)))
     js = io.without_timing(to_json(v))

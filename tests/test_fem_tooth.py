@@ -180,7 +180,7 @@ def test_convergence_plot_and_acceptance(study, tmp_path):
         r["is_default"] = r["order"] == 2 and r is rows[-1]
     # accuracy targets only: the wall-time target is a benchmark
     # (benchmarks/bench_fem_targets.py), never asserted here
-    acc = acceptance(rows, max_change_pct=1.0, max_wall_s=math.inf)
+    acc = acceptance(rows, max_change_pct=1.0)
     assert acc["ok"], acc
     png = plot_convergence(rows, tmp_path / "conv.png")
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
