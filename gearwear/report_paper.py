@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import math
+import sys
 import time
 from pathlib import Path
 from typing import Any, Callable
@@ -615,6 +616,6 @@ def run_report(out: Path, progress: bool = True) -> list[Path]:
         def say(msg):
             bar.set_postfix_str(msg[:40])
             bar.update(1)
-        res = compute(say)
+        res = compute(say, notify=lambda m: tqdm.write(f"gearwear: {m}", file=sys.stderr))
     return io.write_folder(out, "report paper", provenance(res), lambda d: write(res, d),
                            {"total_s": time.perf_counter() - t0})
