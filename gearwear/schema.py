@@ -157,8 +157,14 @@ class WearDoc(_Table):
     """Flank wear: exactly one of phase, max_depth_um, hours. The model gives the shape."""
     phase: Literal["unworn", "mild", "severe"] | None = PField(
         None, description="Named phase: unworn 0, mild 10 um, severe 30 um maximum depth (assumed).")
-    max_depth_um: _num("um", 0, 20000, doc="Maximum pinion flank depth.") = None  # type: ignore[valid-type]
-    hours: _num("h", 0, 1e7, doc="Running hours at the operating point (magnitude from the model).") = None  # type: ignore[valid-type]
+    max_depth_um: _num("um", 0, 20000,  # type: ignore[valid-type]
+                       doc="Maximum pinion flank depth. Refused beyond 1/3 of the local half tooth thickness where "
+                           "either flank wears deepest (the message gives the maximum for the pair; 1554 um for "
+                           "the paper pair).") = None
+    hours: _num("h", 0, 1e7,  # type: ignore[valid-type]
+                doc="Running hours at the operating point (magnitude from the model). Refused when the depth "
+                    "would pass the 1/3 half-thickness limit; a depth beyond the severe phase (30 um) is "
+                    "accepted with a warning in the outputs.") = None
     model: Literal["archard", "paper_eq1"] = PField("archard", description="Archard (Flodin & Andersson 1997) "
                                                                            "or the paper's Eq. 1.")
     archard_k_m2_per_N: _num("m^2/N", 0, 1e-9, lo_open=True,  # type: ignore[valid-type]

@@ -172,6 +172,8 @@ def test_absurd_wear_depth_is_refused_with_the_allowed_maximum(mesh):
     assert half_mm == pytest.approx(half * 1e3, abs=1e-3)
     assert limit_um == pytest.approx(half / 3 * 1e6, abs=2.0)
     assert 1000 < limit_um < 2000                    # a third of a ~4.7 mm half thickness
+    from gearwear.schema import WearDoc
+    assert f"{limit_um:g} um for the paper pair" in (WearDoc.model_fields["max_depth_um"].description or "")
     assert wear_from_dict({"max_depth_um": limit_um}, pair=default_pair()).max_depth_m == pytest.approx(
         limit_um * 1e-6)
     # the command line: one line, the alias named, exit 2
