@@ -272,6 +272,7 @@ def pair_model(pair: PairSpec, wear: WearSpec | None = None, torque_Nm: float = 
         raise fail("plane", repr(plane), "", "must be 'stress' or 'strain'")
     og = operating_geometry(pair, clearance_m)
     mesh = og.mesh
+    mesh.require_overlap("fem")  # the contact solve needs a pair that can touch at every angle
     sizes, a_ref = body_sizes(pair, torque_Nm, contact_scale, mesh_scale)
     window = WINDOW_HALF_WIDTHS * a_ref + 2.0 * sizes.contact_m
     nb = int(math.ceil(mesh.contact_ratio + 2 * EXTENSION_PITCHES)) + 1

@@ -318,6 +318,18 @@ def table_label(wear: WearSpec | None, clearance_m: float) -> str:
     return f"{'unworn' if wear is None or wear.is_unworn else wear.label}, {clearance_m * 1e6:g} um"
 
 
+def require_overlap(pair: PairSpec, clearance_m: float) -> None:
+    """A calibrated table needs the FE pair contact, which needs a tooth pair on the path
+    of contact at every angle (contact ratio >= 1); refused otherwise, in scene terms."""
+    from gearwear.core.validation import InputError, renamed
+    from gearwear.geometry.operating import operating_geometry
+
+    try:
+        operating_geometry(pair, clearance_m).mesh.require_overlap("calibrated")
+    except InputError as exc:
+        raise renamed(exc, {"method": "effects.mesh_stiffness.source"}) from None
+
+
 def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float = 0.0, torque_Nm: float = 40.0,
                      points: int = 360, positions: int = 21,
                      calibration: Calibration | Callable[[], Calibration] | None = None,
@@ -338,6 +350,7 @@ def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float =
         hit = tables.cached(inputs, folder, notify, table_label(wear, clearance_m))
         if hit is not None:
             return hit
+    require_overlap(pair, clearance_m)  # before the FE runs, which cannot model a gap
     if callable(calibration):
         calibration = calibration()
     cal = calibration or run_fe(pair, wear, positions)

@@ -161,7 +161,6 @@ def _split_multi(values: list[str] | str | None) -> list[str]:
 
 
 def _cmd_stiffness(args: argparse.Namespace) -> int:
-    import math
 
     from . import stiffness_job
 
@@ -196,14 +195,21 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
               f"{'eps':>8}{'double':>12}{'single':>12}{'wall ms':>9}"
         print(hdr)
         for s in summaries:
-            dz = s["double_zone_mean_N_per_m"]
             print(f"{s['method']:<9}{s['wear']:<9}{s['clearance_um']:>9g}{s['mean_N_per_m']:>12.4e}"
                   f"{s['min_N_per_m']:>12.4e}{s['max_N_per_m']:>12.4e}{s['contact_ratio']:>8.4f}"
-                  f"{(dz if math.isfinite(dz) else float('nan')):>12.4e}{s['single_zone_mean_N_per_m']:>12.4e}"
+                  f"{_num_or_dash(s['double_zone_mean_N_per_m'])}{_num_or_dash(s['single_zone_mean_N_per_m'])}"
                   f"{s['wall_s'] * 1e3:>9.1f}")
+        for w in dict.fromkeys(w for s in summaries for w in s.get("warnings", [])):
+            print(f"warning: {w}")
         for f in files:
             print(f"wrote {f}")
     return 0
+
+
+def _num_or_dash(v: float | None, width: int = 12) -> str:
+    """A zone mean in the text table; '-' for a zone the pair never has (contact ratio >= 2 has
+    no single-contact zone)."""
+    return f"{'-':>{width}}" if v is None else f"{v:>{width}.4e}"
 
 
 def _unworn_as_none(wears: list) -> list:
@@ -268,6 +274,11 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     copies: dict[str, bytes] = {}  # the cached tables, copied into --out as a whole at the end
     fe_s: dict[str, float] = {}
     folder = tables.cache_dir()  # a bad GEARWEAR_CACHE: exit 2 before any FE run
+    for c in clearances:  # the FE pair contact needs overlap: refuse before any FE run
+        try:
+            calibrate.require_overlap(scene.pair, c)
+        except InputError as exc:
+            raise fail("--clearance-um", c * 1e6, "um", "the FE calibration " + str(exc).split(": ", 1)[1]) from None
     for w in wears:
         fe: list = []
 
@@ -458,6 +469,8 @@ def _print_geometry(s: dict) -> None:
     w = max(len(r[0]) for r in rows)
     for k, v in rows:
         print(f"{k:<{w}}  {v}")
+    for note in s.get("warnings", []):
+        print(f"warning: {note}")
     for f in s.get("files", []):
         print(f"wrote {f}")
 

@@ -65,7 +65,7 @@ def test_bad_input_files_give_one_line_and_write_nothing(tmp_path, toml, message
 
 @pytest.mark.parametrize("args,message", [
     (["--clearance-um", "-5"], "--clearance-um = -5 um: must be in [0, 10000] um"),
-    (["--wear", "12000um"], "consumes the tooth"),
+    (["--wear", "12000um"], "effects.wear.max_depth_um = 12000 um: must be in [0, "),
     (["--wear", "heavy"], "--wear = 'heavy'"),
 ])
 def test_bad_cli_options(tmp_path, args, message):
@@ -98,7 +98,7 @@ def test_stiffness_cli_overlays_and_json(tmp_path):
 @pytest.mark.parametrize("args,message", [
     (["--points", "4"], "--points = 4"),
     (["--torque-Nm", "0"], "--torque-Nm = 0 N m"),
-    (["--wear", "12000um"], "wear depth"),
+    (["--wear", "12000um"], "effects.wear.max_depth_um = 12000 um: must be in [0, "),
     (["--method", "magic"], "--method = 'magic'"),
 ])
 def test_stiffness_bad_input(tmp_path, args, message):
