@@ -78,5 +78,7 @@ def print_summary(s: dict[str, Any]) -> None:
     print(f"{'signal':<12}{'rms':>12}{'p-p':>12}   harmonics k f_m, k = 1..{len(next(iter(s['harmonics'].values())))}")
     for key, h in s["harmonics"].items():
         print(f"{key:<12}{s['rms'][key]:>12.4g}{s['peak_to_peak'][key]:>12.4g}   " + " ".join(f"{x:.3g}" for x in h))
+    for note in s.get("warnings", []):
+        print(f"warning: {note}")
     for f in s.get("files", []):
         print(f"wrote {f}")

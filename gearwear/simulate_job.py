@@ -180,7 +180,21 @@ class SimulationRun:
                 "periodic_with_mesh_periods": int(r.periodic_with), "wall_s": self.wall_s,
                 "integration_wall_s": r.wall_s, "compile_s": r.compile_s, "stiffness_source": self.stiffness.source,
                 "mean_mesh_stiffness_N_per_m": self.stiffness.mean_N_per_m,
-                "effects": sorted(self.scene.effects)}
+                "effects": sorted(self.scene.effects), **operating_notes(self.scene)}
+
+
+def operating_notes(scene: Scene) -> dict[str, Any]:
+    """The contact ratio of the static operating geometry, and one-line warnings where a
+    result rests on it (below 1, part of every mesh period has no pair in contact) or on
+    an extrapolated input (running hours beyond the 'severe' wear phase)."""
+    from gearwear.geometry.operating import operating_geometry
+    from gearwear.geometry.wear import wear_warnings
+
+    pair = scene.pair
+    Cp = operating_centre_distance(scene)
+    mesh = operating_geometry(pair, scene.clearance_m if Cp != pair.centre_distance_m else 0.0).mesh
+    return {"contact_ratio": mesh.contact_ratio,
+            "warnings": mesh.contact_ratio_warnings() + wear_warnings(mesh, scene.wear)}
 
 
 def run(scene: Scene, on_compile=None) -> SimulationRun:
