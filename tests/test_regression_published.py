@@ -491,3 +491,13 @@ def test_rk4_versus_c_agreement_against_bench_json():
     """The C comparison needs gcc and a timing run: pinned to bench_rk4_vs_c.json."""
     d = load_json("benchmarks/results/bench_rk4_vs_c.json")
     say(f"their final states agree to {sci(d['rk4_all_256']['agreement']['max_component_rel'])})")
+
+
+def test_wear_depth_limit_of_the_paper_pinion(pair):
+    """README, Geometry: the deepest wear accepted on the paper pinion."""
+    from gearwear.geometry.operating import operating_geometry
+    from gearwear.geometry.wear import depth_limits
+
+    lim = depth_limits(operating_geometry(pair).mesh, WearSpec(phase="severe"))
+    say(f"1/3 of the local half tooth thickness where the flank wears deepest is refused "
+        f"({lim['max_depth_m'] * 1e6:.0f} um on the paper pinion)")
