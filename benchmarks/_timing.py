@@ -4,11 +4,16 @@ import statistics
 import time
 
 
-def median_time(fn, n: int = 7) -> float:
-    """Median wall time (s) of ``n`` calls of ``fn``."""
-    ts = []
+def timed(fn, n: int = 7):
+    """(the last result of ``fn``, median wall time in s of ``n`` calls)."""
+    out, ts = None, []
     for _ in range(n):
         t0 = time.perf_counter()
-        fn()
+        out = fn()
         ts.append(time.perf_counter() - t0)
-    return statistics.median(ts)
+    return out, statistics.median(ts)
+
+
+def median_time(fn, n: int = 7) -> float:
+    """Median wall time (s) of ``n`` calls of ``fn``."""
+    return timed(fn, n)[1]

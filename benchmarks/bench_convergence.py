@@ -8,20 +8,11 @@ positions): the default level and two finer ones (mesh_scale 1, 1/sqrt 2, 1/2),
 the error of each against the Richardson extrapolation of the three, and the wall
 time of every stage; Gmsh meshing time of order 1 versus order 2."""
 
-import statistics
-import time
 
 from gearwear.analytic.tvms import mesh_stiffness
 from gearwear.geometry.spec import default_pair
 
-
-def timed(fn, n=9):
-    out, ts = None, []
-    for _ in range(n):
-        t0 = time.perf_counter()
-        out = fn()
-        ts.append(time.perf_counter() - t0)
-    return out, statistics.median(ts)
+from _timing import timed  # noqa: E402  (benchmarks/_timing.py)
 
 
 pair = default_pair()

@@ -11,26 +11,18 @@ accuracy assertions. Timings are printed, never asserted; nothing here fails the
 
 import math
 import statistics
-import time
 
 import numpy as np
 
 from gearwear.fem.convergence import acceptance, convergence_table
 from gearwear.fem.mesh import MeshSizes, mesh_full_gear
 from gearwear.fem.tooth import single_tooth_compliance
-from gearwear.geometry.profile import FILLET, gear_outline, tooth_profile
+from gearwear.geometry.profile import fillet_midpoints, gear_outline, tooth_profile
 from gearwear.geometry.spec import default_pair
 
+from _timing import timed  # noqa: E402  (benchmarks/_timing.py)
+
 RUNS = 3
-
-
-def median_wall(fn, n=RUNS):
-    out, ts = None, []
-    for _ in range(n):
-        t0 = time.perf_counter()
-        out = fn()
-        ts.append(time.perf_counter() - t0)
-    return out, statistics.median(ts)
 
 
 def line(what, wall, target=None, note=""):
@@ -50,7 +42,7 @@ line("single-tooth FE, default P2 level, 21 positions (wall_s)", statistics.medi
 
 # 2. the coarse convergence study of the tests (was: acceptance(..., max_wall_s=60))
 sq = math.sqrt(2.0)
-study, wall = median_wall(lambda: convergence_table(pair, levels={1: (2.0, sq, 1.0), 2: (2 * sq, 2.0, sq)}), n=1)
+study, wall = timed(lambda: convergence_table(pair, levels={1: (2.0, sq, 1.0), 2: (2 * sq, 2.0, sq)}), n=1)
 rows = [dict(x) for x in study]
 for x in rows:
     x["is_default"] = x["order"] == 2 and x is rows[-1]
@@ -63,14 +55,9 @@ line("coarse convergence study: its 'default' level (wall_s)", acc["default_wall
 g = pair.gear(0)
 nom = tooth_profile(g, sag_m=1e-6)
 outline = gear_outline(nom)
-fil = nom.xy[nom.region == FILLET]
-pts = []
-for k in range(g.teeth):
-    a = 2 * math.pi * k / g.teeth
-    rot = np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
-    pts += [rot @ fil[len(fil) // 2], rot @ (fil[len(fil) // 2] * [-1, 1])]
+pts = fillet_midpoints(nom, g.teeth)
 load = np.array([[nom.xy[-40, 0], nom.xy[-40, 1]]])
 sizes = MeshSizes(global_m=3e-3, fillet_m=0.5e-3, load_m=0.2e-3)
-gm, wall = median_wall(lambda: mesh_full_gear(outline, g.hub_radius_m, sizes, refine_points_xy=load,
-                                              fillet_points_xy=np.array(pts)))
+gm, wall = timed(lambda: mesh_full_gear(outline, g.hub_radius_m, sizes, refine_points_xy=load,
+                                              fillet_points_xy=pts))
 line("full 30-tooth P2 mesh, 3 / 0.5 / 0.2 mm", wall, None, f"{gm.n_elements} triangles")

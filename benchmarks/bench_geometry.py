@@ -3,15 +3,12 @@
 Reports the median of repeated runs; compares profile cost at two sag tolerances
 (accuracy of the polyline versus time)."""
 
-import math
-import statistics
-import time
 
 import numpy as np
 
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.fem.mesh import MeshSizes, mesh_full_gear
-from gearwear.geometry.profile import FILLET, gear_outline, involute_points, tooth_profile, INVOLUTE
+from gearwear.geometry.profile import INVOLUTE, fillet_midpoints, gear_outline, involute_points, tooth_profile
 from gearwear.geometry.spec import default_pair
 from gearwear.geometry.wear import WearSpec, worn_profiles
 
@@ -42,17 +39,12 @@ t = median_time(lambda: worn_profiles(pair, WearSpec(phase="severe"), mesh))
 print(f"{'worn profiles (both gears, severe)':<38}{t * 1e3:>11.2f} ms")
 nom = tooth_profile(g, sag_m=1e-6)
 outline = gear_outline(nom)
-fil = nom.xy[nom.region == FILLET]
-pts = []
-for k in range(g.teeth):
-    a = 2 * math.pi * k / g.teeth
-    rot = np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
-    pts += [rot @ fil[len(fil) // 2], rot @ (fil[len(fil) // 2] * [-1, 1])]
+pts = fillet_midpoints(nom, g.teeth)
 load = np.array([[nom.xy[-40, 0], nom.xy[-40, 1]]])
 for size in (3e-3, 1.5e-3):
     sizes = MeshSizes(global_m=size, fillet_m=0.4e-3, load_m=0.2e-3)
-    gm = mesh_full_gear(outline, g.hub_radius_m, sizes, refine_points_xy=load, fillet_points_xy=np.array(pts))
+    gm = mesh_full_gear(outline, g.hub_radius_m, sizes, refine_points_xy=load, fillet_points_xy=pts)
     t = median_time(lambda: mesh_full_gear(outline, g.hub_radius_m, sizes, refine_points_xy=load,
-                                           fillet_points_xy=np.array(pts)), n=3)
+                                           fillet_points_xy=pts), n=3)
     print(f"{'full 30-tooth P2 mesh, global ' + format(size * 1e3, 'g') + ' mm':<38}{t:>12.2f} s"
           f"{gm.n_elements:>9} tri, area error {gm.area_rel_error:.1e}")

@@ -107,7 +107,7 @@ def pinion_mesh(res: GeometryResult, global_size_m: float):
     """P2 mesh of the whole pinion (worn flanks on every tooth if worn), refined at
     every fillet and at the highest point of single tooth contact of tooth 0."""
     from gearwear.fem.mesh import MeshSizes, mesh_full_gear
-    from gearwear.geometry.profile import FILLET, tooth_profile
+    from gearwear.geometry.profile import fillet_midpoints, tooth_profile
 
     pair = res.scene.pair
     g = pair.gear(0)
@@ -120,15 +120,6 @@ def pinion_mesh(res: GeometryResult, global_size_m: float):
         spec = res.wear or WearSpec(phase="unworn")
         worn = nominal.worn(flank_depth(nominal, 0, res.operating.mesh, spec))
     outline = gear_outline(nominal, worn)
-    fil = nominal.xy[nominal.region == FILLET]
-    fillet_pts = []
-    for k in range(g.teeth):
-        ang = 2 * math.pi * k / g.teeth
-        c, s = math.cos(ang), math.sin(ang)
-        rot = np.array([[c, -s], [s, c]])
-        mid = fil[len(fil) // 2]
-        fillet_pts.append(rot @ mid)
-        fillet_pts.append(rot @ (mid * np.array([-1.0, 1.0])))
     # load point: highest point of single tooth contact (HPSTC) on tooth 0's right flank
     d_hp = res.operating.mesh.single_contact_limits_m[1]
     r_hp = float(res.operating.mesh.pinion_radius_at(d_hp))
@@ -138,7 +129,7 @@ def pinion_mesh(res: GeometryResult, global_size_m: float):
     sizes = MeshSizes(global_m=global_size_m, fillet_m=min(0.4e-3, global_size_m),
                       load_m=min(0.2e-3, global_size_m))
     return mesh_full_gear(outline, g.hub_radius_m, sizes, refine_points_xy=load,
-                          fillet_points_xy=np.array(fillet_pts))
+                          fillet_points_xy=fillet_midpoints(nominal, g.teeth))
 
 
 def profile_table(res: GeometryResult) -> str:

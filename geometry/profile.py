@@ -545,6 +545,20 @@ def ring_outline(tooth, z: int, teeth=None) -> np.ndarray:
     return stitch(pieces, closed=teeth is None)  # neighbouring teeth share a space centre
 
 
+def fillet_midpoints(nominal: ToothProfile, teeth: int) -> np.ndarray:
+    """The middle of both root fillets of every tooth (m, shape (2 teeth, 2)): where the
+    bending stress peaks, so the mesher refines there. Tooth k is the reference tooth
+    (symmetric about +y) turned by 2 pi k / z; the left fillet mirrors the right one."""
+    mid = nominal.xy[nominal.region == FILLET]
+    mid = mid[len(mid) // 2]
+    out = []
+    for k in range(teeth):
+        a = 2 * math.pi * k / teeth
+        rot = np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
+        out += [rot @ mid, rot @ (mid * np.array([-1.0, 1.0]))]
+    return np.array(out)
+
+
 def gear_outline(nominal: ToothProfile, worn: ToothProfile | None = None,
                  worn_teeth="all", worn_flank: str = "right",
                  teeth: range | list[int] | None = None) -> np.ndarray:

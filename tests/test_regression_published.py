@@ -22,7 +22,6 @@ cheap recomputation of some of its numbers. Wall times are benchmarks and not pi
 from __future__ import annotations
 
 import json
-import math
 import os
 from pathlib import Path
 
@@ -169,18 +168,12 @@ def test_full_gear_mesh_figures(pair):
     """Accuracy table, second row: triangle count and area error of the full P2 mesh at
     3 mm global, 0.4 mm fillets, 0.2 mm load point (benchmarks/bench_geometry.py)."""
     from gearwear.fem.mesh import MeshSizes, mesh_full_gear
-    from gearwear.geometry.profile import FILLET, gear_outline, tooth_profile
+    from gearwear.geometry.profile import fillet_midpoints, gear_outline, tooth_profile
 
     g = pair.gear(0)
     nom = tooth_profile(g, sag_m=1e-6)
-    fil = nom.xy[nom.region == FILLET]
-    pts = []
-    for k in range(g.teeth):
-        a = 2 * math.pi * k / g.teeth
-        rot = np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
-        pts += [rot @ fil[len(fil) // 2], rot @ (fil[len(fil) // 2] * [-1, 1])]
     gm = mesh_full_gear(gear_outline(nom), g.hub_radius_m, MeshSizes(global_m=3e-3, fillet_m=0.4e-3, load_m=0.2e-3),
-                        refine_points_xy=np.array([nom.xy[-40]]), fillet_points_xy=np.array(pts))
+                        refine_points_xy=np.array([nom.xy[-40]]), fillet_points_xy=fillet_midpoints(nom, g.teeth))
     say(f"| full 30-tooth P2 mesh ({gm.n_elements / 1000:.0f}k triangles, 3 mm global, 0.4 mm fillets, 0.2 mm load "
         f"point) |")
     assert gm.area_rel_error < 1e-8
@@ -348,7 +341,7 @@ def test_shifted_pair_row():
     sh = pair_from_dict({"pair": {"teeth": [21, 37], "profile_shift": [0.25, -0.10], "hub_radius_mm": [30.0, 40.0]}})
     r = pair_contact(sh, positions=24)
     p = _plateaus(r)
-    say(f"| unequal shifted pair 21/37, x = +0.25/-0.10 |")
+    say("| unequal shifted pair 21/37, x = +0.25/-0.10 |")
     say(f"mean {e8(r.mean_N_per_m)}, plateaus {e8(p[1])} / {e8(p[2])}, one more refinement")
 
 
@@ -466,9 +459,9 @@ def test_dynamics_accuracy_table():
     rk4 = {N: err(simulate(ms, 0.2, 0.1, method="rk4", steps_per_mesh_period=N, samples_per_mesh_period=256))
            for N in (128, 256, 512, 1024)}
     dp = {rt: err(simulate(ms, 0.2, 0.1, method="dopri5", rtol=rt, samples_per_mesh_period=256)) for rt in (1e-8, 1e-10)}
-    say(f"| RK4, 128 / 256 / 512 / 1024 steps per mesh period |")
+    say("| RK4, 128 / 256 / 512 / 1024 steps per mesh period |")
     say(" / ".join(sci(rk4[N]) for N in rk4) + " |")
-    say(f"| adaptive Dormand-Prince, rtol 1e-8 / 1e-10 |")
+    say("| adaptive Dormand-Prince, rtol 1e-8 / 1e-10 |")
     say(f"| {sci(dp[1e-8])} / {sci(dp[1e-10])} |")
     rows = {(r["method"], r["setting"]): r["err_h1_10"] for r in bench["smooth"]["rows"]}
     for N, e in rk4.items():
