@@ -494,3 +494,10 @@ def test_wear_depth_limit_of_the_paper_pinion(pair):
     lim = depth_limits(operating_geometry(pair).mesh, WearSpec(phase="severe"))
     say(f"1/3 of the local half tooth thickness where the flank wears deepest is refused "
         f"({lim['max_depth_m'] * 1e6:.0f} um on the paper pinion)")
+
+
+def test_current_calibrated_means_in_the_history_paragraph():
+    """README, FE section: the current calibrated table means, read from reports/calibrated
+    (test_calibrated_tables_against_pair_fe checks those sidecars against fresh runs)."""
+    means = [load_json(f"reports/calibrated/calibrated_{p}_clearance0um.csv.json")["mean_N_per_m"] for p in PHASES]
+    say("0 um clearance) have means " + " / ".join(e8(m) for m in means) + " N/m.")
