@@ -97,13 +97,13 @@ def _cmd_geometry(args: argparse.Namespace) -> int:
     out = _check_out(args.out, "geometry")
     res = geometry_job.compute(scene, wear, clearance_um * 1e-6, torque, build_mesh=not args.no_mesh,
                                mesh_size_mm=mesh_size)
-    inputs = {**_scene_inputs(scene), "pair": _pair_inputs(scene), "wear": wear.label if wear else "unworn",
+    inputs = {**io.scene_inputs(scene), "pair": _pair_inputs(scene), "wear": wear.label if wear else "unworn",
               "wear_spec": _wear_dict(wear), "clearance_um": clearance_um, "torque_Nm": torque,
               "bearing_stiffness_N_per_m": scene.bodies.bearing_stiffness_N_per_m,
               "initial_backlash_um": scene.initial_backlash_m * 1e6, "mesh": not args.no_mesh,
               "mesh_size_mm": mesh_size}
     files = _write(out, "geometry", scene, inputs,
-                   lambda d: geometry_job.write(res, d, inputs, _labels(scene)),
+                   lambda d: geometry_job.write(res, d, inputs, io.scene_labels(scene)),
                    {"total_s": res.wall_s, "mesh_build_s": res.mesh_build_s})
     summary = res.summary()
     summary["files"] = [str(f) for f in files]
@@ -122,24 +122,11 @@ def _check_out(out: str | None, command: str) -> Path | None:
     return io.check_out(out, command)
 
 
-def _scene_inputs(scene) -> dict:
-    """The hashed part of a result's inputs that comes from the scene: the fully resolved
-    scene (every default; referenced files by content) and its SHA-256."""
-
-    return io.scene_inputs(scene)
-
-
 def _wear_dict(wear) -> dict | None:
     """Every field of a wear definition (not only its label): part of the hashed inputs."""
     import dataclasses
 
     return None if wear is None else dataclasses.asdict(wear)
-
-
-def _labels(scene) -> dict:
-    """The scene's name and referenced file paths: recorded next to the hashed inputs."""
-
-    return io.scene_labels(scene)
 
 
 def _write(out: Path | None, command: str, scene, inputs: dict, writer, timing: dict | None = None) -> list[Path]:
@@ -176,11 +163,11 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
     if fields and (args.method != "fem" or not args.out):
         raise InputError(f"--fields = {','.join(map(str, fields))}: needs --method fem and --out")
     curves = stiffness_job.compute(scene.pair, args.method, wears, clearances, torque, points)
-    inputs = {**_scene_inputs(scene), "pair": _pair_inputs(scene), "method": args.method, "torque_Nm": torque,
+    inputs = {**io.scene_inputs(scene), "pair": _pair_inputs(scene), "method": args.method, "torque_Nm": torque,
               "points": points}
 
     def write_stiffness(folder: Path) -> list[Path]:
-        written = stiffness_job.write(curves, folder, inputs, _labels(scene))
+        written = stiffness_job.write(curves, folder, inputs, io.scene_labels(scene))
         return written + (stiffness_job.write_fields(curves, folder, fields) if fields else [])
     files = _write(out, "stiffness", scene, {**inputs, "fields": fields}, write_stiffness,
                    {"curves": {c.slug: c.result.wall_s for c in curves}})
@@ -234,14 +221,15 @@ def _cmd_verify(args: argparse.Namespace) -> int:
             bar.set_postfix_str(msg)
             bar.update(1)
         v = verify_job.run(scene.pair, wears, positions, convergence=not args.no_convergence, progress=progress)
-    inputs = {**_scene_inputs(scene), "pair": _pair_inputs(scene),
+    inputs = {**io.scene_inputs(scene), "pair": _pair_inputs(scene),
               "wear": [w.label if w else "unworn" for w in wears], "wear_spec": [_wear_dict(w) for w in wears],
               "positions": positions, "convergence": not args.no_convergence}
     timing = {"total_s": v.wall_s, "phases": {ph.label: {"fem_s": ph.fem_wall_s, "ishikawa_s": ph.ishikawa_wall_s,
                                                          "energy_s": ph.energy_wall_s} for ph in v.phases},
               "convergence": [{k: r.get(k) for k in ("order", "mesh_scale", "dofs", "wall_s")}
                               for r in v.convergence or []]}
-    files = _write(out, "verify", scene, inputs, lambda d: verify_job.write(v, d, inputs, _labels(scene)), timing)
+    files = _write(out, "verify", scene, inputs, lambda d: verify_job.write(v, d, inputs, io.scene_labels(scene)),
+                   timing)
     js = verify_job.to_json(v)
     js["files"] = [str(f) for f in files]
     if args.json:
@@ -306,7 +294,7 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
                          "check_residual": m.get("check_residual"), "fit_residual": m.get("fit_residual"),
                          "fe_estimated_relative_error": m.get("fe_estimated_relative_error"),
                          "input_sha256": m.get("input_sha256"), "points": int(len(tab.k_N_per_m))})
-    inputs = {**_scene_inputs(scene), "wear": [w.label if w else "unworn" for w in wears],
+    inputs = {**io.scene_inputs(scene), "wear": [w.label if w else "unworn" for w in wears],
               "wear_spec": [_wear_dict(w) for w in wears], "clearance_um": [c * 1e6 for c in clearances],
               "torque_Nm": torque, "points": points}
     files = _write(out, "calibrate", scene, inputs, lambda d: [io.write_bytes(d / n, b) for n, b in copies.items()],
@@ -333,8 +321,9 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     out = _check_out(args.out, "simulate")
     run = simulate_job.run(scene, on_compile=lambda msg: print(msg, file=sys.stderr, flush=True))
     summary = run.summary()
-    files = _write(out, "simulate", scene, _scene_inputs(scene),
-                   lambda d: simulate_io.write(run, d, _scene_inputs(scene), _labels(scene)),
+    inputs = io.scene_inputs(scene)
+    files = _write(out, "simulate", scene, inputs,
+                   lambda d: simulate_io.write(run, d, inputs, io.scene_labels(scene)),
                    {"total_s": summary["wall_s"], "integration_s": summary["integration_wall_s"],
                     "compile_s": summary["compile_s"]})
     summary["files"] = [str(f) for f in files]
@@ -367,8 +356,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     results = sweep.sweep(data, name, axes, fixed, executor=executor, progress=not args.json)
     executor.shutdown()
     base = scene_from_dict(apply_overrides(data, fixed), name=name)  # the scene every point starts from
-    inputs = {**_scene_inputs(base), "axes": {a.key: list(a.values) for a in axes}}
-    labels = {**_labels(base), "fixed": fixed}
+    inputs = {**io.scene_inputs(base), "axes": {a.key: list(a.values) for a in axes}}
+    labels = {**io.scene_labels(base), "fixed": fixed}
     files = _write(out, "sweep", base, {**inputs, "fixed": fixed},
                    lambda d: sweep.write(axes, results, d, inputs, labels),
                    {"points": [{"point": r["point"], "wall_s": r["wall_s"]} for r in results]})

@@ -268,11 +268,6 @@ def foreign_entry(folder: Path, command: str) -> str | None:
     return None
 
 
-def replaceable(folder: Path, command: str) -> bool:
-    """May ``folder`` be replaced by the output of ``command``? (:func:`foreign_entry`)"""
-    return foreign_entry(folder, command) is None
-
-
 def manifest(folder: Path, command: str, provenance: dict[str, Any]) -> dict[str, Any]:
     files = {}
     for p in sorted(folder.rglob("*")):
