@@ -98,7 +98,7 @@ def test_json_schema_describes_every_key_with_its_unit():
     s = json_schema()
     assert s["additionalProperties"] is False
     pair = s["$defs"]["PairDoc"]["properties"]
-    assert pair["module_mm"]["unit"] == "mm" and pair["module_mm"]["exclusiveMinimum"] == 0
+    assert pair["module_mm"]["unit"] == "mm" and pair["module_mm"]["minimum"] == 0.05
     assert pair["module_mm"]["maximum"] == 100
     # per-gear keys accept one value or a pair
     assert {"anyOf"} <= set(s["$defs"]["BodiesDoc"]["properties"]["mass_kg"]) or \

@@ -84,3 +84,44 @@ def test_just_outside_the_published_range_is_refused_with_that_range(key, prop, 
     assert "\n" not in msg
     assert msg.startswith(key + ("[0]" if prop.get("per_gear") else "")), msg
     assert prop["range"] in msg, msg
+
+
+def _inside(bound, is_open, integer, direction):
+    """The extreme accepted value at a bound: the bound itself when closed, else the nearest
+    representable value inside it (5e-324 above an open zero)."""
+    if not is_open:
+        return bound
+    if integer:
+        return bound - direction
+    return math.nextafter(float(bound), -direction * math.inf)
+
+
+EDGE_CASES = []
+for key, prop in _ranged_keys():
+    lo, lo_open, hi, hi_open, integer = _bounds(prop)
+    for bound, is_open, direction in ((lo, lo_open, -1), (hi, hi_open, +1)):
+        if bound is not None:
+            EDGE_CASES.append((key, prop, _inside(bound, is_open, integer, direction)))
+
+
+@pytest.mark.parametrize("key,prop,value", EDGE_CASES, ids=[f"{c[0]}={c[2]!r}" for c in EDGE_CASES])
+def test_the_extreme_accepted_value_builds_a_scene_or_is_refused_in_one_line(key, prop, value):
+    """Regression class: module_mm = 5e-324 passed the schema and divided by zero in the pair
+    geometry. At each edge of a published range the scene (pair geometry, wear limits, solver
+    settings) is either built with finite derived quantities or refused as bad input."""
+    doc: dict = {}
+    node = doc
+    parts = key.split(".")
+    for p in parts[:-1]:
+        node = node.setdefault(p, {})
+    node[parts[-1]] = [value, value] if prop.get("per_gear") else value
+    try:
+        scene = scene_from_dict(doc)
+    except InputError as exc:
+        assert "\n" not in str(exc)
+        return
+    pair = scene.pair
+    for q in (pair.centre_distance_m, pair.tip_alteration_coefficient, pair.working_pressure_angle_rad):
+        assert math.isfinite(q)
+    for g in pair.gears:
+        assert 0 < g.base_radius_m < g.tip_radius_m and math.isfinite(g.tip_radius_m)

@@ -19,9 +19,9 @@ def test_default_is_paper_pair():
 
 
 @pytest.mark.parametrize("table,key,value,pattern", [
-    ("pair", "module_mm", -5, r"pair.module_mm = -5 mm: must be in \(0, 100\] mm"),
-    ("pair", "pressure_angle_deg", 0, r"pair.pressure_angle_deg = 0 deg: must be in \(0, 45\) deg"),
-    ("pair", "pressure_angle_deg", 45, r"pair.pressure_angle_deg = 45 deg: must be in \(0, 45\) deg"),
+    ("pair", "module_mm", -5, r"pair.module_mm = -5 mm: must be in \[0.05, 100\] mm"),
+    ("pair", "pressure_angle_deg", 0, r"pair.pressure_angle_deg = 0 deg: must be in \[10, 35\] deg"),
+    ("pair", "pressure_angle_deg", 45, r"pair.pressure_angle_deg = 45 deg: must be in \[10, 35\] deg"),
     ("pair", "teeth", [4, 30], r"pair.teeth\[0\] = 4: must be in \[5, 1000\]"),
     ("pair", "teeth", 3.5, r"pair.teeth = 3.5: must be a whole number"),
     ("pair", "face_width_mm", "wide", r"pair.face_width_mm = 'wide': must be a number"),
