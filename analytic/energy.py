@@ -47,6 +47,23 @@ crosses the axis (m); S_f: tooth thickness at the root section, 2 x(y_M) (m);
 X* = A/theta_f^2 + B h_fi^2 + C h_fi/theta_f + D/theta_f + E h_fi + F with
 h_fi = r_f / r_int (r_int: hub/bore radius) and theta_f = S_f / (2 r_f) (rad).
 
+Root crack (``crack=``, ``geometry.crack``): the reduced-section model of Chen, Z. &
+Shao, Y., "Dynamic simulation of spur gear with tooth root crack propagating along
+tooth width and crack depth", Engineering Failure Analysis 18(8):2149-2164 (2011),
+after Tian (2004). With h_q = x_C - q sin nu the distance of the crack tip from the
+centre line (x_C: the crack mouth's, q: depth, nu: crack angle) and h_x(y) the
+loaded-side half thickness, a section at height y >= y_q (the tip height) with
+h_x > h_q keeps only h_q on the cracked side:
+
+    A(y) = (h_q + h_x'(y)) b,   I(y) = (h_q + h_x'(y))^3 b / 12      [m^2, m^4]
+
+(h_x' the opposite half thickness); sections with h_x <= h_q, or below the tip, are
+intact. The integrals above keep their form with x(y) = (h_q + h_x'(y)) / 2 there;
+the tip height and the heights where h_x = h_q are added to the quadrature breaks
+(a jump and a kink of x(y)), so the Gauss rule stays exponentially convergent. The
+foundation term (Sainsot) is unchanged: it is the gear body's, whose root section
+S_f the reference model leaves intact.
+
 Hertz contact (linear, Yang & Lin 1987), identical materials:
 
     1/k_h = 4 (1 - nu^2) / (pi E b)                                            [m/N]
@@ -61,6 +78,7 @@ from typing import Callable
 
 import numpy as np
 
+from gearwear.geometry.crack import Crack, reduced_section
 from gearwear.geometry.loading import half_thickness_at_height, load_points, root_section, thickness_table
 from gearwear.geometry.profile import FILLET, INVOLUTE, TIP_LAND, ToothProfile
 from gearwear.geometry.spec import Material
@@ -242,7 +260,8 @@ class ToothCompliance:
 
 
 def tooth_compliance(profile: ToothProfile, radius_m, material: Material, face_width_m: float,
-                     n_gauss: int = 16, opposite: ToothProfile | None = None) -> ToothCompliance:
+                     n_gauss: int = 16, opposite: ToothProfile | None = None,
+                     crack: Crack | None = None) -> ToothCompliance:
     """Potential-energy compliance of the tooth ``profile`` loaded at contact radii
     ``radius_m`` (m) on its (nominal or worn) right flank.
 
@@ -253,6 +272,9 @@ def tooth_compliance(profile: ToothProfile, radius_m, material: Material, face_w
     u_f = y_axis - y_M. Equations: module docstring. E, G in Pa; b in m.
     ``opposite``: the other flank (default: symmetric tooth); with one-flank wear pass
     the nominal profile so the thickness is x_worn + x_nominal.
+    ``crack``: a root crack on the loaded flank (``geometry.crack.Crack``): reduced
+    sections in the bending, shear and axial integrals (module docstring), foundation
+    unchanged. None (the default) is the intact tooth, computed exactly as without it.
     """
     lp = load_points(profile, radius_m)
     y_M, x_M = root_section(profile)
@@ -265,9 +287,16 @@ def tooth_compliance(profile: ToothProfile, radius_m, material: Material, face_w
         breaks = np.unique(np.concatenate([breaks, profile_breaks(opposite, y_M)]))
         x_M = 0.5 * (x_M + float(half_thickness_at_height(opposite, np.array([y_M]))[0]))
     ys, ts = thickness_table(profile, opposite)
+    if crack is None:
+        def half(y):
+            return 0.5 * np.interp(y, ys, ts)
+    else:
+        red = reduced_section(profile, crack)
+        cb = red.breaks_m()
+        breaks = np.unique(np.concatenate([breaks, cb[(cb > y_M) & (cb < breaks[-1])]]))
 
-    def half(y):
-        return 0.5 * np.interp(y, ys, ts)
+        def half(y):
+            return 0.5 * (np.interp(y, ys, ts) - red.loss_m(y))
     bending, shear, axial = beam_compliance(half, breaks, lp.x_m, lp.y_m, lp.w_rad,
                                             material, face_width_m, n_gauss)
     r_f = profile.gear.root_radius_m

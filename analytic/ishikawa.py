@@ -29,6 +29,18 @@ b in m, delta in m):
     delta_3 = 1.275 F^0.9 / (E^0.9 b^0.8)
 
 A pair's compliance (Eq. 6) is (delta_1 + delta_2)_pinion + delta_3 + (delta_1 + delta_2)_gear.
+
+Root crack (``crack=``, ``geometry.crack``): the reduced-section model of Chen & Shao
+(Engineering Failure Analysis 18(8):2149-2164, 2011) after Tian (MSc thesis, Univ. of
+Alberta, 2004). With h_q the distance of the crack tip from the centre line and h_x(y)
+the loaded-side half thickness, a slice at mid-height y >= y_q (the tip height) with
+h_x > h_q keeps only h_q on the cracked side:
+
+    2 Y_j -> h_q + h_x'(y_j),   A_j = 2 Y_j b,   I_j = (2 Y_j)^3 b / 12     [m, m^2, m^4]
+
+(h_x' the opposite half thickness); other slices are intact. Weber's foundation term
+delta_2 is unchanged: it belongs to the gear body below the root section, which the
+reference model leaves intact (the root-section thickness 2 Y_M stays the nominal one).
 """
 
 from __future__ import annotations
@@ -38,6 +50,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from gearwear.geometry.crack import Crack, reduced_section
 from gearwear.geometry.profile import ToothProfile
 from gearwear.geometry.spec import Material
 
@@ -130,11 +143,15 @@ def _slice_weights(n_slices: int) -> np.ndarray:
 
 
 def tooth_compliance(loaded: ToothProfile, radius_m, material: Material, face_width_m: float,
-                     n_slices: int = DEFAULT_SLICES, opposite: ToothProfile | None = None) -> SliceCompliance:
+                     n_slices: int = DEFAULT_SLICES, opposite: ToothProfile | None = None,
+                     crack: Crack | None = None) -> SliceCompliance:
     """Slice-model compliance of one tooth loaded at contact radii ``radius_m`` (m).
 
     ``loaded`` is the loaded flank (worn or not); ``opposite`` the other flank
     (defaults to ``loaded`` mirrored; pass the nominal profile for one-flank wear).
+    ``crack``: a root crack on the loaded flank (``geometry.crack.Crack``), reduced
+    sections as in the module docstring; the foundation term is unchanged. None (the
+    default) is the intact tooth, computed exactly as without the argument.
     Vectorized over radii x slices.
     """
     if n_slices < 1:
@@ -142,8 +159,16 @@ def tooth_compliance(loaded: ToothProfile, radius_m, material: Material, face_wi
     lp = load_points(loaded, radius_m)
     y_M = root_height_m(loaded)
     ys, ts = thickness_table(loaded, opposite)  # one table for the slices and the root section
+    if crack is None:
+        def thickness(y):
+            return np.interp(y, ys, ts)
+    else:
+        red = reduced_section(loaded, crack)
+
+        def thickness(y):
+            return np.interp(y, ys, ts) - red.loss_m(y)
     bending, shear, axial = slice_beam_compliance(
-        lambda y: np.interp(y, ys, ts), np.full_like(lp.y_m, y_M), lp.y_m, lp.x_m, lp.w_rad,
+        thickness, np.full_like(lp.y_m, y_M), lp.y_m, lp.x_m, lp.w_rad,
         material.youngs_modulus_Pa, material.poisson_ratio, face_width_m, n_slices)
     foundation = _weber(lp.y_axis_m, lp.w_rad, y_M, float(np.interp(y_M, ys, ts)), material, face_width_m)
     return SliceCompliance(lp.radius_m, bending, shear, axial, foundation)
