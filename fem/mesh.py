@@ -492,9 +492,14 @@ def _first_line(exc: BaseException) -> str:
 
 
 def _add_size_fields(
-    sizes: MeshSizes, point_tags: dict[str, list[int]], curve_tags: list[int]
+    sizes: MeshSizes, point_tags: dict[str, list[int]], curve_tags: list[int],
+    crack_tip: tuple[int, float] | None = None,
 ) -> None:
-    """Distance+Threshold per refinement kind, Min with a constant global size."""
+    """Distance+Threshold per refinement kind, Min with a constant global size.
+
+    ``crack_tip`` = (point tag, size): one more Threshold, ``size`` within 2 ``size``
+    of the tip, then growing with ``sizes.growth``: the fine zone scales with the tip
+    size, so refining it refines the crack-tip mesh self-similarly."""
     fld = gmsh.model.mesh.field
     thresholds = []
     # The polygon edges are mesh edges, so the boundary is at least as fine
@@ -524,6 +529,17 @@ def _add_size_fields(
         fld.setNumber(th, "DistMin", dmin)
         fld.setNumber(th, "DistMax", dmin + (sizes.global_m - fine) / sizes.growth)
         thresholds.append(th)
+    if crack_tip is not None:
+        tag, fine = crack_tip
+        d = fld.add("Distance")
+        fld.setNumbers(d, "PointsList", [tag])
+        th = fld.add("Threshold")
+        fld.setNumber(th, "InField", d)
+        fld.setNumber(th, "SizeMin", float(fine))
+        fld.setNumber(th, "SizeMax", float(sizes.global_m))
+        fld.setNumber(th, "DistMin", 2.0 * fine)
+        fld.setNumber(th, "DistMax", 2.0 * fine + (sizes.global_m - fine) / sizes.growth)
+        thresholds.append(th)
     const = fld.add("MathEval")
     fld.setString(const, "F", repr(float(sizes.global_m)))
     mn = fld.add("Min")
@@ -538,10 +554,19 @@ def _circle_nodes_floor(r_hub: float, exact_area: float) -> int:
     return int(max(16, math.ceil(n)))
 
 
-def _run_gmsh(build, sizes, fillet_pts, load_pts, order, n_circle) -> dict:
+def _run_gmsh(build, sizes, fillet_pts, load_pts, order, n_circle, crack: dict | None = None) -> dict:
     """Build geometry via ``build()`` (returns {group: [curve tags]}), mesh, extract.
 
     Every curve not listed under a group other than "outer" is "outer".
+
+    ``crack``: filled by ``build()`` with the tags of the crack line ("line"), its mouth
+    on the outline ("mouth") and its tip ("tip"), plus the tip size ("tip_size_m").
+    The line is embedded in the surface (its 1D mesh edges become element edges) and,
+    after the element order is set, Gmsh's Crack plugin duplicates its nodes: the
+    elements on one side get the copies, so the two crack faces are separate boundary
+    edges. The mouth is in the plugin's OpenBoundaryPhysicalGroup (duplicated too: the
+    crack opens onto the outline), the tip is not (the faces meet there). The faces
+    form the boundary group "crack".
     """
     options = dict(_BASE_OPTIONS)
     options["Mesh.MeshSizeMax"] = float(sizes.global_m)
@@ -558,15 +583,45 @@ def _run_gmsh(build, sizes, fillet_pts, load_pts, order, n_circle) -> dict:
                 "load": [geo.addPoint(float(x), float(y), 0.0, g) for x, y in load_pts],
             }
             geo.synchronize()  # once: it is slow for thousands of curves
-            _add_size_fields(sizes, point_tags, [c for v in groups.values() for c in v])
+            if crack is None:
+                _add_size_fields(sizes, point_tags, [c for v in groups.values() for c in v])
+            else:
+                _add_size_fields(sizes, point_tags, [c for k, v in groups.items() if k != "crack" for c in v],
+                                 crack_tip=(crack["tip"], crack["tip_size_m"]))
+                surface = gmsh.model.getEntities(2)[0][1]
+                gmsh.model.mesh.embed(1, [crack["line"]], 2, surface)
             gmsh.model.mesh.generate(2)
             if order == 2:
                 gmsh.model.mesh.setOrder(2)
+            if crack is not None:
+                groups["crack"] = _split_crack(crack["line"], crack["mouth"])
             return _extract(groups, order)
     except MeshError:
         raise
     except Exception as exc:  # gmsh raises plain Exception; keep one line
         raise MeshError(f"gmsh failed to mesh the gear body: {_first_line(exc)}") from None
+
+
+def _split_crack(line: int, mouth: int) -> list[int]:
+    """Run Gmsh's Crack plugin on the embedded curve ``line`` (mouth point ``mouth`` open);
+    returns the curve tags of both crack faces (the original curve and the plugin's new
+    discrete one, which holds the duplicated nodes)."""
+    before = {t for _, t in gmsh.model.getEntities(1)}
+    pg = gmsh.model.addPhysicalGroup(1, [line])
+    po = gmsh.model.addPhysicalGroup(0, [mouth])
+    plugin = gmsh.plugin
+    plugin.setNumber("Crack", "Dimension", 1)
+    plugin.setNumber("Crack", "PhysicalGroup", pg)
+    plugin.setNumber("Crack", "OpenBoundaryPhysicalGroup", po)
+    plugin.setNumber("Crack", "NormalX", 0.0)
+    plugin.setNumber("Crack", "NormalY", 0.0)
+    plugin.setNumber("Crack", "NormalZ", 1.0)
+    plugin.setNumber("Crack", "NewPhysicalGroup", 0)
+    plugin.run("Crack")
+    new = sorted({t for _, t in gmsh.model.getEntities(1)} - before)
+    if len(new) != 1:
+        raise MeshError(f"gmsh's Crack plugin made {len(new)} new curves, expected 1")
+    return [line] + new
 
 
 def _extract(groups: dict[str, list[int]], order: int) -> dict:
@@ -987,6 +1042,8 @@ def mesh_full_gear(
     fillet_points_xy: np.ndarray | None = None,
     order: int = 2,
     outline_mid_xy: np.ndarray | None = None,
+    crack_xy: np.ndarray | None = None,
+    crack_tip_size_m: float | None = None,
 ) -> GearMesh:
     """Mesh a whole gear: the polygon ``outline_xy`` minus the bore disc.
 
@@ -1004,9 +1061,17 @@ def mesh_full_gear(
                       then meshed as the quadratic through the three points
                       and its P2 mid-side nodes lie on it. NaN rows keep an
                       edge straight.
+    crack_xy          (2,2) m, optional: a straight crack from its mouth
+                      crack_xy[0], which must be an outline point, to its tip
+                      crack_xy[1] inside the region. The crack is a cut with
+                      two free faces: its nodes are duplicated (all but the
+                      tip), boundary group "crack" holds both faces' edges.
+    crack_tip_size_m  element size at the crack tip (default: sizes.fillet_m,
+                      else global_m), graded with sizes.growth from 2 x the
+                      tip size on.
 
     Boundary groups: "outer" (polygon edges) and "bore" (hub circle), taken
-    from the gmsh curves they were meshed on.  Exact area:
+    from the gmsh curves they were meshed on, and "crack" with ``crack_xy``.  Exact area:
     ``shoelace(outline) + bulges - pi r^2``, the bulge of a curved edge being
     ``(2/3) cross(m - (a+b)/2, b - a)``.
     """
@@ -1032,20 +1097,52 @@ def mesh_full_gear(
     r = _check_hub(hub_radius_m, _min_dist_to_origin(curve, closed=True))
     exact = 0.5 * twice_area - math.pi * r**2
     n_circle, hub_h = _hub_size(r, exact, sizes)
+    crack = _check_crack(crack_xy, crack_tip_size_m, poly, curve, r, sizes, scale)
 
     def build():
         geo = gmsh.model.geo
-        outer, _ = _add_outline(poly, mids, closed=True)
+        outer, ptags = _add_outline(poly, mids, closed=True)
         c = geo.addPoint(0.0, 0.0, 0.0)
         p0 = geo.addPoint(r, 0.0, 0.0, hub_h)
         bore = _add_arcs(c, r, 0.0, 2 * math.pi, p0, p0, hub_h)
         lo = geo.addCurveLoop(outer)
         lb = geo.addCurveLoop(bore)
         geo.addPlaneSurface([lo, lb])
+        if crack is not None:
+            tx, ty = crack["tip_xy"]
+            crack["mouth"] = ptags[crack["mouth_index"]]
+            crack["tip"] = geo.addPoint(float(tx), float(ty), 0.0, crack["tip_size_m"])
+            crack["line"] = geo.addLine(crack["mouth"], crack["tip"])
         return {"outer": outer, "bore": bore}
 
-    raw = _run_gmsh(build, sizes, fillet_pts, load_pts, order, n_circle)
+    raw = _run_gmsh(build, sizes, fillet_pts, load_pts, order, n_circle, crack=crack)
     return _finish(raw, order, scale, exact, r, "bore", t0, curved=mids is not None)
+
+
+def _check_crack(crack_xy, tip_size, poly, curve, r_hub, sizes, scale) -> dict | None:
+    """Validated crack data for :func:`mesh_full_gear` (None without a crack): the
+    mouth must be an outline point (so the crack line starts on the boundary), the tip
+    strictly inside the region (inside the outline, outside the bore)."""
+    if crack_xy is None:
+        if tip_size is not None:
+            raise MeshError("crack_tip_size_m given without crack_xy")
+        return None
+    c = _as_points(crack_xy, "crack_xy", 2)
+    if c.shape != (2, 2):
+        raise MeshError(f"crack_xy must have shape (2,2) (mouth, tip), got {c.shape}")
+    d = np.hypot(poly[:, 0] - c[0, 0], poly[:, 1] - c[0, 1])
+    i = int(np.argmin(d))
+    if d[i] > 1e-12 * scale:
+        raise MeshError(f"crack_xy mouth {c[0].tolist()} is not an outline point (nearest at {d[i]!r} m)")
+    if not (_origin_inside(curve - c[1]) and math.hypot(*c[1]) > r_hub):
+        raise MeshError(f"crack_xy tip {c[1].tolist()} is not inside the meshed region")
+    if float(np.hypot(*(c[1] - c[0]))) <= 1e-9 * scale:
+        raise MeshError("crack_xy: the crack has zero length")
+    default = sizes.fillet_m if sizes.fillet_m is not None else sizes.global_m
+    h = _positive("crack_tip_size_m", default if tip_size is None else tip_size)
+    if h > sizes.global_m:
+        raise MeshError(f"crack_tip_size_m={h!r} is larger than global_m={sizes.global_m!r}")
+    return {"mouth_index": i, "tip_xy": c[1].copy(), "tip_size_m": float(h)}
 
 
 def mesh_sector(

@@ -101,13 +101,14 @@ import skfem
 from skfem import Basis, ElementTriP1, asm
 from skfem.models.poisson import laplace
 
+from gearwear.geometry.crack import Crack, crack_line
 from gearwear.geometry.loading import load_points
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.fem.mesh import GearMesh, MeshError, MeshSizes, inverted_elements, mesh_full_gear
-from gearwear.geometry.polyline import cumulative_length, project_to_polyline, quadratic_eval
+from gearwear.geometry.polyline import cumulative_length, project_to_polyline, quadratic_eval, with_midpoints
 from gearwear.geometry.profile import (FILLET, INVOLUTE, ROOT_LAND, TIP_LAND, ToothProfile, ring_outline, tooth_outline,
                                        tooth_profile)
-from gearwear.geometry.sampling import FINE_SAG_M, resample_profile
+from gearwear.geometry.sampling import FINE_SAG_M, profile_at, region_junctions, resample_profile
 from gearwear.geometry.spec import PairSpec
 from gearwear.geometry.wear import WearSpec, flank_depth, hertz_half_width, key_roll_angles
 
@@ -138,6 +139,9 @@ PATCH_POINTS = 48           # Gauss-Chebyshev points per Hertz patch
 EDGE_SUBSTEPS = 16
 TIP_MARGIN_HALF_WIDTHS = 2.0  # top load: patch centre 2 a (arc length) below the tip corner
 WORN_GEOMETRIES = ("morph", "remesh")
+#: default crack-tip element size as a fraction of the fillet size (see tests/test_crack.py
+#: for the convergence of the cracked compliance with it)
+CRACK_TIP_FRACTION = 0.25
 
 
 @dataclass
@@ -170,6 +174,9 @@ class ToothFE:
     timings: dict = field(default_factory=dict)
     nominal: ToothProfile | None = None
     loaded: ToothProfile | None = None
+    crack: Crack | None = None
+    crack_tip_size_m: float | None = None
+    crack_mouth_opening_m_per_N: np.ndarray | None = None   # (n,) CMOD per unit load, > 0: open
 
     @property
     def radius_mm(self) -> np.ndarray:
@@ -347,6 +354,8 @@ class ToothMesh:
     flank_nodes     mesh nodes (``mesh.doflocs`` indices) on tooth 0's right flank,
                     root -> tip: vertices and, order 2, the mid-side nodes between
     flank_node_s    their profile arc parameter s (m), as on ``nominal``/``loaded``
+    crack, crack_xy the root crack of tooth 0 and its (mouth, tip) in the mesh (m),
+                    None without one; its faces are ``gear_mesh.boundaries["crack"]``
     """
 
     mesh: skfem.Mesh
@@ -359,6 +368,8 @@ class ToothMesh:
     worn_geometry: str
     mesh_s: float
     morph_s: float
+    crack: Crack | None = None
+    crack_xy: np.ndarray | None = None
 
     @property
     def flank_vertices(self) -> np.ndarray:
@@ -392,7 +403,8 @@ class ToothMesh:
 
 
 def tooth_mesh(pair: PairSpec, gear_index: int = 0, wear: WearSpec | None = None, order: int = 2,
-               mesh_scale: float = 1.0, load_radii_m=None, worn_geometry: str = "morph") -> ToothMesh:
+               mesh_scale: float = 1.0, load_radii_m=None, worn_geometry: str = "morph",
+               crack: Crack | None = None, crack_tip_size_m: float | None = None) -> ToothMesh:
     """Mesh the full gear for loads on tooth 0's right flank.
 
     Tooth 0 is sampled at its element size (``load_m`` on the involute and tip land,
@@ -400,7 +412,15 @@ def tooth_mesh(pair: PairSpec, gear_index: int = 0, wear: WearSpec | None = None
     global_m, all with curved edges for order 2. Refined: the flank from 2 load_m
     below the lowest to load_m above the highest of ``load_radii_m`` (default: SAP to
     tip) and both fillets of tooth 0.
+
+    ``crack``: a straight root crack on tooth 0's loaded flank (``geometry.crack``),
+    meshed as a cut with two free faces (``fem.mesh.mesh_full_gear(crack_xy=...)``):
+    the mouth is made an outline vertex (the nearest non-junction fillet vertex moves
+    onto it, or it is inserted), the tip is refined to ``crack_tip_size_m`` (default
+    :func:`default_crack_tip_size_m`). Not combined with wear.
     """
+    if crack is not None and wear is not None and not wear.is_unworn:
+        raise ValueError("crack with a worn flank: not supported (mesh the crack on the nominal tooth)")
     if order not in (1, 2):
         raise ValueError(f"order = {order}: must be 1 or 2")
     if worn_geometry not in WORN_GEOMETRIES:
@@ -418,7 +438,11 @@ def tooth_mesh(pair: PairSpec, gear_index: int = 0, wear: WearSpec | None = None
     # order 2: every outline edge carries its arc mid-point, Gmsh meshes it as the
     # quadratic through the three points and puts its mid-side nodes on the curve
     quad = order == 2
-    nominal_poly = resample_profile(base, spacing, midpoints=quad)
+    crack_xy = None
+    if crack is None:
+        nominal_poly = resample_profile(base, spacing, midpoints=quad)
+    else:
+        nominal_poly, crack_xy = _with_crack_mouth(base, spacing, quad, crack)
     remesh = worn and worn_geometry == "remesh"
     meshed_poly = resample_profile(loaded, spacing, midpoints=quad) if remesh else nominal_poly
     other = resample_profile(base, {r: OTHER_SPACING * sizes.global_m for r in spacing}, midpoints=quad)
@@ -438,8 +462,14 @@ def tooth_mesh(pair: PairSpec, gear_index: int = 0, wear: WearSpec | None = None
     fil = vert[(reg == FILLET) | (reg == ROOT_LAND)]
     fillets = np.vstack([fil, fil * np.array([-1.0, 1.0])])
     t0 = time.perf_counter()
-    gm = mesh_full_gear(outline[::step], g.hub_radius_m, sizes, refine_points_xy=refine, fillet_points_xy=fillets,
-                        order=order, outline_mid_xy=outline[1::2] if quad else None)
+    if crack is None:
+        gm = mesh_full_gear(outline[::step], g.hub_radius_m, sizes, refine_points_xy=refine,
+                            fillet_points_xy=fillets, order=order, outline_mid_xy=outline[1::2] if quad else None)
+    else:
+        tip_m = default_crack_tip_size_m(crack, mesh_scale) if crack_tip_size_m is None else crack_tip_size_m
+        gm = mesh_full_gear(outline[::step], g.hub_radius_m, sizes, refine_points_xy=refine,
+                            fillet_points_xy=fillets, order=order, outline_mid_xy=outline[1::2] if quad else None,
+                            crack_xy=crack_xy, crack_tip_size_m=tip_m)
     t_mesh = time.perf_counter() - t0
 
     # the meshed flank of tooth 0: its nodes sorted root -> tip, with their profile
@@ -449,13 +479,47 @@ def tooth_mesh(pair: PairSpec, gear_index: int = 0, wear: WearSpec | None = None
     mesh = gm.mesh
     nodes, s_n = _flank_nodes(mesh, gm.boundaries["outer"], loaded if remesh else nominal,
                               1e-3 * mesh_scale * min(LOAD_M, FILLET_M))
+    if crack is not None:  # the open crack mouth is two coincident nodes: keep one on the flank chain
+        xy = mesh.doflocs[:, nodes].T
+        keep = np.concatenate([[True], np.linalg.norm(np.diff(xy, axis=0), axis=1) > 1e-12 * g.tip_radius_m])
+        nodes, s_n = nodes[keep], s_n[keep]
     if worn and not remesh:  # same topology as the nominal model
         mesh = morph_to_worn(mesh, np.concatenate([gm.boundaries["outer"], gm.boundaries["bore"]]), nodes, s_n,
                              nominal, loaded)
     return ToothMesh(mesh=mesh, gear_mesh=gm, nominal=nominal, loaded=loaded, meshed_poly=meshed_poly,
                      flank_nodes=nodes, flank_node_s=s_n,
                      worn_geometry=(worn_geometry if worn else "nominal"), mesh_s=t_mesh,
-                     morph_s=time.perf_counter() - t0)
+                     morph_s=time.perf_counter() - t0, crack=crack, crack_xy=crack_xy)
+
+
+def default_crack_tip_size_m(crack: Crack, mesh_scale: float = 1.0) -> float:
+    """Default crack-tip element size (m): CRACK_TIP_FRACTION x the fillet size at
+    ``mesh_scale``, and at most that fraction of the crack depth (so a short crack
+    still has several elements along it)."""
+    return CRACK_TIP_FRACTION * min(mesh_sizes(mesh_scale).fillet_m, float(crack.depth_m))
+
+
+def _with_crack_mouth(base: ToothProfile, spacing: dict, quad: bool, crack: Crack):
+    """(resampled right flank, crack_xy): ``resample_profile`` with the crack mouth as
+    a vertex, and the crack's (mouth vertex, tip) (m). The nearest vertex moves onto
+    the mouth unless it is a region junction or an end (then the mouth is inserted),
+    so the edges next to it stay between half and 1.5 spacings long."""
+    mouth, tip = crack_line(base, crack)
+    sn = resample_profile(base, spacing).s
+    pr = project_to_polyline(mouth[None, :], base.xy)
+    k0 = int(pr.segment[0])
+    s_m = float(base.s[k0] + pr.t[0] * (base.s[k0 + 1] - base.s[k0]))
+    k = int(np.argmin(np.abs(sn - s_m)))
+    fixed = base.s[region_junctions(base)]
+    if np.min(np.abs(fixed - sn[k])) <= 1e-12 * base.s[-1]:
+        sn = np.sort(np.concatenate([sn, [s_m]]))
+    else:
+        sn = sn.copy()
+        sn[k] = s_m
+    poly = profile_at(base, with_midpoints(sn) if quad else sn)
+    v = poly.xy[::2] if quad else poly.xy
+    mouth_v = v[int(np.argmin(np.abs((poly.s[::2] if quad else poly.s) - s_m)))]
+    return poly, np.array([mouth_v, tip])
 
 
 # -- main ---------------------------------------------------------------------------
@@ -463,7 +527,8 @@ def tooth_mesh(pair: PairSpec, gear_index: int = 0, wear: WearSpec | None = None
 def single_tooth_compliance(pair: PairSpec, gear_index: int = 0, wear: WearSpec | None = None,
                             positions: int = 21, order: int = 2, plane: str = "stress",
                             mesh_scale: float = 1.0, load_N: float | None = None,
-                            worn_geometry: str = "morph", radii_m=None, read_at: str = "radius") -> ToothFE:
+                            worn_geometry: str = "morph", radii_m=None, read_at: str = "radius",
+                            crack: Crack | None = None, crack_tip_size_m: float | None = None) -> ToothFE:
     """FE compliance of tooth 0 of gear ``gear_index`` (0 pinion, 1 gear) on the full gear.
 
     wear           None / unworn: nominal tooth. Otherwise the loaded (right) flank of
@@ -482,6 +547,14 @@ def single_tooth_compliance(pair: PairSpec, gear_index: int = 0, wear: WearSpec 
     read_at        "radius": the centre-line point (0, R) (default); "load_line": the
                    centre-line point where the load line crosses it, (0, y_c) of
                    geometry.loading (where Weber's h ends; fem.pair's c_1, c_2).
+    crack          a straight root crack on tooth 0's loaded flank (``geometry.crack``),
+                   meshed as a cut with free faces (:func:`tooth_mesh`); None: intact.
+    crack_tip_size_m  element size at the crack tip (m; default
+                   :func:`default_crack_tip_size_m`).
+
+    With a crack, ``crack_mouth_opening_m_per_N`` is the mouth opening per unit load,
+    (u_upper - u_lower) . n / F, n the unit normal of the crack line toward the tooth
+    (upper) side, from the two coincident mouth nodes: > 0 means the faces separate.
 
     Returns a :class:`ToothFE`: compliance in um per (N/mm) at every position, the
     profiles the model was built from, dofs, elements and wall times (the analytic
@@ -511,7 +584,7 @@ def single_tooth_compliance(pair: PairSpec, gear_index: int = 0, wear: WearSpec 
     a = hertz_half_width(mg, d, load_N / b)
 
     tm = tooth_mesh(pair, gear_index, wear, order=order, mesh_scale=mesh_scale, load_radii_m=R,
-                    worn_geometry=worn_geometry)
+                    worn_geometry=worn_geometry, crack=crack, crack_tip_size_m=crack_tip_size_m)
     mesh, gm = tm.mesh, tm.gear_mesh
     lp = load_points(tm.loaded, R)
     e_F = -np.column_stack([np.cos(lp.w_rad), np.sin(lp.w_rad)])
@@ -536,6 +609,7 @@ def single_tooth_compliance(pair: PairSpec, gear_index: int = 0, wear: WearSpec 
     idx = np.arange(n)
     ui = np.column_stack([uc[2 * idx, idx], uc[2 * idx + 1, idx]])
     c_m_per_N = np.einsum("ij,ij->i", ui, e_F) / load_N
+    cmod = None if crack is None else crack_mouth_opening(tm, model.basis, U) / load_N
     t_solve = time.perf_counter() - t0
 
     to_um_per_N_per_mm = 1e6 * b * 1e3
@@ -548,4 +622,39 @@ def single_tooth_compliance(pair: PairSpec, gear_index: int = 0, wear: WearSpec 
                    radius_m=R, roll_rad=u, half_width_m=a, force_direction=e_F,
                    fem_compliance_um_per_N_per_mm=c_m_per_N * to_um_per_N_per_mm,
                    ndofs=int(model.ndofs), n_elements=int(gm.n_elements),
-                   worn_geometry=tm.worn_geometry, timings=timings, nominal=tm.nominal, loaded=tm.loaded)
+                   worn_geometry=tm.worn_geometry, timings=timings, nominal=tm.nominal, loaded=tm.loaded,
+                   crack=crack, crack_tip_size_m=(None if crack is None else float(
+                       default_crack_tip_size_m(crack, mesh_scale) if crack_tip_size_m is None
+                       else crack_tip_size_m)),
+                   crack_mouth_opening_m_per_N=cmod)
+
+
+def crack_mouth_pair(tm: ToothMesh) -> tuple[int, int, np.ndarray]:
+    """(upper, lower, n): the two coincident mesh vertices at the crack mouth, the one
+    of the elements on the tooth side of the crack line first, and that side's unit
+    normal n of the crack line (m-free)."""
+    mesh = tm.mesh
+    mouth, tip = tm.crack_xy
+    d = (tip - mouth) / np.linalg.norm(tip - mouth)
+    n = np.array([d[1], -d[0]])  # d turned by -90 deg: toward the tooth above the crack
+    if n[1] < 0:
+        n = -n
+    p = mesh.p[:, :mesh.nvertices]
+    at = np.flatnonzero(np.linalg.norm(p.T - mouth, axis=1) <= 1e-9 * np.linalg.norm(mouth))
+    if len(at) != 2:
+        raise RuntimeError(f"the crack mouth has {len(at)} mesh vertices, expected 2 (an open crack)")
+    side = []
+    for v in at:
+        els = np.flatnonzero(np.any(mesh.t[:3] == v, axis=0))
+        c = p[:, mesh.t[:3, els]].mean(axis=1).T  # element centroids
+        side.append(float(np.mean((c - mouth) @ n)))
+    up, lo = (at[0], at[1]) if side[0] > side[1] else (at[1], at[0])
+    return int(up), int(lo), n
+
+
+def crack_mouth_opening(tm: ToothMesh, basis, U: np.ndarray) -> np.ndarray:
+    """Crack mouth opening displacement (u_upper - u_lower) . n (m) for every column
+    of the solution matrix ``U`` (one per load case); see :func:`crack_mouth_pair`."""
+    up, lo, n = crack_mouth_pair(tm)
+    du = U[basis.nodal_dofs[:, up]] - U[basis.nodal_dofs[:, lo]]  # (2, n_cases)
+    return n @ du

@@ -161,3 +161,104 @@ def test_reduced_section_breaks_are_where_the_loss_is_not_smooth(paper):
     assert np.allclose(np.interp(br[1:], red.y_m, red.x_m), red.h_q_m, rtol=0, atol=1e-12)
     assert red.loss_m(np.array([red.y_q_m - 1e-9]))[0] == 0.0
     assert red.loss_m(np.array([red.y_q_m + 1e-9]))[0] > 0.0
+
+
+# -- FE: the crack as a cut with free faces --------------------------------------------
+
+FE_DEPTHS_MM = (0.05, 0.5, 1.0, 2.0)
+TIP_SIZES_M = (0.2e-3, 0.05e-3, 0.0125e-3)   # refinement ratio 4
+
+
+@pytest.fixture(scope="module")
+def fe_runs(paper):
+    """Single-tooth FE of the paper pinion at the default level, 3 load positions (SAP,
+    mid, top): intact, the depths of FE_DEPTHS_MM, and the 1 mm crack at TIP_SIZES_M."""
+    from gearwear.fem.tooth import single_tooth_compliance
+
+    pair, _ = paper
+    run = dict(positions=3, mesh_scale=1.0)
+    out = {"intact": single_tooth_compliance(pair, **run)}
+    for q in FE_DEPTHS_MM:
+        out[q] = single_tooth_compliance(pair, crack=Crack(q * 1e-3, NU_45), **run)
+    out["tip"] = [single_tooth_compliance(pair, crack=Crack(1e-3, NU_45), crack_tip_size_m=h, **run)
+                  for h in TIP_SIZES_M]
+    return out
+
+
+def test_fe_crack_none_keeps_the_intact_model(paper, fe_runs):
+    from gearwear.fem.tooth import single_tooth_compliance
+
+    pair, _ = paper
+    r = single_tooth_compliance(pair, positions=3, mesh_scale=1.0, crack=None)
+    assert np.array_equal(r.fem_compliance_um_per_N_per_mm, fe_runs["intact"].fem_compliance_um_per_N_per_mm)
+    assert r.crack is None and r.crack_mouth_opening_m_per_N is None
+
+
+def test_fe_converges_under_crack_tip_refinement(fe_runs):
+    c = np.array([r.fem_compliance_um_per_N_per_mm for r in fe_runs["tip"]])
+    d1, d2 = np.abs(c[1] - c[0]), np.abs(c[2] - c[1])
+    order = np.log(d1 / d2) / np.log(4.0)
+    print(f"\ncrack-tip refinement (1 mm crack; tip {[h * 1e3 for h in TIP_SIZES_M]} mm): "
+          f"relative differences {(d1 / c[2]).tolist()} then {(d2 / c[2]).tolist()}, observed order {order.tolist()}")
+    assert np.all(d2 < d1)
+    assert np.all(d2 / c[2] < 1e-3)
+
+
+def test_fe_tends_to_intact_as_depth_goes_to_zero(fe_runs):
+    c0 = fe_runs["intact"].fem_compliance_um_per_N_per_mm
+    c = fe_runs[0.05].fem_compliance_um_per_N_per_mm
+    print(f"\n0.05 mm crack vs intact: {(c / c0 - 1).tolist()}")
+    assert np.all(np.abs(c / c0 - 1) < 0.01)
+
+
+def test_fe_compliance_rises_with_depth(fe_runs):
+    c = np.array([fe_runs["intact"].fem_compliance_um_per_N_per_mm]
+                 + [fe_runs[q].fem_compliance_um_per_N_per_mm for q in (0.5, 1.0, 2.0)])
+    print(f"\nFE compliance um/(N/mm), intact, 0.5, 1, 2 mm (rows) x SAP, mid, top:\n{c}")
+    assert np.all(np.diff(c, axis=0) > 0)
+
+
+def test_fe_crack_faces_are_free(paper, fe_runs):
+    from gearwear.fem.tooth import tooth_mesh
+
+    pair, _ = paper
+    for order, scale in ((2, 1.0), (1, 2.0)):
+        tm = tooth_mesh(pair, crack=Crack(1e-3, NU_45), order=order, mesh_scale=scale)
+        m = tm.mesh
+        f = tm.gear_mesh.boundaries["crack"]
+        assert set(f.tolist()) <= set(m.boundary_facets().tolist())
+        # every crack node but the tip appears twice (both faces), P2 mid-side nodes too
+        nodes = np.unique(m.facets[:, f])
+        if order == 2:
+            nodes = np.concatenate([nodes, m.nvertices + f])
+        xy = np.round(m.doflocs[:, nodes].T / 1e-12).astype(np.int64)
+        _, counts = np.unique(xy, axis=0, return_counts=True)
+        assert np.sum(counts == 1) == 1 and np.all(counts[counts != 1] == 2)
+        assert len(f) % 2 == 0 and len(f) >= 4
+        mouth, tip = tm.crack_xy
+        assert np.sum(np.linalg.norm(m.p.T - tip, axis=1) < 1e-12) == 1
+        assert np.sum(np.linalg.norm(m.p.T - mouth, axis=1) < 1e-12) == 2
+    # the tension-side crack opens under every load position, more for deeper cracks
+    cmod = np.array([fe_runs[q].crack_mouth_opening_m_per_N for q in (0.5, 1.0, 2.0)])
+    assert np.all(cmod > 0) and np.all(np.diff(cmod, axis=0) > 0)
+
+
+def test_fe_over_analytic_increase_is_reported(paper, fe_runs):
+    """Not a calibration: the ratio of the FE compliance increase to the analytic one
+    (reduced-section model, same radii, same profile), printed for the record; only
+    its sign is asserted (both models stiffen nothing)."""
+    pair, prof = paper
+    R = fe_runs["intact"].radius_m
+    fe0 = fe_runs["intact"].fem_compliance_um_per_N_per_mm
+    lines = []
+    for model in (energy, ishikawa):
+        a0 = model.tooth_compliance(prof, R, pair.material, pair.face_width_m).total_m_per_N
+        for q in (0.5, 1.0, 2.0):
+            a = model.tooth_compliance(prof, R, pair.material, pair.face_width_m,
+                                       crack=Crack(q * 1e-3, NU_45)).total_m_per_N
+            d_an = (a - a0) * 1e9 * pair.face_width_m  # m/N -> um/(N/mm)
+            d_fe = fe_runs[q].fem_compliance_um_per_N_per_mm - fe0
+            ratio = d_fe / d_an
+            lines.append(f"{model.__name__.rsplit('.', 1)[-1]:9s} q = {q} mm: FE/analytic increase {ratio.round(3).tolist()}")
+            assert np.all(ratio > 0)
+    print("\nradii mm " + str((R * 1e3).round(3).tolist()) + "\n" + "\n".join(lines))
