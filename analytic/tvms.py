@@ -8,8 +8,15 @@ path of contact at A) every candidate tooth pair k has
   unit load (Ishikawa slices or the potential-energy method, true worn profiles),
 * a Hertzian approach: nonlinear a F^0.9 (paper Eq. 5) for ``ishikawa``, linear
   4 (1 - nu^2) / (pi E b) F (Yang & Lin) for ``energy``,
-* an initial gap g_k along the line of action: the wear depths of both flanks at the
-  contact, h_1(d) + h_2(d) (both measured along the involute normal = the LOA).
+* an initial gap g_k along the line of action: the depths removed from both flanks at
+  the contact, h_1(d) + h_2(d) (both measured along the involute normal = the LOA): wear
+  (geometry.wear) plus profile modifications and measured deviations
+  (geometry.flank), and on the faulty tooth's pair a spall (geometry.faults).
+
+A fault on one tooth (a root crack: the cracked tooth's compliance; a spall: its gap)
+makes the curve periodic over one revolution of the faulty gear: it then spans
+``periods`` = z_g mesh periods (geometry.faults.revolution_periods) and the pair in slot
+j of period n holds the teeth (n - j) mod z.
 
 The static transmission error Delta (the approach of the gears along the LOA beyond
 the rigid, unworn position) follows from compatibility and equilibrium
@@ -43,6 +50,8 @@ from functools import lru_cache
 import numpy as np
 
 from gearwear.geometry.curves import CurveStats
+from gearwear.geometry.faults import FaultSpec, faulty_slots, revolution_periods, spall_gap_m
+from gearwear.geometry.flank import FlankSpec, modification_on_line_of_action
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.operating import operating_geometry
 from gearwear.geometry.profile import ToothProfile, tooth_profile
@@ -66,6 +75,8 @@ class MeshStiffness(CurveStats):
     pair_load_N     (n, p) load of each candidate pair (zero when not in contact)
     pair_d_m        (n, p) position of each candidate pair on the LOA
     pair_in_path    (n, p) True inside the theoretical path of contact [A, E]
+    faulty_pair     (n, p) True where the slot holds the faulty tooth (None: no fault)
+    periods         mesh periods the curve spans (1; z of the faulty gear with a fault)
     """
 
     method: str
@@ -83,6 +94,10 @@ class MeshStiffness(CurveStats):
     wall_s: float = 0.0
     n_slices: int = ishikawa.DEFAULT_SLICES
     meta: dict = field(default_factory=dict)
+    flank: FlankSpec | None = None
+    faults: FaultSpec | None = None
+    periods: int = 1
+    faulty_pair: np.ndarray | None = None
 
 
 # -- profiles and compliance ---------------------------------------------------------
@@ -103,20 +118,22 @@ def _profiles(pair: PairSpec, wear: WearSpec | None, centre_distance_m: float):
 
 
 def _tooth_compliance(method: str, loaded: ToothProfile, nominal: ToothProfile, radius_m: np.ndarray,
-                      pair: PairSpec, n_slices: int) -> np.ndarray:
-    """delta_1 + delta_2 per unit load (m/N) of one tooth at contact radii."""
+                      pair: PairSpec, n_slices: int, crack=None) -> np.ndarray:
+    """delta_1 + delta_2 per unit load (m/N) of one tooth at contact radii (``crack``: a
+    geometry.crack.Crack at the root of this tooth, or None)."""
     if radius_m.size == 0:
         return np.zeros(0)
+    kw = {} if crack is None else {"crack": crack}
     if method == "ishikawa":
         try:
             c = ishikawa.tooth_compliance(loaded, radius_m, pair.material, pair.face_width_m, n_slices,
-                                          opposite=nominal)
+                                          opposite=nominal, **kw)
         except ValueError as exc:
             raise fail("wear depth", float(loaded.depth.max()) * 1e6, "um",
                        f"makes a slice of the {loaded.gear.name} tooth non-positive ({exc})") from None
         return c.total_m_per_N
     from . import energy
-    ce = energy.tooth_compliance(loaded, radius_m, pair.material, pair.face_width_m, opposite=nominal)
+    ce = energy.tooth_compliance(loaded, radius_m, pair.material, pair.face_width_m, opposite=nominal, **kw)
     return np.asarray(ce.total_m_per_N)
 
 
@@ -244,8 +261,11 @@ def share_load(total_N: float, c: np.ndarray, gap: np.ndarray, a: float, expo: f
 def mesh_stiffness(pair: PairSpec, method: str = "ishikawa", points: int = 360, torque_Nm: float = 40.0,
                    clearance_m: float = 0.0, wear: WearSpec | None = None,
                    bearing_stiffness_N_per_m: float = math.inf, n_slices: int = ishikawa.DEFAULT_SLICES,
-                   corner_contact: bool = True, correction=None) -> MeshStiffness:
-    """k_h(theta), pair loads and loaded STE over one mesh period at the operating point.
+                   corner_contact: bool = True, correction=None, flank: FlankSpec | None = None,
+                   faults: FaultSpec | None = None) -> MeshStiffness:
+    """k_h(theta), pair loads and loaded STE over one mesh period at the operating point
+    (over one revolution of the faulty gear when ``faults`` has a fault: ``points`` per
+    mesh period, ``periods`` mesh periods).
 
     The centre distance follows from the bearing clearance (and the static load if a
     finite bearing stiffness is given), paper Eq. 11; the contact path, contact ratio and
@@ -293,32 +313,71 @@ def mesh_stiffness(pair: PairSpec, method: str = "ishikawa", points: int = 360, 
     d_u, at = dc[first], np.cumsum(first) - 1
     r1 = np.sqrt(rb1 ** 2 + d_u ** 2)
     r2 = np.sqrt(rb2 ** 2 + (L - d_u) ** 2)
-    c_u = np.zeros(d_u.shape)
-    for k, (gear_r, corr) in enumerate(zip((r1, r2), correction or (None, None))):
-        cg = _tooth_compliance(method, loaded[k], nominal[k], gear_r, pair, n_slices)
+    crack = faults.crack if faults is not None else None
+
+    base_shape = d.shape
+
+    def spread(values_u: np.ndarray) -> np.ndarray:
+        """Per-candidate values (angles x slots of one period) from per-position ones; inf
+        elsewhere."""
+        out = np.full(base_shape, np.inf)
+        out.T[cand_t] = values_u[at]
+        return out
+
+    def compliance(k: int, gear_r: np.ndarray, corr, fault=None) -> np.ndarray:
+        cg = _tooth_compliance(method, loaded[k], nominal[k], gear_r, pair, n_slices,
+                               None if fault is None else fault.crack)
         if corr is not None:
             grid, factor = (np.asarray(a, dtype=float) for a in corr)
-            cg *= np.interp(gear_r, grid, factor)
-        c_u += cg
-    c = np.full(d.shape, np.inf)
-    c.T[cand_t] = c_u[at]
+            cg = cg * np.interp(gear_r, grid, factor)
+        return cg
+
+    corrections = correction or (None, None)
+    c_g = [compliance(k, gear_r, corrections[k]) for k, gear_r in enumerate((r1, r2))]
+    c_u = c_g[0] + c_g[1]
+    c_hertz = 0.0
     if method == "ishikawa":
         a, expo = ishikawa.hertz_coefficient(pair.material, pair.face_width_m), 0.9
     else:
         from . import energy
-        c[cand] += energy.hertz_compliance_linear(pair.material, pair.face_width_m)
+        c_hertz = energy.hertz_compliance_linear(pair.material, pair.face_width_m)
         a, expo = 0.0, 1.0
-    # gaps: wear inside the path, corner separation + end-of-path wear outside
-    gap = np.full(d.shape, np.inf)
+    c = spread(c_u + c_hertz)
+    # gaps: wear and flank modifications inside the path (at the path end for the
+    # corners: their depths are those of the tip and of the SAP), plus the corner separation
+    gap_u = np.zeros(d_u.shape)
     if wear is not None and not wear.is_unworn:
         h1, h2 = wear_on_line_of_action(mesh, wear, d_u)
-        gap.T[cand_t] = (h1 + h2)[at]
-    else:
-        gap[cand] = 0.0
+        gap_u = gap_u + h1 + h2
+    if flank is not None and not flank.is_nominal:
+        m1, m2 = modification_on_line_of_action(flank, mesh, d_u)
+        gap_u = gap_u + m1 + m2
+    gap = spread(gap_u)
     if np.any(entry):
         gap[entry] += corner_gap_m(mesh, d[entry], "entry")
     if np.any(exit_):
         gap[exit_] += corner_gap_m(mesh, d[exit_], "exit")
+    periods = revolution_periods(pair, faults)
+    faulty = None
+    if periods > 1:
+        # one revolution of the faulty gear: the healthy period repeated, then the
+        # faulty tooth's pair changed where it sits (geometry.faults numbering)
+        j, _ = mesh.slots(theta[:1])
+        theta = np.arange(points * periods) * (mesh.mesh_angle_rad / points)
+        c, gap, d, in_path, cand = (np.tile(x, (periods, 1)) for x in (c, gap, d, in_path, cand))
+        d_clip = np.clip(d, A, E)
+        faulty = np.zeros(d.shape, dtype=bool)
+        if crack is not None:
+            hit = np.repeat(faulty_slots(pair, crack, periods, j), points, axis=0) & cand
+            g = crack.gear_index
+            c_cracked = c_u - c_g[g] + compliance(g, (r1, r2)[g], corrections[g], crack)
+            c[hit] = np.tile(spread(c_cracked + c_hertz), (periods, 1))[hit]
+            faulty |= hit
+        spall = faults.spall if faults is not None else None
+        if spall is not None:
+            hit = np.repeat(faulty_slots(pair, spall, periods, j), points, axis=0) & cand
+            gap[hit] += spall_gap_m(spall, mesh, d_clip[hit])
+            faulty |= hit
     total = torque_Nm / rb1
     F, delta = share_load(total, c, gap, a, expo)
     loaded_mask = F > 0
@@ -329,4 +388,5 @@ def mesh_stiffness(pair: PairSpec, method: str = "ishikawa", points: int = 360, 
     wall = time.perf_counter() - t0
     return MeshStiffness(method, pair, mesh, torque_Nm, wear, theta, k, delta, excitation, F, d, in_path,
                          wall, n_slices, {"clearance_m": clearance_m, "corner_contact": corner_contact,
-                                          "corrected": correction is not None})
+                                          "corrected": correction is not None},
+                         flank, faults, periods, faulty)

@@ -45,7 +45,8 @@ node), so corner (extended) contact outside the kinematic path is included: a
 slave's tip corner meets the master flank below its start of active profile.
 
 Wear enters as initial gaps: g += h_slave(R_node) + h_master(R_foot), with h the
-wear depth of geometry.wear.flank_depth along the nominal normal; the FE bodies
+wear depth of geometry.wear.flank_depth along the nominal normal plus the profile
+modifications and measured deviations of geometry.flank; the FE bodies
 keep the nominal flanks. Why: the depths (<= 30 um) are 1e-3 of the tooth
 thickness, so they change the body compliance by 0.01-0.1 % (fem.tooth, morph
 study) while they change the gaps at first order (tens of um against a 1-2 um
@@ -105,6 +106,7 @@ from gearwear.geometry.profile import INVOLUTE, tooth_profile
 from gearwear.geometry.sampling import FINE_SAG_M
 from gearwear.geometry.spec import PairSpec
 from gearwear.core.validation import fail
+from gearwear.geometry.flank import FlankSpec, is_nominal, modification_depth_m
 from gearwear.geometry.wear import WearSpec, flank_depth, hertz_half_width, key_roll_angles
 
 from .contact import solve_contact
@@ -262,8 +264,10 @@ def _body_key(g, pair, sizes, r_lo, nb, cy, plane):
 
 
 def pair_model(pair: PairSpec, wear: WearSpec | None = None, torque_Nm: float = 40.0, clearance_m: float = 0.0,
-               contact_scale: float = 1.0, mesh_scale: float = 1.0, plane: str = "stress") -> PairModel:
-    """Bodies (cached in-process: wear states share them) and exact geometry."""
+               contact_scale: float = 1.0, mesh_scale: float = 1.0, plane: str = "stress",
+               flank: FlankSpec | None = None) -> PairModel:
+    """Bodies (cached in-process: wear states share them) and exact geometry. ``flank``:
+    profile modifications and measured deviations (geometry.flank), gaps like the wear."""
     t0 = time.perf_counter()
     _positive("torque_Nm", torque_Nm, "N m")
     if not (math.isfinite(clearance_m) and clearance_m >= 0):
@@ -297,10 +301,12 @@ def pair_model(pair: PairSpec, wear: WearSpec | None = None, torque_Nm: float = 
             for k2, v in body.timings.items():
                 tim[f"gear{gi}_{k2}"] = v
         bodies.append(body)
-        if wear is not None and not wear.is_unworn:
-            h = flank_depth(nominal, gi, mesh, wear)
+        worn = wear is not None and not wear.is_unworn
+        if worn or not is_nominal(flank):
             inv = nominal.region == INVOLUTE
-            depth.append((nominal.radius[inv], h[inv]))
+            h = flank_depth(nominal, gi, mesh, wear)[inv] if worn and wear is not None else 0.0
+            h = h + modification_depth_m(flank, pair, gi, nominal.radius[inv])
+            depth.append((nominal.radius[inv], h))
         else:
             depth.append(None)
     tim["model_s"] = time.perf_counter() - t0
@@ -513,7 +519,7 @@ def solve_position(pm: PairModel, theta: float, total_N: float) -> PositionSolut
 
 def pair_contact(pair: PairSpec, wear: WearSpec | None = None, positions: int = 24, torque_Nm: float = 40.0,
                  clearance_m: float = 0.0, contact_scale: float = 1.0, mesh_scale: float = 1.0,
-                 plane: str = "stress", extended: bool = True) -> PairFE:
+                 plane: str = "stress", extended: bool = True, flank: FlankSpec | None = None) -> PairFE:
     """FE static transmission error and mesh stiffness at ``positions`` pinion angles
     theta = i (2 pi / z1) / positions (theta = 0 when a pair enters at A).
 
@@ -525,7 +531,7 @@ def pair_contact(pair: PairSpec, wear: WearSpec | None = None, positions: int = 
     t_start = time.perf_counter()
     if isinstance(positions, bool) or not isinstance(positions, (int, np.integer)) or positions < 2:
         raise fail("positions", positions, "", "must be a whole number >= 2")
-    pm = pair_model(pair, wear, torque_Nm, clearance_m, contact_scale, mesh_scale, plane)
+    pm = pair_model(pair, wear, torque_Nm, clearance_m, contact_scale, mesh_scale, plane, flank)
     t_model = time.perf_counter()
     mesh = pm.mesh
     F = torque_Nm / pair.gear(0).base_radius_m

@@ -162,12 +162,18 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
     fields = [_int_arg("--fields", f, 0, points - 1) for f in _split_multi(args.fields)]
     if fields and (args.method != "fem" or not args.out):
         raise InputError(f"--fields = {','.join(map(str, fields))}: needs --method fem and --out")
-    curves = stiffness_job.compute(scene.pair, args.method, wears, clearances, torque, points)
+    try:
+        stiffness_job.check_method(args.method, scene.flank, scene.faults)
+    except InputError as exc:
+        raise renamed(exc, {"method": "--method"}) from None
+    curves = stiffness_job.compute(scene.pair, args.method, wears, clearances, torque, points, scene.flank,
+                                   scene.faults)
+    harris = stiffness_job.harris(curves, scene.pair, scene.flank)
     inputs = {**io.scene_inputs(scene), "pair": _pair_inputs(scene), "method": args.method, "torque_Nm": torque,
               "points": points}
 
     def write_stiffness(folder: Path) -> list[Path]:
-        written = stiffness_job.write(curves, folder, inputs, io.scene_labels(scene))
+        written = stiffness_job.write(curves, folder, inputs, io.scene_labels(scene), harris)
         return written + (stiffness_job.write_fields(curves, folder, fields) if fields else [])
     files = _write(out, "stiffness", scene, {**inputs, "fields": fields}, write_stiffness,
                    {"curves": {c.slug: c.result.wall_s for c in curves}})
@@ -175,6 +181,8 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
     if args.json:
         doc = dict(summaries[0])
         doc["curves"] = summaries
+        if harris is not None:
+            doc["harris_map"] = harris.rows()
         doc["files"] = [str(f) for f in files]
         print(io.json_text(doc, indent=None))
     else:
@@ -441,6 +449,8 @@ def _print_geometry(s: dict) -> None:
         ("form radius / SAP (mm)", f"{g0['form_radius_mm']:.4f} / {g0['start_of_active_profile_mm']:.4f}, "
                                    f"{g1['form_radius_mm']:.4f} / {g1['start_of_active_profile_mm']:.4f}"),
         ("pitch thickness (mm)", f"{g0['pitch_thickness_mm']:.6f}, {g1['pitch_thickness_mm']:.6f}"),
+        ("HPSTC diameter (mm)", ", ".join("-" if g["hpstc_diameter_mm"] is None else f"{g['hpstc_diameter_mm']:.4f}"
+                                          for g in (g0, g1))),
         ("undercut", f"{g0['undercut']}, {g1['undercut']}"),
         ("bearing clearance (um)", f"{s['clearance_um']:g}  (torque {s['torque_Nm']:g} N m, "
                                    f"bearing stiffness {s['bearing_stiffness_N_per_m']:.3g} N/m)"),

@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from gearwear.geometry.flank import hpstc_diameters_m
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.operating import OperatingGeometry, operating_geometry
 from gearwear.geometry.profile import REGION_NAMES, ToothProfile, gear_outline
@@ -39,6 +40,7 @@ class GeometryResult:
         pair = self.scene.pair
         nominal = MeshGeometry(pair, pair.centre_distance_m)
         per_gear = []
+        hpstc = hpstc_diameters_m(og.mesh) if og.mesh.contact_ratio >= 1 else (math.nan, math.nan)
         for i, g in enumerate(pair.gears):
             prof = self.nominal[i]
             # the reference circle may lie below the root (large shifts): then the ISO value
@@ -51,6 +53,7 @@ class GeometryResult:
                 "tip_radius_mm": g.tip_radius_m * 1e3, "root_radius_mm": g.root_radius_m * 1e3,
                 "form_radius_mm": prof.form_radius_m * 1e3,
                 "start_of_active_profile_mm": og.mesh.start_of_active_profile_m[i] * 1e3,
+                "hpstc_diameter_mm": None if math.isnan(hpstc[i]) else hpstc[i] * 1e3,
                 "pitch_thickness_mm": s_pitch * 1e3,
                 "undercut": prof.undercut,
                 "max_wear_depth_um": float(self.worn[i].depth.max()) * 1e6,

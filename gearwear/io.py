@@ -46,10 +46,10 @@ OUTPUT_NAMES: dict[str, tuple[str, ...]] = {
     "geometry": ("profile.csv", "profile.csv.json", "tooth.png", "pinion_mesh.vtu", "pinion_mesh.vtu.json",
                  "summary.json"),
     "stiffness": ("stiffness_*.csv", "stiffness_*.csv.json", "stiffness.png", "mean_vs_clearance.png",
-                  "stiffness_summary.json", "fields_*/"),
+                  "stiffness_summary.json", "fields_*/", "harris_map.png", "harris_map.csv"),
     "verify": ("compliance.png", "convergence.png", "verification.md", "verification.json"),
     "calibrate": ("calibrated_*.csv", "calibrated_*.csv.json"),
-    "simulate": ("signals.npz", "signals.csv", "signals.csv.json", "response.png", "summary.json"),
+    "simulate": ("signals.npz", "signals.csv", "signals.csv.json", "response.png", "spectrum.png", "summary.json"),
     "sweep": ("sweep.csv", "sweep.csv.json", "harmonics_*.png"),
     "report paper": ("README.md", "fig[0-9][0-9]_*.png", "trends.json"),
 }
@@ -184,17 +184,34 @@ def scene_inputs(scene) -> dict[str, Any]:
     ms = doc.get("effects", {}).get("mesh_stiffness")
     if isinstance(ms, dict) and ms.get("path"):
         ms["path"] = f"sha256:{file_sha256(ms['path'])}"
+    fl = doc.get("flank")
+    if isinstance(fl, dict) and fl.get("deviation_csv"):
+        fl["deviation_csv"] = [f"sha256:{file_sha256(p)}" if p else "" for p in fl["deviation_csv"]]
     return {"scene_sha256": hashlib.sha256(canonical_json(doc).encode()).hexdigest(), "scene": doc}
+
+
+def referenced_files(scene) -> dict[str, str]:
+    """Scene key -> path of every file the scene refers to (stiffness table, measured
+    deviations)."""
+    out: dict[str, str] = {}
+    doc = scene.doc
+    if doc is None:
+        return out
+    if doc.effects.mesh_stiffness is not None and doc.effects.mesh_stiffness.path:
+        out["effects.mesh_stiffness.path"] = str(doc.effects.mesh_stiffness.path)
+    if doc.flank is not None and doc.flank.deviation_csv:
+        for i, p in enumerate(doc.flank.deviation_csv):
+            if p:
+                out[f"flank.deviation_csv[{i}]"] = str(p)
+    return out
 
 
 def scene_labels(scene) -> dict[str, Any]:
     """The scene's name and the paths of the files it refers to: recorded, not hashed."""
     out: dict[str, Any] = {"scene_name": scene.name}
-    path = (scene.doc.effects.mesh_stiffness.path if scene.doc is not None and scene.doc.effects.mesh_stiffness
-            else None)
-    if path:
-        out["referenced_files"] = {"effects.mesh_stiffness.path": {"path": str(path),
-                                                                   "sha256": file_sha256(path)}}
+    files = referenced_files(scene)
+    if files:
+        out["referenced_files"] = {key: {"path": p, "sha256": file_sha256(p)} for key, p in files.items()}
     return out
 
 

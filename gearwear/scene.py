@@ -16,13 +16,15 @@ from importlib import resources
 from pathlib import Path
 from typing import Any, Mapping
 
-from gearwear.core.validation import InputError, fail, renamed
+from gearwear.core.validation import Field, InputError, fail, fail_range, renamed
 from gearwear.geometry.spec import Material, PairSpec, check_pair
 from gearwear.geometry.kinematics import MeshGeometry
+from gearwear.geometry.faults import CrackFault, FaultSpec, Spall, check_faults
+from gearwear.geometry.flank import Deviation, FlankSpec, Relief, check_flank
 from gearwear.geometry.wear import PHASE_DEPTHS_M, WearSpec, check_wear
 
-from .schema import (DEFAULT_BEARING_DAMPING_RATIO, DEFAULT_MESH_DAMPING_RATIO, OperatingDoc, SceneDoc, WearDoc,
-                     resolved_method, validate_document)
+from .schema import (DEFAULT_BEARING_DAMPING_RATIO, DEFAULT_MESH_DAMPING_RATIO, FaultsDoc, FlankDoc, OperatingDoc,
+                     SceneDoc, WearDoc, resolved_method, validate_document)
 
 TABLE_MIN_ROWS = 8
 
@@ -61,6 +63,8 @@ class Scene:
     output: dict[str, Any] = field(default_factory=dict)
     wear: WearSpec | None = None
     doc: SceneDoc | None = None
+    flank: FlankSpec | None = None
+    faults: FaultSpec | None = None
 
     @classmethod
     def load(cls, source: str | Path | None = None, overrides: Mapping[str, Any] | None = None) -> "Scene":
@@ -236,12 +240,120 @@ def scene_from_doc(doc: SceneDoc) -> Scene:
                              f"so there is no excitation to apply; add the column or drop the effect")
     solver = doc.solver.model_dump(exclude_none=True)
     solver["method"] = resolved_method(doc)
-    return Scene(doc.name, pair, bodies, operating, effects, solver, doc.output.model_dump(), wear, doc)
+    flank = flank_spec(doc.flank, pair) if doc.flank is not None else None
+    faults = fault_spec(doc.faults, pair) if doc.faults is not None else None
+    return Scene(doc.name, pair, bodies, operating, effects, solver, doc.output.model_dump(), wear, doc, flank, faults)
+
+
+#: geometry.flank's own keys -> scene keys (diameters in m -> mm, depths in m -> um)
+FLANK_KEYS = {f"{t}.{k}": (f"flank.{t}.{k.replace('_m', '_um' if 'amount' in k else '_mm')}",
+                          1e6 if "amount" in k else 1e3, "um" if "amount" in k else "mm")
+              for t in ("tip_relief", "root_relief") for k in ("amount_m", "start_diameter_m")}
+FLANK_KEYS.update({"tip_relief.shape": "flank.tip_relief.shape", "root_relief.shape": "flank.root_relief.shape",
+                   "deviation.diameter_m": "flank.deviation_csv", "deviation.depth_m": "flank.deviation_csv"})
+FAULT_KEYS = {"crack.tooth": "faults.crack.tooth", "spall.tooth": "faults.spall.tooth",
+              "spall.start_diameter_m": ("faults.spall.start_diameter_mm", 1e3, "mm"),
+              "spall.length_m": ("faults.spall.length_mm", 1e3, "mm"),
+              "spall.depth_m": ("faults.spall.depth_um", 1e6, "um"),
+              "depth_m": ("faults.crack.depth_mm", 1e3, "mm"), "angle_rad": ("faults.crack.angle_deg", 180 / math.pi, "deg")}
+
+
+def flank_spec(f: FlankDoc, pair: PairSpec) -> FlankSpec | None:
+    """The SI flank spec of a validated ``[flank]`` table (deviation CSVs read), checked
+    against the pair (geometry.flank.check_flank, errors renamed to scene keys)."""
+    def relief(doc, i):
+        return None if doc is None else Relief(doc.amount_um[i] * 1e-6, doc.start_diameter_mm[i] * 1e-3, doc.shape)
+    csv = f.deviation_csv or ("", "")
+    devs = tuple(read_deviation_csv(path, i) if path else None for i, path in enumerate(csv))
+    spec = FlankSpec(tip_relief=(relief(f.tip_relief, 0), relief(f.tip_relief, 1)),
+                     root_relief=(relief(f.root_relief, 0), relief(f.root_relief, 1)),
+                     deviation=devs)  # type: ignore[arg-type]
+    try:
+        check_flank(pair, spec)
+    except InputError as exc:
+        raise renamed(exc, FLANK_KEYS) from None
+    return None if spec.is_nominal else spec
+
+
+def fault_spec(f: FaultsDoc, pair: PairSpec) -> FaultSpec | None:
+    """The SI faults of a validated ``[faults]`` table, checked against the pair."""
+    crack = spall = None
+    if f.crack is not None:
+        c = f.crack
+        crack = CrackFault(c.gear, c.tooth, c.depth_mm * 1e-3, math.radians(c.angle_deg))
+    if f.spall is not None:
+        s = f.spall
+        spall = Spall(s.gear, s.tooth, s.start_diameter_mm * 1e-3, s.length_mm * 1e-3, s.depth_um * 1e-6)
+    spec = FaultSpec(crack, spall)
+    try:
+        check_faults(pair, spec)
+    except InputError as exc:
+        raise renamed(exc, FAULT_KEYS) from None
+    if crack is not None and f.crack is not None:
+        from gearwear.geometry.crack import max_depth_m
+        from gearwear.geometry.profile import tooth_profile
+
+        q_max = max_depth_m(tooth_profile(pair.gear(crack.gear_index)), crack.angle_rad)
+        if crack.depth_m > q_max:
+            raise fail_range("faults.crack.depth_mm", f.crack.depth_mm,
+                             Field("mm", 0.0, math.floor(q_max * 1e7) / 1e4, lo_open=True),
+                             f"at angle_deg = {f.crack.angle_deg:g} the crack tip must stay on the loaded side of "
+                             "the tooth centre line and outside the bore (Chen & Shao's reduced-section range)")
+    return None if spec.is_empty else spec
+
+
+def read_deviation_csv(path: str | Path, gear_index: int) -> Deviation:
+    """A measured profile deviation: CSV with the header columns ``diameter_mm`` and
+    ``deviation_um`` (positive = material removed), at least 2 rows, diameters strictly
+    increasing (checked against the flank by geometry.flank.check_flank)."""
+    key = f"flank.deviation_csv[{gear_index}]"
+    _, data = _read_csv(path, key, ("diameter_mm", "deviation_um"), min_rows=2, what="deviation file")
+    return Deviation(tuple(float(x) for x in data[:, 0] * 1e-3), tuple(float(x) for x in data[:, 1] * 1e-6),
+                     source=Path(path).name)
 
 
 def scene_from_dict(data: Mapping[str, Any], name: str = "scene") -> Scene:
     """Validate a parsed scene document (``gearwear.schema``) and resolve it to SI."""
     return scene_from_doc(validate_document(data, name=name))
+
+
+def _read_csv(path: str | Path, key: str, required: tuple[str, ...], optional: tuple[str, ...] = (),
+              min_rows: int = 2, what: str = "table"):
+    """(header, rows as a float array) of a small numeric CSV a scene refers to: the header
+    starts with the ``required`` columns, may add ``optional`` ones, '#' lines are
+    comments; at least ``min_rows`` complete rows of finite numbers. Problems are one-line
+    InputErrors under ``key``."""
+    import csv
+
+    import numpy as np
+
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        why = exc.strerror if isinstance(exc, OSError) and exc.strerror else type(exc).__name__
+        raise fail(key, repr(str(p)), "", f"cannot read the {what} ({why})") from None
+    rows = [r for r in csv.reader(text.splitlines()) if r and not r[0].lstrip().startswith("#")]
+    want = ",".join(required) + "".join(f"[,{c}]" for c in optional)
+    if not rows:
+        raise fail(key, repr(str(p)), "", f"empty file; expected a header {want}")
+    head = [c.strip() for c in rows[0]]
+    allowed = required + optional
+    if head[:len(required)] != list(required) or any(c not in allowed for c in head) or len(set(head)) != len(head):
+        extra = f" with an optional {', '.join(optional)} column" if optional else ""
+        raise fail(key, repr(str(p)), "", f"header {','.join(head)!r}: must be {','.join(required)}{extra}")
+    try:
+        data = np.array([[float(c) for c in r] for r in rows[1:]], dtype=float)
+    except ValueError as exc:
+        raise fail(key, repr(str(p)), "", f"non-numeric value ({exc})") from None
+    if data.ndim != 2 or data.shape[0] < min_rows or data.shape[1] != len(head):
+        n = data.shape[0] if data.ndim == 2 else 0
+        raise fail(key, repr(str(p)), "", f"needs >= {min_rows} complete rows of {len(head)} "
+                   f"columns, got {n}")
+    if not np.all(np.isfinite(data)):
+        r = int(np.argwhere(~np.isfinite(data))[0, 0]) + 2
+        raise fail(key, repr(str(p)), "", f"row {r} (line {r}): values must be finite numbers")
+    return head, data
 
 
 def read_stiffness_table(path: str | Path, z_pinion: int):
@@ -251,36 +363,12 @@ def read_stiffness_table(path: str | Path, z_pinion: int):
     (the transmission-error excitation e, material removed > 0). The rows must cover the
     period: the wrap-around gap (first row + period - last row) may not exceed the largest
     spacing between rows. Returns (angle_rad, k_N_per_m, excitation_m or None)."""
-    import csv
-
     import numpy as np
 
     key = "effects.mesh_stiffness.path"
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        why = exc.strerror if isinstance(exc, OSError) and exc.strerror else type(exc).__name__
-        raise fail(key, repr(str(p)), "", f"cannot read the stiffness table ({why})") from None
-    rows = [r for r in csv.reader(text.splitlines()) if r and not r[0].lstrip().startswith("#")]
-    if not rows:
-        raise fail(key, repr(str(p)), "", "empty file; expected a header angle_deg,k_N_per_m[,excitation_um]")
-    head = [c.strip() for c in rows[0]]
-    allowed = ("angle_deg", "k_N_per_m", "excitation_um")
-    if head[:2] != ["angle_deg", "k_N_per_m"] or any(c not in allowed for c in head) or len(set(head)) != len(head):
-        raise fail(key, repr(str(p)), "", f"header {','.join(head)!r}: must be angle_deg,k_N_per_m "
-                   f"with an optional excitation_um column")
-    try:
-        data = np.array([[float(c) for c in r] for r in rows[1:]], dtype=float)
-    except ValueError as exc:
-        raise fail(key, repr(str(p)), "", f"non-numeric value ({exc})") from None
-    if data.ndim != 2 or data.shape[0] < TABLE_MIN_ROWS or data.shape[1] != len(head):
-        n = data.shape[0] if data.ndim == 2 else 0
-        raise fail(key, repr(str(p)), "", f"needs >= {TABLE_MIN_ROWS} complete rows of {len(head)} "
-                   f"columns, got {n}")
-    if not np.all(np.isfinite(data)):
-        r = int(np.argwhere(~np.isfinite(data))[0, 0]) + 2
-        raise fail(key, repr(str(p)), "", f"row {r} (line {r}): values must be finite numbers")
+    head, data = _read_csv(p, key, ("angle_deg", "k_N_per_m"), ("excitation_um",), TABLE_MIN_ROWS,
+                           "stiffness table")
     period = 360.0 / z_pinion
     ang, k = data[:, 0], data[:, 1]
     if ang[0] < 0 or ang[-1] >= period:
@@ -303,10 +391,18 @@ def read_stiffness_table(path: str | Path, z_pinion: int):
 
 
 def _resolve_table_path(data: dict[str, Any], base: Path) -> dict[str, Any]:
-    """Relative table paths are relative to the scene file's folder."""
+    """Relative paths of the files a scene refers to (the stiffness table, the measured
+    deviations) are relative to the scene file's folder."""
+    def resolve(p):
+        return str(base / p) if isinstance(p, str) and p and not Path(p).is_absolute() else p
+
     ms = data.get("effects", {}).get("mesh_stiffness") if isinstance(data.get("effects"), dict) else None
-    if isinstance(ms, dict) and isinstance(ms.get("path"), str) and ms["path"] and not Path(ms["path"]).is_absolute():
-        ms["path"] = str(base / ms["path"])
+    if isinstance(ms, dict) and "path" in ms:
+        ms["path"] = resolve(ms["path"])
+    fl = data.get("flank")
+    if isinstance(fl, dict) and "deviation_csv" in fl:
+        dev = fl["deviation_csv"]
+        fl["deviation_csv"] = [resolve(p) for p in dev] if isinstance(dev, list) else resolve(dev)
     return data
 
 

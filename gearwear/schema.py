@@ -211,6 +211,72 @@ class EffectsDoc(_Table):
     transmission_error: TransmissionErrorDoc | None = None
 
 
+class ReliefDoc(_Table):
+    """A tip or root relief, per gear, linear or parabolic in the roll length (ISO 21771;
+    geometry.flank)."""
+    amount_um: _per_gear("um", 0, 1000,  # type: ignore[valid-type]
+                         doc="Relief amount: C_a at the tip (tip relief), C_f at the start of active profile "
+                             "(root relief).")
+    start_diameter_mm: _per_gear("mm", 0, 20000, lo_open=True,  # type: ignore[valid-type]
+                                 doc="Diameter where the relief starts (0 there, growing toward the tip or root). "
+                                     "A long tip relief starts at the HPSTC diameter that `gearwear geometry` "
+                                     "prints.",
+                                 limits="on the active flank, between the SAP and the tip diameter; a root relief "
+                                        "starts below the tip relief")
+    shape: Literal["linear", "parabolic"] = PField("linear", description="Relief shape along the roll length.")
+
+
+def _csv_pair(value: Any) -> Any:
+    """One file name for both gears, or a list of two ("" for none)."""
+    if isinstance(value, str):
+        return (value, value)
+    if isinstance(value, list):
+        if len(value) != 2:
+            raise PydanticCustomError("per_gear", "must be one file name or a list of two (pinion, gear)")
+        return tuple(value)
+    return value
+
+
+class FlankDoc(_Table):
+    """Flank deviations from the involute, per gear, on every tooth: profile modifications and
+    measured deviations (material removed along the normal; they add to wear)."""
+    tip_relief: ReliefDoc | None = None
+    root_relief: ReliefDoc | None = None
+    deviation_csv: Annotated[tuple[str, str] | None, BeforeValidator(_csv_pair)] = PField(
+        None, description='Measured profile deviation of [pinion, gear]: CSV files with columns diameter_mm, '
+                          'deviation_um (positive = material removed); "" for none; relative to the scene file.')
+
+
+class CrackDoc(_Table):
+    """A straight root crack on one tooth, from the critical fillet point (ISO 6336-3 30 deg
+    tangent) into the tooth (geometry.crack)."""
+    gear: _num("", 0, 1, integer=True, doc="0 pinion, 1 gear.") = 0  # type: ignore[valid-type]
+    tooth: _num("", 0, 999, integer=True,  # type: ignore[valid-type]
+                doc="Tooth index: 0 enters contact at pinion angle 0, then in meshing order.") = 0
+    depth_mm: _num("mm", 0, 100, lo_open=True, doc="Crack length from the fillet surface.")  # type: ignore[valid-type]
+    angle_deg: _num("deg", 5, 90,  # type: ignore[valid-type]
+                    doc="Angle between the crack and the tooth centre line (the crack runs inward and "
+                        "downward; 45 deg as in Chen & Shao 2011).") = 45.0  # type: ignore[valid-type]
+
+
+class SpallDoc(_Table):
+    """A through-width spall (pit) on one tooth's flank (geometry.faults)."""
+    gear: _num("", 0, 1, integer=True, doc="0 pinion, 1 gear.") = 0  # type: ignore[valid-type]
+    tooth: _num("", 0, 999, integer=True,  # type: ignore[valid-type]
+                doc="Tooth index: 0 enters contact at pinion angle 0, then in meshing order.") = 0
+    start_diameter_mm: _num("mm", 0, 20000, lo_open=True,  # type: ignore[valid-type]
+                            doc="Diameter of the spall's lower edge (on the active flank).")
+    length_mm: _num("mm", 0, 100, lo_open=True,  # type: ignore[valid-type]
+                    doc="Length along the involute toward the tip.")
+    depth_um: _num("um", 0, 1000, lo_open=True, doc="Depth of the pit.")  # type: ignore[valid-type]
+
+
+class FaultsDoc(_Table):
+    """Faults on one tooth: the mesh becomes periodic over a revolution of the faulty gear."""
+    crack: CrackDoc | None = None
+    spall: SpallDoc | None = None
+
+
 SIGNALS = ("y_p", "x_p", "y_g", "x_g", "q", "delta", "F_m")
 
 
@@ -241,6 +307,8 @@ class SceneDoc(_Table):
     bodies: BodiesDoc = PField(default_factory=BodiesDoc)  # type: ignore[arg-type]
     operating: OperatingDoc = PField(default_factory=OperatingDoc)  # type: ignore[arg-type]
     effects: EffectsDoc = PField(default_factory=EffectsDoc)  # type: ignore[arg-type]
+    flank: FlankDoc | None = None
+    faults: FaultsDoc | None = None
     solver: SolverDoc = PField(default_factory=SolverDoc)  # type: ignore[arg-type]
     output: OutputDoc = PField(default_factory=OutputDoc)  # type: ignore[arg-type]
 

@@ -2,7 +2,10 @@
 
 Writes one CSV (+ JSON sidecar) per curve, an overlay PNG in the style of paper
 Fig. 6 (wear phases) / Fig. 17 (clearances) and, for several clearances, the
-mean-stiffness-versus-clearance PNG of paper Fig. 16.
+mean-stiffness-versus-clearance PNG of paper Fig. 16. A scene with a tip or root relief
+adds the Harris map (loaded TE peak-to-peak against load, nominal and modified flank);
+a scene with a fault gives curves over one revolution of the faulty gear, with the
+faulty tooth's contact marked.
 """
 
 from __future__ import annotations
@@ -17,6 +20,9 @@ from typing import Any
 import numpy as np
 
 from gearwear.analytic.tvms import MeshStiffness, mesh_stiffness
+from gearwear.core.validation import fail
+from gearwear.geometry.faults import FaultSpec
+from gearwear.geometry.flank import FlankSpec, flank_warnings
 from gearwear.geometry.operating import operating_geometry
 from gearwear.geometry.spec import PairSpec
 from gearwear.geometry.wear import WearSpec
@@ -48,6 +54,13 @@ class Curve:
         from gearwear.geometry.wear import wear_warnings
 
         r = self.result
+        extra: dict[str, Any] = {}
+        if r.flank is not None:
+            extra["flank"] = r.flank.label()
+        if r.faults is not None:
+            extra["faults"] = r.faults.label()
+        if r.periods > 1:
+            extra["mesh_periods"] = r.periods
         z = r.zone_means()
 
         def null(v: float) -> float | None:
@@ -65,7 +78,8 @@ class Curve:
                 "ste_peak_to_peak_um": float(np.ptp(r.ste_m)) * 1e6,
                 "centre_distance_mm": r.mesh.centre_distance_m * 1e3,
                 "operating_pressure_angle_deg": math.degrees(r.mesh.pressure_angle_rad),
-                "warnings": r.mesh.contact_ratio_warnings() + wear_warnings(r.mesh, self.wear)}
+                "warnings": r.mesh.contact_ratio_warnings() + wear_warnings(r.mesh, self.wear)
+                + flank_warnings(r.pair, r.flank), **extra}
 
 
 def iso_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float) -> MeshStiffness:
@@ -87,15 +101,16 @@ def iso_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float)
 
 
 def fem_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float,
-              wear: WearSpec | None) -> MeshStiffness:
+              wear: WearSpec | None, flank: FlankSpec | None = None) -> MeshStiffness:
     """Resolved FE contact of both gear bodies (fem.pair) as a MeshStiffness curve."""
     from gearwear.fem.pair import pair_contact
 
-    fe = pair_contact(pair, wear=wear, positions=points, torque_Nm=torque_Nm, clearance_m=clearance_m)
+    fe = pair_contact(pair, wear=wear, positions=points, torque_Nm=torque_Nm, clearance_m=clearance_m,
+                      flank=flank)
     meta = {k: v for k, v in fe.meta.items() if k != "pair_gap_m"}
     return MeshStiffness("fem", pair, fe.mesh, torque_Nm, wear, fe.angle_rad, fe.k_N_per_m, fe.ste_m,
                          fe.excitation_m, fe.pair_load_N, fe.pair_d_m, fe.pair_in_path,
-                         float(fe.timings.get("total_s", float("nan"))), meta={"fe": meta})
+                         float(fe.timings.get("total_s", float("nan"))), meta={"fe": meta}, flank=flank)
 
 
 def write_fields(curves: list[Curve], out: Path, positions: list[int]) -> list[Path]:
@@ -111,21 +126,68 @@ def write_fields(curves: list[Curve], out: Path, positions: list[int]) -> list[P
     return files
 
 
+def check_method(method: str, flank: FlankSpec | None, faults: FaultSpec | None) -> None:
+    """Refuse a method that cannot model the scene's flank deviations or faults (names
+    ``method``): ISO 6336 method B is one constant; the pair FE takes modifications and
+    measured deviations but not yet the faults of one tooth."""
+    if method == "iso6336" and (flank is not None or faults is not None):
+        raise fail("method", repr(method), "", "is one constant (ISO 6336-1 method B) and cannot show flank "
+                   "modifications or faults; use ishikawa, energy or fem")
+    if method == "fem" and faults is not None:
+        raise fail("method", repr(method), "", "the pair FE does not model a fault on one tooth yet; use "
+                   "ishikawa or energy (the crack's FE check is the single-tooth model, gearwear verify)")
+
+
 def compute(pair: PairSpec, method: str, wears: list[WearSpec | None], clearances_m: list[float],
-            torque_Nm: float, points: int) -> list[Curve]:
+            torque_Nm: float, points: int, flank: FlankSpec | None = None,
+            faults: FaultSpec | None = None) -> list[Curve]:
+    check_method(method, flank, faults)
     curves = []
     for wear in wears:
         for c in clearances_m:
             if method == "iso6336":
                 r = iso_curve(pair, points, torque_Nm, c)
             elif method == "fem":
-                r = fem_curve(pair, points, torque_Nm, c, wear)
+                r = fem_curve(pair, points, torque_Nm, c, wear, flank)
             else:
                 r = mesh_stiffness(pair, method=method, points=points, torque_Nm=torque_Nm, clearance_m=c,
-                                   wear=wear)
+                                   wear=wear, flank=flank, faults=faults)
             label = f"{wear.label if wear else 'unworn'}, clearance {c * 1e6:g} um"
             curves.append(Curve(label, method, wear, c, r))
     return curves
+
+
+HARRIS_LOADS = np.linspace(0.1, 2.0, 20)  # fractions of the scene torque
+
+
+def harris(curves: list[Curve], pair: PairSpec, flank: FlankSpec | None):
+    """The Harris map of the scene's relief (analytic.harris) over 0.1-2 x the scene
+    torque, for the first analytic curve's method, wear and clearance; None without a
+    tip or root relief or without an analytic curve."""
+    from gearwear.analytic.harris import harris_map
+
+    if flank is None or all(r is None for r in (*flank.tip_relief, *flank.root_relief)):
+        return None
+    c = next((c for c in curves if c.method in ("ishikawa", "energy")), None)
+    if c is None:
+        return None
+    return harris_map(pair, flank, HARRIS_LOADS * c.result.torque_Nm, c.method, 360, c.wear, c.clearance_m)
+
+
+def harris_figure(hm, torque_Nm: float):
+    from .plotting import subplots
+
+    fig, ax = subplots(1, 1, figsize=(7, 4.5))
+    ax.plot(hm.torque_Nm, hm.nominal_ste_pp_m * 1e6, "o-", label="nominal flank")
+    ax.plot(hm.torque_Nm, hm.modified_ste_pp_m * 1e6, "s-", label="modified flank")
+    ax.axvline(torque_Nm, color="grey", ls=":", label=f"scene torque {torque_Nm:g} N m")
+    ax.set_xlabel("pinion torque (N m)")
+    ax.set_ylabel("loaded static TE peak-to-peak (um)")
+    ax.set_title("Harris map")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    return fig
 
 
 def curve_csv(c: Curve) -> str:
@@ -156,6 +218,17 @@ def figures(curves: list[Curve]):
     ax2.set_ylabel("loaded static TE (um)")
     ax2.set_xlabel("pinion angle from entry of a pair at A (deg), one mesh period")
     m0 = curves[0].result
+    if m0.periods > 1:
+        ax2.set_xlabel(f"pinion angle from entry of tooth pair 0 at A (deg), one revolution of the faulty gear "
+                       f"({m0.periods} mesh periods)")
+        if m0.faulty_pair is not None:
+            on = np.any(m0.faulty_pair & (m0.pair_load_N > 0), axis=1)
+            ang = np.degrees(m0.angle_rad)
+            edges = np.flatnonzero(np.diff(np.r_[0, on.astype(int), 0]))
+            for k, (i0, i1) in enumerate(zip(edges[::2], edges[1::2])):
+                for a in (ax, ax2):
+                    a.axvspan(ang[i0], ang[i1 - 1], color="red", alpha=0.12,
+                              label="faulty tooth in contact" if k == 0 and a is ax else None)
     ax.set_title(f"Time-varying mesh stiffness ({curves[0].method}), T = {m0.torque_Nm:g} N m, "
                  f"b = {m0.pair.face_width_m * 1e3:g} mm")
     ax.legend(fontsize=8)
@@ -188,7 +261,8 @@ def figures(curves: list[Curve]):
     return figs
 
 
-def write(curves: list[Curve], out: Path, inputs: dict[str, Any], labels: dict[str, Any] | None = None) -> list[Path]:
+def write(curves: list[Curve], out: Path, inputs: dict[str, Any], labels: dict[str, Any] | None = None,
+          harris_map=None) -> list[Path]:
     """One CSV + sidecar per curve, the overlay PNGs and stiffness_summary.json into the
     folder ``out``. The sidecar's hashed inputs hold every field of the wear definition
     (not only its label); ``labels`` (the scene's name) are recorded, not hashed. No
@@ -203,5 +277,10 @@ def write(curves: list[Curve], out: Path, inputs: dict[str, Any], labels: dict[s
                                 {**(labels or {}), "summary": summary})]
     for name, fig in figures(curves).items():
         files.append(io.write_figure(fig, out / name))
+    if harris_map is not None:
+        files.append(io.write_figure(harris_figure(harris_map, curves[0].result.torque_Nm), out / "harris_map.png"))
+        rows = harris_map.rows()
+        text = ",".join(rows[0]) + "\n" + "".join(",".join(f"{v:.9g}" for v in r.values()) + "\n" for r in rows)
+        files.append(io.write_text(out / "harris_map.csv", text))
     files.append(io.write_json(out / "stiffness_summary.json", [io.without_timing(c.summary()) for c in curves]))
     return files

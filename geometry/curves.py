@@ -81,10 +81,18 @@ class CurveStats:
         """Normal load on the line of action, T / r_b1 (N)."""
         return self.torque_Nm / self.pair.gear(0).base_radius_m
 
+    @property
+    def phase_rad(self) -> np.ndarray:
+        """The angles wrapped into one mesh period (a curve over a revolution of a
+        faulty gear spans several)."""
+        P = self.mesh.mesh_angle_rad
+        a = np.asarray(self.angle_rad, dtype=float)
+        return a - P * np.floor(a / P)
+
     def zone_masks(self) -> dict[str, np.ndarray]:
         """Masks of the theoretical zones A, B, C at ``angle_rad``
         (MeshGeometry.contact_zones)."""
-        return self.mesh.contact_zones(self.angle_rad)
+        return self.mesh.contact_zones(self.phase_rad)
 
     def zone_means(self) -> dict:
         """Zone statistics over one mesh period, by the number n of pairs on the path
@@ -99,7 +107,7 @@ class CurveStats:
           "single_deg" their lengths ((epsilon - 1) and (2 - epsilon) of the period
           then)."""
         period_deg = math.degrees(self.mesh.mesh_angle_rad)
-        by = zone_means_by_count(self.k_N_per_m, self.mesh.pairs_on_path(self.angle_rad))
+        by = zone_means_by_count(self.k_N_per_m, self.mesh.pairs_on_path(self.phase_rad))
         shares = self.mesh.zone_shares()
         deg = {n: shares.get(n, 0.0) * period_deg for n in by}
         nan = float("nan")

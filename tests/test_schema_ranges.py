@@ -54,6 +54,23 @@ def _outside(bound, is_open, integer, direction):
     return math.nextafter(float(bound), direction * math.inf)
 
 
+#: valid siblings for tables with required keys (only the key under test is changed)
+REQUIRED = {"faults.crack": {"depth_mm": 1.0},
+            "faults.spall": {"start_diameter_mm": 150.0, "length_mm": 0.5, "depth_um": 20.0},
+            "flank.tip_relief": {"amount_um": 10.0, "start_diameter_mm": 155.0},
+            "flank.root_relief": {"amount_um": 10.0, "start_diameter_mm": 148.0}}
+
+
+def _doc_with(key, value):
+    doc: dict = {}
+    node = doc
+    parts = key.split(".")
+    for i, p in enumerate(parts[:-1]):
+        node = node.setdefault(p, dict(REQUIRED.get(".".join(parts[:i + 1]), {})))
+    node[parts[-1]] = value
+    return doc
+
+
 CASES = []
 for key, prop in _ranged_keys():
     lo, lo_open, hi, hi_open, integer = _bounds(prop)
@@ -70,16 +87,10 @@ def test_every_ranged_key_is_covered():
 
 @pytest.mark.parametrize("key,prop,value", CASES, ids=[f"{c[0]}={c[2]!r}" for c in CASES])
 def test_just_outside_the_published_range_is_refused_with_that_range(key, prop, value):
-    doc: dict = {}
-    node = doc
-    parts = key.split(".")
-    for p in parts[:-1]:
-        node = node.setdefault(p, {})
     if prop.get("per_gear"):  # the pinion out of range, the gear at its default (or the same value)
         value = [value, prop["default"][1] if prop.get("default") else value]
-    node[parts[-1]] = value
     with pytest.raises(InputError) as exc:
-        scene_from_dict(doc)
+        scene_from_dict(_doc_with(key, value))
     msg = str(exc.value)
     assert "\n" not in msg
     assert msg.startswith(key + ("[0]" if prop.get("per_gear") else "")), msg
@@ -109,14 +120,8 @@ def test_the_extreme_accepted_value_builds_a_scene_or_is_refused_in_one_line(key
     """Regression class: module_mm = 5e-324 passed the schema and divided by zero in the pair
     geometry. At each edge of a published range the scene (pair geometry, wear limits, solver
     settings) is either built with finite derived quantities or refused as bad input."""
-    doc: dict = {}
-    node = doc
-    parts = key.split(".")
-    for p in parts[:-1]:
-        node = node.setdefault(p, {})
-    node[parts[-1]] = [value, value] if prop.get("per_gear") else value
     try:
-        scene = scene_from_dict(doc)
+        scene = scene_from_dict(_doc_with(key, [value, value] if prop.get("per_gear") else value))
     except InputError as exc:
         assert "\n" not in str(exc)
         return
