@@ -89,6 +89,20 @@ lines or curves, hub arcs, cut lines); their 1D mesh edges are mapped to skfem f
 indices through the corner-vertex pairs, and checked to be boundary facets.
 The groups partition ``mesh.boundary_facets()``.
 
+Cracks
+------
+``mesh_full_gear(crack_xy=(mouth, tip))`` meshes a straight crack as a cut: the
+segment from an outline point (the mouth) to an interior tip is embedded in the
+surface, so its 1D mesh edges are element edges, and after the element order is set
+Gmsh's ``Crack`` plugin (Dimension 1, the crack curve as PhysicalGroup, the mouth
+point as OpenBoundaryPhysicalGroup) duplicates every node on it except the tip's,
+P2 mid-side nodes included: the elements on one side use the copies. Boundary group
+"crack" holds the edges of both faces (free surfaces; their areas cancel in the
+exact-area check, the crack encloses none). A Distance+Threshold field refines the
+tip to ``crack_tip_size_m`` within twice that distance and grades out with
+``sizes.growth``. The plugin's own options are set on every use; Gmsh has no getter
+for them, so they are not restored in a caller's session.
+
 Determinism
 -----------
 One thread, fixed algorithm (Frontal-Delaunay, ``Mesh.Algorithm = 6``), fixed

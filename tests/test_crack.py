@@ -262,3 +262,23 @@ def test_fe_over_analytic_increase_is_reported(paper, fe_runs):
             lines.append(f"{model.__name__.rsplit('.', 1)[-1]:9s} q = {q} mm: FE/analytic increase {ratio.round(3).tolist()}")
             assert np.all(ratio > 0)
     print("\nradii mm " + str((R * 1e3).round(3).tolist()) + "\n" + "\n".join(lines))
+
+
+def test_mesher_rejects_bad_crack_input_and_is_deterministic(paper):
+    from gearwear.fem.mesh import MeshError, MeshSizes, mesh_full_gear
+    from gearwear.fem.tooth import tooth_mesh
+
+    pair, _ = paper
+    n = 64
+    ang = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    square = np.column_stack([np.cos(ang), np.sin(ang)]) * 0.05  # a polygon "gear"
+    sizes = MeshSizes(global_m=5e-3)
+    for crack_xy, match in (([[0.049, 0.0], [0.04, 0.0]], "not an outline point"),
+                            ([square[0], [0.06, 0.0]], "not inside"),
+                            ([square[0], [0.005, 0.0]], "not inside")):  # in the bore
+        with pytest.raises(MeshError, match=match):
+            mesh_full_gear(square, 0.01, sizes, order=1, crack_xy=np.array(crack_xy))
+    with pytest.raises(MeshError, match="crack_tip_size_m"):
+        mesh_full_gear(square, 0.01, sizes, order=1, crack_tip_size_m=1e-4)
+    a, b = (tooth_mesh(pair, crack=Crack(1e-3, NU_45), mesh_scale=2.0) for _ in range(2))
+    assert np.array_equal(a.mesh.doflocs, b.mesh.doflocs) and np.array_equal(a.mesh.t, b.mesh.t)
