@@ -9,7 +9,7 @@ from .model import GearDynamics, _accelerations, bearing_f, mesh_state
 _trapezoid = getattr(np, "trapezoid", None) or getattr(np, "trapz")
 
 __all__ = ["spectrum", "harmonics", "window_harmonics", "fourier_amplitudes", "gauss_grid",
-           "energy_balance", "mechanical_energy"]
+           "energy_balance", "mechanical_energy", "acceleration_signals"]
 
 # 3-point Gauss-Legendre on [0, 1]: exact for polynomials of degree 5
 _GL_X = 0.5 + 0.5 * np.array([-np.sqrt(0.6), 0.0, np.sqrt(0.6)])
@@ -19,7 +19,8 @@ _GL_W = 0.5 * np.array([5.0, 8.0, 5.0]) / 9.0
 def spectrum(signal, fs: float):
     """Single-sided amplitude spectrum (no window): a sinusoid of amplitude A on a bin
     shows A, the DC bin shows the mean. Use a whole number of periods of the
-    frequencies of interest (the simulation window is whole mesh periods)."""
+    frequencies of interest (the simulation window is whole mesh periods; for the shaft
+    orders of a multi-period table, whole table periods: ``simulate.round_to_table_periods``)."""
     x = np.asarray(signal, float)
     N = x.size
     X = np.fft.rfft(x) / N
@@ -155,3 +156,27 @@ def energy_balance(result, model: GearDynamics) -> dict:
     return dict(input_work=W["W_in"], dissipated=W["D"], parametric_work=W["W_k"],
                 excitation_work=W["W_e"], energy_change=dE, E_start=float(E[0]),
                 E_end=float(E[-1]), residual=res, relative_residual=abs(res) / scale, method=how)
+
+
+def acceleration_signals(result) -> dict:
+    """Accelerations (m/s^2) at the samples ``result.t``, from the model's right-hand side
+    at the sampled states (exact, no differentiation of samples): ``a_y_p, a_x_p, a_y_g,
+    a_x_g`` (bearing translations), ``a_q`` (relative torsional coordinate) and
+    ``a_delta``, the relative acceleration along the line of action, G . a with G = d delta /
+    d(y_p, x_p, y_g, x_g, q). With the static centre-distance coupling G is constant and
+    a_delta = delta'' exactly; with the dynamic coupling G depends on the state and the
+    term dG/dt . v (second order in the bearing velocities) is left out.
+
+    Like F_m, these carry the stiffness table's kinks: a DFT of S samples per mesh
+    period aliases the high harmonics onto the low ones (onto mesh harmonics and, with
+    a multi-period table, onto shaft orders; never onto other frequencies when the
+    window is whole table periods)."""
+    model = result.model
+    if model is None:
+        raise ValueError("acceleration_signals: the result carries no model")
+    t, Z = result.t, result.states
+    a = _accelerations(model, t, Z)
+    G = mesh_state(model, t, Z)["G"]
+    out = {name: a[:, i].copy() for i, name in enumerate(("a_y_p", "a_x_p", "a_y_g", "a_x_g", "a_q"))}
+    out["a_delta"] = np.sum(G * a, axis=1)
+    return out

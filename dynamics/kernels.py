@@ -26,8 +26,10 @@ The stiffness contract
 The solver sees the periodic interpolant of the table (linear by default, or a periodic
 cubic spline, ``GearDynamics.interpolation``), at the exact time of every stage:
 
-* RK4 (fixed step ``h = T_m / N`` from t = 0): the step grid repeats every mesh
-  period, so ``model.rk4_schedule`` builds one period's grid once, before integrating:
+* RK4 (fixed step ``h = T_m / N`` from t = 0): the step grid repeats every table
+  period (``table_periods`` mesh periods; ``p[P_PER]`` is that period in rad, the mesh
+  period for a one-period table), so ``model.rk4_schedule`` builds one table period's
+  grid (``table_periods * N`` steps) once, before integrating:
   steps that contain table nodes are split into sub-steps ending on them (RK4 across
   a kink of the interpolant drops to second order), and k, e are sampled exactly at
   each sub-step's three stage times. The loop reads them by index (no interpolation
@@ -258,8 +260,9 @@ def rk4(z0, h, n_steps, t_out, zlim, p, hs, toff, kq, eq, dkq, deq, ends,
         sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en):
     """Classical RK4 on the fixed grid h = T_m / N from t = 0, split at table kinks.
 
-    (hs, toff, kq, eq, dkq, deq, ends) is one mesh period's schedule
-    (``model.rk4_schedule``): sub-step lengths, their end times within the period, k and
+    (hs, toff, kq, eq, dkq, deq, ends) is one table period's schedule
+    (``model.rk4_schedule``; ``table_periods`` mesh periods, one for a healthy pair):
+    sub-step lengths, their end times within the table period, k and
     e at each sub-step's three stage times, their slopes, and which sub-steps end on a
     step boundary. The schedule repeats every period, so every stage reads the exact
     table value. Samples at the sorted times ``t_out``: the sub-step state where a
@@ -501,7 +504,8 @@ def _dp_energy(z, K, h, znew):
 # ------------------------------------------------------------------------------------
 @njit(cache=True)
 def _segment(tseg, p, phx):
-    """Table segment index (in the periodic-extended table) and period count at tseg."""
+    """Table segment index (in the periodic-extended table) and table-period count at
+    tseg (``p[P_PER]`` is the table period, ``GearDynamics.table_period_rad``)."""
     P = p[P_PER]
     ph = p[P_OM] * tseg
     m = math.floor(ph / P)

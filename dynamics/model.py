@@ -56,8 +56,14 @@ Centre-distance coupling:
     ``(R_p + R_g)/cos(alpha)``; a given ``C0_m`` must agree).
 
 Stiffness / excitation tables: ``phi_table`` (rad of pinion rotation, strictly increasing
-inside one mesh period ``[0, 2 pi / z_p)``), ``k_table`` (N/m), ``e_table`` (m); the
-nominal pinion angle is ``phi = omega_p t``. Interpolation is periodic *linear*
+inside one table period ``[0, table_periods 2 pi / z_p)``), ``k_table`` (N/m), ``e_table``
+(m); the nominal pinion angle is ``phi = omega_p t``. ``table_periods`` (default 1) is the
+number of mesh periods the tables span: 1 for a healthy pair (k is mesh-periodic); a fault
+on one tooth makes k periodic over a revolution of that gear (``z_p`` for a pinion tooth,
+``z_g`` for a gear tooth, ``lcm(z_p, z_g)`` for both). Everything that repeats with the
+table (interpolant, means, node times, the RK4 schedule, the adaptive solver's node
+stepping) uses the table period ``table_period_rad``; what is physically the mesh period
+(``mesh_frequency_Hz``, samples per mesh period, harmonic bins) stays. Interpolation is periodic *linear*
 (positivity preserving, so zero-stiffness gaps stay zero; exact for tabulated
 piecewise-linear data). The tables' kinks are at known times, so the adaptive
 integrator ends its steps on them (each step sees a polynomial right-hand side) and
@@ -94,6 +100,8 @@ class GearDynamics:
     ``tvms`` (else constant ``k_constant`` or the table mean), ``backlash_half_m``
     (None = no backlash: linear two-sided mesh spring), ``bearing_half_clearance_m``
     (None = linear bearings), ``te_excitation`` (else e = 0), ``centre_distance``.
+    ``table_periods``: the tables span this many mesh periods (a whole number >= 1;
+    ``z_p`` for a one-tooth pinion fault, see the module docstring).
     """
 
     m_p: float
@@ -121,6 +129,7 @@ class GearDynamics:
     mesh_damping: str = "off-when-separated"
     k_constant: float | None = None
     interpolation: str = "linear"
+    table_periods: int = 1
 
     def __post_init__(self):
         pos = ("m_p", "m_g", "J_p", "J_g", "R_p", "R_g", "k_b", "omega_p")
@@ -142,7 +151,13 @@ class GearDynamics:
             raise InputError(f"alpha = {self.alpha} rad: must be in (0, pi/2)")
         if int(self.z_p) != self.z_p or self.z_p < 3:
             raise InputError(f"z_p = {self.z_p}: must be a whole number >= 3")
-        P = 2 * math.pi / self.z_p
+        L = self.table_periods
+        if (isinstance(L, bool) or not isinstance(L, (int, float, np.floating, np.integer))
+                or not math.isfinite(L) or int(L) != L or L < 1):
+            raise InputError(f"table_periods = {L!r}: must be a whole number >= 1 (mesh "
+                             f"periods spanned by the stiffness tables)")
+        object.__setattr__(self, "table_periods", int(L))
+        P = self.table_period_rad
         phi = np.asarray(self.phi_table, dtype=float).ravel()
         k = np.asarray(self.k_table, dtype=float).ravel()
         if phi.size < 2 or k.shape != phi.shape:
@@ -150,8 +165,15 @@ class GearDynamics:
                              f"({phi.size}), got {k.size}")
         if not (np.all(np.isfinite(phi)) and np.all(np.diff(phi) > 0) and phi[0] >= 0
                 and phi[-1] < P * (1 + 1e-12)):
-            raise InputError(f"phi_table: must be strictly increasing inside one mesh "
-                             f"period [0, {P:.6g}) rad")
+            span = ("one mesh period" if self.table_periods == 1 else
+                    f"one table period of {self.table_periods} mesh periods (table_periods)")
+            raise InputError(f"phi_table: must be strictly increasing inside {span} "
+                             f"[0, {P:.6g}) rad")
+        if self.table_periods > 1 and phi[-1] < (self.table_periods - 1) * self.mesh_period_rad * (1 - 1e-12):
+            raise InputError(f"phi_table: ends at {phi[-1]:.6g} rad, but table_periods = "
+                             f"{self.table_periods} needs a table over [0, {P:.6g}) rad (nodes in "
+                             f"each of the {self.table_periods} mesh periods; tile a one-period "
+                             f"table or set table_periods = 1)")
         if phi[-1] >= P:
             phi = phi.copy()
             phi[-1] = np.nextafter(P, 0.0)
@@ -204,6 +226,19 @@ class GearDynamics:
         return 2 * math.pi / self.z_p
 
     @property
+    def table_period_rad(self) -> float:
+        """Pinion rotation (rad) spanned by the tables: ``table_periods * 2 pi / z_p``
+        (the period of k and e; the mesh period when ``table_periods = 1``)."""
+        if self.table_periods == 1:
+            return 2 * math.pi / self.z_p
+        return self.table_periods * (2 * math.pi / self.z_p)
+
+    @property
+    def table_period_s(self) -> float:
+        """Duration (s) of one table period at the nominal speed."""
+        return self.table_period_rad / self.omega_p
+
+    @property
     def mesh_frequency_Hz(self) -> float:
         return self.z_p * self.omega_p / (2 * math.pi)
 
@@ -221,7 +256,7 @@ class GearDynamics:
 
     @property
     def k_mean(self) -> float:
-        """Mean mesh stiffness: period mean of the interpolated table (or the constant)."""
+        """Mean mesh stiffness: table-period mean of the interpolated table (or the constant)."""
         if not self.tvms:
             return self.k_constant if self.k_constant is not None else _table_mean(self, self.k_table)
         return _table_mean(self, self.k_table)
@@ -284,7 +319,7 @@ def table_mean(phi, v, P: float, kind: str = "linear") -> float:
 
 
 def _table_mean(model: GearDynamics, v: np.ndarray) -> float:
-    return table_mean(model.phi_table, v, model.mesh_period_rad, model.interpolation)
+    return table_mean(model.phi_table, v, model.table_period_rad, model.interpolation)
 
 
 def damping_from_ratios(zeta_m: float, zeta_b: float, k_mean: float, m_e: float, k_b: float,
@@ -309,14 +344,15 @@ N_PAR = 23
 
 
 def derived(model: GearDynamics):
-    """Parameter vector, the table nodes, the periodic-extended nodes phx (n + 2) and the
+    """Parameter vector (``par[P_PER]`` is the table period in rad, ``table_period_rad``),
+    the table nodes, the periodic-extended nodes phx (n + 2) and the
     k and e interpolants' coefficients per extended segment (n + 1, 4), see
     :func:`segment_coefficients` (computed once per model instance, read-only arrays)."""
     return model._derived
 
 
 def _compute_derived(model: GearDynamics):
-    P = model.mesh_period_rad
+    P = model.table_period_rad          # par[P_PER]: the period of the tables
     phi = np.asarray(model.phi_table, float)
     n = phi.size
     par = np.zeros(N_PAR)
@@ -381,9 +417,11 @@ def _breaks(model: GearDynamics, c: np.ndarray, rel: float = 1e-12) -> np.ndarra
 
 
 def rk4_schedule(model: GearDynamics, steps_per_period: int, snap: float = 1e-9):
-    """The fixed-step RK4 grid of one mesh period, split at the table's breaks.
+    """The fixed-step RK4 grid of one table period, split at the table's breaks.
 
-    Steps are h = T_m / N from t = 0, so the grid repeats every mesh period. The
+    Steps are h = T_m / N from t = 0 (``steps_per_period`` = N per *mesh* period), so the
+    grid repeats every table period of L = ``table_periods`` mesh periods: the schedule
+    holds L N steps (for L = 1 one mesh period, as before). The
     periodic linear interpolant has a kink at every table node; RK4 across a kink is
     only second-order accurate (Simpson's rule on a function with a slope jump), so a
     step that contains nodes is split into sub-steps that end on them. Each sub-step
@@ -393,13 +431,13 @@ def rk4_schedule(model: GearDynamics, steps_per_period: int, snap: float = 1e-9)
     O(snap h^2)).
 
     Returns (hs, toff, kq, eq, dkq, deq, ends): sub-step lengths in s (Q,), the time of
-    each sub-step's end from the start of the period (Q,), k and e at the 3Q stage
+    each sub-step's end from the start of the table period (Q,), k and e at the 3Q stage
     times (start, middle, end of each sub-step), dk/dt and de/dt at each sub-step's
     middle (Q,; the energy accumulators) and a 0/1 flag per sub-step that ends on a
     step boundary."""
     par, phi, phx, kc, ec = derived(model)
     P = par[P_PER]
-    N = int(steps_per_period)
+    N = int(steps_per_period) * model.table_periods     # steps per table period
     dph = P / N
     bounds = np.arange(N + 1) * dph
     nodes = np.asarray(phi, float)[_breaks(model, kc) | _breaks(model, ec)]
@@ -427,10 +465,11 @@ def rk4_schedule(model: GearDynamics, steps_per_period: int, snap: float = 1e-9)
 
 def table_node_times(model: GearDynamics, t0: float, t1: float) -> np.ndarray:
     """Times in (t0, t1) at which the pinion angle passes a table node (the breaks of the
-    k and e interpolants); empty when neither table varies."""
+    k and e interpolants; the table repeats every table period); empty when neither
+    table varies."""
     if not (model.tvms or model.te_excitation):
         return np.empty(0)
-    P = model.mesh_period_rad
+    P = model.table_period_rad
     w = model.omega_p
     phi = derived(model)[1]
     m = np.arange(np.floor(w * t0 / P) - 1, np.ceil(w * t1 / P) + 1)

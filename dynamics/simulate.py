@@ -6,6 +6,13 @@ discard) f_m)``), sampled at ``samples_per_mesh_period`` points per period (defa
 ``steps_per_mesh_period``), so the mesh harmonics fall exactly on FFT bins. The RK4
 output is the integrator state at the grid points (cubic Hermite between steps when the
 grid is not a subset of the steps); the adaptive output is its dense output.
+
+Tables over several mesh periods (``GearDynamics.table_periods = L > 1``, a tooth fault):
+the excitation repeats every L mesh periods, so a spectrum that resolves the shaft
+orders (sidebands ``f_m +- n f_m / L``) needs a kept window of a whole number of *table*
+periods. ``simulate`` keeps whole mesh periods as always; pass the duration through
+:func:`round_to_table_periods` (rounds it up so that the kept window is whole table
+periods) and check ``SimResult.whole_table_periods``.
 """
 
 from __future__ import annotations
@@ -22,7 +29,7 @@ from . import kernels
 from .model import (STATE_NAMES, GearDynamics, derived, has_flank_law, max_linear_rate, mesh_state,
                     rk4_schedule, static_equilibrium, table_node_times)
 
-__all__ = ["SimResult", "simulate", "kernel_switches", "compute_signals"]
+__all__ = ["SimResult", "simulate", "kernel_switches", "compute_signals", "round_to_table_periods"]
 
 ENERGY_NAMES = ("W_in", "D", "W_k", "W_e")
 
@@ -46,13 +53,22 @@ class SimResult:
     energy: dict | None               # accumulated W_in, D, W_k, W_e on t (track_energy)
     n_periods: int
     stats: dict                       # name -> dict(mean, rms, rms_ac, p2p)
-    periodic_with: int                # smallest p (mesh periods) with a p-periodic tail, 0 if none
+    periodic_with: int                # smallest p (mesh periods) with a p-periodic tail, 0 if none;
+                                      # with table_periods L > 1 only multiples of L are tried
     z_end: np.ndarray                 # final state
     switches: tuple = field(default=())
     model: GearDynamics | None = None  # the model that produced it (exact harmonics)
     t_dense: np.ndarray | None = None  # the sample times plus the table nodes and the window end
     states_dense: np.ndarray | None = None  # (len(t_dense), 10) states there
     _harmonics_memo: dict = field(default_factory=dict, repr=False)
+    table_periods: int = 1            # mesh periods per table period (model.table_periods)
+
+    @property
+    def whole_table_periods(self) -> bool:
+        """The kept window holds a whole number of table periods (``n_periods`` is a
+        multiple of ``table_periods``): a DFT of it resolves the table's (shaft) orders
+        on exact bins. Always true for ``table_periods = 1``."""
+        return self.n_periods % self.table_periods == 0
 
     def harmonics(self, name: str = "F_m", n: int = 10) -> np.ndarray:
         """Amplitudes of the mesh harmonics k f_m, k = 1..n, of signal ``name``: exact
@@ -159,13 +175,20 @@ def compute_signals(model: GearDynamics, t: np.ndarray, Z: np.ndarray) -> dict:
     return sig
 
 
-def _periodic_with(x: np.ndarray, S: int, M: int, max_p: int = 8, tol: float = 1e-6) -> int:
-    """Smallest p <= max_p with x(t + p T_m) = x(t) over the last max(p, 2) periods
-    to ``tol`` of the signal range; 0 if none (non-periodic, or not yet settled)."""
+def _periodic_with(x: np.ndarray, S: int, M: int, max_p: int = 8, tol: float = 1e-6,
+                   table_periods: int = 1) -> int:
+    """Smallest p in L, 2L, ..., max_p L (L = ``table_periods``, mesh periods per table
+    period) with x(t + p T_m) = x(t) over the last max(p, 2) mesh periods to ``tol`` of
+    the signal range; 0 if none (non-periodic, not yet settled, or a window shorter than
+    2 p mesh periods). With L = 1 that is the smallest p <= max_p. With L > 1 the
+    excitation itself has period L T_m: a response that looks periodic with fewer mesh
+    periods (a small fault under the tolerance) is reported as L, never as less, and a
+    constant signal as L."""
+    L = int(table_periods)
     rng = float(np.ptp(x)) if x.size else 0.0
     if rng == 0.0:
-        return 1
-    for p in range(1, max_p + 1):
+        return L
+    for p in range(L, L * max_p + 1, L):
         span = max(p, 2) * S
         if (p + max(p, 2)) * S > x.size:
             break
@@ -174,6 +197,34 @@ def _periodic_with(x: np.ndarray, S: int, M: int, max_p: int = 8, tol: float = 1
         if np.max(np.abs(a - b)) <= tol * rng:
             return p
     return 0
+
+
+def round_to_table_periods(model: GearDynamics, duration_s: float, discard_s: float = 0.0,
+                           min_table_periods: int = 1) -> float:
+    """A duration for which ``simulate(model, duration, discard_s)`` keeps a whole number
+    (at least ``min_table_periods``) of table periods: the smallest such window that is
+    not shorter than the one ``duration_s`` gives.
+
+    ``simulate`` rounds the discarded transient up to whole mesh periods (t0) and keeps
+    ``M = floor((duration - t0) f_m)`` mesh periods; this rounds M up to a multiple of
+    ``model.table_periods`` (L) and returns t0 + M T_m plus half a mesh period of margin
+    (``simulate`` floors, so the margin cannot add a period and keeps rounding error away
+    from the boundary). With a table over one pinion revolution (L = z_p) that is whole
+    pinion revolutions: the DFT of the kept window has the shaft orders, hence the
+    sidebands f_m +- n f_shaft, on exact bins. For L = 1 (and any duration that already
+    gives whole mesh periods) it returns a duration that keeps the same window."""
+    if not (isinstance(duration_s, (int, float)) and math.isfinite(duration_s) and duration_s > 0):
+        raise InputError(f"duration_s = {duration_s} s: must be > 0")
+    if not (math.isfinite(discard_s) and 0 <= discard_s):
+        raise InputError(f"discard_s = {discard_s} s: must be >= 0")
+    if int(min_table_periods) != min_table_periods or min_table_periods < 1:
+        raise InputError(f"min_table_periods = {min_table_periods}: must be a whole number >= 1")
+    fm = model.mesh_frequency_Hz
+    L = model.table_periods
+    n_d = int(math.ceil(discard_s * fm - 1e-9))
+    M = max(int(math.floor((duration_s - n_d / fm) * fm + 1e-9)), 1)
+    M = max(-(-M // L), int(min_table_periods)) * L
+    return (n_d + M + 0.5) / fm
 
 
 def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, method: str = "auto",
@@ -249,6 +300,15 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
                              f"here (h omega_max = {hw:.3g} > 2.5, omega_max = {w:.4g} rad/s of the "
                              f"linearised model); use >= {n_min} steps per mesh period or "
                              f"method = dopri5")
+    if method == "rk4":
+        # the schedule holds one table period: table_periods x steps sub-steps plus the
+        # table's nodes, 11 float64 each
+        sched = 88 * (model.table_periods * steps_per_mesh_period + model.phi_table.size)
+        if sched > max_output_bytes:
+            raise InputError(f"table_periods = {model.table_periods}: the RK4 schedule of one "
+                             f"table period needs about {sched / 2 ** 30:.3g} GiB (limit "
+                             f"{max_output_bytes / 2 ** 30:.3g} GiB); use fewer steps per mesh "
+                             f"period or method = dopri5")
     if max_steps is None:
         max_steps = int(20_000 * (t_end * fm + 1)) + 100_000
 
@@ -338,5 +398,6 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
                      compile_s=compile_s, separation_fraction=sep, backside_fraction=back,
                      bearing_contact_fraction=bc, method=method, states=Z_win[:, :10].copy(),
                      energy=energy, n_periods=M, stats=stats,
-                     periodic_with=_periodic_with(sig["delta"], S, M), z_end=z_end[:10].copy(),
-                     switches=sw, model=model, t_dense=t_out, states_dense=out[:, :10])
+                     periodic_with=_periodic_with(sig["delta"], S, M, table_periods=model.table_periods),
+                     z_end=z_end[:10].copy(), switches=sw, model=model, t_dense=t_out,
+                     states_dense=out[:, :10], table_periods=model.table_periods)
