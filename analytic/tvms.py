@@ -262,7 +262,7 @@ def mesh_stiffness(pair: PairSpec, method: str = "ishikawa", points: int = 360, 
                    clearance_m: float = 0.0, wear: WearSpec | None = None,
                    bearing_stiffness_N_per_m: float = math.inf, n_slices: int = ishikawa.DEFAULT_SLICES,
                    corner_contact: bool = True, correction=None, flank: FlankSpec | None = None,
-                   faults: FaultSpec | None = None) -> MeshStiffness:
+                   faults: FaultSpec | None = None, crack_correction=None) -> MeshStiffness:
     """k_h(theta), pair loads and loaded STE over one mesh period at the operating point
     (over one revolution of the faulty gear when ``faults`` has a fault: ``points`` per
     mesh period, ``periods`` mesh periods).
@@ -274,7 +274,9 @@ def mesh_stiffness(pair: PairSpec, method: str = "ishikawa", points: int = 360, 
     ``correction``: optional ((radius_m, factor), (radius_m, factor)) per gear: the
     tooth compliance delta_1 + delta_2 at contact radius R is multiplied by the factor
     interpolated at R (the FE calibration; see gearwear.calibrate). Plain arrays, so
-    this module never depends on the FE stage.
+    this module never depends on the FE stage. ``crack_correction``: (radius_m, factor)
+    of the cracked tooth (FE of the cracked tooth over the reduced-section model); absent,
+    the cracked tooth takes its gear's ``correction``.
     """
     t0 = time.perf_counter()
     if method not in METHODS:
@@ -370,7 +372,8 @@ def mesh_stiffness(pair: PairSpec, method: str = "ishikawa", points: int = 360, 
         if crack is not None:
             hit = np.repeat(faulty_slots(pair, crack, periods, j), points, axis=0) & cand
             g = crack.gear_index
-            c_cracked = c_u - c_g[g] + compliance(g, (r1, r2)[g], corrections[g], crack)
+            corr_crack = crack_correction if crack_correction is not None else corrections[g]
+            c_cracked = c_u - c_g[g] + compliance(g, (r1, r2)[g], corr_crack, crack)
             c[hit] = np.tile(spread(c_cracked + c_hertz), (periods, 1))[hit]
             faulty |= hit
         spall = faults.spall if faults is not None else None

@@ -56,6 +56,8 @@ from typing import Any, Callable, Iterable
 import numpy as np
 
 from gearwear.analytic.tvms import mesh_stiffness
+from gearwear.geometry.faults import FaultSpec, revolution_periods
+from gearwear.geometry.flank import FlankSpec
 from gearwear.geometry.spec import PairSpec
 from gearwear.geometry.wear import WearSpec
 
@@ -280,6 +282,20 @@ def run_fe(pair: PairSpec, wear: WearSpec | None, positions: int = 21, estimate_
     return Calibration(pair, wear, (fe0, fe1), corr, err, time.perf_counter() - t0)
 
 
+def crack_correction(pair: PairSpec, faults: FaultSpec, positions: int = 21) -> Correction:
+    """FE / reduced-section ratio of the cracked tooth (fem.tooth with ``crack``: the crack
+    as a cut in the mesh), fitted like the healthy corrections. The FE crack model takes a
+    nominal flank, so the ratio is that of the unworn cracked tooth (wear changes a tooth's
+    compliance by 0.01-0.1 %, fem.tooth). The FE raises the compliance 1.8-6 times more
+    than the reduced-section model (tests/test_crack.py): the correction carries that."""
+    from gearwear.fem.tooth import single_tooth_compliance
+
+    assert faults.crack is not None
+    fe = single_tooth_compliance(pair, gear_index=faults.crack.gear_index, positions=positions,
+                                 crack=faults.crack.crack)
+    return fit_correction(fe.radius_m, fe.fem_compliance_um_per_N_per_mm, tooth_vs_analytic(fe).ishikawa_um_per_N_per_mm)
+
+
 @functools.lru_cache(maxsize=1)
 def library_versions() -> dict[str, str]:
     """Versions of the libraries that shape a calibrated table (a Gmsh upgrade can move
@@ -297,11 +313,16 @@ def library_versions() -> dict[str, str]:
 
 
 def table_inputs(pair: PairSpec, wear: WearSpec | None, clearance_m: float, torque_Nm: float, points: int,
-                 positions: int) -> dict[str, Any]:
+                 positions: int, flank: FlankSpec | None = None, faults: FaultSpec | None = None) -> dict[str, Any]:
     from gearwear.fem import pair as fe_pair
     from gearwear.fem import tooth
 
-    return {"kind": "calibrated mesh stiffness", "pair": dataclasses.asdict(pair), "wear": _wear_inputs(wear),
+    # flank and faults enter the key only when present, so the keys of plain tables stay valid
+    extra: dict[str, Any] = {k: dataclasses.asdict(v) for k, v in (("flank", flank), ("faults", faults))
+                             if v is not None}
+    if revolution_periods(pair, faults) > 1:
+        extra["rows"] = points * revolution_periods(pair, faults)
+    return {**extra, "kind": "calibrated mesh stiffness", "pair": dataclasses.asdict(pair), "wear": _wear_inputs(wear),
             "clearance_m": clearance_m, "torque_Nm": torque_Nm, "points": points,
             "fe": {"positions": positions, "order": 2, "plane": "stress", "mesh_scale": 1.0,
                    "sizes": dataclasses.asdict(tooth.mesh_sizes(1.0)), "fit_degree": FIT_DEGREE},
@@ -333,8 +354,15 @@ def require_overlap(pair: PairSpec, clearance_m: float) -> None:
 def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float = 0.0, torque_Nm: float = 40.0,
                      points: int = 360, positions: int = 21,
                      calibration: Calibration | Callable[[], Calibration] | None = None,
-                     refresh: bool = False, notify: tables.Notify | None = tables.to_stderr) -> tables.StiffnessTable:
+                     refresh: bool = False, notify: tables.Notify | None = tables.to_stderr,
+                     flank: FlankSpec | None = None, faults: FaultSpec | None = None) -> tables.StiffnessTable:
     """The calibrated k_h table, from the cache when these exact inputs were run before.
+
+    ``flank`` (modifications, measured deviations) and ``faults`` enter the load sharing of
+    the corrected analytic stage (analytic.tvms): gaps, and for a crack the cracked tooth's
+    reduced-section compliance corrected to the FE of the cracked tooth
+    (:func:`crack_correction`). With a fault the table spans one revolution of the faulty
+    gear.
 
     ``calibration``: the FE stage (run_fe) to use on a cache miss, or a function that
     returns it (called only on a miss, so a caller can share one FE run between tables
@@ -345,7 +373,7 @@ def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float =
     InputError before anything is computed.
     """
     folder = tables.cache_dir()
-    inputs = table_inputs(pair, wear, clearance_m, torque_Nm, points, positions)
+    inputs = table_inputs(pair, wear, clearance_m, torque_Nm, points, positions, flank, faults)
     if not refresh:
         hit = tables.cached(inputs, folder, notify, table_label(wear, clearance_m))
         if hit is not None:
@@ -355,8 +383,10 @@ def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float =
         calibration = calibration()
     cal = calibration or run_fe(pair, wear, positions)
     corr = tuple(c.grid() for c in cal.corrections)
+    cc = crack_correction(pair, faults, positions) if faults is not None and faults.crack is not None else None
     r = mesh_stiffness(pair, method="ishikawa", points=points, torque_Nm=torque_Nm, clearance_m=clearance_m,
-                       wear=wear, correction=corr)
+                       wear=wear, correction=corr, flank=flank, faults=faults,
+                       crack_correction=None if cc is None else cc.grid())
     pc = pair_correction(pair, wear, clearance_m, torque_Nm, corr, PAIR_POSITIONS)
     s = np.where(r.pairs_in_contact >= 2, pc.double, pc.single)
     k = r.k_N_per_m * s
@@ -378,9 +408,12 @@ def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float =
         "pair_zone_factors": {"double": pc.double, "single": pc.single},
         "pair_check_residual": pc.check_residual, "pair_check_rms": pc.check_rms,
         "pair_fit_residual": pc.fit_residual,
+        **({} if cc is None else {"crack_correction_ratio_range": [float(cc.ratio.min()), float(cc.ratio.max())],
+                                  "crack_check_residual": cc.check_residual}),
         "fe_pair_mean_N_per_m": pc.fe_mean_N_per_m,
         "uncorrected_mean_N_per_m": mesh_stiffness(pair, points=points, torque_Nm=torque_Nm,
-                                                   clearance_m=clearance_m, wear=wear).mean_N_per_m,
+                                                   clearance_m=clearance_m, wear=wear, flank=flank,
+                                                   faults=faults).mean_N_per_m,
     })
     # store() leaves in tab what a later cache hit returns: cold and cached calls are bit-identical
     return tab

@@ -54,15 +54,18 @@ class ToothComparison:
 def tooth_vs_analytic(fe: ToothFE) -> ToothComparison:
     """Ishikawa's delta_1 + delta_2 and the energy-method compliance of the tooth of
     ``fe`` at its load radii, on the profiles its FE model was built from (the worn
-    loaded flank and the nominal opposite flank)."""
+    loaded flank and the nominal opposite flank), with its root crack if it has one."""
     if fe.loaded is None or fe.nominal is None:
         raise ValueError("the FE result carries no profiles (made by an older fem.tooth?)")
     pair = fe.pair
     to_um_per_N_per_mm = 1e6 * pair.face_width_m * 1e3
     t0 = time.perf_counter()
-    ish = ishikawa.tooth_compliance(fe.loaded, fe.radius_m, pair.material, pair.face_width_m, opposite=fe.nominal)
+    crack = getattr(fe, "crack", None)  # the same root crack in the analytic models (reduced section)
+    ish = ishikawa.tooth_compliance(fe.loaded, fe.radius_m, pair.material, pair.face_width_m, opposite=fe.nominal,
+                                    crack=crack)
     t1 = time.perf_counter()
-    en = energy.tooth_compliance(fe.loaded, fe.radius_m, pair.material, pair.face_width_m, opposite=fe.nominal)
+    en = energy.tooth_compliance(fe.loaded, fe.radius_m, pair.material, pair.face_width_m, opposite=fe.nominal,
+                                 crack=crack)
     t2 = time.perf_counter()
     return ToothComparison(fe, ish.total_m_per_N * to_um_per_N_per_mm, en.total_m_per_N * to_um_per_N_per_mm,
                            t1 - t0, t2 - t1)

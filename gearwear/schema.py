@@ -481,10 +481,11 @@ def cross_check(doc: SceneDoc) -> None:
             raise InputError("effects.wear: ignored with a constant mesh_stiffness.value_N_per_m and no "
                              "transmission_error (the wear would change nothing); drop one of them")
     if e.transmission_error is not None and src != "table":
-        if w is None or wear_is_zero(w):
-            raise InputError("effects.transmission_error: there is no excitation on an unworn pair (it is the "
-                             "wear depth along the path of contact); add [effects] wear with a depth > 0 "
-                             "or drop the effect")
+        deviated = doc.flank is not None or (doc.faults is not None and doc.faults.spall is not None)
+        if (w is None or wear_is_zero(w)) and not deviated:
+            raise InputError("effects.transmission_error: there is no excitation on a nominal flank (it is the "
+                             "material removed along the path of contact: wear, [flank] modifications or a "
+                             "spall); add one of them or drop the effect")
     if e.centre_distance is not None and e.centre_distance.coupling == "static" and e.bearing_clearance is None:
         raise InputError('effects.centre_distance: coupling = "static" moves the centre distance by the bearing '
                          "clearance only; without [effects] bearing_clearance it is the nominal one. Add the "

@@ -41,6 +41,7 @@ import numpy as np
 
 from gearwear.dynamics import GearDynamics, damping_from_ratios, simulate
 from gearwear.dynamics.model import table_mean
+from gearwear.geometry.faults import revolution_periods
 from gearwear.geometry.operating import backlash, centre_distance
 from gearwear.geometry.spec import PairSpec
 from gearwear.core.validation import InputError, renamed
@@ -57,6 +58,7 @@ class StiffnessInput:
     source: str
     mean_N_per_m: float
     wall_s: float
+    periods: int = 1   # mesh periods the tables span (a fault: one revolution of its gear)
 
 
 #: the dynamics layer's own parameter names -> scene keys
@@ -87,28 +89,41 @@ def stiffness_input(scene: Scene, points: int = 360) -> StiffnessInput:
     clearance_geo = scene.clearance_m if Cp != pair.centre_distance_m else 0.0
     ms = scene.effects.get("mesh_stiffness")
     source = ms["source"] if ms else "constant"
-    wear = scene.wear
+    wear, flank, faults = scene.wear, scene.flank, scene.faults
+    if (flank is not None or faults is not None) and (source == "table" or "value_N_per_m" in (ms or {})
+                                                       or ms is None):
+        what = "[flank]" if flank is not None else "[faults]"
+        raise InputError(f"{what}: the simulation's mesh stiffness is "
+                         f"{'a user table' if source == 'table' else 'a constant'}, which cannot show it; set "
+                         'effects.mesh_stiffness.source = "analytic", "calibrated" or "fem"')
+    periods = revolution_periods(pair, faults)
     if source == "table":
         assert ms is not None
         phi, k = ms["angle_rad"], ms["k_N_per_m"]
         e = ms["excitation_m"] if ms["excitation_m"] is not None else np.zeros_like(k)
     elif source == "calibrated":
         from .calibrate import calibrated_table
-        tab = calibrated_table(pair, wear, clearance_geo, T, points)
+        tab = calibrated_table(pair, wear, clearance_geo, T, points, flank=flank, faults=faults)
         phi, k, e = tab.angle_rad, tab.k_N_per_m, tab.excitation_m
     elif source == "fem":
-        from .stiffness_job import fem_curve
-        r = fem_curve(pair, 24, T, clearance_geo, wear)
+        from .stiffness_job import check_method, fem_curve
+        try:
+            check_method("fem", flank, faults)
+        except InputError as exc:
+            raise renamed(exc, {"method": "effects.mesh_stiffness.source"}) from None
+        r = fem_curve(pair, 24, T, clearance_geo, wear, flank)
         phi, k, e = r.angle_rad, r.k_N_per_m, r.excitation_m
     else:
-        r = mesh_stiffness(pair, points=points, torque_Nm=T, clearance_m=clearance_geo, wear=wear)
+        r = mesh_stiffness(pair, points=points, torque_Nm=T, clearance_m=clearance_geo, wear=wear, flank=flank,
+                           faults=faults)
         phi, k, e = r.angle_rad, r.k_N_per_m, r.excitation_m
         if source == "constant":
             value = (ms or {}).get("value_N_per_m", r.mean_N_per_m)
             k = np.full_like(k, value)
     return StiffnessInput(np.asarray(phi), np.asarray(k), np.asarray(e), source,
-                          table_mean(phi, k, 2 * math.pi / pair.teeth[0], (ms or {}).get("interpolation", "linear")),
-                          time.perf_counter() - t0)
+                          table_mean(phi, k, periods * 2 * math.pi / pair.teeth[0],
+                                     (ms or {}).get("interpolation", "linear")),
+                          time.perf_counter() - t0, periods)
 
 
 def build_model(scene: Scene, stiff: StiffnessInput) -> GearDynamics:
@@ -148,7 +163,7 @@ def build_model(scene: Scene, stiff: StiffnessInput) -> GearDynamics:
         centre_distance=coupling if "centre_distance" in eff else "static", C0_m=pair.centre_distance_m,
         mesh_damping="paper" if eff.get("backlash", {}).get("damping_in_gap") else "off-when-separated",
         k_constant=None if tvms else stiff.mean_N_per_m,
-        interpolation=eff.get("mesh_stiffness", {}).get("interpolation", "linear"))
+        interpolation=eff.get("mesh_stiffness", {}).get("interpolation", "linear"), table_periods=stiff.periods)
 
 
 @dataclass

@@ -185,7 +185,8 @@ def check(raw: bytes, meta: dict[str, Any], points: int | None = None) -> tuple[
     """:func:`read` on the bytes of a table CSV."""
     if points is None:
         inp = meta.get("inputs")
-        points = inp.get("points") if isinstance(inp, dict) else None
+        # a table over a revolution (a fault) has points per mesh period x its periods rows
+        points = inp.get("rows", inp.get("points")) if isinstance(inp, dict) else None
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError:

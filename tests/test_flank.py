@@ -187,3 +187,24 @@ def test_bad_spalls_are_refused_in_one_line(spall, key):
     with pytest.raises(InputError) as exc:
         scene_from_dict({"faults": {"spall": spall}})
     assert str(exc.value).startswith(key) and "\n" not in str(exc.value)
+
+
+def test_root_crack_softens_only_its_tooth_pair_and_grows_with_depth():
+    """A crack on pinion tooth 0 (Chen & Shao reduced section): the mesh periods in which
+    tooth 0 is not in contact are the healthy ones to the last bit, those with it are
+    softer, more so for a deeper crack, and a vanishing crack gives the healthy curve."""
+    from gearwear.geometry.faults import CrackFault
+
+    healthy = mesh_stiffness(PAIR, points=90, torque_Nm=40.0)
+    k_min = []
+    for depth in (1e-6, 0.5e-3, 1e-3, 2e-3):
+        r = mesh_stiffness(PAIR, points=90, torque_Nm=40.0,
+                           faults=FaultSpec(crack=CrackFault(0, 0, depth, math.radians(45))))
+        k = r.k_N_per_m.reshape(30, 90)
+        # tooth 0 enters at period 0 and leaves within period 1 (contact ratio 1.65); tip-corner
+        # contact reaches into the neighbouring periods 29 (approach) and 2 (exit)
+        assert np.array_equal(k[3:29], np.broadcast_to(healthy.k_N_per_m, (26, 90)))
+        assert np.all(k[:2] <= healthy.k_N_per_m * (1 + 1e-12))
+        k_min.append(float(k[:2].min()))
+    assert k_min[0] == pytest.approx(healthy.k_N_per_m.min(), rel=1e-5)
+    assert k_min[0] > k_min[1] > k_min[2] > k_min[3]

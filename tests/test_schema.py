@@ -24,7 +24,7 @@ def cli(*args):
 IGNORED = [
     ({"effects": {"mesh_stiffness": {"source": "analytic", "value_N_per_m": 3e8}}},
      'effects.mesh_stiffness.value_N_per_m = 3e+08 N/m: only used with source = "constant"'),
-    ({"effects": {"transmission_error": {}}}, "effects.transmission_error: there is no excitation on an unworn pair"),
+    ({"effects": {"transmission_error": {}}}, "effects.transmission_error: there is no excitation on a nominal flank"),
     ({"effects": {"wear": {"phase": "unworn"}, "transmission_error": {}}},
      "effects.transmission_error: there is no excitation"),
     ({"effects": {"wear": {"max_depth_um": 0}, "transmission_error": {}}},
