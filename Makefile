@@ -52,6 +52,10 @@ report: $(STAMP)
 	$(VENV)/bin/gearwear stiffness --clearance-um 0 25 50 75 100 --out reports/stiffness_clearance
 	$(VENV)/bin/gearwear stiffness --method fem --wear unworn mild severe --out reports/stiffness_fem
 	GEARWEAR_CACHE=$(CURDIR)/.gearwear-cache $(VENV)/bin/gearwear calibrate --wear unworn mild severe --out reports/calibrated
+	for s in tip_relief measured_deviation root_crack spall; do \
+	  $(VENV)/bin/gearwear stiffness examples/$$s.toml --out reports/examples/$$s/stiffness || exit 1; \
+	  $(VENV)/bin/gearwear simulate examples/$$s.toml --out reports/examples/$$s/simulate || exit 1; \
+	done
 
 clean:
 	rm -rf $(VENV) $(BENCH_VENV) out .pytest_cache .hypothesis

@@ -52,6 +52,48 @@ def figure(run: SimulationRun):
     return fig
 
 
+def spectrum_figure(run: SimulationRun):
+    """Amplitude spectrum (log scale) of the relative acceleration along the line of action
+    over the last whole revolutions of the kept window (rectangular window: shaft orders on
+    exact bins), with the first three mesh harmonics (solid) and their sidebands k f_m +- n
+    f_shaft, n = 1..3 (dashed). None when the window is shorter than one revolution."""
+    from gearwear.dynamics.analysis import acceleration_signals, spectrum
+    from gearwear.dynamics.indicators import sideband_lines
+
+    from .plotting import subplots
+    from .simulate_job import shaft_frequency_Hz
+
+    r = run.result
+    f_shaft, z = shaft_frequency_Hz(run.scene)
+    revs = r.n_periods // z
+    if revs < 1:
+        return None
+    S = int(round(r.fs_Hz / r.fm_Hz))
+    x = acceleration_signals(r)["a_delta"][-revs * z * S:]
+    f, A = spectrum(x - np.mean(x), r.fs_Hz)
+    lines = sideband_lines(r.fm_Hz, f_shaft)
+    fig, ax = subplots(1, 1, figsize=(10, 4.5))
+    keep = (f > 0) & (f <= 3.5 * r.fm_Hz)
+    floor = max(float(np.max(A[keep])) * 1e-16, 1e-300)
+    ax.semilogy(f[keep], np.maximum(A[keep], floor), lw=0.8, color="k")
+    for k, fk in enumerate(lines.mesh_Hz):
+        ax.axvline(fk, color="tab:blue", lw=1.0, alpha=0.6, label="mesh harmonics k f_m" if k == 0 else None)
+        for j, fs in enumerate(lines.sideband_Hz[k]):
+            ax.axvline(fs, color="tab:red", lw=0.8, ls="--", alpha=0.5,
+                       label=f"sidebands k f_m +- n f_shaft (f_shaft = {f_shaft:.4g} Hz)" if k == j == 0 else None)
+    ci = run.summary()["condition_indicators"].get("a_delta_m_per_s2", {})
+    ratio = ci.get("sideband_ratio_dB")
+    ax.set_xlabel("frequency (Hz)")
+    ax.set_ylabel("|a_delta| (m/s^2)")
+    ax.set_title(f"{run.scene.name}: relative acceleration on the line of action, {revs} whole revolutions, "
+                 f"rectangular window; sideband/mesh energy "
+                 f"{'n/a' if ratio is None else f'{ratio:.1f} dB'}", fontsize=9)
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize=8, loc="lower right")
+    fig.tight_layout()
+    return fig
+
+
 def write(run: SimulationRun, out: Path, inputs: dict[str, Any], labels: dict[str, Any] | None = None) -> list[Path]:
     """signals.npz, signals.csv (+ sidecar), response.png and summary.json into the
     folder ``out``. The NPZ has fixed zip timestamps and summary.json no wall times, so
@@ -63,6 +105,9 @@ def write(run: SimulationRun, out: Path, inputs: dict[str, Any], labels: dict[st
     csv = io.write_text(out / "signals.csv", signals_csv(run))
     files += [csv, io.sidecar(csv, inputs, f"dynamics.simulate ({r.method})", labels)]
     files.append(io.write_figure(figure(run), out / "response.png"))
+    spec = spectrum_figure(run)
+    if spec is not None:
+        files.append(io.write_figure(spec, out / "spectrum.png"))
     files.append(io.write_json(out / "summary.json", io.without_timing(run.summary())))
     return files
 
@@ -78,6 +123,17 @@ def print_summary(s: dict[str, Any]) -> None:
     print(f"{'signal':<12}{'rms':>12}{'p-p':>12}   harmonics k f_m, k = 1..{len(next(iter(s['harmonics'].values())))}")
     for key, h in s["harmonics"].items():
         print(f"{key:<12}{s['rms'][key]:>12.4g}{s['peak_to_peak'][key]:>12.4g}   " + " ".join(f"{x:.3g}" for x in h))
+    ci = s.get("condition_indicators", {})
+    a = ci.get("a_delta_m_per_s2")
+    if a is not None:
+        def num(v, fmt):
+            return "n/a" if v is None else format(v, fmt)
+        print(f"indicators (a_delta, {ci['revolutions']} revolutions at f_shaft = {ci['shaft_frequency_Hz']:.4g} Hz): "
+              f"rms {num(a['rms_ac'], '.4g')} m/s^2, kurtosis {num(a['kurtosis'], '.3f')}, crest "
+              f"{num(a['crest_factor'], '.3f')}, FM0 {num(a['FM0'], '.3f')}, FM4 {num(a['FM4'], '.3f')}, "
+              f"sidebands {num(a['sideband_ratio_dB'], '.1f')} dB")
+    elif ci.get("why_none"):
+        print(f"indicators: none, {ci['why_none']}")
     for note in s.get("warnings", []):
         print(f"warning: {note}")
     for f in s.get("files", []):

@@ -90,12 +90,13 @@ def stiffness_input(scene: Scene, points: int = 360) -> StiffnessInput:
     ms = scene.effects.get("mesh_stiffness")
     source = ms["source"] if ms else "constant"
     wear, flank, faults = scene.wear, scene.flank, scene.faults
-    if (flank is not None or faults is not None) and (source == "table" or "value_N_per_m" in (ms or {})
-                                                       or ms is None):
+    ignored = source == "table" or (source == "constant" and "transmission_error" not in scene.effects)
+    if (flank is not None or faults is not None) and ignored:
         what = "[flank]" if flank is not None else "[faults]"
         raise InputError(f"{what}: the simulation's mesh stiffness is "
-                         f"{'a user table' if source == 'table' else 'a constant'}, which cannot show it; set "
-                         'effects.mesh_stiffness.source = "analytic", "calibrated" or "fem"')
+                         f"{'a user table' if source == 'table' else 'a constant without transmission_error'}, "
+                         'which cannot show it; set effects.mesh_stiffness.source = "analytic", "calibrated" or '
+                         '"fem" (or add [effects] transmission_error to a constant stiffness)')
     periods = revolution_periods(pair, faults)
     if source == "table":
         assert ms is not None
@@ -195,13 +196,19 @@ class SimulationRun:
                 "periodic_with_mesh_periods": int(r.periodic_with), "wall_s": self.wall_s,
                 "integration_wall_s": r.wall_s, "compile_s": r.compile_s, "stiffness_source": self.stiffness.source,
                 "mean_mesh_stiffness_N_per_m": self.stiffness.mean_N_per_m,
-                "effects": sorted(self.scene.effects), **operating_notes(self.scene)}
+                "effects": sorted(self.scene.effects), "duration_s": self.solver["duration_s"],
+                "stiffness_table_mesh_periods": self.stiffness.periods,
+                "condition_indicators": condition_indicators(self.scene, r),
+                **({"flank": self.scene.flank.label()} if self.scene.flank is not None else {}),
+                **({"faults": self.scene.faults.label()} if self.scene.faults is not None else {}),
+                **operating_notes(self.scene)}
 
 
 def operating_notes(scene: Scene) -> dict[str, Any]:
     """The contact ratio of the static operating geometry, and one-line warnings where a
     result rests on it (below 1, part of every mesh period has no pair in contact) or on
     an extrapolated input (running hours beyond the 'severe' wear phase)."""
+    from gearwear.geometry.flank import flank_warnings
     from gearwear.geometry.operating import operating_geometry
     from gearwear.geometry.wear import wear_warnings
 
@@ -209,17 +216,62 @@ def operating_notes(scene: Scene) -> dict[str, Any]:
     Cp = operating_centre_distance(scene)
     mesh = operating_geometry(pair, scene.clearance_m if Cp != pair.centre_distance_m else 0.0).mesh
     return {"contact_ratio": mesh.contact_ratio,
-            "warnings": mesh.contact_ratio_warnings() + wear_warnings(mesh, scene.wear)}
+            "warnings": mesh.contact_ratio_warnings() + wear_warnings(mesh, scene.wear)
+            + flank_warnings(pair, scene.flank)}
+
+
+#: signals the condition indicators are computed on: the relative acceleration along the line
+#: of action (the transmission-error acceleration) and the pinion bearing's transverse
+#: acceleration (what an accelerometer on a stiff housing sees)
+INDICATOR_SIGNALS = {"a_delta": "a_delta_m_per_s2", "a_y_p": "a_y_p_m_per_s2"}
+
+
+def shaft_frequency_Hz(scene: Scene) -> tuple[float, int]:
+    """(f_shaft, z): the shaft frequency of the faulty gear (the pinion's without a fault, or
+    with faults on both gears) and its tooth count; sidebands sit at k f_m +- n f_shaft."""
+    pair, f_p = scene.pair, scene.operating.speed_rpm / 60.0
+    gears = {f.gear_index for f in scene.faults.faults()} if scene.faults is not None else set()
+    if gears == {1}:
+        return f_p * pair.teeth[0] / pair.teeth[1], pair.teeth[1]
+    return f_p, pair.teeth[0]
+
+
+def condition_indicators(scene: Scene, result) -> dict[str, Any]:
+    """RMS, kurtosis, crest factor, FM0, FM4 and sideband energy (dynamics.indicators) of
+    the indicator signals over the last whole revolutions of the kept window (of the faulty
+    gear's shaft), or the reason there are none."""
+    from gearwear.dynamics.analysis import acceleration_signals
+    from gearwear.dynamics.indicators import gear_indicators
+
+    f_shaft, z = shaft_frequency_Hz(scene)
+    S = int(round(result.fs_Hz / result.fm_Hz))
+    revs = result.n_periods // z
+    if revs < 1:
+        return {"shaft_frequency_Hz": f_shaft, "revolutions": 0,
+                "why_none": f"the kept window ({result.n_periods} mesh periods) is shorter than one revolution "
+                            f"({z} mesh periods); lengthen solver.duration_s"}
+    n = revs * z * S
+    acc = acceleration_signals(result)
+    out: dict[str, Any] = {"shaft_frequency_Hz": f_shaft, "revolutions": revs}
+    for name, key in INDICATOR_SIGNALS.items():
+        out[key] = gear_indicators(acc[name][-n:], result.fs_Hz, result.fm_Hz, f_shaft, unit="m/s^2").to_dict()
+    return out
 
 
 def run(scene: Scene, on_compile=None) -> SimulationRun:
     """Simulate a scene. ``on_compile(message)`` is called once when the solver kernels
-    for this effect set must be compiled (first run only)."""
+    for this effect set must be compiled (first run only). With a tooth fault the
+    duration is rounded up so that the kept window is whole revolutions of the faulty
+    gear (dynamics.simulate.round_to_table_periods): its shaft orders fall on exact bins."""
+    from gearwear.dynamics.simulate import round_to_table_periods
+
     t0 = time.perf_counter()
     solver, output = dict(scene.solver), dict(scene.output)
     stiff = stiffness_input(scene)
     try:
         model = build_model(scene, stiff)
+        if model.table_periods > 1:
+            solver["duration_s"] = round_to_table_periods(model, solver["duration_s"], solver["discard_s"])
         kw = {k: solver[k] for k in ("method", "steps_per_mesh_period", "rtol", "atol") if k in solver}
         res = simulate(model, solver["duration_s"], solver["discard_s"], on_compile=on_compile, **kw)
     except InputError as exc:
