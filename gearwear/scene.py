@@ -250,7 +250,7 @@ FLANK_KEYS = {f"{t}.{k}": (f"flank.{t}.{k.replace('_m', '_um' if 'amount' in k e
                           1e6 if "amount" in k else 1e3, "um" if "amount" in k else "mm")
               for t in ("tip_relief", "root_relief") for k in ("amount_m", "start_diameter_m")}
 FLANK_KEYS.update({"tip_relief.shape": "flank.tip_relief.shape", "root_relief.shape": "flank.root_relief.shape",
-                   "deviation.diameter_m": "flank.deviation_csv", "deviation.depth_m": "flank.deviation_csv"})
+                   "deviation.diameter_m": "flank.deviation_csv"})
 FAULT_KEYS = {"crack.tooth": "faults.crack.tooth", "spall.tooth": "faults.spall.tooth",
               "spall.start_diameter_m": ("faults.spall.start_diameter_mm", 1e3, "mm"),
               "spall.length_m": ("faults.spall.length_mm", 1e3, "mm"),

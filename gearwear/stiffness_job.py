@@ -135,7 +135,7 @@ def check_method(method: str, flank: FlankSpec | None, faults: FaultSpec | None)
                    "modifications or faults; use ishikawa, energy or fem")
     if method == "fem" and faults is not None:
         raise fail("method", repr(method), "", "the pair FE does not model a fault on one tooth yet; use "
-                   "ishikawa or energy (the crack's FE check is the single-tooth model, gearwear verify)")
+                   "ishikawa or energy (calibrated tables correct a cracked tooth to its single-tooth FE)")
 
 
 def compute(pair: PairSpec, method: str, wears: list[WearSpec | None], clearances_m: list[float],

@@ -186,24 +186,30 @@ def check_flank(pair: PairSpec, flank: FlankSpec) -> None:
                              Field("m", d_sap, tip.start_diameter_m, True, True),
                              "below the start of the tip relief")
         if dev is not None:
-            dia = np.asarray(dev.diameter_m, float)
-            dep = np.asarray(dev.depth_m, float)
-            if dia.size < 2 or dia.shape != dep.shape:
-                raise fail(f"deviation.diameter_m[{i}]", f"{dia.size} rows", "",
-                           "needs at least 2 rows of diameter and deviation")
-            if not (np.all(np.isfinite(dia)) and np.all(np.isfinite(dep))):
-                raise fail(f"deviation.diameter_m[{i}]", "non-finite", "", "every value must be a finite number")
-            if np.any(np.diff(dia) <= 0):
-                k = int(np.flatnonzero(np.diff(dia) <= 0)[0]) + 1
-                raise fail(f"deviation.diameter_m[{i}]", float(dia[k]), "m",
-                           f"must be strictly increasing (row {k + 1} is not above row {k})")
-            if dia[-1] <= d_sap or dia[0] >= d_tip:
-                raise fail(f"deviation.diameter_m[{i}]", f"[{dia[0]:.6g}, {dia[-1]:.6g}]", "m",
-                           f"must overlap the active flank of the {g.name}, ({d_sap:.6g}, {d_tip:.6g}) m")
-            if np.max(np.abs(dep)) > MAX_RELIEF_M:
-                k = int(np.argmax(np.abs(dep)))
-                raise fail_range(f"deviation.depth_m[{i}]", float(dep[k]), Field("m", -MAX_RELIEF_M, MAX_RELIEF_M),
-                                 "a measured profile deviation")
+            _check_deviation(dev, i, g.name, d_sap, d_tip)
+
+
+def _check_deviation(dev: Deviation, i: int, name: str, d_sap: float, d_tip: float) -> None:
+    """One measured trace: >= 2 rows, finite, diameters strictly increasing, overlapping
+    the active flank (SAP to tip), |deviation| <= 1 mm. Errors name the file."""
+    key, what = f"deviation.diameter_m[{i}]", repr(dev.source or "deviation")
+    dia = np.asarray(dev.diameter_m, float)
+    dep = np.asarray(dev.depth_m, float)
+    if dia.size < 2 or dia.shape != dep.shape:
+        raise fail(key, what, "", f"needs at least 2 rows of diameter_mm and deviation_um, got {dia.size}")
+    if not (np.all(np.isfinite(dia)) and np.all(np.isfinite(dep))):
+        raise fail(key, what, "", "every value must be a finite number")
+    if np.any(np.diff(dia) <= 0):
+        k = int(np.flatnonzero(np.diff(dia) <= 0)[0]) + 1
+        raise fail(key, what, "", f"diameter_mm must be strictly increasing (row {k + 1}: {dia[k] * 1e3:g} mm "
+                                  f"after {dia[k - 1] * 1e3:g} mm)")
+    if dia[-1] <= d_sap or dia[0] >= d_tip:
+        raise fail(key, what, "", f"diameters {dia[0] * 1e3:.6g}-{dia[-1] * 1e3:.6g} mm must overlap the active "
+                                  f"flank of the {name}, {d_sap * 1e3:.6g}-{d_tip * 1e3:.6g} mm")
+    if np.max(np.abs(dep)) > MAX_RELIEF_M:
+        k = int(np.argmax(np.abs(dep)))
+        raise fail(key, what, "", f"deviation_um = {dep[k] * 1e6:g} um in row {k + 1}: must be in "
+                                  f"[{-MAX_RELIEF_M * 1e6:g}, {MAX_RELIEF_M * 1e6:g}] um")
 
 
 def flank_warnings(pair: PairSpec, flank: FlankSpec | None) -> list[str]:
