@@ -39,7 +39,8 @@ def harris_map(pair: PairSpec, flank: FlankSpec, torques_Nm, method: str = "ishi
                wear: WearSpec | None = None, clearance_m: float = 0.0) -> HarrisMap:
     """TE peak-to-peak (m) over one mesh period at each torque, without and with ``flank``."""
     T = np.asarray(torques_Nm, dtype=float)
-    nominal, modified = [], []
+    nominal: list[float] = []
+    modified: list[float] = []
     for t in T:
         for fl, out in ((None, nominal), (flank, modified)):
             r = mesh_stiffness(pair, method=method, points=points, torque_Nm=float(t), clearance_m=clearance_m,

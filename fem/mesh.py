@@ -1154,6 +1154,7 @@ def _check_crack(crack_xy, tip_size, poly, curve, r_hub, sizes, scale) -> dict |
         raise MeshError("crack_xy: the crack has zero length")
     default = sizes.fillet_m if sizes.fillet_m is not None else sizes.global_m
     h = _positive("crack_tip_size_m", default if tip_size is None else tip_size)
+    assert h is not None  # _positive returns its value unless allow_none
     if h > sizes.global_m:
         raise MeshError(f"crack_tip_size_m={h!r} is larger than global_m={sizes.global_m!r}")
     return {"mouth_index": i, "tip_xy": c[1].copy(), "tip_size_m": float(h)}

@@ -515,7 +515,9 @@ def default_crack_tip_size_m(crack: Crack, mesh_scale: float = 1.0) -> float:
     """Default crack-tip element size (m): CRACK_TIP_FRACTION x the fillet size at
     ``mesh_scale``, and at most that fraction of the crack depth (so a short crack
     still has several elements along it)."""
-    return CRACK_TIP_FRACTION * min(mesh_sizes(mesh_scale).fillet_m, float(crack.depth_m))
+    fillet = mesh_sizes(mesh_scale).fillet_m
+    assert fillet is not None  # mesh_sizes always sets it
+    return CRACK_TIP_FRACTION * min(fillet, float(crack.depth_m))
 
 
 def _with_crack_mouth(base: ToothProfile, spacing: dict, quad: bool, crack: Crack):
@@ -653,6 +655,7 @@ def crack_mouth_pair(tm: ToothMesh) -> tuple[int, int, np.ndarray]:
     of the elements on the tooth side of the crack line first, and that side's unit
     normal n of the crack line (m-free)."""
     mesh = tm.mesh
+    assert tm.crack_xy is not None, "the tooth mesh has no crack"
     mouth, tip = tm.crack_xy
     d = (tip - mouth) / np.linalg.norm(tip - mouth)
     n = np.array([d[1], -d[0]])  # d turned by -90 deg: toward the tooth above the crack

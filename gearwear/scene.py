@@ -246,12 +246,12 @@ def scene_from_doc(doc: SceneDoc) -> Scene:
 
 
 #: geometry.flank's own keys -> scene keys (diameters in m -> mm, depths in m -> um)
-FLANK_KEYS = {f"{t}.{k}": (f"flank.{t}.{k.replace('_m', '_um' if 'amount' in k else '_mm')}",
+FLANK_KEYS: dict[str, Any] = {f"{t}.{k}": (f"flank.{t}.{k.replace('_m', '_um' if 'amount' in k else '_mm')}",
                           1e6 if "amount" in k else 1e3, "um" if "amount" in k else "mm")
               for t in ("tip_relief", "root_relief") for k in ("amount_m", "start_diameter_m")}
 FLANK_KEYS.update({"tip_relief.shape": "flank.tip_relief.shape", "root_relief.shape": "flank.root_relief.shape",
                    "deviation.diameter_m": "flank.deviation_csv"})
-FAULT_KEYS = {"crack.tooth": "faults.crack.tooth", "spall.tooth": "faults.spall.tooth",
+FAULT_KEYS: dict[str, Any] = {"crack.tooth": "faults.crack.tooth", "spall.tooth": "faults.spall.tooth",
               "spall.start_diameter_m": ("faults.spall.start_diameter_mm", 1e3, "mm"),
               "spall.length_m": ("faults.spall.length_mm", 1e3, "mm"),
               "spall.depth_m": ("faults.spall.depth_um", 1e6, "um"),
