@@ -101,12 +101,13 @@ def iso_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float)
 
 
 def fem_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float,
-              wear: WearSpec | None, flank: FlankSpec | None = None) -> MeshStiffness:
-    """Resolved FE contact of both gear bodies (fem.pair) as a MeshStiffness curve."""
+              wear: WearSpec | None, flank: FlankSpec | None = None, **fe_options) -> MeshStiffness:
+    """Resolved FE contact of both gear bodies (fem.pair) as a MeshStiffness curve
+    (``fe_options``: pair_contact's mesh_scale, contact_scale, extended)."""
     from gearwear.fem.pair import pair_contact
 
     fe = pair_contact(pair, wear=wear, positions=points, torque_Nm=torque_Nm, clearance_m=clearance_m,
-                      flank=flank)
+                      flank=flank, **fe_options)
     meta = {k: v for k, v in fe.meta.items() if k != "pair_gap_m"}
     return MeshStiffness("fem", pair, fe.mesh, torque_Nm, wear, fe.angle_rad, fe.k_N_per_m, fe.ste_m,
                          fe.excitation_m, fe.pair_load_N, fe.pair_d_m, fe.pair_in_path,
