@@ -28,7 +28,7 @@ demo: $(STAMP)
 
 test: $(STAMP)
 	@$(PY) -m gearwear.envcheck
-	$(PY) -m pytest -q
+	$(PY) -m pytest -q -n 2
 
 # ROSS (the peer for the stiffness benchmark) lives in its own venv: it is not a
 # runtime dependency. Its install is best-effort; the benchmark notes a missing peer.
