@@ -123,17 +123,16 @@ def _tooth_compliance(method: str, loaded: ToothProfile, nominal: ToothProfile, 
     geometry.crack.Crack at the root of this tooth, or None)."""
     if radius_m.size == 0:
         return np.zeros(0)
-    kw = {} if crack is None else {"crack": crack}
     if method == "ishikawa":
         try:
             c = ishikawa.tooth_compliance(loaded, radius_m, pair.material, pair.face_width_m, n_slices,
-                                          opposite=nominal, **kw)
+                                          opposite=nominal, crack=crack)
         except ValueError as exc:
             raise fail("wear depth", float(loaded.depth.max()) * 1e6, "um",
                        f"makes a slice of the {loaded.gear.name} tooth non-positive ({exc})") from None
         return c.total_m_per_N
     from . import energy
-    ce = energy.tooth_compliance(loaded, radius_m, pair.material, pair.face_width_m, opposite=nominal, **kw)
+    ce = energy.tooth_compliance(loaded, radius_m, pair.material, pair.face_width_m, opposite=nominal, crack=crack)
     return np.asarray(ce.total_m_per_N)
 
 
@@ -316,7 +315,6 @@ def mesh_stiffness(pair: PairSpec, method: str = "ishikawa", points: int = 360, 
     r1 = np.sqrt(rb1 ** 2 + d_u ** 2)
     r2 = np.sqrt(rb2 ** 2 + (L - d_u) ** 2)
     crack = faults.crack if faults is not None else None
-
     base_shape = d.shape
 
     def spread(values_u: np.ndarray) -> np.ndarray:

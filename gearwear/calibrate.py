@@ -320,8 +320,9 @@ def table_inputs(pair: PairSpec, wear: WearSpec | None, clearance_m: float, torq
     # flank and faults enter the key only when present, so the keys of plain tables stay valid
     extra: dict[str, Any] = {k: dataclasses.asdict(v) for k, v in (("flank", flank), ("faults", faults))
                              if v is not None}
-    if revolution_periods(pair, faults) > 1:
-        extra["rows"] = points * revolution_periods(pair, faults)
+    periods = revolution_periods(pair, faults)
+    if periods > 1:
+        extra["rows"] = points * periods
     return {**extra, "kind": "calibrated mesh stiffness", "pair": dataclasses.asdict(pair), "wear": _wear_inputs(wear),
             "clearance_m": clearance_m, "torque_Nm": torque_Nm, "points": points,
             "fe": {"positions": positions, "order": 2, "plane": "stress", "mesh_scale": 1.0,

@@ -162,10 +162,6 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
     fields = [_int_arg("--fields", f, 0, points - 1) for f in _split_multi(args.fields)]
     if fields and (args.method != "fem" or not args.out):
         raise InputError(f"--fields = {','.join(map(str, fields))}: needs --method fem and --out")
-    try:
-        stiffness_job.check_method(args.method, scene.flank, scene.faults)
-    except InputError as exc:
-        raise renamed(exc, {"method": "--method"}) from None
     curves = stiffness_job.compute(scene.pair, args.method, wears, clearances, torque, points, scene.flank,
                                    scene.faults)
     harris = stiffness_job.harris(curves, scene.pair, scene.flank)
