@@ -94,10 +94,13 @@ from __future__ import annotations
 import math
 import time
 from collections import OrderedDict
+from concurrent.futures import Executor
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from gearwear.geometry.crack import check_crack
+from gearwear.geometry.faults import FaultSpec, check_faults, faulty_slots, revolution_periods
 from gearwear.geometry.loading import load_points
 from gearwear.geometry.curves import CurveStats
 from gearwear.geometry.kinematics import MeshGeometry
@@ -110,7 +113,7 @@ from gearwear.geometry.flank import FlankSpec, is_nominal, modification_depth_m
 from gearwear.geometry.wear import WearSpec, flank_depth, hertz_half_width, key_roll_angles
 
 from .contact import solve_contact
-from .pair_body import BodySizes, GearBody, build_body, involute_point, rot
+from .pair_body import BodyFlanks, BodySizes, CrackedBody, GearBody, build_body, build_cracked_body, involute_point, rot
 
 __all__ = ["PairFE", "PairModel", "pair_contact", "pair_model", "solve_position", "weber_approach_m",
            "body_sizes", "extended_contact_widths", "consistency", "write_fields"]
@@ -120,7 +123,7 @@ WINDOW_HALF_WIDTHS = 3.0        # candidate window: +-3 a_ref of arc length (+ 2
 EXTENSION_PITCHES = 0.08        # pairs considered up to 0.08 p_b beyond A and E (corner contact)
 DENSE_GAP_POINTS = 401          # samples of a pair's slave flank for its rigid gap g_k
 ROTATION_STEP_RAD = 1e-7        # central difference of the gaps for the lever arms w_i
-_BODY_CACHE: "OrderedDict[tuple, GearBody]" = OrderedDict()
+_BODY_CACHE: "OrderedDict[tuple, GearBody]" = OrderedDict()  # cracked bodies too
 _BODY_CACHE_SIZE = 4
 
 
@@ -143,7 +146,10 @@ class PairFE(CurveStats):
     pair_in_path       (n, p) slot inside the path of contact [A, E]
     half_width_m       (n, p) half the loaded arc length of each pair (resolved Hertz a)
     timings            wall times (s) of the stages
-    meta               sizes, element counts, options, extended-contact widths
+    meta               sizes, element counts, options, extended-contact widths, positions solved
+    faults             the one-tooth faults (None: healthy); the curve then spans
+                       ``periods`` mesh periods, one revolution of the faulty gear
+    faulty_pair        (n, p) True where a candidate slot holds a faulty tooth (None: no fault)
     """
 
     pair: PairSpec
@@ -161,6 +167,9 @@ class PairFE(CurveStats):
     half_width_m: np.ndarray
     timings: dict = field(default_factory=dict)
     meta: dict = field(default_factory=dict)
+    faults: FaultSpec | None = None
+    periods: int = 1
+    faulty_pair: np.ndarray | None = None
 
 
 # ---------------------------------------------------------------------------
@@ -226,7 +235,11 @@ def body_sizes(pair: PairSpec, torque_Nm: float = 40.0, contact_scale: float = 1
 
 @dataclass
 class PairModel:
-    """Everything a position solve needs (built once per pair, torque and clearance)."""
+    """Everything a position solve needs (built once per pair, torque and clearance).
+
+    faults   the one-tooth faults (geometry.faults) or None; ``cracked`` per gear the
+             body with the crack (pair_body.CrackedBody) or None; ``spec`` the
+             pair_model arguments, from which a worker process rebuilds the model."""
 
     pair: PairSpec
     mesh: MeshGeometry
@@ -238,6 +251,9 @@ class PairModel:
     sizes: BodySizes
     plane: str
     timings: dict
+    faults: FaultSpec | None = None
+    cracked: tuple = (None, None)
+    spec: dict = field(default_factory=dict)
 
     @property
     def psi_b(self) -> tuple[float, float]:
@@ -263,25 +279,108 @@ def _body_key(g, pair, sizes, r_lo, nb, cy, plane):
             tuple(round(c, 9) for c in cy), plane)
 
 
-def pair_model(pair: PairSpec, wear: WearSpec | None = None, torque_Nm: float = 40.0, clearance_m: float = 0.0,
-               contact_scale: float = 1.0, mesh_scale: float = 1.0, plane: str = "stress",
-               flank: FlankSpec | None = None) -> PairModel:
-    """Bodies (cached in-process: wear states share them) and exact geometry. ``flank``:
-    profile modifications and measured deviations (geometry.flank), gaps like the wear."""
-    t0 = time.perf_counter()
+def _cached(key: tuple, build):
+    """The body under ``key`` from the in-process cache, or ``build()`` stored there;
+    (body, built)."""
+    if key in _BODY_CACHE:  # identical gears, another wear state or fault of the same pair
+        _BODY_CACHE.move_to_end(key)
+        return _BODY_CACHE[key], False
+    body = build()
+    _BODY_CACHE[key] = body
+    while len(_BODY_CACHE) > _BODY_CACHE_SIZE:
+        _BODY_CACHE.popitem(last=False)
+    return body, True
+
+
+def fault_neighbours(mesh: MeshGeometry) -> int:
+    """Teeth on either side of a faulty tooth that can be candidates together with it:
+    the candidate slots span (E - A) + 2 EXTENSION_PITCHES p_b of the LOA, so
+    floor(epsilon + 2 EXTENSION_PITCHES) (at least 1)."""
+    return max(1, int(math.floor(mesh.contact_ratio + 2 * EXTENSION_PITCHES + 1e-9)))
+
+
+def _cracked_ranges(mesh: MeshGeometry, gi: int, refined: int, r_lo: float, margin_m: float) -> dict:
+    """Flank radius range (r_lo, r_hi) (m) of each tooth t = -refined .. refined of a
+    cracked body (tooth 0 cracked) that a contact can reach while the cracked tooth is a
+    candidate. In the FE's numbering a pinion slot j is body tooth -j and a gear slot
+    body tooth +j, so tooth t sits at d* - t p_b (pinion) or d* + t p_b (gear) when the
+    cracked tooth is at d*; both lie in [A - ext, E + ext]. The contact's arc position
+    on the flank, s = r_b u^2 / 2, widened by ``margin_m`` both ways."""
+    g = mesh.pair.gear(gi)
+    rb, r_top = g.base_radius_m, g.tip_radius_m
+    L, pb = mesh.line_of_action_m, mesh.base_pitch_m
+    ext = EXTENSION_PITCHES * pb
+    lo, hi = mesh.path_start_m - ext, mesh.path_end_m + ext
+    sign = -1.0 if gi == 0 else 1.0
+    u_tip = math.sqrt((r_top / rb) ** 2 - 1.0)
+    out = {}
+    for t in range(-refined, refined + 1):
+        d = np.array([max(lo, lo + sign * t * pb), min(hi, hi + sign * t * pb)])
+        u = np.clip((d if gi == 0 else L - d) / rb, 0.0, u_tip)
+        s = rb * u * u / 2.0
+        s_lo, s_hi = max(float(s.min()) - margin_m, 0.0), float(s.max()) + margin_m
+        r_a, r_b = (rb * math.sqrt(1.0 + 2.0 * x / rb) for x in (s_lo, s_hi))
+        out[t] = (r_lo, r_top) if t == 0 else (max(r_lo, r_a), min(r_top, r_b))
+    return out
+
+
+def _cracked_body(pair: PairSpec, mesh: MeshGeometry, faults: FaultSpec, nominal, sizes: BodySizes, r_lo: float,
+                  nb: int, cy: tuple[float, float], window: float, plane: str):
+    """The body of the cracked gear (cached in-process like the healthy ones; the key
+    holds the crack, its tip size and the refined teeth)."""
+    from .tooth import CRACK_TIP_FRACTION
+
+    cf = faults.crack
+    assert cf is not None
+    gi = cf.gear_index
+    g = pair.gear(gi)
+    crack = cf.crack
+    check_crack(nominal, crack)
+    tip_m = CRACK_TIP_FRACTION * min(sizes.fillet_m, crack.depth_m)
+    refined = fault_neighbours(mesh)
+    sp = faults.spall
+    # a spall on the same gear widens the candidate window by up to its length
+    margin = 2.0 * window + (sp.length_m if sp is not None and sp.gear_index == gi else 0.0)
+    ranges = _cracked_ranges(mesh, gi, refined, r_lo, margin)
+    key = ("cracked", _body_key(g, pair, sizes, r_lo, nb, cy, plane), crack, round(tip_m, 12), refined,
+           tuple((t, round(a, 9), round(b, 9)) for t, (a, b) in sorted(ranges.items())))
+    return _cached(key, lambda: build_cracked_body(g, pair.material, pair.face_width_m, nominal, sizes, ranges, nb,
+                                                   refined, cy, crack, tip_m, plane))
+
+
+def _check_inputs(pair: PairSpec, torque_Nm: float, clearance_m: float, plane: str, faults: FaultSpec | None):
+    """Bad inputs of the pair model, in this layer's names; the operating geometry."""
     _positive("torque_Nm", torque_Nm, "N m")
     if not (math.isfinite(clearance_m) and clearance_m >= 0):
         raise fail("clearance_m", clearance_m, "m", "must be finite and >= 0")
     if plane not in ("stress", "strain"):
         raise fail("plane", repr(plane), "", "must be 'stress' or 'strain'")
+    if faults is not None:
+        check_faults(pair, faults)
     og = operating_geometry(pair, clearance_m)
-    mesh = og.mesh
-    mesh.require_overlap("fem")  # the contact solve needs a pair that can touch at every angle
+    og.mesh.require_overlap("fem")  # the contact solve needs a pair that can touch at every angle
+    return og
+
+
+def pair_model(pair: PairSpec, wear: WearSpec | None = None, torque_Nm: float = 40.0, clearance_m: float = 0.0,
+               contact_scale: float = 1.0, mesh_scale: float = 1.0, plane: str = "stress",
+               flank: FlankSpec | None = None, faults: FaultSpec | None = None) -> PairModel:
+    """Bodies (cached in-process: wear states and faults share them) and exact geometry.
+    ``flank``: profile modifications and measured deviations (geometry.flank), gaps like
+    the wear. ``faults`` (geometry.faults): a spall is a gap of its tooth only; a crack
+    adds the cracked body of its gear (pair_body.build_cracked_body)."""
+    t0 = time.perf_counter()
+    faults = None if faults is None or faults.is_empty else faults
+    spec = {"pair": pair, "wear": wear, "torque_Nm": torque_Nm, "clearance_m": clearance_m,
+            "contact_scale": contact_scale, "mesh_scale": mesh_scale, "plane": plane, "flank": flank,
+            "faults": faults}
+    mesh = _check_inputs(pair, torque_Nm, clearance_m, plane, faults).mesh
     sizes, a_ref = body_sizes(pair, torque_Nm, contact_scale, mesh_scale)
     window = WINDOW_HALF_WIDTHS * a_ref + 2.0 * sizes.contact_m
     nb = int(math.ceil(mesh.contact_ratio + 2 * EXTENSION_PITCHES)) + 1
     bodies: list[GearBody] = []
     depth: list[tuple[np.ndarray, np.ndarray] | None] = []
+    cracked: list = [None, None]
     tim: dict[str, float] = {}
     for gi, g in enumerate(pair.gears):
         # the body outline is interpolated on this polyline: 1 nm sag keeps it on the curve
@@ -289,18 +388,18 @@ def pair_model(pair: PairSpec, wear: WearSpec | None = None, torque_Nm: float = 
         r_lo = _candidate_radius_range(mesh, gi, window)
         lp = load_points(nominal, np.array([max(r_lo, nominal.form_radius_m), g.tip_radius_m * (1 - 1e-9)]))
         cy = (float(lp.y_axis_m.min()) - 1.0 * pair.module_m * 0.2, float(lp.y_axis_m.max()) + 0.2 * pair.module_m)
-        key = _body_key(g, pair, sizes, r_lo, nb, cy, plane)
-        if key in _BODY_CACHE:  # identical gears, or another wear state of the same pair
-            body = _BODY_CACHE[key]
-            _BODY_CACHE.move_to_end(key)
-        else:
-            body = build_body(g, pair.material, pair.face_width_m, nominal, sizes, r_lo, nb, cy, plane)
-            _BODY_CACHE[key] = body
-            while len(_BODY_CACHE) > _BODY_CACHE_SIZE:
-                _BODY_CACHE.popitem(last=False)
+        body, built = _cached(_body_key(g, pair, sizes, r_lo, nb, cy, plane),
+                              lambda: build_body(g, pair.material, pair.face_width_m, nominal, sizes, r_lo, nb, cy,
+                                                 plane))
+        if built:
             for k2, v in body.timings.items():
                 tim[f"gear{gi}_{k2}"] = v
         bodies.append(body)
+        if faults is not None and faults.crack is not None and faults.crack.gear_index == gi:
+            cracked[gi], built = _cracked_body(pair, mesh, faults, nominal, sizes, r_lo, nb, cy, window, plane)
+            if built:
+                for k2, v in cracked[gi].timings.items():
+                    tim[f"cracked{gi}_{k2}"] = v
         worn = wear is not None and not wear.is_unworn
         if worn or not is_nominal(flank):
             inv = nominal.region == INVOLUTE
@@ -310,12 +409,16 @@ def pair_model(pair: PairSpec, wear: WearSpec | None = None, torque_Nm: float = 
         else:
             depth.append(None)
     tim["model_s"] = time.perf_counter() - t0
-    return PairModel(pair, mesh, tuple(bodies), wear, tuple(depth), window, a_ref, sizes, plane, tim)
+    return PairModel(pair, mesh, tuple(bodies), wear, tuple(depth), window, a_ref, sizes, plane, tim, faults,
+                     tuple(cracked), spec)
 
 
 # ---------------------------------------------------------------------------
 # one position
 # ---------------------------------------------------------------------------
+
+#: no tooth of the slot is faulty (per gear: the slot's tooth carries the spall)
+NO_SPALL = (False, False)
 
 
 def _frames(pm: PairModel, d: float, dtheta: float = 0.0):
@@ -334,10 +437,28 @@ def _depth(pm: PairModel, gi: int, R: np.ndarray) -> np.ndarray:
     return np.interp(R, dd[0], dd[1], left=0.0, right=0.0)
 
 
-def _gap(pm: PairModel, slave: int, R: np.ndarray, d: float, dtheta: float = 0.0):
+def _spall_radii(pm: PairModel) -> tuple[float, float]:
+    """Radii (m) of the spall's edges on its flank."""
+    assert pm.faults is not None and pm.faults.spall is not None
+    sp = pm.faults.spall
+    return 0.5 * sp.start_diameter_m, 0.5 * sp.end_diameter_m(pm.pair)
+
+
+def _spall_depth(pm: PairModel, gi: int, R: np.ndarray, spalled: tuple) -> np.ndarray | float:
+    """Depth (m) of the spall at radii R of gear gi's flank when the slot's tooth of
+    gear gi carries it (``spalled``): the pit floor between its edges, 0 elsewhere."""
+    if not spalled[gi]:
+        return 0.0
+    assert pm.faults is not None and pm.faults.spall is not None
+    ra, rb = _spall_radii(pm)
+    return np.where((R > ra) & (R < rb), pm.faults.spall.depth_m, 0.0)
+
+
+def _gap(pm: PairModel, slave: int, R: np.ndarray, d: float, dtheta: float = 0.0, spalled: tuple = NO_SPALL):
     """Initial normal gap of the exact slave flank points at radii R against the exact
-    master involute (+ wear of both flanks): (gap, foot radius, master outward normal in
-    the master tooth frame, the same in the fixed frame)."""
+    master involute (+ wear and flank deviations of both flanks, + the spall where the
+    slot's tooth carries it): (gap, foot radius, master outward normal in the master
+    tooth frame, the same in the fixed frame)."""
     g1, g2, O2 = _frames(pm, d, dtheta)
     master = 1 - slave
     gs, gm = pm.pair.gear(slave), pm.pair.gear(master)
@@ -358,6 +479,8 @@ def _gap(pm: PairModel, slave: int, R: np.ndarray, d: float, dtheta: float = 0.0
     bT = pm.psi_b[master] - uF
     n_loc = np.column_stack([np.cos(bT), -np.sin(bT)])
     gap = gap + _depth(pm, slave, R) + _depth(pm, master, rF)
+    if spalled != NO_SPALL:
+        gap = gap + _spall_depth(pm, slave, R, spalled) + _spall_depth(pm, master, rF, spalled)
     # a foot past the master's tip or below its condensed flank: that slave point faces
     # the master's corner or fillet, not its flank; it cannot be loaded here
     out = (rF > gm.tip_radius_m) | (rF < pm.bodies[master].flank_r[0][0]) | (r <= rbm)
@@ -370,8 +493,10 @@ class PositionSolution:
     """Resolved contact at one pinion angle (SI).
 
     d_m, teeth (slots in contact candidates), loads_N per slot (torque-equivalent),
-    ste_m, gaps_m per slot (rigid gap g_k), cand (per slot: dict with slave, node
-    radii, foot radii, forces, reps), half_width_m per slot."""
+    ste_m, gaps_m per slot (rigid gap g_k), cand (per slot one dict, two with a spall's
+    edges: slave, node radii, foot radii, forces, reps), half_width_m per slot;
+    cracked per gear (body tooth, LOA position) of the cracked tooth when the cracked
+    body served, else None."""
 
     theta_rad: float
     d_m: np.ndarray
@@ -384,11 +509,54 @@ class PositionSolution:
     C: np.ndarray
     g: np.ndarray
     w: np.ndarray
+    cracked: tuple = (None, None)
 
 
-def _candidates(pm: PairModel, d: float, j: int) -> dict | None:
-    """Candidate nodes, gaps, lever arms and load/read representations of the pair in
-    slot j at LOA position d, or None when no node can reach the mating flank."""
+def _lever_arms(pm: PairModel, slave: int, R: np.ndarray, d: float, spalled: tuple = NO_SPALL):
+    """(gap, foot radius, local normal, fixed normal, w) of slave points at radii R, w the
+    lever arm -(d gap / d dtheta) / r_b1 by a central difference of the exact gaps."""
+    gap, rF, n_loc, e_fix = _gap(pm, slave, R, d, spalled=spalled)
+    gp, _, _, _ = _gap(pm, slave, R, d, ROTATION_STEP_RAD, spalled)
+    gm_, _, _, _ = _gap(pm, slave, R, d, -ROTATION_STEP_RAD, spalled)
+    ok = np.isfinite(gap) & np.isfinite(gp) & np.isfinite(gm_)
+    with np.errstate(invalid="ignore"):  # inf - inf where a point cannot touch (not ok)
+        w = -(gp - gm_) / (2 * ROTATION_STEP_RAD) / pm.pair.gear(0).base_radius_m
+    return gap, rF, n_loc, e_fix, w, ok
+
+
+def _arc(rb: float, R) -> np.ndarray:
+    """Arc length along the involute from the base circle, s = r_b u^2 / 2 (m)."""
+    return rb * ((np.asarray(R, dtype=float) / rb) ** 2 - 1.0) / 2.0
+
+
+def _spall_edges(pm: PairModel, d: float, spalled: tuple):
+    """(gear, edge radii (2,), edge arc positions (2,), widened window) when the slot's
+    spalled flank can touch the mating flank near its pit at LOA position d, else None.
+
+    The mating flank bridges a short pit on its edges (geometry.faults): the two edges are
+    corners of the spalled flank, loaded like the tip corner by an exact point on the
+    flank, and the candidate window reaches past both of them."""
+    if not any(spalled):
+        return None
+    assert pm.faults is not None and pm.faults.spall is not None
+    gs = 0 if spalled[0] else 1
+    g = pm.pair.gear(gs)
+    rb = g.base_radius_m
+    radii = np.array(_spall_radii(pm))
+    s_edges = _arc(rb, radii)
+    u = (d if gs == 0 else pm.mesh.line_of_action_m - d) / rb
+    s_c = rb * min(max(u, 0.0), math.sqrt((g.tip_radius_m / rb) ** 2 - 1.0)) ** 2 / 2.0
+    w = pm.window_m
+    if not (s_edges[0] - w <= s_c <= s_edges[1] + w):
+        return None
+    return gs, radii, s_edges, w + float(np.max(np.abs(s_edges - s_c)))
+
+
+def _candidates(pm: PairModel, d: float, j: int, spalled: tuple = NO_SPALL) -> list:
+    """Candidate points of the pair in slot j at LOA position d: one dict (slave nodes,
+    gaps, lever arms, directions), and a second with the two edges of a spall on the
+    slot's tooth (geometry.faults) where the mating flank can reach them; empty when no
+    point can reach the mating flank."""
     mid = 0.5 * (pm.mesh.path_start_m + pm.mesh.path_end_m)
     slave = 0 if d >= mid else 1
     gs = pm.pair.gear(slave)
@@ -400,46 +568,56 @@ def _candidates(pm: PairModel, d: float, j: int) -> dict | None:
     body = pm.bodies[slave]
     r_nodes = body.flank_r[0]
     s_nodes = rb * ((r_nodes / rb) ** 2 - 1.0) / 2.0
-    sel = np.flatnonzero(np.abs(s_nodes - s_c) <= pm.window_m)
-    if sel.size == 0:
-        return None
-    R = r_nodes[sel]
-    gap, rF, n_loc, e_fix = _gap(pm, slave, R, d)
-    gp, _, _, _ = _gap(pm, slave, R, d, ROTATION_STEP_RAD)
-    gm_, _, _, _ = _gap(pm, slave, R, d, -ROTATION_STEP_RAD)
-    ok = np.isfinite(gap) & np.isfinite(gp) & np.isfinite(gm_)
-    if not ok.any():
-        return None
-    sel, R, gap, rF, n_loc, e_fix, gp, gm_ = (x[ok] for x in (sel, R, gap, rF, n_loc, e_fix, gp, gm_))
-    w = -(gp - gm_) / (2 * ROTATION_STEP_RAD) / pm.pair.gear(0).base_radius_m
-    # rigid gap of the pair: dense sampling of the slave flank over the window
-    u_lo = math.sqrt(max(2 * (s_c - pm.window_m) / rb, 0.0))
-    u_hi = math.sqrt(2 * min(s_c + pm.window_m, rb * u_a ** 2 / 2) / rb)
-    Rd = rb * np.sqrt(1.0 + np.linspace(u_lo, u_hi, DENSE_GAP_POINTS) ** 2)
-    gd, _, _, _ = _gap(pm, slave, Rd, d)
-    gd_p, _, _, _ = _gap(pm, slave, Rd, d, ROTATION_STEP_RAD)
-    gd_m, _, _, _ = _gap(pm, slave, Rd, d, -ROTATION_STEP_RAD)
-    wd = -(gd_p - gd_m) / (2 * ROTATION_STEP_RAD) / pm.pair.gear(0).base_radius_m
-    with np.errstate(invalid="ignore"):
-        g_pair = float(np.nanmin(np.where(np.isfinite(gd) & (wd > 0), gd / wd, np.inf)))
+    edges = _spall_edges(pm, d, spalled)
+    window = pm.window_m if edges is None else edges[3]
+    sel = np.flatnonzero(np.abs(s_nodes - s_c) <= window)
     g1, g2, _ = _frames(pm, d)
     gam = (g1, g2)
     master = 1 - slave
-    # directions in each body's tooth frame: +e on the slave node, -e on the master foot
-    dir_s = e_fix @ rot(-gam[slave]).T
-    dir_m = -n_loc
-    return {"slave": slave, "nodes": sel, "R": R, "rF": rF, "gap": gap, "w": w, "g_pair": g_pair,
-            "dirs": {slave: dir_s, master: dir_m}, "j": j, "d": d,
-            "teeth": (-j, j)}
+    out = []
+    if sel.size:
+        R = r_nodes[sel]
+        gap, rF, n_loc, e_fix, w, ok = _lever_arms(pm, slave, R, d, spalled)
+        if edges is not None:
+            # the edge points replace the flank nodes at them (two candidates at one point
+            # would make C singular): nodes within h_c / 4 of an edge on the spalled flank
+            ge, _, s_e, _ = edges
+            s_pit = _arc(rb, R) if ge == slave else _arc(pm.pair.gear(ge).base_radius_m, rF)
+            ok &= np.min(np.abs(s_pit[:, None] - s_e[None, :]), axis=1) > 0.25 * pm.sizes.contact_m
+        if ok.any():
+            sel, R, gap, rF, n_loc, e_fix, w = (x[ok] for x in (sel, R, gap, rF, n_loc, e_fix, w))
+            # rigid gap of the pair: dense sampling of the slave flank over the window
+            u_lo = math.sqrt(max(2 * (s_c - window) / rb, 0.0))
+            u_hi = math.sqrt(2 * min(s_c + window, rb * u_a ** 2 / 2) / rb)
+            Rd = rb * np.sqrt(1.0 + np.linspace(u_lo, u_hi, DENSE_GAP_POINTS) ** 2)
+            gd, _, _, _, wd, _ = _lever_arms(pm, slave, Rd, d, spalled)
+            with np.errstate(invalid="ignore"):
+                g_pair = float(np.nanmin(np.where(np.isfinite(gd) & (wd > 0), gd / wd, np.inf)))
+            # directions in each body's tooth frame: +e on the slave node, -e on the master foot
+            out.append({"slave": slave, "nodes": sel, "R": R, "rF": rF, "gap": gap, "w": w, "g_pair": g_pair,
+                        "dirs": {slave: e_fix @ rot(-gam[slave]).T, master: -n_loc}, "j": j, "d": d,
+                        "teeth": (-j, j)})
+    if edges is not None:
+        ge, Re, _, _ = edges
+        gap, rF, n_loc, e_fix, w, ok = _lever_arms(pm, ge, Re, d)  # the edge itself is not in the pit
+        ok &= w > 0
+        if ok.any():
+            Re, gap, rF, n_loc, e_fix, w = (x[ok] for x in (Re, gap, rF, n_loc, e_fix, w))
+            out.append({"slave": ge, "nodes": None, "R": Re, "rF": rF, "gap": gap, "w": w,
+                        "g_pair": float(np.min(gap / w)), "dirs": {ge: e_fix @ rot(-gam[ge]).T, 1 - ge: -n_loc},
+                        "j": j, "d": d, "teeth": (-j, j), "corner": True})
+    return out
 
 
-def _reps(body: GearBody, c: dict, gi: int, delta_tooth: int):
-    """(B positions (n, 6), coefficients (n, 6)) of the candidates of c on body gi,
-    read or loaded on the body's tooth ``delta_tooth`` (relative to the load tooth)."""
+def _reps(body: BodyFlanks, c: dict, gi: int, delta_tooth: int, at_nodes: bool = True):
+    """(positions (n, 6), coefficients (n, 6)) of the candidates of c on body gi,
+    read or loaded on the body's tooth ``delta_tooth`` (relative to the load tooth).
+    Slave points on the load tooth are its nodes (``at_nodes``, the healthy body whose
+    tooth 0 they were taken from); otherwise P2 edge weights at the point's radius."""
     z = body.gear.teeth
     ang = 2.0 * math.pi * delta_tooth / z
     dirs = c["dirs"][gi] @ rot(ang).T
-    if gi == c["slave"] and delta_tooth == 0:
+    if at_nodes and gi == c["slave"] and delta_tooth == 0 and c["nodes"] is not None:
         b = body.flank_b[0][c["nodes"]]
         idx = np.column_stack([b, b, b])
         wts = np.zeros((len(b), 3))
@@ -452,38 +630,72 @@ def _reps(body: GearBody, c: dict, gi: int, delta_tooth: int):
     return idx6, coef6
 
 
-def _flexibility(pm: PairModel, cands: list) -> np.ndarray:
-    """C (n, n) of all candidates: sum over both bodies of a_i^T G a_j, with the read
-    on the tooth t_i - t_j relative to the load (rotational periodicity)."""
+def _flexibility(pm: PairModel, cands: list, cracked: tuple = (None, None)) -> np.ndarray:
+    """C (n, n) of all candidates: sum over both bodies of a_i^T G a_j. On a healthy body
+    the read is on tooth t_i - t_j relative to the load (rotational periodicity); on a
+    cracked body (``cracked[gi]``: the body tooth of the cracked slot) each candidate sits
+    on its own tooth relative to the cracked one, and G is read there directly."""
     sizes = [len(c["R"]) for c in cands]
     off = np.concatenate([[0], np.cumsum(sizes)])
     C = np.zeros((off[-1], off[-1]))
     for gi, body in enumerate(pm.bodies):
+        ct = cracked[gi]
+        if ct is not None:
+            body = pm.cracked[gi]
+            reps = [_reps(body, c, gi, c["teeth"][gi] - ct[0], at_nodes=False) for c in cands]
         for a, ca in enumerate(cands):
             for b, cb in enumerate(cands):
-                dt = ca["teeth"][gi] - cb["teeth"][gi]
-                ia, wa = _reps(body, ca, gi, dt)
-                ib, wb = _reps(body, cb, gi, 0)
+                if ct is None:
+                    dt = ca["teeth"][gi] - cb["teeth"][gi]
+                    ia, wa = _reps(body, ca, gi, dt)
+                    ib, wb = _reps(body, cb, gi, 0)
+                else:
+                    (ia, wa), (ib, wb) = reps[a], reps[b]
                 Gs = body.G[np.ix_(ia.ravel(), ib.ravel())].reshape(ia.shape[0], 6, ib.shape[0], 6)
                 C[off[a]:off[a + 1], off[b]:off[b + 1]] += np.einsum("ia,iajb,jb->ij", wa, Gs, wb)
     return 0.5 * (C + C.T)
 
 
-def solve_position(pm: PairModel, theta: float, total_N: float) -> PositionSolution:
-    """Resolved contact at pinion angle theta (rad from the entry of a pair at A; any
-    value, also outside one mesh period) under the torque-equivalent load total_N."""
-    j, d = pm.mesh.slots(theta)
-    A, E = pm.mesh.path_start_m, pm.mesh.path_end_m
+def _slot_faults(pm: PairModel, period: int | None, j: int) -> tuple[tuple, bool]:
+    """(spalled per gear, cracked) for slot j in mesh period ``period`` of a revolution:
+    the slot holds the pair that entered period - j periods after tooth pair 0, so the
+    faulty tooth of gear g is there when (period - j) mod z_g == tooth
+    (geometry.faults). ``period`` None: the healthy mesh."""
+    f = pm.faults
+    if period is None or f is None:
+        return NO_SPALL, False
+    z = pm.pair.teeth
+    sp, cr = f.spall, f.crack
+    spalled = tuple(sp is not None and sp.gear_index == gi and (period - j) % z[gi] == sp.tooth for gi in (0, 1))
+    return spalled, cr is not None and (period - j) % z[cr.gear_index] == cr.tooth
+
+
+def _candidate_slots(pm: PairModel, d: np.ndarray) -> np.ndarray:
+    """Slots whose pair can touch: within EXTENSION_PITCHES p_b of the path of contact."""
     ext = EXTENSION_PITCHES * pm.mesh.base_pitch_m
+    return (d >= pm.mesh.path_start_m - ext) & (d <= pm.mesh.path_end_m + ext)
+
+
+def solve_position(pm: PairModel, theta: float, total_N: float, period: int | None = None) -> PositionSolution:
+    """Resolved contact at pinion angle theta (rad from the entry of a pair at A; any
+    value, also outside one mesh period) under the torque-equivalent load total_N.
+    ``period``: the mesh period of a revolution with the model's faults (which slot holds
+    the faulty tooth); None: the healthy mesh."""
+    j, d = pm.mesh.slots(theta)
     cands, slots = [], []
-    for k in np.flatnonzero((d >= A - ext) & (d <= E + ext)):
-        c = _candidates(pm, float(d[k]), int(j[k]))
-        if c is not None:
+    cracked: list = [None, None]
+    for k in np.flatnonzero(_candidate_slots(pm, d)):
+        spalled, crack_here = _slot_faults(pm, period, int(j[k]))
+        if crack_here:
+            assert pm.faults is not None and pm.faults.crack is not None
+            gc = pm.faults.crack.gear_index
+            cracked[gc] = ((-int(j[k]), int(j[k]))[gc], float(d[k]))
+        for c in _candidates(pm, float(d[k]), int(j[k]), spalled):
             cands.append(c)
             slots.append(k)
     if not cands:
         raise RuntimeError(f"no tooth pair can touch at theta = {theta!r} rad")
-    C = _flexibility(pm, cands)
+    C = _flexibility(pm, cands, tuple(cracked))
     g = np.concatenate([c["gap"] for c in cands])
     w = np.concatenate([c["w"] for c in cands])
     if np.any(w <= 0):
@@ -498,10 +710,10 @@ def solve_position(pm: PairModel, theta: float, total_N: float) -> PositionSolut
         n = len(c["R"])
         qc = q[off:off + n]
         c["force_N"] = qc / c["w"]
-        loads[k] = qc.sum()
-        gaps[k] = c["g_pair"]
+        loads[k] += qc.sum()
+        gaps[k] = min(gaps[k], c["g_pair"])
         on = np.flatnonzero(qc > 0)
-        if on.size:
+        if on.size and not c.get("corner"):
             rb = pm.pair.gear(c["slave"]).base_radius_m
             s = rb * ((c["R"] / rb) ** 2 - 1.0) / 2.0
             ds = np.diff(s).mean() if len(s) > 1 else 0.0
@@ -509,7 +721,7 @@ def solve_position(pm: PairModel, theta: float, total_N: float) -> PositionSolut
             c["window_hit"] = bool(on[0] == 0 and s[0] > s.min() - 1) and (on[0] == 0 or on[-1] == n - 1)
         off += n
     return PositionSolution(float(theta), d, np.asarray(slots), loads, float(sol.approach_m), gaps, hw, cands,
-                            C, g, w)
+                            C, g, w, tuple(cracked))
 
 
 # ---------------------------------------------------------------------------
@@ -517,71 +729,139 @@ def solve_position(pm: PairModel, theta: float, total_N: float) -> PositionSolut
 # ---------------------------------------------------------------------------
 
 
+def _position_row(pm: PairModel, theta: float, total_N: float, period: int | None) -> tuple:
+    """One position of the cycle: (slot loads, slot gaps, slot half-widths, STE, tangent
+    stiffness, candidates, window hits, geometry wall s, tangent LCP wall s)."""
+    ta = time.perf_counter()
+    ps = solve_position(pm, theta, total_N, period)
+    tb = time.perf_counter()
+    eps = 1e-3
+    Cw, gw = ps.C / np.outer(ps.w, ps.w), ps.g / ps.w
+    dp = solve_contact(Cw, gw, total_force_N=total_N * (1 + eps)).approach_m
+    dm = solve_contact(Cw, gw, total_force_N=total_N * (1 - eps)).approach_m
+    ktan = 2 * eps * total_N / (dp - dm)
+    hits = sum(bool(c.get("window_hit")) for c in ps.cand)
+    return (ps.loads_N, ps.gaps_m, ps.half_width_m, ps.ste_m, ktan, len(ps.g), hits, tb - ta,
+            time.perf_counter() - tb)
+
+
+def _solve_chunk(spec: dict, items: list, total_N: float) -> list:
+    """Worker task: the rows of the positions ``items`` ((theta, period) each). The
+    model is rebuilt from its arguments; the in-process body cache makes each worker
+    process build a body once."""
+    pm = pair_model(**spec)
+    return [_position_row(pm, th, total_N, n) for th, n in items]
+
+
+def _body_meta(pm: PairModel) -> dict:
+    bodies = [*pm.bodies, *(b for b in pm.cracked if b is not None)]
+    return {"shared_body": pm.bodies[0] is pm.bodies[1], "n_elements": [bd.n_elements for bd in pm.bodies],
+            "ndofs": [bd.ndofs for bd in pm.bodies], "condensed_dofs": [int(bd.G.shape[0]) for bd in pm.bodies],
+            "cracked_body": None if not any(b is not None for b in pm.cracked) else
+            {"gear": next(i for i, b in enumerate(pm.cracked) if b is not None),
+             "n_elements": bodies[-1].n_elements, "ndofs": bodies[-1].ndofs,
+             "condensed_dofs": int(bodies[-1].G.shape[0]), "refined_neighbours": bodies[-1].refined,
+             "crack_tip_size_m": bodies[-1].crack_tip_size_m}}
+
+
+def _model_task(spec: dict, total_N: float, extended: bool) -> tuple:
+    """Worker task: (extended-contact widths or None, body sizes, body-build timings)."""
+    pm = pair_model(**spec)
+    return (extended_contact_widths(pm, total_N) if extended else None), _body_meta(pm), dict(pm.timings)
+
+
 def pair_contact(pair: PairSpec, wear: WearSpec | None = None, positions: int = 24, torque_Nm: float = 40.0,
                  clearance_m: float = 0.0, contact_scale: float = 1.0, mesh_scale: float = 1.0,
-                 plane: str = "stress", extended: bool = True, flank: FlankSpec | None = None) -> PairFE:
+                 plane: str = "stress", extended: bool = True, flank: FlankSpec | None = None,
+                 faults: FaultSpec | None = None, executor: Executor | None = None,
+                 chunk_positions: int = 12) -> PairFE:
     """FE static transmission error and mesh stiffness at ``positions`` pinion angles
-    theta = i (2 pi / z1) / positions (theta = 0 when a pair enters at A).
+    theta = i (2 pi / z1) / positions (theta = 0 when a pair enters at A), over one
+    mesh period, or with ``faults`` over one revolution of the faulty gear
+    (geometry.faults.revolution_periods mesh periods, ``positions`` each).
 
     The centre distance follows from the bearing clearance as in analytic.tvms (rigid
     bearings). ``contact_scale`` multiplies the contact element size h_c (the
     h-refinement of the contact zone), ``mesh_scale`` the other sizes. ``extended``:
     also locate where loaded corner contact begins and ends (bisection, meta
-    "extended_contact_deg"). See the module docstring for the method."""
+    "extended_contact_deg", on the healthy mesh). With faults only the positions where
+    a faulty tooth is a candidate pair are solved again; every other position repeats
+    the healthy period exactly (rotational periodicity; meta "positions_solved").
+    ``executor``: any concurrent.futures.Executor (e.g. a ProcessPoolExecutor, or a Dask
+    ``Client.get_executor()``); the positions go to it in chunks of
+    ``chunk_positions``, each worker process building the bodies once, and the result is
+    the same to the bit as the serial one. See the module docstring for the method."""
     t_start = time.perf_counter()
     if isinstance(positions, bool) or not isinstance(positions, (int, np.integer)) or positions < 2:
         raise fail("positions", positions, "", "must be a whole number >= 2")
-    pm = pair_model(pair, wear, torque_Nm, clearance_m, contact_scale, mesh_scale, plane, flank)
-    t_model = time.perf_counter()
-    mesh = pm.mesh
+    faults = None if faults is None or faults.is_empty else faults
     F = torque_Nm / pair.gear(0).base_radius_m
-    theta = np.arange(positions) * (mesh.mesh_angle_rad / positions)
-    _, d = mesh.slots(theta)
-    in_path = mesh.in_path(d)
-    loads = np.zeros(d.shape)
-    gaps = np.full(d.shape, np.inf)
-    hw = np.zeros(d.shape)
-    ste = np.zeros(positions)
-    ktan = np.zeros(positions)
-    n_cand, hits, iters = [], 0, 0
-    t_lcp = 0.0
-    t_asm = 0.0
-    for p, th in enumerate(theta):
-        ta = time.perf_counter()
-        ps = solve_position(pm, float(th), F)
-        tb = time.perf_counter()
-        loads[p], gaps[p], hw[p], ste[p] = ps.loads_N, ps.gaps_m, ps.half_width_m, ps.ste_m
-        n_cand.append(len(ps.g))
-        hits += sum(bool(c.get("window_hit")) for c in ps.cand)
-        eps = 1e-3
-        Cw, gw = ps.C / np.outer(ps.w, ps.w), ps.g / ps.w
-        dp = solve_contact(Cw, gw, total_force_N=F * (1 + eps)).approach_m
-        dm = solve_contact(Cw, gw, total_force_N=F * (1 - eps)).approach_m
-        ktan[p] = 2 * eps * F / (dp - dm)
-        t_asm += tb - ta
-        t_lcp += time.perf_counter() - tb
+    spec = {"pair": pair, "wear": wear, "torque_Nm": torque_Nm, "clearance_m": clearance_m,
+            "contact_scale": contact_scale, "mesh_scale": mesh_scale, "plane": plane, "flank": flank,
+            "faults": faults}
+    if executor is None:
+        pm: PairModel | None = pair_model(**spec)
+        mesh = pm.mesh
+        sizes, a_ref, window = pm.sizes, pm.a_ref_m, pm.window_m
+    else:  # the bodies are built in the workers; here only the inputs and the geometry
+        pm = None
+        mesh = _check_inputs(pair, torque_Nm, clearance_m, plane, faults).mesh
+        sizes, a_ref = body_sizes(pair, torque_Nm, contact_scale, mesh_scale)
+        window = WINDOW_HALF_WIDTHS * a_ref + 2.0 * sizes.contact_m
+    t_model = time.perf_counter()
+    theta0 = np.arange(positions) * (mesh.mesh_angle_rad / positions)
+    j, d0 = mesh.slots(theta0)
+    periods = revolution_periods(pair, faults)
+    # a position is solved again where a slot holding a faulty tooth is a candidate
+    cand = np.tile((d0 >= mesh.path_start_m - EXTENSION_PITCHES * mesh.base_pitch_m)
+                   & (d0 <= mesh.path_end_m + EXTENSION_PITCHES * mesh.base_pitch_m), (periods, 1))
+    faulty = np.zeros(cand.shape, dtype=bool)
+    for f in (faults.faults() if faults is not None else []):
+        faulty |= np.repeat(faulty_slots(pair, f, periods, j), positions, axis=0) & cand
+    redo = np.flatnonzero(faulty.any(axis=1))
+    items = [(float(th), None) for th in theta0] + [(float(theta0[r % positions]), int(r // positions)) for r in redo]
+    if executor is None:
+        assert pm is not None
+        rows = [_position_row(pm, th, F, n) for th, n in items]
+        t_cycle = time.perf_counter()
+        widths = extended_contact_widths(pm, F) if extended else None
+        body_meta, body_tim = _body_meta(pm), {k: v for k, v in pm.timings.items() if k != "model_s"}
+    else:
+        step = max(1, int(chunk_positions))
+        futures = [executor.submit(_solve_chunk, spec, items[i:i + step], F) for i in range(0, len(items), step)]
+        model_future = executor.submit(_model_task, spec, F, extended)
+        rows = [row for fu in futures for row in fu.result()]
+        t_cycle = time.perf_counter()
+        widths, body_meta, worker_tim = model_future.result()
+        body_tim = {k: v for k, v in worker_tim.items() if k != "model_s"}
+    t_end = time.perf_counter()
+    # the healthy period, then (with faults) the revolution with its faulty rows replaced
+    cols = [np.array([r[i] for r in rows[:positions]]) for i in range(5)]
+    loads, gaps, hw, ste, ktan = (np.tile(c, (periods, 1)) if c.ndim == 2 else np.tile(c, periods) for c in cols)
+    for r, row in zip(redo, rows[positions:]):
+        loads[r], gaps[r], hw[r], ste[r], ktan[r] = row[:5]
+    n_cand = [r[5] for r in rows]
     on = loads > 0
     with np.errstate(divide="ignore", invalid="ignore"):
         g_on = np.where(on, gaps, 0.0)
         k_pair = np.where(on, loads / np.maximum(ste[:, None] - g_on, 1e-300), 0.0)
     k = k_pair.sum(axis=1)
     exc = np.where(k > 0, (k_pair * g_on).sum(axis=1) / k, 0.0)
-    t_cycle = time.perf_counter()
-    widths = extended_contact_widths(pm, F) if extended else None
-    t_end = time.perf_counter()
-    timings = {**pm.timings, "model_s": t_model - t_start, "positions_s": t_cycle - t_model,
-               "positions_geometry_s": t_asm, "positions_lcp_s": t_lcp, "extended_s": t_end - t_cycle,
-               "total_s": t_end - t_start}
-    meta = {"sizes_m": {k2: getattr(pm.sizes, k2) for k2 in ("contact_m", "near_m", "far_m", "fillet_m",
-                                                              "global_m")},
-            "a_ref_m": pm.a_ref_m, "window_m": pm.window_m, "contact_scale": contact_scale,
-            "mesh_scale": mesh_scale, "plane": plane, "order": 2, "shared_body": pm.bodies[0] is pm.bodies[1],
-            "n_elements": [bd.n_elements for bd in pm.bodies], "ndofs": [bd.ndofs for bd in pm.bodies],
-            "condensed_dofs": [int(bd.G.shape[0]) for bd in pm.bodies], "clearance_m": clearance_m,
-            "candidates_per_position": [int(min(n_cand)), int(max(n_cand))], "window_hits": int(hits),
-            "corner_contact": True, "local_contact": "resolved", "pair_gap_m": gaps,
-            "extended_contact_deg": widths}
-    return PairFE(pair, mesh, torque_Nm, wear, theta, k, ktan, ste, exc, loads, d, in_path, hw, timings, meta)
+    theta = np.arange(positions * periods) * (mesh.mesh_angle_rad / positions)
+    timings = {**body_tim, "model_s": t_model - t_start, "positions_s": t_cycle - t_model,
+               "positions_geometry_s": float(sum(r[7] for r in rows)), "positions_lcp_s": float(sum(r[8] for r in rows)),
+               "extended_s": t_end - t_cycle, "total_s": time.perf_counter() - t_start}
+    meta = {"sizes_m": {k2: getattr(sizes, k2) for k2 in ("contact_m", "near_m", "far_m", "fillet_m", "global_m")},
+            "a_ref_m": a_ref, "window_m": window, "contact_scale": contact_scale,
+            "mesh_scale": mesh_scale, "plane": plane, "order": 2, **body_meta, "clearance_m": clearance_m,
+            "candidates_per_position": [int(min(n_cand)), int(max(n_cand))],
+            "window_hits": int(sum(r[6] for r in rows)), "corner_contact": True, "local_contact": "resolved",
+            "pair_gap_m": gaps, "extended_contact_deg": widths, "mesh_periods": periods,
+            "positions_solved": len(items), "positions_total": positions * periods,
+            "faults": None if faults is None else faults.label()}
+    return PairFE(pair, mesh, torque_Nm, wear, theta, k, ktan, ste, exc, loads, np.tile(d0, (periods, 1)),
+                  np.tile(mesh.in_path(d0), (periods, 1)), hw, timings, meta, faults, periods,
+                  faulty if faults is not None else None)
 
 
 def extended_contact_widths(pm: PairModel, total_N: float, tol_deg: float = 1e-4) -> dict:
@@ -637,13 +917,14 @@ def _probe_rep(body: GearBody, pt: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def centre_line_compliance(pm: PairModel, ps: PositionSolution) -> dict:
     """In single contact: displacement of each tooth's centre-line point where the load
     line crosses it (y_c of geometry.loading), along the force on that tooth, per N of
-    the pair load, and c_local = delta / F - c_1 - c_2 (m/N)."""
+    the pair load, and c_local = delta / F - c_1 - c_2 (m/N). At a position the cracked
+    body served, the cracked gear's reading is on its cracked tooth (which must then be
+    the loaded one)."""
     loaded = [c for c, k in zip(ps.cand, ps.slots) if ps.loads_N[k] > 0]
-    if len(loaded) != 1:
+    if len({c["j"] for c in loaded}) != 1:
         raise ValueError("centre_line_compliance needs exactly one loaded pair")
-    c = loaded[0]
     F = float(ps.loads_N.sum())
-    d = c["d"]
+    d = loaded[0]["d"]
     L = pm.mesh.line_of_action_m
     out = {"d_m": d}
     for gi, body in enumerate(pm.bodies):
@@ -652,12 +933,18 @@ def centre_line_compliance(pm: PairModel, ps: PositionSolution) -> dict:
         prof = tooth_profile(g)
         lp = load_points(prof, np.array([R]))
         e = -np.array([math.cos(lp.w_rad[0]), math.sin(lp.w_rad[0])])
+        ct = ps.cracked[gi]
+        if ct is not None and ct[0] != loaded[0]["teeth"][gi]:
+            raise ValueError("centre_line_compliance: the loaded pair is not on the cracked tooth")
+        body = body if ct is None else pm.cracked[gi]
         qb, qw = _probe_rep(body, np.array([0.0, lp.y_axis_m[0]]))
-        ia, wa = _reps(body, c, gi, 0)
         rows = np.concatenate([qb, qb + 1])
         coef = np.concatenate([qw * e[0], qw * e[1]])
-        Gs = body.G[np.ix_(rows, ia.ravel())].reshape(len(rows), ia.shape[0], 6)
-        u = float(np.einsum("r,rjb,jb,j->", coef, Gs, wa, c["force_N"]))
+        u = 0.0
+        for c in loaded:  # the pair's flank nodes, and a spall's edges
+            ia, wa = _reps(body, c, gi, 0, at_nodes=ct is None)
+            Gs = body.G[np.ix_(rows, ia.ravel())].reshape(len(rows), ia.shape[0], 6)
+            u += float(np.einsum("r,rjb,jb,j->", coef, Gs, wa, c["force_N"]))
         out[f"c{gi + 1}_m_per_N"] = u / F
         out[f"R{gi + 1}_m"] = R
         out[f"h{gi + 1}_m"] = float(lp.x_m[0] / math.cos(lp.w_rad[0]))
@@ -723,13 +1010,15 @@ def _stress(body: GearBody, U: np.ndarray, material) -> np.ndarray:
     return np.column_stack([sxx.mean(axis=1), syy.mean(axis=1), sxy.mean(axis=1)])
 
 
-def write_fields(pm: PairModel, positions: list[int], n_positions: int, torque_Nm: float, out_dir) -> list:
-    """Displacement and stress fields of both gears at the given position indices
-    (theta = i 2 pi / (z1 n_positions)) as ``fields_pos<i>.vtu`` (meshio, P2 triangles
-    in the fixed frame of the module docstring; point data displacement_m, cell data
-    sigma_xx/yy/xy_Pa, von_mises_Pa, gear). The loaded tooth with the largest load is
-    each body's refined tooth 0; the other loaded teeth take their load on their own
-    (coarser) flanks."""
+def write_fields(pm: PairModel, positions: list[int], points: int, torque_Nm: float, out_dir) -> list:
+    """Displacement and stress fields of both gears at the given position indices i of a
+    curve with ``points`` positions per mesh period (theta = i 2 pi / (z1 points); with the
+    model's faults i runs over the revolution, and period i // points says which slot holds
+    the faulty tooth) as ``fields_pos<i>.vtu`` (meshio, P2 triangles in the fixed frame of
+    the module docstring; point data displacement_m, cell data sigma_xx/yy/xy_Pa,
+    von_mises_Pa, gear). The loaded tooth with the largest load is each body's refined
+    tooth 0; the other loaded teeth take their load on their own (coarser) flanks. Where
+    the cracked body served, it is drawn with its cracked tooth as tooth 0."""
     import meshio
     import scipy.sparse.linalg as spla
     from pathlib import Path
@@ -739,17 +1028,21 @@ def write_fields(pm: PairModel, positions: list[int], n_positions: int, torque_N
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     F = torque_Nm / pm.pair.gear(0).base_radius_m
+    total = points * revolution_periods(pm.pair, pm.faults)
     files = []
     for i in positions:
-        if isinstance(i, bool) or not isinstance(i, (int, np.integer)) or not 0 <= i < n_positions:
-            raise fail("fields", i, "", f"must be a position index in [0, {n_positions - 1}]")
-        theta = i * pm.mesh.mesh_angle_rad / n_positions
-        ps = solve_position(pm, theta, F)
+        if isinstance(i, bool) or not isinstance(i, (int, np.integer)) or not 0 <= i < total:
+            raise fail("fields", i, "", f"must be a position index in [0, {total - 1}]")
+        theta = (i % points) * pm.mesh.mesh_angle_rad / points
+        ps = solve_position(pm, theta, F, None if pm.faults is None else int(i // points))
         ref = max(ps.cand, key=lambda c: float(c["force_N"].sum()))
-        g1, g2, O2 = _frames(pm, ref["d"])
+        _, _, O2 = _frames(pm, ref["d"])
         pts, cells, disp, cdata, gear_id = [], [], [], [], []
         offset = 0
         for gi, body in enumerate(pm.bodies):
+            ct = ps.cracked[gi]
+            tooth0, d0 = (ref["teeth"][gi], ref["d"]) if ct is None else ct
+            body = body if ct is None else pm.cracked[gi]
             model = body.model
             if getattr(body, "_lu", None) is None:
                 Kff = model.K[model.free][:, model.free].tocsc()
@@ -757,12 +1050,12 @@ def write_fields(pm: PairModel, positions: list[int], n_positions: int, torque_N
                                      options={"SymmetricMode": True})
             f = np.zeros(model.ndofs)
             for c in ps.cand:
-                idx, coef = _reps(body, c, gi, c["teeth"][gi] - ref["teeth"][gi])
+                idx, coef = _reps(body, c, gi, c["teeth"][gi] - tooth0, at_nodes=ct is None)
                 np.add.at(f, body.dofs[idx], coef * c["force_N"][:, None])
             U = np.zeros(model.ndofs)
             U[model.free] = body._lu.solve(f[model.free])
             S = _stress(body, U, pm.pair.material)
-            Rm = rot(g1 if gi == 0 else g2)
+            Rm = rot(_frames(pm, d0)[gi])
             loc = model.basis.doflocs[:, 0::2].T
             p = loc @ Rm.T + (0.0 if gi == 0 else O2)
             u = U.reshape(-1, 2) @ Rm.T

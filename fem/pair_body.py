@@ -51,14 +51,16 @@ import scipy.linalg as sla
 import scipy.sparse.linalg as spla
 
 from gearwear.fem.mesh import MeshSizes, mesh_full_gear
-from gearwear.geometry.polyline import cumulative_length, quadratic_parameter, with_midpoints
+from gearwear.geometry.crack import Crack, crack_line
+from gearwear.geometry.polyline import cumulative_length, project_to_polyline, quadratic_parameter, with_midpoints
 from gearwear.geometry.profile import FILLET, INVOLUTE, ToothProfile, ring_outline, tooth_outline
 from gearwear.geometry.sampling import profile_at, region_junctions
 from gearwear.geometry.spec import GearSpec, Material
 
 from .elasticity import ElasticModel, assemble
 
-__all__ = ["BodySizes", "GearBody", "build_body", "involute_point", "rot"]
+__all__ = ["BodySizes", "BodyFlanks", "GearBody", "CrackedBody", "build_body", "build_cracked_body",
+           "involute_point", "rot"]
 
 GROWTH = 0.25          # size gradient of every refinement zone (m of size per m of distance)
 
@@ -118,15 +120,17 @@ def _walk(a: float, b: float, spacing, keep: np.ndarray) -> list[float]:
     return pts
 
 
-def _sample_flank(profile: ToothProfile, spacing, fine: tuple[float, float, float] | None = None) -> np.ndarray:
+def _sample_flank(profile: ToothProfile, spacing, fine: tuple[float, float, float] | None = None,
+                  keep_s: tuple[float, ...] = ()) -> np.ndarray:
     """One right flank (space centre -> tip axis) as a quadratic chain (vertex, arc
     mid-point, vertex, ...; ``geometry.polyline``) with arc steps spacing(s); region
-    junctions are kept and involute points are put on the exact involute (the source
+    junctions and the arc positions ``keep_s`` (below the fine range: a crack mouth)
+    are vertices, and involute points are put on the exact involute (the source
     polygon is off it by its chord sag). ``fine`` = (s_lo, s_hi, h): equal steps <= h
     on [s_lo, s_hi], so the edge at the tip corner (s_hi) is a full step at every
     refinement level (the corner contact is sensitive to it)."""
     s = profile.s
-    keep = s[region_junctions(profile)]
+    keep = np.sort(np.concatenate([s[region_junctions(profile)], np.asarray(keep_s, dtype=float)]))
     if fine is None:
         sn = np.array(_walk(0.0, float(s[-1]), spacing, keep))
     else:
@@ -145,38 +149,25 @@ def _sample_flank(profile: ToothProfile, spacing, fine: tuple[float, float, floa
 
 
 @dataclass
-class GearBody:
-    """A gear body with the condensed flexibility of its drive-flank nodes.
+class BodyFlanks:
+    """The drive-flank nodes of a gear body and how to load or read any point of them.
 
-    flank_r[t]   (n_t,) node radii along the drive flank of tooth t (t = 0 refined,
-                 t != 0 the neighbours), sorted; flank_xy[t] their coordinates in
-                 tooth t's own frame (tooth t turned back onto +y)
+    flank_r[t]   (n_t,) node radii along the drive flank of tooth t, sorted; flank_xy[t]
+                 their coordinates in tooth t's own frame (tooth t turned back onto +y)
     flank_edges[t]  (e, 3) positions in flank_r[t] of each edge's (v0, mid, v1)
-    flank_b[t]   (n_t,) position of each node's x dof in G (y dof = +1)
-    G            (2 m, 2 m) flexibility of the condensed dofs (m/N)
+    flank_b[t]   (n_t,) position b of each node's x dof in ``dofs`` (y dof = b + 1)
+    dofs         (2 m,) global dof of each position
     """
 
     gear: GearSpec
-    sizes: BodySizes
-    r_lo: float
-    model: ElasticModel
     flank_r: dict
     flank_xy: dict
     flank_edges: dict
     flank_b: dict
-    G: np.ndarray
-    centre_b: np.ndarray       # B positions (x dofs) of the centre-line element nodes
-    centre_dofs: np.ndarray    # their global x dofs
-    dofs: np.ndarray           # (2 m,) global dof of each row of G
-    n_elements: int
-    timings: dict = field(default_factory=dict)
-
-    @property
-    def ndofs(self) -> int:
-        return int(self.model.ndofs)
+    dofs: np.ndarray
 
     def edge_weights(self, tooth: int, radius_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(B positions (n, 3), weights (n, 3)) of points of tooth ``tooth``'s drive
+        """(positions (n, 3), weights (n, 3)) of points of tooth ``tooth``'s drive
         flank at radii R: P2 edge shape functions at the edge parameter of the
         involute point at R (its projection onto the curved edge)."""
         r = self.flank_r[tooth]
@@ -197,6 +188,41 @@ class GearBody:
         r = self.flank_r[0]
         k = np.clip(np.searchsorted(r, radius_m), 1, len(r) - 1)
         return np.where(np.abs(r[k - 1] - radius_m) <= np.abs(r[k] - radius_m), k - 1, k)
+
+
+@dataclass
+class GearBody(BodyFlanks):
+    """A gear body with the condensed flexibility of its drive-flank nodes (tooth 0
+    refined, t != 0 the neighbours); ``dofs`` are the rows of G.
+
+    G            (2 m, 2 m) flexibility of the condensed dofs (m/N)
+    """
+
+    sizes: BodySizes
+    r_lo: float
+    model: ElasticModel
+    G: np.ndarray
+    centre_b: np.ndarray       # positions (x dofs) of the centre-line element nodes
+    centre_dofs: np.ndarray    # their global x dofs
+    n_elements: int
+    timings: dict = field(default_factory=dict)
+
+    @property
+    def ndofs(self) -> int:
+        return int(self.model.ndofs)
+
+
+@dataclass
+class CrackedBody(GearBody):
+    """A gear body with a root crack cut into tooth 0 (both faces free, no contact of
+    the faces) and the drive flanks of teeth -refined .. +refined all refined like tooth
+    0's. Rotational periodicity does not hold: G holds the flexibility of all those
+    flanks (each over the radius range a contact can reach while the cracked tooth is
+    engaged) and of tooth 0's centre line, read on the loaded teeth themselves."""
+
+    crack_xy: np.ndarray | None = None   # (mouth, tip) in tooth 0's frame (m)
+    crack_tip_size_m: float = 0.0
+    refined: int = 0
 
 
 def _flank_nodes(mesh, basis, outer: np.ndarray, g: GearSpec, tooth: int, r_lo: float, r_hi: float,
@@ -251,16 +277,14 @@ def _centre_line_nodes(mesh, basis, y_lo: float, y_hi: float) -> np.ndarray:
     return np.unique(basis.element_dofs[0::2, el])
 
 
-def build_body(gear: GearSpec, material: Material, face_width_m: float, nominal: ToothProfile,
-               sizes: BodySizes, r_lo: float, neighbours: int, centre_y: tuple[float, float],
-               plane: str = "stress") -> GearBody:
-    """Mesh, assemble and condense one gear body (see the module docstring).
-
-    nominal     dense nominal profile of the gear (right flank of tooth 0)
-    r_lo        lowest radius of the candidate range (the tip corner is the top)
-    neighbours  teeth +-1 .. +-neighbours are condensed too (cross-tooth coupling)
-    centre_y    (y_lo, y_hi) heights of tooth 0's centre line to be readable
-    """
+def _mesh_body(gear: GearSpec, material: Material, face_width_m: float, nominal: ToothProfile,
+               sizes: BodySizes, r_lo: float, neighbours: int, plane: str, refined: int = 0,
+               crack: Crack | None = None, crack_tip_size_m: float | None = None):
+    """Mesh and assemble a gear body: tooth 0's drive flank (and those of teeth
+    -refined .. +refined) refined to h_c over the candidate range, teeth up to
+    +-neighbours at the near size, the rest at the far size; ``crack`` cut into tooth 0.
+    Returns (gmsh mesh, model, the drive-flank node sets as a function of
+    {tooth: radius range}, crack (mouth, tip) or None, timings)."""
     t0 = time.perf_counter()
     g = gear
     z = g.teeth
@@ -279,12 +303,25 @@ def build_body(gear: GearSpec, material: Material, face_width_m: float, nominal:
     far = lambda s: sizes.far_m  # noqa: E731
     right0 = _sample_flank(nominal, fine, (s_lo, s_hi, hc))
     side_near = _sample_flank(nominal, near)
-    # tooth 0, its condensed neighbours, the others
-    kinds = (tooth_outline(right0, side_near), tooth_outline(side_near), tooth_outline(_sample_flank(nominal, far)))
+    crack_xy = None
+    right_c = right0
+    if crack is not None:
+        # the crack mouth (ISO 30-deg fillet point, far below the fine range) becomes a
+        # vertex of tooth 0's outline; the flank above it keeps tooth 0's sampling
+        mouth, tip = crack_line(nominal, crack)
+        pr = project_to_polyline(mouth[None, :], nominal.xy)
+        k0 = int(pr.segment[0])
+        s_m = float(nominal.s[k0] + pr.t[0] * (nominal.s[k0 + 1] - nominal.s[k0]))
+        right_c = _sample_flank(nominal, fine, (s_lo, s_hi, hc), keep_s=(s_m,))
+        v = right_c[0::2]
+        crack_xy = np.array([v[int(np.argmin(np.hypot(*(v - mouth).T)))], tip])
+    # tooth 0, the refined neighbours, the near ones, the others
+    kinds = (tooth_outline(right_c, side_near), tooth_outline(right0, side_near), tooth_outline(side_near),
+             tooth_outline(_sample_flank(nominal, far)))
 
     def tooth(k: int) -> np.ndarray:
         away = min(k, z - k)  # teeth between tooth k and tooth 0
-        return kinds[0 if away == 0 else 1 if away <= neighbours else 2]
+        return kinds[0 if away == 0 else 1 if away <= refined else 2 if away <= neighbours else 3]
 
     # a quadratic chain: even points are the vertices, odd ones the edge mid-points
     outline = ring_outline(tooth, z)
@@ -292,6 +329,8 @@ def build_body(gear: GearSpec, material: Material, face_width_m: float, nominal:
     v0 = right0[::2]
     s_r0 = cumulative_length(v0)
     refine = v0[(s_r0 >= s_lo - 1e-12) & (s_r0 <= s_hi + 1e-12)]
+    if refined:
+        refine = np.vstack([refine @ rot(2.0 * math.pi * kk / z).T for kk in range(-refined, refined + 1)])
     fil = nominal.xy[nominal.region == FILLET]
     fil = fil[:: max(1, len(fil) // 10)]
     fillets = np.vstack([np.vstack([fil, fil * mirror]) @ rot(2.0 * math.pi * kk / z).T
@@ -299,31 +338,77 @@ def build_body(gear: GearSpec, material: Material, face_width_m: float, nominal:
     msz = MeshSizes(global_m=sizes.global_m, fillet_m=sizes.fillet_m, load_m=hc, load_dist_m=hc,
                     fillet_dist_m=2 * sizes.fillet_m, growth=GROWTH)
     gm = mesh_full_gear(outline[0::2], g.hub_radius_m, msz, refine_points_xy=refine, fillet_points_xy=fillets, order=2,
-                        outline_mid_xy=outline[1::2])
+                        outline_mid_xy=outline[1::2], crack_xy=crack_xy,
+                        crack_tip_size_m=crack_tip_size_m if crack is not None else None)
     t1 = time.perf_counter()
     model = assemble(gm.mesh, material, face_width_m, gm.boundaries["bore"], plane=plane, order=2, factorize=False)
     t2 = time.perf_counter()
-    mesh, basis = model.mesh, model.basis
+    if not np.all(model.basis.nodal_dofs[1].take(0) == model.basis.nodal_dofs[0].take(0) + 1):
+        raise RuntimeError("unexpected dof numbering of the vector P2 basis")
     outer = np.asarray(gm.boundaries["outer"])
     r_top = g.tip_radius_m
-    flank_r, flank_xy, flank_dofs, flank_edges = {}, {}, {}, {}
-    for t in range(-neighbours, neighbours + 1):
-        # chord sag of the near teeth's outline edges: h^2 / (8 rho), rho >= 0.1 r_b here
-        tol = 1e-9 * r_top if t == 0 else sizes.near_m ** 2 / (0.8 * g.base_radius_m)
-        flank_r[t], flank_xy[t], flank_dofs[t], flank_edges[t] = _flank_nodes(mesh, basis, outer, g, t,
-                                                                               r_lo, r_top, tol)
-    centre = _centre_line_nodes(mesh, basis, *centre_y)
+
+    def flanks(ranges: dict) -> tuple[dict, dict, dict, dict]:
+        """Node sets of the drive flanks of the teeth t in ``ranges`` over their radius
+        ranges (r_a, r_b)."""
+        flank_r, flank_xy, flank_dofs, flank_edges = {}, {}, {}, {}
+        for t, (r_a, r_b) in sorted(ranges.items()):
+            # refined flanks lie on the involute; the near teeth's outline edges sag by
+            # h^2 / (8 rho), rho >= 0.1 r_b here
+            tol = 1e-9 * r_top if abs(t) <= refined else sizes.near_m ** 2 / (0.8 * g.base_radius_m)
+            flank_r[t], flank_xy[t], flank_dofs[t], flank_edges[t] = _flank_nodes(model.mesh, model.basis, outer, g,
+                                                                                   t, r_a, r_b, tol)
+        return flank_r, flank_xy, flank_dofs, flank_edges
+
+    return gm, model, flanks, crack_xy, {"mesh_s": t1 - t0, "assemble_s": t2 - t1}
+
+
+def _condensed(cls, gear: GearSpec, sizes: BodySizes, r_lo: float, gm, model: ElasticModel, flank_sets: tuple,
+               centre_y: tuple[float, float], timings: dict, **extra):
+    """The body ``cls`` with G over the flank node sets (radii, coordinates, x dofs,
+    edges per tooth) and the nodes of the elements crossing tooth 0's centre line."""
+    flank_r, flank_xy, flank_dofs, flank_edges = flank_sets
+    centre = _centre_line_nodes(model.mesh, model.basis, *centre_y)
     # B: x dofs of all condensed nodes (y dof = x dof + 1 in skfem's vector P2 numbering)
     xd = np.unique(np.concatenate([*flank_dofs.values(), centre]))
-    if not np.all(basis.nodal_dofs[1].take(0) == basis.nodal_dofs[0].take(0) + 1):
-        raise RuntimeError("unexpected dof numbering of the vector P2 basis")
     G, tim = _condensed_flexibility(model, xd)
     where = {int(d): i for i, d in enumerate(xd)}
     flank_b = {t: 2 * np.array([where[int(d)] for d in flank_dofs[t]]) for t in flank_dofs}
-    centre_b = 2 * np.array([where[int(d)] for d in centre])
-    timings = {"mesh_s": t1 - t0, "assemble_s": t2 - t1, **tim}
-    return GearBody(g, sizes, r_lo, model, flank_r, flank_xy, flank_edges, flank_b, G, centre_b, centre,
-                    np.column_stack([xd, xd + 1]).ravel(), gm.n_elements, timings)
+    return cls(gear=gear, flank_r=flank_r, flank_xy=flank_xy, flank_edges=flank_edges, flank_b=flank_b,
+               dofs=np.column_stack([xd, xd + 1]).ravel(), sizes=sizes, r_lo=r_lo, model=model, G=G,
+               centre_b=2 * np.array([where[int(d)] for d in centre]), centre_dofs=centre, n_elements=gm.n_elements,
+               timings={**timings, **tim}, **extra)
+
+
+def build_body(gear: GearSpec, material: Material, face_width_m: float, nominal: ToothProfile,
+               sizes: BodySizes, r_lo: float, neighbours: int, centre_y: tuple[float, float],
+               plane: str = "stress") -> GearBody:
+    """Mesh, assemble and condense one gear body (see the module docstring).
+
+    nominal     dense nominal profile of the gear (right flank of tooth 0)
+    r_lo        lowest radius of the candidate range (the tip corner is the top)
+    neighbours  teeth +-1 .. +-neighbours are condensed too (cross-tooth coupling)
+    centre_y    (y_lo, y_hi) heights of tooth 0's centre line to be readable
+    """
+    gm, model, flanks, _, timings = _mesh_body(gear, material, face_width_m, nominal, sizes, r_lo, neighbours, plane)
+    ranges = {t: (r_lo, gear.tip_radius_m) for t in range(-neighbours, neighbours + 1)}
+    return _condensed(GearBody, gear, sizes, r_lo, gm, model, flanks(ranges), centre_y, timings)
+
+
+def build_cracked_body(gear: GearSpec, material: Material, face_width_m: float, nominal: ToothProfile,
+                       sizes: BodySizes, ranges: dict, neighbours: int, refined: int, centre_y: tuple[float, float],
+                       crack: Crack, crack_tip_size_m: float, plane: str = "stress") -> CrackedBody:
+    """Mesh, assemble and condense a gear body with ``crack`` (geometry.crack) cut into
+    tooth 0's loaded fillet, as :func:`build_body` but with the drive flanks of teeth
+    -refined .. +refined all sampled like tooth 0's (a contact on any of them is resolved
+    alike), the crack tip refined to ``crack_tip_size_m`` (fem.mesh: Gmsh's Crack plugin,
+    both faces free) and G over those flanks, tooth t over ``ranges[t]`` = (r_a, r_b)
+    (m; tooth 0's lower end is the candidate range's r_lo), and tooth 0's centre line."""
+    r_lo = ranges[0][0]
+    gm, model, flanks, crack_xy, timings = _mesh_body(gear, material, face_width_m, nominal, sizes, r_lo,
+                                                      neighbours, plane, refined, crack, crack_tip_size_m)
+    return _condensed(CrackedBody, gear, sizes, r_lo, gm, model, flanks(ranges), centre_y, timings,
+                      crack_xy=crack_xy, crack_tip_size_m=crack_tip_size_m, refined=refined)
 
 
 def _condensed_flexibility(model, xdofs: np.ndarray) -> tuple[np.ndarray, dict]:

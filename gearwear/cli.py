@@ -149,6 +149,8 @@ def _split_multi(values: list[str] | str | None) -> list[str]:
 
 def _cmd_stiffness(args: argparse.Namespace) -> int:
 
+    from gearwear.geometry.faults import revolution_periods
+
     from . import stiffness_job
 
     if args.method not in stiffness_job.METHODS:
@@ -159,7 +161,9 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
         args.points = "24" if args.method == "fem" else "360"  # FE: 24 positions take ~10 s
     points = _int_arg("--points", args.points, 8, 1_000_000)
     out = _check_out(args.out, "stiffness")
-    fields = [_int_arg("--fields", f, 0, points - 1) for f in _split_multi(args.fields)]
+    # with a fault the FE curve spans one revolution of the faulty gear
+    rows = points * revolution_periods(scene.pair, scene.faults) if args.method == "fem" else points
+    fields = [_int_arg("--fields", f, 0, rows - 1) for f in _split_multi(args.fields)]
     if fields and (args.method != "fem" or not args.out):
         raise InputError(f"--fields = {','.join(map(str, fields))}: needs --method fem and --out")
     curves = stiffness_job.compute(scene.pair, args.method, wears, clearances, torque, points, scene.flank,
@@ -529,8 +533,9 @@ def build_parser() -> argparse.ArgumentParser:
                                                          "(resolved FE contact of both gear bodies, ~10 s)")
     st.add_argument("--points", help="angles per mesh period (>= 8; default 360, 24 for fem)")
     st.add_argument("--out", help="output folder for CSV, JSON sidecars and PNGs")
-    st.add_argument("--fields", nargs="+", help="with --method fem: position indices (0 .. points-1) whose "
-                                                "displacement and stress fields are written as .vtu for ParaView")
+    st.add_argument("--fields", nargs="+", help="with --method fem: position indices (0 .. points-1, over the "
+                                                "revolution with a fault) whose displacement and stress fields "
+                                                "are written as .vtu for ParaView")
     st.add_argument("--json", action="store_true", help="print one JSON object (first curve + 'curves')")
     st.set_defaults(func=_cmd_stiffness)
 

@@ -107,12 +107,8 @@ def stiffness_input(scene: Scene, points: int = 360) -> StiffnessInput:
         tab = calibrated_table(pair, wear, clearance_geo, T, points, flank=flank, faults=faults)
         phi, k, e = tab.angle_rad, tab.k_N_per_m, tab.excitation_m
     elif source == "fem":
-        from .stiffness_job import check_method, fem_curve
-        try:
-            check_method("fem", flank, faults)
-        except InputError as exc:
-            raise renamed(exc, {"method": "effects.mesh_stiffness.source"}) from None
-        r = fem_curve(pair, 24, T, clearance_geo, wear, flank)
+        from .stiffness_job import fem_curve
+        r = fem_curve(pair, 24, T, clearance_geo, wear, flank, faults)
         phi, k, e = r.angle_rad, r.k_N_per_m, r.excitation_m
     else:
         r = mesh_stiffness(pair, points=points, torque_Nm=T, clearance_m=clearance_geo, wear=wear, flank=flank,

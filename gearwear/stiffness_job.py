@@ -101,47 +101,49 @@ def iso_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float)
 
 
 def fem_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float,
-              wear: WearSpec | None, flank: FlankSpec | None = None, **fe_options) -> MeshStiffness:
-    """Resolved FE contact of both gear bodies (fem.pair) as a MeshStiffness curve
-    (``fe_options``: pair_contact's mesh_scale, contact_scale, extended)."""
+              wear: WearSpec | None, flank: FlankSpec | None = None, faults: FaultSpec | None = None,
+              **fe_options) -> MeshStiffness:
+    """Resolved FE contact of both gear bodies (fem.pair) as a MeshStiffness curve, over
+    one revolution of the faulty gear with ``faults`` (``fe_options``: pair_contact's
+    mesh_scale, contact_scale, extended, executor)."""
     from gearwear.fem.pair import pair_contact
 
     fe = pair_contact(pair, wear=wear, positions=points, torque_Nm=torque_Nm, clearance_m=clearance_m,
-                      flank=flank, **fe_options)
+                      flank=flank, faults=faults, **fe_options)
     meta = {k: v for k, v in fe.meta.items() if k != "pair_gap_m"}
     return MeshStiffness("fem", pair, fe.mesh, torque_Nm, wear, fe.angle_rad, fe.k_N_per_m, fe.ste_m,
                          fe.excitation_m, fe.pair_load_N, fe.pair_d_m, fe.pair_in_path,
-                         float(fe.timings.get("total_s", float("nan"))), meta={"fe": meta}, flank=flank)
+                         float(fe.timings.get("total_s", float("nan"))), meta={"fe": meta}, flank=flank,
+                         faults=fe.faults, periods=fe.periods, faulty_pair=fe.faulty_pair)
 
 
 def write_fields(curves: list[Curve], out: Path, positions: list[int]) -> list[Path]:
     """Displacement and stress fields (.vtu) of the FE curves at the given position
-    indices, one folder per curve (fem.pair.write_fields; the bodies are cached)."""
+    indices (over the revolution with a fault), one folder per curve
+    (fem.pair.write_fields; the bodies are cached)."""
     from gearwear.fem.pair import pair_model, write_fields as fe_fields
 
     files: list[Path] = []
     for c in curves:
         r = c.result
-        pm = pair_model(r.pair, c.wear, r.torque_Nm, c.clearance_m)
-        files += fe_fields(pm, positions, len(r.angle_rad), r.torque_Nm, out / f"fields_{c.slug}")
+        pm = pair_model(r.pair, c.wear, r.torque_Nm, c.clearance_m, flank=r.flank, faults=r.faults)
+        files += fe_fields(pm, positions, len(r.angle_rad) // r.periods, r.torque_Nm, out / f"fields_{c.slug}")
     return files
 
 
 def check_method(method: str, flank: FlankSpec | None, faults: FaultSpec | None) -> None:
     """Refuse a method that cannot model the scene's flank deviations or faults (names
-    ``method``): ISO 6336 method B is one constant; the pair FE takes modifications and
-    measured deviations but not yet the faults of one tooth."""
+    ``method``): ISO 6336 method B is one constant."""
     if method == "iso6336" and (flank is not None or faults is not None):
         raise fail("method", repr(method), "", "is one constant (ISO 6336-1 method B) and cannot show flank "
                    "modifications or faults; use ishikawa, energy or fem")
-    if method == "fem" and faults is not None:
-        raise fail("method", repr(method), "", "the pair FE does not model a fault on one tooth yet; use "
-                   "ishikawa or energy (calibrated tables correct a cracked tooth to its single-tooth FE)")
 
 
 def compute(pair: PairSpec, method: str, wears: list[WearSpec | None], clearances_m: list[float],
             torque_Nm: float, points: int, flank: FlankSpec | None = None,
-            faults: FaultSpec | None = None) -> list[Curve]:
+            faults: FaultSpec | None = None, **fe_options) -> list[Curve]:
+    """The curves of one method for every wear state and clearance (``fe_options``: the
+    pair FE's options, see :func:`fem_curve`)."""
     check_method(method, flank, faults)
     curves = []
     for wear in wears:
@@ -149,7 +151,7 @@ def compute(pair: PairSpec, method: str, wears: list[WearSpec | None], clearance
             if method == "iso6336":
                 r = iso_curve(pair, points, torque_Nm, c)
             elif method == "fem":
-                r = fem_curve(pair, points, torque_Nm, c, wear, flank)
+                r = fem_curve(pair, points, torque_Nm, c, wear, flank, faults, **fe_options)
             else:
                 r = mesh_stiffness(pair, method=method, points=points, torque_Nm=torque_Nm, clearance_m=c,
                                    wear=wear, flank=flank, faults=faults)

@@ -40,6 +40,52 @@ def test_a_spall_raises_the_te_above_the_healthy_pair(capsys):
     assert spall["ste_peak_to_peak_um"] > 3 * healthy["ste_peak_to_peak_um"]
 
 
+@pytest.fixture
+def coarse_fe(monkeypatch):
+    """The pair FE at twice the contact element size (a / 1.25, as contact_scale = 2), so the
+    command line runs in seconds; everything else is the command's own path."""
+    from gearwear.fem import pair as fe_pair
+
+    monkeypatch.setattr(fe_pair, "ELEMENTS_PER_HALF_WIDTH", 1.25)
+
+
+def test_fem_takes_the_spall_over_one_revolution(capsys, coarse_fe):
+    """`stiffness spall.toml --method fem --json`: the FE curve spans the pinion's revolution,
+    reports the TE peak-to-peak, and the pit raises it by its bridged gap (about 9-10 um,
+    as the analytic model) over the healthy FE pair's."""
+    doc = _json(capsys, ["stiffness", str(EXAMPLES / "spall.toml"), "--method", "fem", "--json"])
+    healthy = _json(capsys, ["stiffness", "--method", "fem", "--json"])
+    analytic = _json(capsys, ["stiffness", str(EXAMPLES / "spall.toml"), "--json", "--points", "24"])
+    assert doc["mesh_periods"] == 30 and doc["points"] == 30 * 24 and doc["faults"] == "spall20um@g0t0"
+    rise = doc["ste_peak_to_peak_um"] - healthy["ste_peak_to_peak_um"]
+    assert 8.0 < rise < 11.0
+    assert doc["ste_peak_to_peak_um"] == pytest.approx(analytic["ste_peak_to_peak_um"], rel=0.03)
+
+
+def test_fem_takes_the_root_crack_through_stiffness_and_simulate(capsys, coarse_fe, tmp_path):
+    """The root crack example with the pair FE: `stiffness --method fem --json` reports the TE
+    peak-to-peak over one revolution (the cracked tooth raises it above the healthy pair's),
+    `--fields` writes the field of a position on the cracked tooth (the cracked body), and
+    `simulate` with effects.mesh_stiffness.source = "fem" reports the condition indicators
+    with shaft-order sidebands far above the healthy FE pair's noise floor."""
+    doc = _json(capsys, ["stiffness", str(EXAMPLES / "root_crack.toml"), "--method", "fem", "--json",
+                         "--fields", "20", "--out", str(tmp_path / "st")])
+    healthy = _json(capsys, ["stiffness", "--method", "fem", "--json"])
+    assert doc["mesh_periods"] == 30 and doc["faults"] == "crack2mm@g0t0"
+    assert doc["ste_peak_to_peak_um"] > healthy["ste_peak_to_peak_um"] + 0.1
+    assert doc["mean_N_per_m"] < healthy["mean_N_per_m"]
+    assert any(f.endswith("fields_pos20.vtu") for f in doc["files"])
+    fem = ["--set", 'effects.mesh_stiffness.source="fem"']
+    crack = _json(capsys, ["simulate", str(EXAMPLES / "root_crack.toml"), *fem, "--json"])
+    base = _json(capsys, ["simulate", "paper-default", *fem, "--json"])
+    assert crack["stiffness_table_mesh_periods"] == 30
+    c = crack["condition_indicators"]["a_delta_m_per_s2"]
+    h = base["condition_indicators"]["a_delta_m_per_s2"]["sideband_ratio_dB"]
+    for ind in ("rms_ac", "kurtosis", "crest_factor", "FM0", "sideband_ratio_dB"):
+        assert c[ind] is not None and math.isfinite(c[ind]), ind
+    assert h < -150 and c["sideband_ratio_dB"] > -60, (h, c["sideband_ratio_dB"])
+
+
 def test_iso_method_refuses_modifications(capsys):
     assert main(["stiffness", str(EXAMPLES / "tip_relief.toml"), "--method", "iso6336"]) == 2
     err = capsys.readouterr().err
