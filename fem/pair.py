@@ -92,6 +92,7 @@ plateaus 2.4752e8 / 3.7265e8 N/m, corner contact 0.461 / 0.463 deg.
 from __future__ import annotations
 
 import math
+import threading
 import time
 from collections import OrderedDict
 from concurrent.futures import Executor
@@ -125,6 +126,7 @@ DENSE_GAP_POINTS = 401          # samples of a pair's slave flank for its rigid 
 ROTATION_STEP_RAD = 1e-7        # central difference of the gaps for the lever arms w_i
 _BODY_CACHE: "OrderedDict[tuple, GearBody]" = OrderedDict()  # cracked bodies too
 _BODY_CACHE_SIZE = 4
+_BODY_LOCK = threading.RLock()
 
 
 # ---------------------------------------------------------------------------
@@ -281,15 +283,17 @@ def _body_key(g, pair, sizes, r_lo, nb, cy, plane):
 
 def _cached(key: tuple, build):
     """The body under ``key`` from the in-process cache, or ``build()`` stored there;
-    (body, built)."""
-    if key in _BODY_CACHE:  # identical gears, another wear state or fault of the same pair
-        _BODY_CACHE.move_to_end(key)
-        return _BODY_CACHE[key], False
-    body = build()
-    _BODY_CACHE[key] = body
-    while len(_BODY_CACHE) > _BODY_CACHE_SIZE:
-        _BODY_CACHE.popitem(last=False)
-    return body, True
+    (body, built). One build at a time: threads of one worker process (a Dask worker)
+    that need the same body wait for it instead of building it twice."""
+    with _BODY_LOCK:
+        if key in _BODY_CACHE:  # identical gears, another wear state or fault of the same pair
+            _BODY_CACHE.move_to_end(key)
+            return _BODY_CACHE[key], False
+        body = build()
+        _BODY_CACHE[key] = body
+        while len(_BODY_CACHE) > _BODY_CACHE_SIZE:
+            _BODY_CACHE.popitem(last=False)
+        return body, True
 
 
 def fault_neighbours(mesh: MeshGeometry) -> int:

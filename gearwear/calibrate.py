@@ -49,6 +49,7 @@ import importlib.util
 import math
 import re
 import time
+from concurrent.futures import Executor
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Iterable
@@ -237,11 +238,14 @@ class PairCorrection:
 
 
 def pair_correction(pair: PairSpec, wear: WearSpec | None, clearance_m: float, torque_Nm: float,
-                    corr: tuple, positions: int = 24) -> PairCorrection:
-    """Fit the per-zone pair factor on the even FE positions, check on the odd ones."""
+                    corr: tuple, positions: int = 24, executor: Executor | None = None) -> PairCorrection:
+    """Fit the per-zone pair factor on the even FE positions, check on the odd ones
+    (``executor``: where the FE positions are solved, fem.pair.pair_contact; the same
+    result to the bit)."""
     from gearwear.fem.pair import pair_contact
 
-    fe = pair_contact(pair, wear=wear, positions=positions, torque_Nm=torque_Nm, clearance_m=clearance_m)
+    fe = pair_contact(pair, wear=wear, positions=positions, torque_Nm=torque_Nm, clearance_m=clearance_m,
+                      executor=executor)
     st1 = pair_vs_analytic(fe, correction=corr)["analytic"]
     ratio = fe.k_N_per_m / st1.k_N_per_m
     # two or more loaded pairs: only there can the rim couple them
@@ -260,21 +264,31 @@ def pair_correction(pair: PairSpec, wear: WearSpec | None, clearance_m: float, t
                           fe.mean_N_per_m, st1.mean_N_per_m, float(fe.timings.get("total_s", float("nan"))))
 
 
-def run_fe(pair: PairSpec, wear: WearSpec | None, positions: int = 21, estimate_error: bool = True) -> Calibration:
+def run_fe(pair: PairSpec, wear: WearSpec | None, positions: int = 21, estimate_error: bool = True,
+           executor: Executor | None = None) -> Calibration:
     """FE single-tooth compliance of both gears and the fitted corrections.
 
     Identical gears (same spec apart from the name) carry identical worn flanks, so
     the pinion's FE run serves both. The discretisation error is estimated from a
-    second run with all mesh sizes x sqrt(2): |c_h - c_2h| / (sqrt(2)^p - 1), p = 2."""
+    second run with all mesh sizes x sqrt(2): |c_h - c_2h| / (sqrt(2)^p - 1), p = 2.
+    ``executor`` (any concurrent.futures.Executor): the independent single-tooth FE runs
+    go to it as separate tasks; the result is the same to the bit."""
     from gearwear.fem.tooth import single_tooth_compliance
 
     t0 = time.perf_counter()
     same = dataclasses.replace(pair.gear(0), name="") == dataclasses.replace(pair.gear(1), name="")
-    fe0 = single_tooth_compliance(pair, gear_index=0, wear=wear, positions=positions)
-    fe1 = fe0 if same else single_tooth_compliance(pair, gear_index=1, wear=wear, positions=positions)
+    runs = [{"gear_index": 0}] + ([] if same else [{"gear_index": 1}]) \
+        + ([{"gear_index": 0, "mesh_scale": math.sqrt(2)}] if estimate_error else [])
+    if executor is None:
+        done = [single_tooth_compliance(pair, wear=wear, positions=positions, **kw) for kw in runs]
+    else:
+        futures = [executor.submit(single_tooth_compliance, pair, wear=wear, positions=positions, **kw) for kw in runs]
+        done = [f.result() for f in futures]
+    fe0 = done[0]
+    fe1 = fe0 if same else done[1]
     err = float("nan")
     if estimate_error:
-        coarse = single_tooth_compliance(pair, gear_index=0, wear=wear, positions=positions, mesh_scale=math.sqrt(2))
+        coarse = done[-1]
         diff = np.abs(coarse.fem_compliance_um_per_N_per_mm / fe0.fem_compliance_um_per_N_per_mm - 1.0)
         err = float(diff.max() / (math.sqrt(2) ** 2 - 1.0))
     corr = tuple(fit_correction(f.radius_m, f.fem_compliance_um_per_N_per_mm,
@@ -356,7 +370,8 @@ def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float =
                      points: int = 360, positions: int = 21,
                      calibration: Calibration | Callable[[], Calibration] | None = None,
                      refresh: bool = False, notify: tables.Notify | None = tables.to_stderr,
-                     flank: FlankSpec | None = None, faults: FaultSpec | None = None) -> tables.StiffnessTable:
+                     flank: FlankSpec | None = None, faults: FaultSpec | None = None,
+                     executor: Executor | None = None) -> tables.StiffnessTable:
     """The calibrated k_h table, from the cache when these exact inputs were run before.
 
     ``flank`` (modifications, measured deviations) and ``faults`` enter the load sharing of
@@ -368,6 +383,9 @@ def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float =
     ``calibration``: the FE stage (run_fe) to use on a cache miss, or a function that
     returns it (called only on a miss, so a caller can share one FE run between tables
     without running it when every table is cached); None runs it here.
+    ``executor`` (any concurrent.futures.Executor, e.g. a Dask ``Client.get_executor()``):
+    the FE runs of a cache miss (run_fe's single-tooth runs, the pair FE positions) are
+    solved there; the table is the same to the bit, so it is not part of the key.
     ``notify``: gets one line when a cache entry exists but fails its checks and is
     recomputed (default: printed to stderr; None: silent). The returned table's
     ``from_cache`` tells whether it came from the cache. A bad $GEARWEAR_CACHE raises
@@ -382,13 +400,13 @@ def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float =
     require_overlap(pair, clearance_m)  # before the FE runs, which cannot model a gap
     if callable(calibration):
         calibration = calibration()
-    cal = calibration or run_fe(pair, wear, positions)
+    cal = calibration or run_fe(pair, wear, positions, executor=executor)
     corr = tuple(c.grid() for c in cal.corrections)
     cc = crack_correction(pair, faults, positions) if faults is not None and faults.crack is not None else None
     r = mesh_stiffness(pair, method="ishikawa", points=points, torque_Nm=torque_Nm, clearance_m=clearance_m,
                        wear=wear, correction=corr, flank=flank, faults=faults,
                        crack_correction=None if cc is None else cc.grid())
-    pc = pair_correction(pair, wear, clearance_m, torque_Nm, corr, PAIR_POSITIONS)
+    pc = pair_correction(pair, wear, clearance_m, torque_Nm, corr, PAIR_POSITIONS, executor)
     s = np.where(r.pairs_in_contact >= 2, pc.double, pc.single)
     k = r.k_N_per_m * s
     F = torque_Nm / pair.gear(0).base_radius_m

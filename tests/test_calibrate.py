@@ -5,6 +5,7 @@ The cache checks on read and the code fingerprint are in tests/test_cache.py."""
 import json
 import subprocess
 import sys
+from concurrent.futures import Executor, Future
 
 import numpy as np
 import pytest
@@ -23,6 +24,28 @@ def test_correction_fits_and_checks(cal):
         assert np.all(c.ratio > 1.0)               # the full-gear FE body is softer than Weber's clamp
         assert c.fit_residual < 0.01 and c.check_residual < 0.01
     assert cal.fe[1] is cal.fe[0]                   # identical gears share one FE run
+
+
+class _InlineExecutor(Executor):
+    """Runs each task at once and records its function: any concurrent.futures.Executor
+    serves (a process pool, a Dask client's executor)."""
+
+    def __init__(self):
+        self.tasks = []
+
+    def submit(self, fn, /, *args, **kwargs):
+        self.tasks.append(fn.__name__)
+        fut = Future()
+        fut.set_result(fn(*args, **kwargs))
+        return fut
+
+
+def test_fe_runs_go_to_an_executor_with_the_same_result(cal):
+    ex = _InlineExecutor()
+    on = calibrate.run_fe(default_pair(), None, positions=9, estimate_error=False, executor=ex)
+    assert ex.tasks == ["single_tooth_compliance"]  # identical gears: one run
+    assert np.array_equal(on.fe[0].fem_compliance_um_per_N_per_mm, cal.fe[0].fem_compliance_um_per_N_per_mm)
+    assert np.array_equal(on.corrections[0].coeffs, cal.corrections[0].coeffs)
 
 
 def test_cache_hit_is_identical_and_inputs_change_the_key(tmp_path, monkeypatch, cal):
