@@ -14,6 +14,12 @@ rigidly in the pair, so its stiffness in its own frame never changes and one
 factorization serves every position and every wear state (wear enters the pair
 solve as initial gaps, see fem.pair).
 
+A cracked body (:func:`build_cracked_body`) has a root crack cut into tooth 0 and the
+drive flanks of teeth -refined .. +refined sampled like tooth 0's; without rotational
+periodicity its G covers all those flanks, each over the radius range a contact can
+reach while the cracked tooth is engaged (about 3100 condensed dofs for the paper
+pinion, against 2142 for the healthy body).
+
 Flexibility by static condensation
 ----------------------------------
 With the boundary set B = the dofs of (i) every node of tooth 0's refined drive

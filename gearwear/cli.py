@@ -149,6 +149,8 @@ def _split_multi(values: list[str] | str | None) -> list[str]:
 
 def _cmd_stiffness(args: argparse.Namespace) -> int:
 
+    from tqdm import tqdm
+
     from gearwear.geometry.faults import revolution_periods
 
     from . import stiffness_job
@@ -166,8 +168,17 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
     fields = [_int_arg("--fields", f, 0, rows - 1) for f in _split_multi(args.fields)]
     if fields and (args.method != "fem" or not args.out):
         raise InputError(f"--fields = {','.join(map(str, fields))}: needs --method fem and --out")
-    curves = stiffness_job.compute(scene.pair, args.method, wears, clearances, torque, points, scene.flank,
-                                   scene.faults)
+    fe: dict = {}
+    with tqdm(desc="pair FE positions", unit="position", disable=args.json or args.method != "fem" or None,
+              file=sys.stderr) as bar:
+        if args.method == "fem":
+            def progress(done: int, total: int) -> None:
+                bar.total = total
+                bar.n = done
+                bar.refresh()
+            fe["progress"] = progress
+        curves = stiffness_job.compute(scene.pair, args.method, wears, clearances, torque, points, scene.flank,
+                                       scene.faults, **fe)
     harris = stiffness_job.harris(curves, scene.pair, scene.flank)
     inputs = {**io.scene_inputs(scene), "pair": _pair_inputs(scene), "method": args.method, "torque_Nm": torque,
               "points": points}
