@@ -56,6 +56,11 @@ report: $(STAMP)
 	  $(VENV)/bin/gearwear stiffness examples/$$s.toml --out reports/examples/$$s/stiffness || exit 1; \
 	  $(VENV)/bin/gearwear simulate examples/$$s.toml --out reports/examples/$$s/simulate || exit 1; \
 	done
+	for s in root_crack spall; do \
+	  $(VENV)/bin/gearwear stiffness examples/$$s.toml --method fem --out reports/examples/$$s/stiffness_fem || exit 1; \
+	  $(VENV)/bin/gearwear simulate examples/$$s.toml --set effects.mesh_stiffness.source=fem \
+	    --out reports/examples/$$s/simulate_fem || exit 1; \
+	done
 
 clean:
 	rm -rf $(VENV) $(BENCH_VENV) out .pytest_cache .hypothesis

@@ -61,6 +61,9 @@ class Curve:
             extra["faults"] = r.faults.label()
         if r.periods > 1:
             extra["mesh_periods"] = r.periods
+            if "fe" in r.meta:  # the pair FE solves only the positions with the faulty tooth again
+                extra["fe_positions_solved"] = r.meta["fe"]["positions_solved"]
+                extra["fe_cracked_body"] = r.meta["fe"]["cracked_body"]
         z = r.zone_means()
 
         def null(v: float) -> float | None:
