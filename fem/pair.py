@@ -120,7 +120,7 @@ to 0.05-0.06 %, and the pair compliance = c_1,cracked + c_2 + c_local,healthy to
 
 ``pair_contact(executor=...)`` sends the positions in chunks to any
 concurrent.futures.Executor (a process pool, Dask's ``Client.get_executor()``); the
-workers rebuild the model from its arguments (PairModel.spec), each building a body once
+workers rebuild the model from its arguments, each building a body once
 (in-process cache), and the result is the serial one to the bit.
 
 Measured (benchmarks/bench_fem_pair.py, 2 cores, 40 N m, plane stress, P2)
@@ -146,8 +146,8 @@ import threading
 import time
 from collections import OrderedDict
 from concurrent.futures import Executor
-from typing import Callable
 from dataclasses import dataclass, field, replace
+from typing import Any, Callable
 
 import numpy as np
 
@@ -165,7 +165,7 @@ from gearwear.geometry.flank import FlankSpec, is_nominal, modification_depth_m
 from gearwear.geometry.wear import WearSpec, flank_depth, hertz_half_width, key_roll_angles
 
 from .contact import solve_contact
-from .pair_body import BodyFlanks, BodySizes, CrackedBody, GearBody, build_body, build_cracked_body, involute_point, rot
+from .pair_body import BodySizes, GearBody, build_body, build_cracked_body, involute_point, rot
 
 __all__ = ["PairFE", "PairModel", "pair_contact", "pair_model", "solve_position", "weber_approach_m",
            "body_sizes", "extended_contact_widths", "consistency", "write_fields"]
@@ -291,8 +291,7 @@ class PairModel:
     """Everything a position solve needs (built once per pair, torque and clearance).
 
     faults   the one-tooth faults (geometry.faults) or None; ``cracked`` per gear the
-             body with the crack (pair_body.CrackedBody) or None; ``spec`` the
-             pair_model arguments, from which a worker process rebuilds the model."""
+             body with the crack (pair_body.CrackedBody) or None."""
 
     pair: PairSpec
     mesh: MeshGeometry
@@ -306,7 +305,6 @@ class PairModel:
     timings: dict
     faults: FaultSpec | None = None
     cracked: tuple = (None, None)
-    spec: dict = field(default_factory=dict)
 
     @property
     def psi_b(self) -> tuple[float, float]:
@@ -417,6 +415,20 @@ def _check_inputs(pair: PairSpec, torque_Nm: float, clearance_m: float, plane: s
     return og
 
 
+def _sizes(pair: PairSpec, torque_Nm: float, contact_scale: float, mesh_scale: float):
+    """(body sizes, a_ref, candidate half-window) (m): body_sizes and the window of
+    WINDOW_HALF_WIDTHS a_ref + 2 h_c of arc length."""
+    sizes, a_ref = body_sizes(pair, torque_Nm, contact_scale, mesh_scale)
+    return sizes, a_ref, WINDOW_HALF_WIDTHS * a_ref + 2.0 * sizes.contact_m
+
+
+def _model_spec(pair: PairSpec, wear: WearSpec | None, torque_Nm: float, clearance_m: float, contact_scale: float,
+                mesh_scale: float, plane: str, flank: FlankSpec | None, faults: FaultSpec | None) -> dict[str, Any]:
+    """The pair_model arguments by name (what a worker process needs to rebuild the model)."""
+    return {"pair": pair, "wear": wear, "torque_Nm": torque_Nm, "clearance_m": clearance_m,
+            "contact_scale": contact_scale, "mesh_scale": mesh_scale, "plane": plane, "flank": flank, "faults": faults}
+
+
 def pair_model(pair: PairSpec, wear: WearSpec | None = None, torque_Nm: float = 40.0, clearance_m: float = 0.0,
                contact_scale: float = 1.0, mesh_scale: float = 1.0, plane: str = "stress",
                flank: FlankSpec | None = None, faults: FaultSpec | None = None) -> PairModel:
@@ -426,12 +438,8 @@ def pair_model(pair: PairSpec, wear: WearSpec | None = None, torque_Nm: float = 
     adds the cracked body of its gear (pair_body.build_cracked_body)."""
     t0 = time.perf_counter()
     faults = None if faults is None or faults.is_empty else faults
-    spec = {"pair": pair, "wear": wear, "torque_Nm": torque_Nm, "clearance_m": clearance_m,
-            "contact_scale": contact_scale, "mesh_scale": mesh_scale, "plane": plane, "flank": flank,
-            "faults": faults}
     mesh = _check_inputs(pair, torque_Nm, clearance_m, plane, faults).mesh
-    sizes, a_ref = body_sizes(pair, torque_Nm, contact_scale, mesh_scale)
-    window = WINDOW_HALF_WIDTHS * a_ref + 2.0 * sizes.contact_m
+    sizes, a_ref, window = _sizes(pair, torque_Nm, contact_scale, mesh_scale)
     nb = int(math.ceil(mesh.contact_ratio + 2 * EXTENSION_PITCHES)) + 1
     bodies: list[GearBody] = []
     depth: list[tuple[np.ndarray, np.ndarray] | None] = []
@@ -465,7 +473,7 @@ def pair_model(pair: PairSpec, wear: WearSpec | None = None, torque_Nm: float = 
             depth.append(None)
     tim["model_s"] = time.perf_counter() - t0
     return PairModel(pair, mesh, tuple(bodies), wear, tuple(depth), window, a_ref, sizes, plane, tim, faults,
-                     tuple(cracked), spec)
+                     tuple(cracked))
 
 
 # ---------------------------------------------------------------------------
@@ -664,7 +672,7 @@ def _candidates(pm: PairModel, d: float, j: int, spalled: tuple = NO_SPALL) -> l
     return out
 
 
-def _reps(body: BodyFlanks, c: dict, gi: int, delta_tooth: int, at_nodes: bool = True):
+def _reps(body: GearBody, c: dict, gi: int, delta_tooth: int, at_nodes: bool = True):
     """(positions (n, 6), coefficients (n, 6)) of the candidates of c on body gi,
     read or loaded on the body's tooth ``delta_tooth`` (relative to the load tooth).
     Slave points on the load tooth are its nodes (``at_nodes``, the healthy body whose
@@ -725,10 +733,10 @@ def _slot_faults(pm: PairModel, period: int | None, j: int) -> tuple[tuple, bool
     return spalled, cr is not None and (period - j) % z[cr.gear_index] == cr.tooth
 
 
-def _candidate_slots(pm: PairModel, d: np.ndarray) -> np.ndarray:
+def _candidate_slots(mesh: MeshGeometry, d: np.ndarray) -> np.ndarray:
     """Slots whose pair can touch: within EXTENSION_PITCHES p_b of the path of contact."""
-    ext = EXTENSION_PITCHES * pm.mesh.base_pitch_m
-    return (d >= pm.mesh.path_start_m - ext) & (d <= pm.mesh.path_end_m + ext)
+    ext = EXTENSION_PITCHES * mesh.base_pitch_m
+    return (d >= mesh.path_start_m - ext) & (d <= mesh.path_end_m + ext)
 
 
 def solve_position(pm: PairModel, theta: float, total_N: float, period: int | None = None) -> PositionSolution:
@@ -739,7 +747,7 @@ def solve_position(pm: PairModel, theta: float, total_N: float, period: int | No
     j, d = pm.mesh.slots(theta)
     cands, slots = [], []
     cracked: list = [None, None]
-    for k in np.flatnonzero(_candidate_slots(pm, d)):
+    for k in np.flatnonzero(_candidate_slots(pm.mesh, d)):
         spalled, crack_here = _slot_faults(pm, period, int(j[k]))
         if crack_here:
             assert pm.faults is not None and pm.faults.crack is not None
@@ -809,14 +817,14 @@ def _solve_chunk(spec: dict, items: list, total_N: float) -> list:
 
 
 def _body_meta(pm: PairModel) -> dict:
-    bodies = [*pm.bodies, *(b for b in pm.cracked if b is not None)]
+    """Sizes of the bodies (meta of the result)."""
+    gc, cb = next(((gi, b) for gi, b in enumerate(pm.cracked) if b is not None), (None, None))
     return {"shared_body": pm.bodies[0] is pm.bodies[1], "n_elements": [bd.n_elements for bd in pm.bodies],
             "ndofs": [bd.ndofs for bd in pm.bodies], "condensed_dofs": [int(bd.G.shape[0]) for bd in pm.bodies],
-            "cracked_body": None if not any(b is not None for b in pm.cracked) else
-            {"gear": next(i for i, b in enumerate(pm.cracked) if b is not None),
-             "n_elements": bodies[-1].n_elements, "ndofs": bodies[-1].ndofs,
-             "condensed_dofs": int(bodies[-1].G.shape[0]), "refined_neighbours": bodies[-1].refined,
-             "crack_tip_size_m": bodies[-1].crack_tip_size_m}}
+            "cracked_body": None if cb is None else
+            {"gear": gc, "n_elements": cb.n_elements, "ndofs": cb.ndofs,
+             "condensed_dofs": int(cb.G.shape[0]), "refined_neighbours": cb.refined,
+             "crack_tip_size_m": cb.crack_tip_size_m}}
 
 
 def _model_task(spec: dict, total_N: float, extended: bool) -> tuple:
@@ -852,25 +860,21 @@ def pair_contact(pair: PairSpec, wear: WearSpec | None = None, positions: int = 
         raise fail("positions", positions, "", "must be a whole number >= 2")
     faults = None if faults is None or faults.is_empty else faults
     F = torque_Nm / pair.gear(0).base_radius_m
-    spec = {"pair": pair, "wear": wear, "torque_Nm": torque_Nm, "clearance_m": clearance_m,
-            "contact_scale": contact_scale, "mesh_scale": mesh_scale, "plane": plane, "flank": flank,
-            "faults": faults}
+    spec = _model_spec(pair, wear, torque_Nm, clearance_m, contact_scale, mesh_scale, plane, flank, faults)
+    pm: PairModel | None = None
     if executor is None:
-        pm: PairModel | None = pair_model(**spec)
+        pm = pair_model(**spec)
         mesh = pm.mesh
         sizes, a_ref, window = pm.sizes, pm.a_ref_m, pm.window_m
     else:  # the bodies are built in the workers; here only the inputs and the geometry
-        pm = None
         mesh = _check_inputs(pair, torque_Nm, clearance_m, plane, faults).mesh
-        sizes, a_ref = body_sizes(pair, torque_Nm, contact_scale, mesh_scale)
-        window = WINDOW_HALF_WIDTHS * a_ref + 2.0 * sizes.contact_m
+        sizes, a_ref, window = _sizes(pair, torque_Nm, contact_scale, mesh_scale)
     t_model = time.perf_counter()
     theta0 = np.arange(positions) * (mesh.mesh_angle_rad / positions)
     j, d0 = mesh.slots(theta0)
     periods = revolution_periods(pair, faults)
     # a position is solved again where a slot holding a faulty tooth is a candidate
-    cand = np.tile((d0 >= mesh.path_start_m - EXTENSION_PITCHES * mesh.base_pitch_m)
-                   & (d0 <= mesh.path_end_m + EXTENSION_PITCHES * mesh.base_pitch_m), (periods, 1))
+    cand = np.tile(_candidate_slots(mesh, d0), (periods, 1))
     faulty = np.zeros(cand.shape, dtype=bool)
     for f in (faults.faults() if faults is not None else []):
         faulty |= np.repeat(faulty_slots(pair, f, periods, j), positions, axis=0) & cand

@@ -65,8 +65,7 @@ from gearwear.geometry.spec import GearSpec, Material
 
 from .elasticity import ElasticModel, assemble
 
-__all__ = ["BodySizes", "BodyFlanks", "GearBody", "CrackedBody", "build_body", "build_cracked_body",
-           "involute_point", "rot"]
+__all__ = ["BodySizes", "GearBody", "CrackedBody", "build_body", "build_cracked_body", "involute_point", "rot"]
 
 GROWTH = 0.25          # size gradient of every refinement zone (m of size per m of distance)
 
@@ -155,25 +154,38 @@ def _sample_flank(profile: ToothProfile, spacing, fine: tuple[float, float, floa
 
 
 @dataclass
-class BodyFlanks:
-    """The drive-flank nodes of a gear body and how to load or read any point of them.
+class GearBody:
+    """A gear body with the condensed flexibility of its drive-flank nodes.
 
-    flank_r[t]   (n_t,) node radii along the drive flank of tooth t, sorted; flank_xy[t]
-                 their coordinates in tooth t's own frame (tooth t turned back onto +y)
+    flank_r[t]   (n_t,) node radii along the drive flank of tooth t (t = 0 refined,
+                 t != 0 the neighbours), sorted; flank_xy[t] their coordinates in
+                 tooth t's own frame (tooth t turned back onto +y)
     flank_edges[t]  (e, 3) positions in flank_r[t] of each edge's (v0, mid, v1)
-    flank_b[t]   (n_t,) position b of each node's x dof in ``dofs`` (y dof = b + 1)
-    dofs         (2 m,) global dof of each position
+    flank_b[t]   (n_t,) position of each node's x dof in G (y dof = +1)
+    G            (2 m, 2 m) flexibility of the condensed dofs (m/N)
     """
 
     gear: GearSpec
+    sizes: BodySizes
+    r_lo: float
+    model: ElasticModel
     flank_r: dict
     flank_xy: dict
     flank_edges: dict
     flank_b: dict
-    dofs: np.ndarray
+    G: np.ndarray
+    centre_b: np.ndarray       # B positions (x dofs) of the centre-line element nodes
+    centre_dofs: np.ndarray    # their global x dofs
+    dofs: np.ndarray           # (2 m,) global dof of each row of G
+    n_elements: int
+    timings: dict = field(default_factory=dict)
+
+    @property
+    def ndofs(self) -> int:
+        return int(self.model.ndofs)
 
     def edge_weights(self, tooth: int, radius_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(positions (n, 3), weights (n, 3)) of points of tooth ``tooth``'s drive
+        """(B positions (n, 3), weights (n, 3)) of points of tooth ``tooth``'s drive
         flank at radii R: P2 edge shape functions at the edge parameter of the
         involute point at R (its projection onto the curved edge)."""
         r = self.flank_r[tooth]
@@ -194,28 +206,6 @@ class BodyFlanks:
         r = self.flank_r[0]
         k = np.clip(np.searchsorted(r, radius_m), 1, len(r) - 1)
         return np.where(np.abs(r[k - 1] - radius_m) <= np.abs(r[k] - radius_m), k - 1, k)
-
-
-@dataclass
-class GearBody(BodyFlanks):
-    """A gear body with the condensed flexibility of its drive-flank nodes (tooth 0
-    refined, t != 0 the neighbours); ``dofs`` are the rows of G.
-
-    G            (2 m, 2 m) flexibility of the condensed dofs (m/N)
-    """
-
-    sizes: BodySizes
-    r_lo: float
-    model: ElasticModel
-    G: np.ndarray
-    centre_b: np.ndarray       # positions (x dofs) of the centre-line element nodes
-    centre_dofs: np.ndarray    # their global x dofs
-    n_elements: int
-    timings: dict = field(default_factory=dict)
-
-    @property
-    def ndofs(self) -> int:
-        return int(self.model.ndofs)
 
 
 @dataclass

@@ -67,7 +67,8 @@ def test_fem_takes_the_root_crack_through_stiffness_and_simulate(capsys, coarse_
     peak-to-peak over one revolution (the cracked tooth raises it above the healthy pair's),
     `--fields` writes the field of a position on the cracked tooth (the cracked body), and
     `simulate` with effects.mesh_stiffness.source = "fem" reports the condition indicators
-    with shaft-order sidebands far above the healthy FE pair's noise floor."""
+    with shaft-order sidebands far above the healthy noise floor (below -150 dB,
+    test_fault_sidebands_stand_far_above_the_healthy_noise_floor)."""
     doc = _json(capsys, ["stiffness", str(EXAMPLES / "root_crack.toml"), "--method", "fem", "--json",
                          "--fields", "20", "--out", str(tmp_path / "st")])
     healthy = _json(capsys, ["stiffness", "--method", "fem", "--json"])
@@ -77,13 +78,11 @@ def test_fem_takes_the_root_crack_through_stiffness_and_simulate(capsys, coarse_
     assert any(f.endswith("fields_pos20.vtu") for f in doc["files"])
     fem = ["--set", 'effects.mesh_stiffness.source="fem"']
     crack = _json(capsys, ["simulate", str(EXAMPLES / "root_crack.toml"), *fem, "--json"])
-    base = _json(capsys, ["simulate", "paper-default", *fem, "--json"])
-    assert crack["stiffness_table_mesh_periods"] == 30
+    assert crack["stiffness_source"] == "fem" and crack["stiffness_table_mesh_periods"] == 30
     c = crack["condition_indicators"]["a_delta_m_per_s2"]
-    h = base["condition_indicators"]["a_delta_m_per_s2"]["sideband_ratio_dB"]
     for ind in ("rms_ac", "kurtosis", "crest_factor", "FM0", "sideband_ratio_dB"):
         assert c[ind] is not None and math.isfinite(c[ind]), ind
-    assert h < -150 and c["sideband_ratio_dB"] > -60, (h, c["sideband_ratio_dB"])
+    assert c["sideband_ratio_dB"] > -60
 
 
 def test_iso_method_refuses_modifications(capsys):

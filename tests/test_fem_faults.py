@@ -117,8 +117,7 @@ def test_spall_at_design_load_softens_where_the_analytic_model_does(healthy, sta
     assert np.array_equal(drop_fe, drop_an)
 
 
-@pytest.fixture(scope="module")
-def crack_rows():
+def _crack_rows() -> dict:
     """Single contact on the cracked pinion tooth 0 (period 0, d in (E - p_b, A + p_b)):
     healthy and cracked pair readings at three positions, for cracks of 0.05, 1 and 2 mm."""
     pmh = pair_model(PAIR, **COARSE)
@@ -137,18 +136,26 @@ def _per_N(fe) -> np.ndarray:
     return fe.fem_compliance_um_per_N_per_mm / (1e6 * PAIR.face_width_m * 1e3)
 
 
-def test_cracked_pair_against_the_single_tooth_fe_of_the_cracked_tooth(crack_rows):
-    """2 mm crack at 45 deg from the ISO 30-deg fillet point of pinion tooth 0, in single
-    contact on it.
+def test_cracked_pair_against_the_single_tooth_fe_a_vanishing_crack_and_the_depth():
+    """Cracks at 45 deg from the ISO 30-deg fillet point of pinion tooth 0, in single
+    contact on it (one test: the cracked bodies are built once).
+
+    2 mm crack:
 
     * c_1 read in the cracked pair body (the centre-line point on the load line) equals the
       single-tooth FE of the cracked tooth (fem.tooth: its own mesh, crack tip and Hertz
       patch load) within 0.1 % (measured 0.003-0.04 %).
     * The pair compliance equals c_1,cracked + c_2 + c_local with c_2 and c_local of the
-      healthy pair within 0.5 % (measured 0.13-0.24 %; healthy pair: 0.007 %). The identity
+      healthy pair within 0.5 % (measured 0.13-0.24 %; healthy pair: 0.002 %). The identity
       is not exact for a crack: the crack also changes c_local, the approach of the flank
       point relative to the centre-line point (its strain field reaches up the tooth), by
-      0.3-0.7 % (read in the cracked pair itself, asserted below); the residual is that."""
+      0.3-0.7 % (read in the cracked pair itself, asserted below); the residual is that.
+
+    Depth: a 0.05 mm crack gives the healthy pair within 0.05 % (measured 0.01 %: the
+    cracked body's own mesh, with its neighbours refined and the crack tip, is another
+    discretisation of the same gear), and 0 < 0.05 < 1 < 2 mm raise the compliance in that
+    order at every position."""
+    crack_rows = _crack_rows()
     rows, healthy = crack_rows[2e-3], crack_rows[0.0]
     R1 = np.array([r["R1_m"] for r in rows])
     R2 = np.array([r["R2_m"] for r in rows])
@@ -162,21 +169,14 @@ def test_cracked_pair_against_the_single_tooth_fe_of_the_cracked_tooth(crack_row
     assert np.max(np.abs(c_pair / (c1 + c2 + c_local) - 1)) < 5e-3
     dl = np.array([r["c_local_m_per_N"] for r in rows]) / c_local - 1
     assert np.all((dl > 0) & (dl < 0.01))
-    # and the crack adds about a fifth to the tooth's compliance, 5-8 % to the pair's
-    assert np.all(c_pair / np.array([r["c_pair_m_per_N"] for r in healthy]) - 1 > 0.04)
-
-
-def test_pair_compliance_tends_to_the_healthy_pair_and_rises_with_the_crack_depth(crack_rows):
-    """A 0.05 mm crack gives the healthy pair within 0.05 % (measured 0.01 %: the cracked
-    body's own mesh, with its neighbours refined and the crack tip, is another
-    discretisation of the same gear), and 0 < 0.05 < 1 < 2 mm raise the compliance in that
-    order at every position."""
+    # the crack adds about a fifth to the tooth's compliance, 5-8 % to the pair's
     c = np.array([[r["c_pair_m_per_N"] for r in crack_rows[q]] for q in (0.0, 0.05e-3, 1e-3, 2e-3)])
+    assert np.all(c[3] / c[0] - 1 > 0.04)
     assert np.max(np.abs(c[1] / c[0] - 1)) < 5e-4
     assert np.all(np.diff(c[1:], axis=0) > 0) and np.all(c[2] > c[0])
 
 
-def test_positions_on_a_process_pool_give_the_serial_result_to_the_bit(healthy):
+def test_positions_on_a_process_pool_give_the_serial_result_to_the_bit():
     """pair_contact(executor=...) with a spall: the positions go to two fresh worker processes
     (spawned, so each builds its own bodies, as on a Dask cluster) in chunks; every array
     of the result is identical to the serial run."""
