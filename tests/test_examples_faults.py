@@ -42,11 +42,14 @@ def test_a_spall_raises_the_te_above_the_healthy_pair(capsys):
 
 @pytest.fixture
 def coarse_fe(monkeypatch):
-    """The pair FE at twice the contact element size (a / 1.25, as contact_scale = 2), so the
-    command line runs in seconds; everything else is the command's own path."""
+    """The pair FE at the coarse sizes of tests/test_fem_faults.py (contact elements a / 1.25,
+    the others x 1.5; the same bodies, so a worker that built them there reuses them), so
+    the command line runs in seconds; everything else is the command's own path."""
     from gearwear.fem import pair as fe_pair
 
-    monkeypatch.setattr(fe_pair, "ELEMENTS_PER_HALF_WIDTH", 1.25)
+    sizes = fe_pair.body_sizes
+    monkeypatch.setattr(fe_pair, "body_sizes", lambda pair, torque_Nm=40.0, contact_scale=1.0, mesh_scale=1.0:
+                        sizes(pair, torque_Nm, 2.0 * contact_scale, 1.5 * mesh_scale))
 
 
 def test_fem_takes_the_spall_over_one_revolution(capsys, coarse_fe):

@@ -119,13 +119,13 @@ def test_spall_at_design_load_softens_where_the_analytic_model_does(healthy, sta
 
 def _crack_rows() -> dict:
     """Single contact on the cracked pinion tooth 0 (period 0, d in (E - p_b, A + p_b)):
-    healthy and cracked pair readings at three positions, for cracks of 0.05, 1 and 2 mm."""
+    healthy and cracked pair readings at three positions, for cracks of 0.05 and 2 mm."""
     pmh = pair_model(PAIR, **COARSE)
     m = pmh.mesh
     d = np.linspace(m.path_end_m - m.base_pitch_m + 0.4e-3, m.path_start_m + m.base_pitch_m - 0.4e-3, 3)
     theta = (d - m.path_start_m) / RB1
     out = {0.0: [centre_line_compliance(pmh, solve_position(pmh, t, F_DESIGN)) for t in theta]}
-    for q in (0.05e-3, 1e-3, 2e-3):
+    for q in (0.05e-3, 2e-3):
         cf = CrackFault(0, 0, q, math.radians(45))
         pm = pair_model(PAIR, faults=FaultSpec(crack=cf), **COARSE)
         out[q] = [centre_line_compliance(pm, solve_position(pm, t, F_DESIGN, period=0)) for t in theta]
@@ -138,7 +138,7 @@ def _per_N(fe) -> np.ndarray:
 
 def test_cracked_pair_against_the_single_tooth_fe_a_vanishing_crack_and_the_depth():
     """Cracks at 45 deg from the ISO 30-deg fillet point of pinion tooth 0, in single
-    contact on it (one test: the cracked bodies are built once).
+    contact on it (one test, so that xdist builds the cracked bodies once).
 
     2 mm crack:
 
@@ -153,8 +153,8 @@ def test_cracked_pair_against_the_single_tooth_fe_a_vanishing_crack_and_the_dept
 
     Depth: a 0.05 mm crack gives the healthy pair within 0.05 % (measured 0.01 %: the
     cracked body's own mesh, with its neighbours refined and the crack tip, is another
-    discretisation of the same gear), and 0 < 0.05 < 1 < 2 mm raise the compliance in that
-    order at every position."""
+    discretisation of the same gear), and 0, 0.05 and 2 mm raise the compliance in that
+    order at every position (0.5, 1 and 2 mm for the single tooth: tests/test_crack.py)."""
     crack_rows = _crack_rows()
     rows, healthy = crack_rows[2e-3], crack_rows[0.0]
     R1 = np.array([r["R1_m"] for r in rows])
@@ -170,10 +170,10 @@ def test_cracked_pair_against_the_single_tooth_fe_a_vanishing_crack_and_the_dept
     dl = np.array([r["c_local_m_per_N"] for r in rows]) / c_local - 1
     assert np.all((dl > 0) & (dl < 0.01))
     # the crack adds about a fifth to the tooth's compliance, 5-8 % to the pair's
-    c = np.array([[r["c_pair_m_per_N"] for r in crack_rows[q]] for q in (0.0, 0.05e-3, 1e-3, 2e-3)])
-    assert np.all(c[3] / c[0] - 1 > 0.04)
+    c = np.array([[r["c_pair_m_per_N"] for r in crack_rows[q]] for q in (0.0, 0.05e-3, 2e-3)])
+    assert np.all(c[2] / c[0] - 1 > 0.04)
     assert np.max(np.abs(c[1] / c[0] - 1)) < 5e-4
-    assert np.all(np.diff(c[1:], axis=0) > 0) and np.all(c[2] > c[0])
+    assert np.all(np.diff(c, axis=0) > 0)
 
 
 def test_positions_on_a_process_pool_give_the_serial_result_to_the_bit():
