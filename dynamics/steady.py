@@ -145,6 +145,7 @@ class SteadyState:
     periods_integrated: int      # table periods integrated before the kept window
     converged: bool
     z_end: np.ndarray            # state at the end of the kept window (whole table periods)
+    integration_wall_s: float = 0.0  # integration wall time of every chunk and the kept window
 
 
 def _chunk(model: GearDynamics, z, n_table: int, sim: dict, samples: int) -> SimResult:
@@ -186,9 +187,11 @@ def steady_state(model: GearDynamics, y0=None, *, tol: float = 1e-6, max_periods
     p_found = 0
     dist = math.inf
     scale = None
+    wall = 0.0
     while spent < max_periods:
         n = int(min(chunk_periods, max_periods - spent))
         res = _chunk(model, z, n, sim, 8)
+        wall += res.wall_s
         if not X:
             X.append(res.states[0].copy())
         X.extend(_sections(res, L))
@@ -221,12 +224,13 @@ def steady_state(model: GearDynamics, y0=None, *, tol: float = 1e-6, max_periods
         keep = -(-keep // p_found) * p_found
     S = int(samples_per_mesh_period or steps_per_mesh_period)
     res = _chunk(model, z, keep, sim, S)
+    wall += res.wall_s
     Xk = np.vstack([res.states[::S * L], res.z_end[None, :]])
     kscale = _group_scale(res.states)
     if converged:
         d = section_residuals(Xk, p_found, kscale)
         return SteadyState(res, "periodic", p_found, p_found * L, float(np.max(d)), dist, None, spent, True,
-                           res.z_end.copy())
+                           res.z_end.copy(), wall)
     # not periodic within the budget: the second half of the sections, settled as far as it goes
     seq = np.asarray(X)
     tail = seq[seq.shape[0] // 2:]
@@ -240,4 +244,4 @@ def steady_state(model: GearDynamics, y0=None, *, tol: float = 1e-6, max_periods
             label = "unsettled"
     d = section_residuals(Xk, max(p, 1), kscale)
     return SteadyState(res, label, p, p * L, float(np.max(d)) if d.size else math.inf, math.inf,
-                       k, spent, label == "periodic", res.z_end.copy())
+                       k, spent, label == "periodic", res.z_end.copy(), wall)
