@@ -309,10 +309,12 @@ def kv_figure(points: list[Point], chains: list[Chain], others: list[Axis], summ
             ax.plot([r["speed_rpm"] for r in rows], [r["K_v"] for r in rows], "-" if c.direction == "up" else "--",
                     color=col, lw=1.4, marker="." if c.direction == "up" else None, ms=4,
                     label=f"{lab}, sweep {c.direction}")
-        ax.plot(p.speeds, p.iso["K_v"], ":", color=col, lw=1.6, label=f"{lab}, ISO 6336-1 method B")
-        ax.axvline(p.iso["n_E1_rpm"], color=col, lw=0.8, ls="-.", alpha=0.7)
-        ax.text(p.iso["n_E1_rpm"], 1.0, " n_E1", color=col, fontsize=8, va="bottom",
-                transform=ax.get_xaxis_transform())
+        nE1 = p.iso["n_E1_rpm"]
+        ax.plot(p.speeds, p.iso["K_v"], ":", color=col, lw=1.6,
+                label=f"{lab}, ISO 6336-1 method B (n_E1 = {nE1:.0f} rpm)")
+        if p.speeds[0] <= nE1 <= p.speeds[-1]:
+            ax.axvline(nE1, color=col, lw=0.8, ls="-.", alpha=0.7)
+            ax.text(nE1, 0.93, " ISO n_E1", color=col, fontsize=8, va="bottom", transform=ax.get_xaxis_transform())
         for lo, hi in summ["points"][i].get("jump_bands_rpm", []):
             step = summ["speed_step_rpm"]
             ax.axvspan(lo - step / 2, hi + step / 2, color=col, alpha=0.15, lw=0)
@@ -348,16 +350,15 @@ def campbell_figure(points: list[Point], chains: list[Chain], others: list[Axis]
         im = ax.pcolormesh(n, np.arange(1, N_HARMONICS + 1), np.maximum(A, lo), shading="nearest",
                            norm=LogNorm(vmin=lo, vmax=max(float(A.max()), lo * 10)), cmap="viridis")
         z1 = p.scene.pair.teeth[0]
-        for f in sorted(set(round(x, 6) for x in p.eigenfrequencies_Hz)):
-            ax.plot(n, 60 * f / (z1 * n), color="w", lw=0.8, ls="--")
-            ax.text(n[-1], min(60 * f / (z1 * n[-1]), N_HARMONICS), f" {f:.0f} Hz", color="k", fontsize=7,
-                    va="center")
+        for j, f in enumerate(sorted(set(round(x, 6) for x in p.eigenfrequencies_Hz))):
+            ax.plot(n, 60 * f / (z1 * n), color="w", lw=0.9, ls=("--", ":", "-.")[j % 3], label=f"{f:.0f} Hz")
+        ax.legend(fontsize=7, loc="upper right", title="linear modes", title_fontsize=7, framealpha=0.6)
         ax.set_ylim(0.5, N_HARMONICS + 0.5)
         ax.set_xlabel("pinion speed (rpm)")
         ax.set_ylabel("mesh harmonic order k")
         ax.set_title(f"{_label(p, others)}, sweep {direction}", fontsize=9)
         fig.colorbar(im, ax=ax, label="delta harmonic amplitude (um)")
-    fig.suptitle("Campbell map of the dynamic transmission error; dashed: k f_m = linear mode", fontsize=10)
+    fig.suptitle("Campbell map of the dynamic transmission error; white: k f_m = a linear mode", fontsize=10)
     fig.tight_layout()
     return fig
 
