@@ -48,6 +48,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 from gearwear.core.validation import fail
 from gearwear.geometry.kinematics import MeshGeometry
@@ -282,9 +283,9 @@ def cv_coefficients(eps_gamma: float) -> tuple[float, float, float, float, float
 @dataclass(frozen=True)
 class IsoDynamicFactor:
     """ISO 6336-1 method B dynamic factor over pinion speeds (arrays follow ``speed_rpm``)."""
-    speed_rpm: object          # array (min^-1)
-    K_v: object                # array
-    N: object                  # array, resonance ratio n1 / n_E1
+    speed_rpm: Any             # numpy array (min^-1)
+    K_v: Any                   # numpy array
+    N: Any                     # numpy array, resonance ratio n1 / n_E1
     range_name: tuple          # per speed: one of KV_RANGES
     n_E1_rpm: float
     N_S: float

@@ -112,8 +112,8 @@ def iso_curve(scene: Scene, k_mean_N_per_m: float, m_e_kg: float, speeds_rpm) ->
     y_f = doc.y_f_um if doc.y_f_um is not None else min(0.075 * f_fa, 3.0)
     C_a = doc.C_a_um
     if C_a is None:
-        tip = scene.flank.tip_relief if scene.flank is not None else None
-        C_a = max(tip.amount_m) * 1e6 if tip is not None else 0.0
+        tips = [r for r in (scene.flank.tip_relief if scene.flank is not None else ()) if r is not None]
+        C_a = max(r.amount_m for r in tips) * 1e6 if tips else 0.0
     c_gamma = k_mean_N_per_m / (b_mm * 1e6)   # N/m -> N/(mm um) per mm of face width
     m_red = m_e_kg / b_mm
     r = dynamic_factor(speeds_rpm, pair.teeth[0], c_gamma, iso.c_prime_low_load, m_red,
@@ -146,7 +146,8 @@ def plan(raw: dict[str, Any], name: str, speed: Axis, others: list[Axis], fixed:
             raise InputError("operating.torque_Nm = 0 N m: a run-up needs a load (K_v = max F_m / static F)")
         stiff = stiffness_input(scene)
         model = build_model(scene, stiff)
-        solver = {k: scene.solver[k] for k in ("method", "steps_per_mesh_period", "rtol", "atol") if k in scene.solver}
+        solver: dict[str, Any] = {k: scene.solver[k] for k in ("method", "steps_per_mesh_period", "rtol", "atol")
+                                  if k in scene.solver}
         points.append(Point(values, scene, model, solver, iso_curve(scene, stiff.mean_N_per_m, model.m_e, speed.values),
                             [float(f) for f in linear_eigenfrequencies(model)], speed.values))
     dirs = ("up", "down") if direction == "both" else (direction,)
