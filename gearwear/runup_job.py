@@ -136,14 +136,17 @@ def plan(raw: dict[str, Any], name: str, speed: Axis, others: list[Axis], fixed:
 
     if direction not in DIRECTIONS:
         raise InputError(f"--direction = {direction!r}: must be one of {', '.join(DIRECTIONS)}")
-    points: list[Point] = []
-    for values in grid(others) if others else [{}]:
+    scenes = []
+    for values in grid(others) if others else [{}]:  # every (point, speed) is a valid scene, before any work
         sets = point_sets(values, list(fixed))
-        for v in speed.values:  # every speed of the point is a valid scene
+        for v in speed.values[1:]:
             scene_from_dict(apply_overrides(raw, sets + [f"{SPEED_KEY}={_fmt(v)}"]), name=name)
         scene = scene_from_dict(apply_overrides(raw, sets + [f"{SPEED_KEY}={_fmt(speed.values[0])}"]), name=name)
         if not scene.operating.torque_Nm > 0:
             raise InputError("operating.torque_Nm = 0 N m: a run-up needs a load (K_v = max F_m / static F)")
+        scenes.append((values, scene))
+    points: list[Point] = []
+    for values, scene in scenes:
         stiff = stiffness_input(scene)
         model = build_model(scene, stiff)
         solver: dict[str, Any] = {k: scene.solver[k] for k in ("method", "steps_per_mesh_period", "rtol", "atol")
