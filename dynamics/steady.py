@@ -19,8 +19,9 @@ sequence X_0, X_1, ... repeats, and labels what it found:
   relative mesh displacement delta at the sections separates regular (K ~ 0) from
   chaotic (K ~ 1) motion; K >= 0.5 is chaotic.
 * **unsettled** when the p = 1 residual is still falling steadily at the end of the budget
-  (a lightly damped transient that needs more periods), rather than calling a slow decay
-  quasi-periodic.
+  (its maximum falls from each quarter of the second half to the next, by more than half in
+  all: a lightly damped transient that needs more periods), rather than calling a slow
+  decay quasi-periodic.
 
 Natural continuation: the state handed to the next speed is the end of the kept window,
 a whole number of table periods after t = 0, so the stiffness phase omega t at the new
@@ -58,9 +59,10 @@ CONTRACTION_FLOOR = 0.01
 #: many tol: a transient decaying at a frequency near a fraction of the excitation's also
 #: nearly repeats after p periods, while a true subharmonic keeps r_1 of order 1
 SUBHARMONIC_MARGIN = 1e3
-#: a p = 1 residual that fell by more than this factor over the second half of the budget
-#: is a transient still decaying ("unsettled"), not a quasi-periodic motion
-UNSETTLED_DROP = 1e-2
+#: a p = 1 residual that fell in each quarter of the second half of the budget, and by more
+#: than this factor over it, is a transient still decaying ("unsettled"), not a
+#: quasi-periodic motion (whose residual does not trend)
+UNSETTLED_DROP = 0.5
 
 
 def _group_scale(states: np.ndarray) -> np.ndarray:
@@ -237,10 +239,9 @@ def steady_state(model: GearDynamics, y0=None, *, tol: float = 1e-6, max_periods
     obs = mesh_geometry(model, tail)[0]
     label, p, r, k = classify_sequence(tail, obs, scale if scale is not None else kscale, tol, p_max)
     d1 = section_residuals(tail, 1, scale if scale is not None else kscale)
-    if label != "periodic" and d1.size >= 8:
-        h = d1.size // 4
-        first, last = float(np.max(d1[:h])), float(np.max(d1[-h:]))
-        if first > 0 and last < UNSETTLED_DROP * first:
+    if label == "quasi-periodic" and d1.size >= 8:  # a decaying transient is regular (K ~ 0)
+        q = [float(np.max(part)) for part in np.array_split(d1, 4)]
+        if all(b < a for a, b in zip(q, q[1:])) and q[-1] < UNSETTLED_DROP * q[0]:
             label = "unsettled"
     d = section_residuals(Xk, max(p, 1), kscale)
     return SteadyState(res, label, p, p * L, float(np.max(d)) if d.size else math.inf, math.inf,

@@ -192,6 +192,15 @@ def test_backlash_jump_band_is_located_and_stays_put_when_the_grid_is_halved():
     assert all(u.result.separation_fraction == 0.0 for u, i in zip(up, inside) if i)
 
 
+def test_a_slowly_decaying_transient_is_unsettled_not_quasi_periodic():
+    """A linear pair has one periodic response; with 0.2 % damping at 12 000 rpm (a decay
+    time of ~300 mesh periods) 400 periods do not reach it, and the steadily falling
+    residual must say so rather than pass for quasi-periodic motion."""
+    m = paper_pair(40.0, 12000.0, zeta_m=0.002, zeta_b=0.002)
+    s = steady_state(m, tol=1e-9, max_periods=400)
+    assert s.label == "unsettled" and not s.converged and s.period_mesh_periods == 0
+
+
 @pytest.mark.parametrize("bad", [dict(tol=0.0), dict(max_periods=0), dict(chunk_periods=1), dict(p_max=0)])
 def test_bad_settings_are_one_line_errors(bad):
     from gearwear.core.validation import InputError
