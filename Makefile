@@ -52,6 +52,9 @@ report: $(STAMP)
 	$(VENV)/bin/gearwear stiffness --clearance-um 0 25 50 75 100 --out reports/stiffness_clearance
 	$(VENV)/bin/gearwear stiffness --method fem --wear unworn mild severe --out reports/stiffness_fem
 	GEARWEAR_CACHE=$(CURDIR)/.gearwear-cache $(VENV)/bin/gearwear calibrate --wear unworn mild severe --out reports/calibrated
+	$(VENV)/bin/gearwear runup examples/runup_backlash.toml --set operating.speed_rpm=1000:3000:41 --out reports/runup/backlash_50rpm
+	$(VENV)/bin/gearwear runup examples/runup_backlash.toml --set operating.speed_rpm=1000:3000:81 --out reports/runup/backlash_25rpm
+	$(VENV)/bin/gearwear runup paper-default --set operating.speed_rpm=1000:12000:111 --out reports/runup/paper_default
 	for s in tip_relief measured_deviation root_crack spall; do \
 	  $(VENV)/bin/gearwear stiffness examples/$$s.toml --out reports/examples/$$s/stiffness || exit 1; \
 	  $(VENV)/bin/gearwear simulate examples/$$s.toml --out reports/examples/$$s/simulate || exit 1; \

@@ -48,6 +48,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 from gearwear.core.validation import fail
 from gearwear.geometry.kinematics import MeshGeometry
@@ -226,3 +227,116 @@ def iso6336_stiffness(pair: PairSpec, torque_Nm: float | None = None,
         face_width_mm=b_mm, line_load_N_per_mm=line_load,
         in_fit_range=bool(x1 >= x2 and -0.5 <= x1 + x2 <= 2.0),
     )
+
+
+# -- dynamic factor K_v, method B (ISO 6336-1:2006 clause 6.5) --------------------------------
+#
+# Resonance speed and ratio:
+#     n_E1 = 30000 / (pi z1) sqrt(c_gamma / m_red)      [min^-1]; c_gamma N/(mm um), m_red kg/mm
+#     N    = n1 / n_E1
+# m_red is the mass of the pair per unit face width reduced to the line of action,
+# m1* m2* / (m1* + m2*) with m* = J* / r_b^2 (J* the polar moment of inertia per face width).
+# Lower limit of the main resonance range (w = F_t K_A / b in N/mm):
+#     N_S = 0.5 + 0.35 sqrt(w / 100) for w < 100 N/mm, else 0.85
+# With B_p = c' f_pb,eff / w, B_f = c' f_f,eff / w, B_k = |1 - c' C_a / w|,
+# f_pb,eff = f_pb - y_p and f_f,eff = f_f - y_f (after running-in):
+#     subcritical      N <= N_S:        K_v = N K + 1,  K = C_v1 B_p + C_v2 B_f + C_v3 B_k
+#     main resonance   N_S < N <= 1.15: K_v = C_v1 B_p + C_v2 B_f + C_v4 B_k + 1
+#     supercritical    N >= 1.5:        K_v = C_v5 B_p + C_v6 B_f + C_v7
+#     intermediate     1.15 < N < 1.5:  K_v = K_v(1.5) + (K_v(1.15) - K_v(1.5)) (1.5 - N) / 0.35
+# C_v1..C_v7 depend on the total contact ratio eps_gamma (eps_alpha for spur gears), see
+# :func:`cv_coefficients`. The equations and coefficients here agree with two independent
+# implementations of the 2006 edition read for this module; no copy of the standard was at
+# hand, and no worked example with every input and its printed K_v was found (tests check
+# each range by hand and the continuity at the range boundaries instead).
+
+#: ISO 6336-1 speed ranges, by resonance ratio N
+KV_RANGES = ("subcritical", "main resonance", "intermediate", "supercritical")
+
+
+def resonance_speed_rpm(z1: int, c_gamma_N_per_mm_um: float, m_red_kg_per_mm: float) -> float:
+    """n_E1 = 30000 / (pi z1) sqrt(c_gamma / m_red) in min^-1 (ISO 6336-1 method B): the
+    pinion speed whose mesh frequency is the natural frequency sqrt(k / m_e) / (2 pi) of
+    the pair's relative torsional vibration on rigid bearings."""
+    if not (c_gamma_N_per_mm_um > 0 and m_red_kg_per_mm > 0 and z1 > 0):
+        raise ValueError("resonance_speed_rpm: z1, c_gamma and m_red must be > 0")
+    return 30000.0 / (math.pi * z1) * math.sqrt(c_gamma_N_per_mm_um / m_red_kg_per_mm)
+
+
+def cv_coefficients(eps_gamma: float) -> tuple[float, float, float, float, float, float, float]:
+    """(C_v1, ..., C_v7) of ISO 6336-1 method B for the total contact ratio eps_gamma > 1:
+    constants 0.32, 0.34, 0.23, 0.90, 0.47, 0.47 up to eps_gamma = 2; beyond it
+    C_v2 = 0.57/(eps - 0.3), C_v3 = 0.096/(eps - 1.56), C_v4 = (0.57 - 0.05 eps)/(eps - 1.44),
+    C_v6 = 0.12/(eps - 1.74); C_v7 = 0.75 up to 1.5, 0.125 sin(pi (eps - 2)) + 0.875 up to
+    2.5, then 1."""
+    e = float(eps_gamma)
+    if not e > 1.0:
+        raise ValueError(f"eps_gamma = {e:g}: ISO 6336-1 method B needs a contact ratio > 1")
+    if e <= 2.0:
+        c2, c3, c4, c6 = 0.34, 0.23, 0.90, 0.47
+    else:
+        c2, c3, c4, c6 = 0.57 / (e - 0.3), 0.096 / (e - 1.56), (0.57 - 0.05 * e) / (e - 1.44), 0.12 / (e - 1.74)
+    c7 = 0.75 if e <= 1.5 else (0.125 * math.sin(math.pi * (e - 2.0)) + 0.875 if e <= 2.5 else 1.0)
+    return 0.32, c2, c3, c4, 0.47, c6, c7
+
+
+@dataclass(frozen=True)
+class IsoDynamicFactor:
+    """ISO 6336-1 method B dynamic factor over pinion speeds (arrays follow ``speed_rpm``)."""
+    speed_rpm: Any             # numpy array (min^-1)
+    K_v: Any                   # numpy array
+    N: Any                     # numpy array, resonance ratio n1 / n_E1
+    range_name: tuple          # per speed: one of KV_RANGES
+    n_E1_rpm: float
+    N_S: float
+    B_p: float
+    B_f: float
+    B_k: float
+    C_v: tuple
+    line_load_N_per_mm: float  # w = F_t K_A / b
+
+
+def dynamic_factor(speed_rpm, z1: int, c_gamma_N_per_mm_um: float, c_prime_N_per_mm_um: float,
+                   m_red_kg_per_mm: float, line_load_N_per_mm: float, f_pb_eff_um: float,
+                   f_f_eff_um: float, C_a_um: float, eps_gamma: float) -> IsoDynamicFactor:
+    """K_v of ISO 6336-1 method B at each pinion speed (equations above the function).
+
+    ``line_load_N_per_mm`` = F_t K_A / b with F_t the nominal tangential load at the
+    reference circle; stiffnesses per unit face width in N/(mm um); deviations in um."""
+    import numpy as np
+
+    if not line_load_N_per_mm > 0:
+        raise ValueError(f"line load = {line_load_N_per_mm:g} N/mm: must be > 0")
+    n = np.atleast_1d(np.asarray(speed_rpm, float))
+    w = float(line_load_N_per_mm)
+    nE1 = resonance_speed_rpm(z1, c_gamma_N_per_mm_um, m_red_kg_per_mm)
+    N = n / nE1
+    NS = 0.5 + 0.35 * math.sqrt(w / 100.0) if w < 100.0 else 0.85
+    cv = cv_coefficients(eps_gamma)
+    c1, c2, c3, c4, c5, c6, c7 = cv
+    cp = float(c_prime_N_per_mm_um)
+    Bp = cp * max(f_pb_eff_um, 0.0) / w
+    Bf = cp * max(f_f_eff_um, 0.0) / w
+    Bk = abs(1.0 - cp * C_a_um / w)
+    k_sub = c1 * Bp + c2 * Bf + c3 * Bk
+    kv_main = c1 * Bp + c2 * Bf + c4 * Bk + 1.0
+    kv_super = c5 * Bp + c6 * Bf + c7
+    kv_inter = kv_super + (kv_main - kv_super) * (1.5 - N) / 0.35
+    conds = [N <= NS, N <= 1.15, N < 1.5]
+    K_v = np.select(conds, [N * k_sub + 1.0, np.full_like(N, kv_main), kv_inter], kv_super)
+    names = tuple(np.select(conds, list(KV_RANGES[:3]), KV_RANGES[3]).tolist())
+    return IsoDynamicFactor(n, K_v, N, names, nE1, NS, Bp, Bf, Bk, cv, w)
+
+
+def iso1328_deviations_um(module_m: float, reference_diameter_m: float, grade: int) -> tuple[float, float]:
+    """(f_pt, f_f_alpha) in um of ISO 1328-1:1995 accuracy ``grade`` (1-12): the grade-5
+    values f_pt = 0.3 (m + 0.4 sqrt(d)) + 4 and f_f_alpha = 2.5 sqrt(m) + 0.17 sqrt(d) + 0.5
+    (m, d in mm) times 2^((Q - 5) / 2), rounded as ISO 1328-1 prescribes (above 10 um to
+    whole um, 5-10 um to 0.5 um, below 5 um to 0.1 um)."""
+    m, d = module_m * 1e3, reference_diameter_m * 1e3
+    step = 2.0 ** ((grade - 5) / 2.0)
+
+    def rnd(x: float) -> float:
+        q = 1.0 if x > 10 else (0.5 if x >= 5 else 0.1)
+        return round(round(x / q) * q, 1)
+    return rnd((0.3 * (m + 0.4 * math.sqrt(d)) + 4.0) * step), rnd((2.5 * math.sqrt(m) + 0.17 * math.sqrt(d) + 0.5) * step)

@@ -359,21 +359,17 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
 
     data, name = load_scene_dict(args.scene, default="paper-wear-severe")
     out = _check_out(args.out, "sweep")
-    axes, fixed = [], []
-    for item in _alias_sets(args):
-        spec = item.split("=", 1)[1].strip() if "=" in item else ""
-        if spec[:1] in "[{\"'" or ("," not in spec and spec.count(":") != 2):
-            fixed.append(item)
-        else:
-            axes.append(sweep.parse_axis(item))
+    axes, fixed = sweep.split_sets(_alias_sets(args))
     from .scene import apply_overrides, scene_from_dict
     scene_from_dict(apply_overrides(data, fixed), name=name)  # the fixed keys are checked first
     if not axes:
         raise InputError("--set: give at least one swept key, KEY=START:STOP:N or KEY=a,b,c")
     workers = _int_arg("--workers", args.workers, 1, 1024) if args.workers else None
     executor = sweep.make_executor(workers, args.scheduler)
-    results = sweep.sweep(data, name, axes, fixed, executor=executor, progress=not args.json)
-    executor.shutdown()
+    try:
+        results = sweep.sweep(data, name, axes, fixed, executor=executor, progress=not args.json)
+    finally:
+        executor.shutdown()
     base = scene_from_dict(apply_overrides(data, fixed), name=name)  # the scene every point starts from
     inputs = {**io.scene_inputs(base), "axes": {a.key: list(a.values) for a in axes}}
     labels = {**io.scene_labels(base), "fixed": fixed}
@@ -389,6 +385,64 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
             fm = r["harmonics"].get("F_m_N")
             extra = f"  F_m harmonics 1-4 (N): {', '.join(f'{x:.3g}' for x in fm[:4])}" if fm else ""
             print(f"{pt}: separation {100 * r['separation_fraction']:.2f} %{extra}")
+        for f in files:
+            print(f"wrote {f}")
+    return 0
+
+
+def _cmd_runup(args: argparse.Namespace) -> int:
+    import time
+
+    from . import runup_job
+    from . import sweep_job as sweep
+    from .scene import apply_overrides, load_scene_dict, scene_from_dict
+
+    data, name = load_scene_dict(args.scene, default="paper-default")
+    out = _check_out(args.out, "runup")
+    axes, fixed = sweep.split_sets(_alias_sets(args))
+    scene_from_dict(apply_overrides(data, fixed), name=name)  # the fixed keys are checked first
+    speed, others = runup_job.split_speed_axis(axes)
+    settings = runup_job.Settings(
+        tol=_bounded_float("--tolerance", args.tolerance, "", 1e-12, 1e-2),
+        max_periods=_int_arg("--max-periods", args.max_periods, 2, 1_000_000),
+        keep_periods=_int_arg("--keep-periods", args.keep_periods, 1, 100_000),
+        jump_tol=_bounded_float("--jump-tolerance", args.jump_tolerance, "", 1e-9, 1.0))
+    workers = _int_arg("--workers", args.workers, 1, 1024) if args.workers else None
+    t0 = time.perf_counter()
+    points, chains = runup_job.plan(data, name, speed, others, fixed, args.direction)
+    executor = sweep.make_executor(workers, args.scheduler)
+    try:
+        runup_job.run(points, chains, settings, executor, progress=not args.json)
+    finally:
+        executor.shutdown()
+    wall = time.perf_counter() - t0
+    summ = runup_job.summary(points, chains, speed, others, settings)
+    base = points[0].scene
+    inputs = {**io.scene_inputs(base), "speeds_rpm": list(speed.values),
+              "axes": {a.key: list(a.values) for a in others}, "direction": args.direction,
+              "settings": settings.__dict__}
+    labels = {**io.scene_labels(base), "fixed": fixed}
+    files = _write(out, "runup", base, {**inputs, "fixed": fixed},
+                   lambda d: runup_job.write(points, chains, speed, others, summ, d, inputs, labels),
+                   {"total_s": wall, "chains": [{"point": points[c.point_index].values, "direction": c.direction,
+                                                 "integration_s": sum(r["integration_wall_s"] for r in c.rows)}
+                                                for c in chains]})
+    summ["files"] = [str(f) for f in files]
+    summ["wall_s"] = wall
+    if args.json:
+        print(io.json_text(summ, indent=None))
+    else:
+        for p in summ["points"]:
+            iso = p["iso6336"]
+            print(f"point {p['point'] or '-'}: ISO 6336 n_E1 = {iso['n_E1_rpm']:.0f} rpm; linear modes "
+                  f"{', '.join(f'{f:.1f}' for f in p['linear_eigenfrequencies_Hz'])} Hz")
+            for d, r in p["directions"].items():
+                print(f"  sweep {d}: K_v max {r['K_v_max']:.4f} at {r['K_v_max_speed_rpm']:g} rpm; "
+                      f"{', '.join(f'{k} {v}' for k, v in sorted(r['labels'].items()))}")
+            if "jump_bands_rpm" in p:
+                bands = "; ".join(f"{lo:g}-{hi:g} rpm" for lo, hi in p["jump_bands_rpm"]) or "none"
+                print(f"  jump bands (up and down K_v differ by > {settings.jump_tol:g}): {bands}")
+        print(f"wall time {wall:.1f} s")
         for f in files:
             print(f"wrote {f}")
     return 0
@@ -485,6 +539,10 @@ def _print_geometry(s: dict) -> None:
         print(f"wrote {f}")
 
 
+SCHEDULER_HELP = ("run on Dask instead of local processes: local[:N] starts a LocalCluster of N worker processes "
+                  "(default: all cores) on 127.0.0.1 for this run, ADDRESS (tcp://host:8786) connects to a running "
+                  "scheduler; needs the optional extra gearwear[dask]")
+
 SET_HELP = ("override a scene key by its dotted path, e.g. --set operating.speed_rpm=6000 "
             "--set effects.backlash.initial_um=50 (repeatable; validated like the file; see gearwear scene --schema)")
 
@@ -504,6 +562,12 @@ def _scene_options(sp: argparse.ArgumentParser, default: str, multi: bool = Fals
                         f"effects.bearing_clearance.clearance_um=X, bearing radial clearance in um{many}")
     if "torque" in aliases:
         sp.add_argument("--torque-Nm", help="alias of --set operating.torque_Nm=X, pinion torque in N m")
+
+
+def runup_directions() -> tuple[str, ...]:
+    from .runup_job import DIRECTIONS
+
+    return DIRECTIONS
 
 
 class _Parser(argparse.ArgumentParser):
@@ -592,10 +656,35 @@ def build_parser() -> argparse.ArgumentParser:
                                     "point) and harmonics-versus-parameter PNGs (paper Figs. 8-14, 19-25).")
     _scene_options(sw, "paper-wear-severe")
     sw.add_argument("--workers", help="local worker processes (default: all cores)")
-    sw.add_argument("--scheduler", help="Dask scheduler ADDRESS (needs the optional extra gearwear[dask])")
+    sw.add_argument("--scheduler", help=SCHEDULER_HELP)
     sw.add_argument("--out", help="output folder")
     sw.add_argument("--json", action="store_true", help="print one JSON object")
     sw.set_defaults(func=_cmd_sweep)
+
+    ru = sub.add_parser("runup", help="speed run-up/down with natural continuation: K_v, jumps, ISO 6336 K_v",
+                        description="Run a scene over a speed range, each speed starting from the steady state of "
+                                    "the previous one: --set operating.speed_rpm=START:STOP:N (other swept keys give "
+                                    "independent run-ups). Steady state is detected (Poincare-section residual) and "
+                                    "labelled periodic, quasi-periodic or chaotic. Writes runup.csv (K_v, DTE, "
+                                    "contact loss, harmonics 1-10 per speed), runup_summary.json (jump bands, ISO "
+                                    "6336-1 n_E1) and the K_v and Campbell plots.")
+    _scene_options(ru, "paper-default")
+    ru.add_argument("--direction", default="both", choices=runup_directions(),
+                    help="sweep up, down or both (default both: the jump band is where they differ)")
+    ru.add_argument("--tolerance", default="1e-6", help="periodicity tolerance of the steady state: estimated "
+                    "distance of the Poincare section from the periodic orbit, relative to the motion's range "
+                    "(default 1e-6)")
+    ru.add_argument("--max-periods", default="1500", help="table periods integrated at most per speed before the "
+                    "kept window (default 1500); not settled by then: quasi-periodic, chaotic or unsettled")
+    ru.add_argument("--keep-periods", default="32", help="table periods in the kept window the metrics come from "
+                    "(default 32, rounded up to a multiple of the period found)")
+    ru.add_argument("--jump-tolerance", default="0.01", help="up and down K_v differing by more than this fraction "
+                    "mark a jump band (default 0.01)")
+    ru.add_argument("--workers", help="local worker processes (default: all cores)")
+    ru.add_argument("--scheduler", help=SCHEDULER_HELP)
+    ru.add_argument("--out", help="output folder")
+    ru.add_argument("--json", action="store_true", help="print one JSON object (the summary)")
+    ru.set_defaults(func=_cmd_runup)
 
     sc = sub.add_parser("scene", help="print a fully resolved scene (every default), the JSON Schema, or the "
                                       "built-in scene names",

@@ -51,6 +51,7 @@ OUTPUT_NAMES: dict[str, tuple[str, ...]] = {
     "calibrate": ("calibrated_*.csv", "calibrated_*.csv.json"),
     "simulate": ("signals.npz", "signals.csv", "signals.csv.json", "response.png", "spectrum.png", "summary.json"),
     "sweep": ("sweep.csv", "sweep.csv.json", "harmonics_*.png"),
+    "runup": ("runup.csv", "runup.csv.json", "runup_summary.json", "kv.png", "campbell_*.png"),
     "report paper": ("README.md", "fig[0-9][0-9]_*.png", "trends.json"),
 }
 

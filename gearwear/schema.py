@@ -277,6 +277,24 @@ class FaultsDoc(_Table):
     spall: SpallDoc | None = None
 
 
+class Iso6336Doc(_Table):
+    """Inputs of the ISO 6336-1 method B dynamic factor K_v that `gearwear runup` draws next to
+    its own (analytic.iso6336.dynamic_factor). Absent deviations come from the ISO 1328-1:1995
+    accuracy grade at the pinion's module and reference diameter (f_pb = f_pt cos alpha), absent
+    running-in allowances from ISO 6336-1 for case-hardened steel (0.075 of the deviation, at
+    most 3 um)."""
+    accuracy_grade: _num("", 1, 12, integer=True,  # type: ignore[valid-type]
+                         doc="ISO 1328-1:1995 accuracy grade of the deviations that are not given.") = 6
+    f_pb_um: _num("um", 0, 1000, doc="Transverse base pitch deviation f_pb (the larger of the pair).") = None  # type: ignore[valid-type]
+    f_f_um: _num("um", 0, 1000, doc="Profile form deviation f_f_alpha (the larger of the pair).") = None  # type: ignore[valid-type]
+    y_p_um: _num("um", 0, 1000, doc="Running-in allowance of the base pitch deviation y_p.") = None  # type: ignore[valid-type]
+    y_f_um: _num("um", 0, 1000, doc="Running-in allowance of the profile form deviation y_f.") = None  # type: ignore[valid-type]
+    C_a_um: _num("um", 0, 1000,  # type: ignore[valid-type]
+                 doc="Tip relief C_a; absent: the larger [flank] tip relief amount, else 0 (ISO would take "
+                     "the running-in amount C_ay, about 2 um for case-hardened steel).") = None
+    application_factor: _num("", 1, 10, doc="Application factor K_A.") = 1.0  # type: ignore[valid-type]
+
+
 SIGNALS = ("y_p", "x_p", "y_g", "x_g", "q", "delta", "F_m")
 
 
@@ -309,6 +327,7 @@ class SceneDoc(_Table):
     effects: EffectsDoc = PField(default_factory=EffectsDoc)  # type: ignore[arg-type]
     flank: FlankDoc | None = None
     faults: FaultsDoc | None = None
+    iso6336: Iso6336Doc | None = None
     solver: SolverDoc = PField(default_factory=SolverDoc)  # type: ignore[arg-type]
     output: OutputDoc = PField(default_factory=OutputDoc)  # type: ignore[arg-type]
 

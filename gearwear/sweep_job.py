@@ -3,8 +3,9 @@
 ``--set KEY=START:STOP:N`` sweeps a number linearly (N points), ``--set KEY=a,b,c``
 sweeps listed values (e.g. ``effects.wear.phase=unworn,mild,severe``); several
 --set give the Cartesian grid. Points run on a ``concurrent.futures``-style executor:
-local processes by default, or a Dask cluster's executor (``--scheduler ADDRESS``,
-optional extra ``dask[distributed]``). Each point is validated like a scene file.
+local processes by default, a Dask LocalCluster started for the run (``--scheduler
+local[:N]``) or an existing Dask cluster (``--scheduler ADDRESS``; optional extra
+``dask[distributed]``), see :func:`make_executor`. Each point is validated like a scene file.
 """
 
 from __future__ import annotations
@@ -53,6 +54,20 @@ def parse_axis(item: str) -> Axis:
     return Axis(key, values)
 
 
+def split_sets(items: list[str]) -> tuple[list[Axis], list[str]]:
+    """--set items as swept axes (KEY=START:STOP:N, KEY=a,b,c) and fixed overrides (the rest,
+    and any value that is a TOML array, table or string)."""
+    axes: list[Axis] = []
+    fixed: list[str] = []
+    for item in items:
+        spec = item.split("=", 1)[1].strip() if "=" in item else ""
+        if spec[:1] in "[{\"'" or ("," not in spec and spec.count(":") != 2):
+            fixed.append(item)
+        else:
+            axes.append(parse_axis(item))
+    return axes, fixed
+
+
 def grid(axes: list[Axis]) -> list[dict[str, Any]]:
     return [dict(zip([a.key for a in axes], combo)) for combo in itertools.product(*[a.values for a in axes])]
 
@@ -76,14 +91,85 @@ def run_point(raw: dict[str, Any], name: str, point: dict[str, Any], fixed: list
     return summary
 
 
-def make_executor(workers: int | None = None, scheduler: str | None = None) -> Executor:
-    if scheduler:
+class DaskExecutor(Executor):
+    """A Dask cluster as a plain ``concurrent.futures.Executor`` (its futures are
+    ``concurrent.futures.Future``), so every caller that takes an executor (sweeps, run-ups,
+    FE positions) runs on it unchanged. ``shutdown`` closes the client and, for a cluster
+    this process started (``--scheduler local``), the cluster and its workers."""
+
+    def __init__(self, client, cluster=None):
+        self.client = client
+        self.cluster = cluster
+        self._executor = client.get_executor()
+
+    def submit(self, fn, /, *args, **kwargs):  # type: ignore[override]
+        return self._executor.submit(fn, *args, **kwargs)
+
+    def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
         try:
-            from dask.distributed import Client
-        except ImportError:
-            raise InputError(f"--scheduler {scheduler}: Dask is not installed; pip install 'gearwear[dask]'") from None
-        return Client(scheduler).get_executor()
-    return ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1)
+            self._executor.shutdown(wait=wait)
+        finally:
+            self.client.close()
+            if self.cluster is not None:
+                self.cluster.close()
+
+
+#: --scheduler local:N accepts 1 .. this many worker processes
+MAX_LOCAL_WORKERS = 256
+
+
+def _local_workers(scheduler: str) -> int | None:
+    """N of ``local`` / ``local:N`` (None: the machine's cores); not a local spec -> -1."""
+    if scheduler == "local":
+        return None
+    if not scheduler.startswith("local:"):
+        return -1
+    text = scheduler.split(":", 1)[1]
+    try:
+        n = int(text)
+    except ValueError:
+        raise InputError(f"--scheduler = {scheduler!r}: local:N needs a whole number of workers N in "
+                         f"[1, {MAX_LOCAL_WORKERS}]") from None
+    if not 1 <= n <= MAX_LOCAL_WORKERS:
+        raise InputError(f"--scheduler = {scheduler!r}: N = {n} workers must be in [1, {MAX_LOCAL_WORKERS}]")
+    return n
+
+
+def make_executor(workers: int | None = None, scheduler: str | None = None) -> Executor:
+    """The executor that runs independent tasks (grid points, run-up chains, FE positions):
+
+    * no scheduler: local processes (``workers``, default all cores);
+    * ``local`` or ``local:N``: a ``dask.distributed.LocalCluster`` started here (N worker
+      processes, default the machine's cores, one thread each, on the loopback interface,
+      no dashboard), closed again by ``shutdown``;
+    * anything else: the address of a running Dask scheduler (``tcp://host:8786``).
+
+    Dask needs the optional extra ``gearwear[dask]`` (it is in the ``test`` extra too)."""
+    if not scheduler:
+        return ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1)
+    n = _local_workers(scheduler)
+    try:
+        from dask.distributed import Client, LocalCluster
+    except ImportError:
+        raise InputError(f"--scheduler {scheduler}: Dask is not installed; pip install 'gearwear[dask]'") from None
+    if n != -1:
+        import logging
+
+        # one thread per worker: the kernels are single-threaded numba code, and two threads
+        # in one process would share one GIL between their Python parts
+        cluster = LocalCluster(n_workers=n or os.cpu_count() or 1, threads_per_worker=1, processes=True,
+                               host="127.0.0.1", dashboard_address=None, silence_logs=logging.ERROR)
+        try:
+            return DaskExecutor(Client(cluster), cluster)
+        except BaseException:
+            cluster.close()
+            raise
+    try:
+        client = Client(scheduler, timeout="10s")
+    except (OSError, TimeoutError, ValueError) as exc:
+        raise InputError(f"--scheduler = {scheduler}: cannot connect to a Dask scheduler there "
+                         f"({type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''})") from None
+    return DaskExecutor(client)
 
 
 def sweep(raw: dict[str, Any], name: str, axes: list[Axis], fixed: list[str] | None = None,

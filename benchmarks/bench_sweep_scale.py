@@ -1,0 +1,116 @@
+"""Sweep scaling: 100 scenes of 1 s simulated each, on the local process pool and on a Dask
+LocalCluster, with 1 and 2 workers (``make bench``; nothing asserted).
+
+The scenes are the built-in ``paper-default`` (paper pair, analytic Ishikawa stiffness,
+RK4 256 steps per mesh period) at 100 torques from 20 to 40 N m, ``solver.duration_s = 1``
+(0.3 s discarded), run through ``gearwear.sweep_job.sweep`` exactly as ``gearwear sweep``
+does (every point: scene validation, stiffness table, model, integration, summary with
+exact harmonics and condition indicators). For each executor:
+
+* start-up: creating the executor and one warm-up task per worker (import, numba kernels
+  from the disk cache); a cluster's start-up is paid once per sweep;
+* run: wall time of the 100 points after start-up;
+* integration: the sum of the points' ``integration_wall_s`` (the compiled integrator alone);
+* overhead per scene = (run wall x workers - integration) / 100: everything a scene costs
+  beyond its integration (scene, stiffness table, summary, pickling, scheduling);
+* scaling 1 -> 2 workers = run wall with 1 / run wall with 2.
+
+The target is at most 20 s for the 100 scenes on this 2-core machine (start-up included).
+Writes benchmarks/results/bench_sweep_scale.json.
+"""
+
+from __future__ import annotations
+
+import datetime
+import json
+import logging
+import os
+import platform
+import sys
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+for p in (str(ROOT), str(HERE)):
+    if p not in sys.path:
+        sys.path.insert(0, p)
+
+from gearwear.scene import load_scene_dict  # noqa: E402
+from gearwear.sweep_job import DaskExecutor, parse_axis, sweep  # noqa: E402
+
+N_SCENES = 100
+FIXED = ["solver.duration_s=1.0", "solver.discard_s=0.3"]
+
+
+def warm() -> float:
+    """One short simulation in the worker: imports and kernels loaded before timing."""
+    from gearwear.scene import scene_from_dict
+    from gearwear.simulate_job import run
+
+    data, name = load_scene_dict("paper-default")
+    t0 = time.perf_counter()
+    run(scene_from_dict({**data, "solver": {"duration_s": 0.01, "discard_s": 0.0}}, name=name))
+    return time.perf_counter() - t0
+
+
+def executor(kind: str, workers: int):
+    if kind == "processes":
+        from concurrent.futures import ProcessPoolExecutor
+
+        return ProcessPoolExecutor(max_workers=workers)
+    from dask.distributed import Client, LocalCluster
+
+    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
+                           dashboard_address=None, silence_logs=logging.ERROR)
+    return DaskExecutor(Client(cluster), cluster)
+
+
+def measure(kind: str, workers: int) -> dict:
+    data, name = load_scene_dict("paper-default")
+    axes = [parse_axis(f"operating.torque_Nm=20:40:{N_SCENES}")]
+    t0 = time.perf_counter()
+    ex = executor(kind, workers)
+    try:
+        for f in [ex.submit(warm) for _ in range(2 * workers)]:
+            f.result()
+        t1 = time.perf_counter()
+        rows = sweep(data, name, axes, FIXED, executor=ex, progress=False)
+        t2 = time.perf_counter()
+    finally:
+        ex.shutdown()
+    integ = sum(r["integration_wall_s"] for r in rows)
+    run = t2 - t1
+    return {"executor": kind, "workers": workers, "startup_s": t1 - t0, "run_s": run, "total_s": t2 - t0,
+            "integration_s": integ, "overhead_per_scene_ms": 1e3 * (run * workers - integ) / N_SCENES,
+            "scenes": len(rows)}
+
+
+def main() -> None:
+    try:
+        import dask.distributed  # noqa: F401
+        kinds = ["processes", "dask"]
+    except ImportError:
+        print("dask.distributed not installed: only the process pool is measured (pip install 'gearwear[dask]')")
+        kinds = ["processes"]
+    res = [measure(k, w) for k in kinds for w in (1, 2)]
+    print(f"{N_SCENES} scenes of 1 s simulated (paper-default, RK4 256 steps/period), this machine "
+          f"({os.cpu_count()} cores)")
+    print(f"{'executor':<10}{'workers':>8}{'start-up s':>12}{'run s':>8}{'total s':>9}{'integration s':>15}"
+          f"{'overhead/scene ms':>19}")
+    for r in res:
+        print(f"{r['executor']:<10}{r['workers']:>8}{r['startup_s']:>12.2f}{r['run_s']:>8.2f}{r['total_s']:>9.2f}"
+              f"{r['integration_s']:>15.2f}{r['overhead_per_scene_ms']:>19.1f}")
+    for k in kinds:
+        one, two = (next(r for r in res if r["executor"] == k and r["workers"] == w) for w in (1, 2))
+        print(f"{k}: 1 -> 2 workers speed-up {one['run_s'] / two['run_s']:.2f} (run), "
+              f"{one['total_s'] / two['total_s']:.2f} (with start-up)")
+    out = HERE / "results" / "bench_sweep_scale.json"
+    out.parent.mkdir(exist_ok=True)
+    out.write_text(json.dumps({"date": datetime.date.today().isoformat(), "machine": platform.platform(),
+                               "cores": os.cpu_count(), "scenes": N_SCENES, "results": res}, indent=2) + "\n")
+    print(f"wrote {out.relative_to(ROOT)}")
+
+
+if __name__ == "__main__":
+    main()
