@@ -52,6 +52,8 @@ OUTPUT_NAMES: dict[str, tuple[str, ...]] = {
     "simulate": ("signals.npz", "signals.csv", "signals.csv.json", "response.png", "spectrum.png", "summary.json"),
     "sweep": ("sweep.csv", "sweep.csv.json", "harmonics_*.png"),
     "report paper": ("README.md", "fig[0-9][0-9]_*.png", "trends.json"),
+    "diagnose": ("diagnosis.json", "features.csv", "features.csv.json", "corner.png", "features.png"),
+    "diagnose plan": ("plan.json", "plan.csv", "plan.csv.json"),
 }
 
 
