@@ -131,12 +131,12 @@ def verdict(ft: Fit, rel: float, floor_frac: float, kind: str) -> dict[str, Any]
         else:
             others = [k for k in range(len(names)) if k != j]
             partner = max(others, key=lambda k: abs(corr[j, k])) if others else None
-            if partner is not None and abs(corr[j, partner]) >= dp.TRADE_OFF_CORRELATION and \
-                    here["conditional"][j] <= dp.RESOLVED_FRACTION:
+            if partner is not None and here["conditional"][j] <= dp.RESOLVED_FRACTION:
                 d["reason"] = "trade-off"
                 d["trades_off_with"] = names[partner]
+                known = names[partner] if len(others) == 1 else "the other unknowns"
                 why = (f"it trades off with {names[partner]} (posterior correlation {corr[j, partner]:+.2f}); "
-                       f"with {names[partner]} known it would span {100 * here['conditional'][j]:.0f} %")
+                       f"with {known} known it would span {100 * here['conditional'][j]:.0f} % (Cramer-Rao)")
             else:
                 d["reason"] = "insensitive"
                 why = ("the measured features hardly respond to it "
@@ -157,18 +157,19 @@ def verdict(ft: Fit, rel: float, floor_frac: float, kind: str) -> dict[str, Any]
 def resolving_measurement(sur: Surrogate, est: np.ndarray, ft: Fit, j: int, rel: float, floor_frac: float,
                           kind: str) -> dict[str, Any]:
     """The smallest added measurement (of :func:`candidate_groups`; fewest new features,
-    then the narrowest interval) whose Cramer-Rao interval for unknown j reaches
-    RESOLVED_FRACTION; {} if none does."""
+    then one of a signal already measured, then the narrowest interval) whose Cramer-Rao
+    interval for unknown j reaches RESOLVED_FRACTION; {} if none does."""
     measured_var = dict(zip(ft.features, ft.var_noise))
+    have = {s for s, _ in ft.features}
     found = []
     for label, group in candidate_groups(ft.features, sur.harmonics, kind):
         new = [f for f in group if f not in measured_var]
         w = float(expected_widths(sur, est, ft.features + new, rel, floor_frac, measured_var)["marginal"][j])
         if w <= dp.RESOLVED_FRACTION:
-            found.append((len(new), w, label))
+            found.append((len(new), not all(s in have for s, _ in new), w, label))
     if not found:
         return {}
-    n, w, label = min(found)
+    _, _, w, label = min(found)
     return {"measurement": label, "expected_fraction_of_prior": w}
 
 

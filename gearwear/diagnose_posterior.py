@@ -35,7 +35,6 @@ import numpy as np
 
 LOG_TAIL = 25.0            # zoom onto log p > max - LOG_TAIL
 RESOLVED_FRACTION = 0.5    # resolved: the 95 % interval spans at most this fraction of the prior range
-TRADE_OFF_CORRELATION = 0.8
 Z95 = 1.959964
 
 
