@@ -52,6 +52,10 @@ report: $(STAMP)
 	$(VENV)/bin/gearwear stiffness --clearance-um 0 25 50 75 100 --out reports/stiffness_clearance
 	$(VENV)/bin/gearwear stiffness --method fem --wear unworn mild severe --out reports/stiffness_fem
 	GEARWEAR_CACHE=$(CURDIR)/.gearwear-cache $(VENV)/bin/gearwear calibrate --wear unworn mild severe --out reports/calibrated
+	GEARWEAR_CACHE=$(CURDIR)/.gearwear-cache $(VENV)/bin/gearwear diagnose examples/diagnose/scene.toml --measured examples/diagnose/measured_timeseries.csv --out reports/diagnose/timeseries
+	GEARWEAR_CACHE=$(CURDIR)/.gearwear-cache $(VENV)/bin/gearwear diagnose examples/diagnose/scene.toml --measured examples/diagnose/measured_harmonics.csv --out reports/diagnose/harmonics
+	GEARWEAR_CACHE=$(CURDIR)/.gearwear-cache $(VENV)/bin/gearwear diagnose examples/diagnose/scene.toml --measured examples/diagnose/measured_timeseries.csv --unknowns wear,clearance,torque --out reports/diagnose/torque
+	GEARWEAR_CACHE=$(CURDIR)/.gearwear-cache $(VENV)/bin/gearwear diagnose --plan examples/diagnose/scene.toml --out reports/diagnose/plan
 	for s in tip_relief measured_deviation root_crack spall; do \
 	  $(VENV)/bin/gearwear stiffness examples/$$s.toml --out reports/examples/$$s/stiffness || exit 1; \
 	  $(VENV)/bin/gearwear simulate examples/$$s.toml --out reports/examples/$$s/simulate || exit 1; \
