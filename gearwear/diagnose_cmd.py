@@ -18,7 +18,7 @@ import math
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 from gearwear.core.validation import InputError
 
@@ -148,7 +148,7 @@ def diagnose(spec: ds.BuildSpec, measured: str, rel: float, floor_frac: float, w
         ex.shutdown()
     t1 = time.perf_counter()
     ft = dj.fit(sur, meas.values, rel, floor_frac)
-    ver = dj.verdict(ft, rel, floor_frac, meas.kind)
+    ver = dj.verdict(ft, rel, floor_frac)
     info = {"file": Path(measured).name, "sha256": io.file_sha256(measured), "kind": meas.kind,
             "features": len(ft.features), "signals": meas.signals, **meas.info}
     doc = dj.document(ft, ver, info, rel, floor_frac, spec.name)

@@ -75,7 +75,7 @@ def fit(sur: Surrogate, values: dict[Feature, float], rel: float, floor_frac: fl
 
 # -- identifiability ----------------------------------------------------------------------
 
-def candidate_groups(measured: list[Feature], harmonics: int, kind: str) -> list[tuple[str, list[Feature]]]:
+def candidate_groups(measured: list[Feature], harmonics: int) -> list[tuple[str, list[Feature]]]:
     """Measurements one could add: the mean of a displacement or force (a time series instead
     of a harmonic table), the harmonics of another signal, and all four signals as time series."""
     have = set(measured)
@@ -109,7 +109,7 @@ def expected_widths(sur: Surrogate, theta: np.ndarray, feats: list[Feature], rel
     return dp.fisher_widths(J, var, sur.hi - sur.lo)
 
 
-def verdict(ft: Fit, rel: float, floor_frac: float, kind: str) -> dict[str, Any]:
+def verdict(ft: Fit, rel: float, floor_frac: float) -> dict[str, Any]:
     """identifiable (each unknown -> bool), per-unknown reasons and advice, and one text."""
     sur, names = ft.sur, ft.names
     est = ft.estimate()
@@ -142,7 +142,7 @@ def verdict(ft: Fit, rel: float, floor_frac: float, kind: str) -> dict[str, Any]
                 why = ("the measured features hardly respond to it "
                        f"(even with the other unknowns known, the Cramer-Rao 95 % interval spans "
                        f"{100 * min(here['conditional'][j], 9.99):.0f} % of the prior range)")
-            advice = resolving_measurement(sur, est, ft, j, rel, floor_frac, kind)
+            advice = resolving_measurement(sur, est, ft, j, rel, floor_frac)
             d["would_resolve"] = advice
             lines.append(f"{u.name} cannot be resolved from this measurement (95 %: {span}): {why}. "
                          + (f"Measuring {advice['measurement']} would resolve it (expected 95 % interval "
@@ -154,15 +154,15 @@ def verdict(ft: Fit, rel: float, floor_frac: float, kind: str) -> dict[str, Any]
     return {"identifiable": ident, "details": details, "verdict": " ".join(lines)}
 
 
-def resolving_measurement(sur: Surrogate, est: np.ndarray, ft: Fit, j: int, rel: float, floor_frac: float,
-                          kind: str) -> dict[str, Any]:
+def resolving_measurement(sur: Surrogate, est: np.ndarray, ft: Fit, j: int, rel: float,
+                          floor_frac: float) -> dict[str, Any]:
     """The smallest added measurement (of :func:`candidate_groups`; fewest new features,
     then one of a signal already measured, then the narrowest interval) whose Cramer-Rao
     interval for unknown j reaches RESOLVED_FRACTION; {} if none does."""
     measured_var = dict(zip(ft.features, ft.var_noise))
     have = {s for s, _ in ft.features}
     found = []
-    for label, group in candidate_groups(ft.features, sur.harmonics, kind):
+    for label, group in candidate_groups(ft.features, sur.harmonics):
         new = [f for f in group if f not in measured_var]
         w = float(expected_widths(sur, est, ft.features + new, rel, floor_frac, measured_var)["marginal"][j])
         if w <= dp.RESOLVED_FRACTION:
@@ -211,7 +211,7 @@ def feature_rows(ft: Fit) -> list[dict[str, Any]]:
     est = ft.estimate()
     fitted = ft.sur.predict(est[None, :])[0, ft.idx]
     s = ft.sur.error(est[None, :], columns=ft.idx)[0]
-    tot = np.sqrt(ft.var_noise + ft.multiplicity * s ** 2)
+    tot = np.sqrt(ft.variance(est[None, :])[0])
     return [{"feature": feature_name(f), "signal": f[0], "harmonic": f[1], "measured": float(y),
              "fitted": float(fv), "sigma_noise": float(np.sqrt(vn)), "sigma_surrogate": float(np.sqrt(ft.multiplicity) * si),
              "residual_over_sigma": float((y - fv) / t)}

@@ -225,9 +225,11 @@ class Surrogate:
     Y: np.ndarray              # [Re c, Im c, means] at the design
     cv: np.ndarray             # cross-validation residuals of the features at the design (n, F)
     kappa: np.ndarray          # calibration factor per feature (F,)
-    heldout: dict[str, Any]    # held-out points, features, predictions and the stated errors
+    heldout: dict[str, Any]    # the stated errors against the held-out full simulations
     meta: dict[str, Any] = field(default_factory=dict)
     from_cache: bool = False
+    Xh: np.ndarray | None = None   # the held-out points and their [Re c, Im c, means]
+    Yh: np.ndarray | None = None
 
     def __post_init__(self):
         self._U = self.unit(self.X)
@@ -321,6 +323,7 @@ def fit(unknowns: list[Unknown], lo, hi, harmonics: int, X: np.ndarray, Y: np.nd
     s_h = probe.error(Xh)
     probe.kappa = calibrate((Ph - Fh) / np.where(s_h > 0, s_h, np.inf), feature_groups(harmonics))
     probe.heldout = heldout_summary(Xh, Fh, Ph, s_h * probe.kappa, harmonics)
+    probe.Xh, probe.Yh = Xh, Yh
     return probe
 
 
@@ -431,20 +434,16 @@ def build(spec: BuildSpec, executor: Executor | Callable[[], Executor | None] | 
             "design_wall_s": t1 - t0, "holdout_wall_s": t2 - t1}
     sur = fit(spec.unknowns, spec.lo, spec.hi, spec.harmonics, X, Y, Xh, Yh, meta)
     sur.meta["fit_wall_s"] = time.perf_counter() - t2
-    store(sur, inputs, Xh, Yh, folder)
+    store(sur, inputs, folder)
     sur.meta["build_wall_s"] = time.perf_counter() - t0
     return sur
 
 
-def _npz(sur: Surrogate, Xh: np.ndarray, Yh: np.ndarray) -> bytes:
-    return io.npz_bytes({"X": sur.X, "Y": sur.Y, "cv": sur.cv, "kappa": sur.kappa, "Xh": Xh, "Yh": Yh})
-
-
-def store(sur: Surrogate, inputs: dict[str, Any], Xh: np.ndarray, Yh: np.ndarray, folder: Path) -> Path:
+def store(sur: Surrogate, inputs: dict[str, Any], folder: Path) -> Path:
     """Write ``<key>.npz`` then its sidecar (atomic; data first)."""
     key = tables.table_key(inputs)
     path = folder / f"{key}.npz"
-    data = _npz(sur, Xh, Yh)
+    data = io.npz_bytes({"X": sur.X, "Y": sur.Y, "cv": sur.cv, "kappa": sur.kappa, "Xh": sur.Xh, "Yh": sur.Yh})
     io.write_bytes(path, data)
     io.sidecar(path, inputs, "gearwear diagnose surrogate (RBF thin-plate spline over a Sobol design of "
                              "dynamics.simulate runs)",
@@ -495,7 +494,7 @@ def lookup(inputs: dict[str, Any], unknowns: list[Unknown], folder: Path) -> tup
     sur = Surrogate(unknowns, np.array(inputs["lo"]), np.array(inputs["hi"]), K, arrays["X"], arrays["Y"],
                     arrays["cv"], arrays["kappa"], meta.get("heldout", {}),
                     {"periodicity_residual_max": meta.get("periodicity_residual_max"),
-                     "training_runs": meta.get("training_runs")}, from_cache=True)
+                     "training_runs": meta.get("training_runs")}, from_cache=True, Xh=arrays["Xh"], Yh=arrays["Yh"])
     return sur, None
 
 

@@ -272,7 +272,7 @@ def test_unidentifiable_clearance_is_reported_so_and_a_time_series_resolves_it(w
     harm = dj.synthetic_features(world["raw"], world["name"], truth, K, ["y_p_um", "F_m_N"], False, 0.02,
                                  np.random.default_rng(5))
     ft = dj.fit(sur, harm, 0.02, 0.005)
-    v = dj.verdict(ft, 0.02, 0.005, "harmonics")
+    v = dj.verdict(ft, 0.02, 0.005)
     e = ft.summary["estimates"]["clearance_um"]
     assert v["identifiable"]["clearance_um"] is False and e["interval_fraction_of_prior"] > 0.85
     assert "clearance_um cannot be resolved" in v["verdict"]
@@ -281,7 +281,7 @@ def test_unidentifiable_clearance_is_reported_so_and_a_time_series_resolves_it(w
                                np.random.default_rng(5))
     ft2 = dj.fit(sur, ts, 0.02, 0.005)
     e2 = ft2.summary["estimates"]["clearance_um"]
-    assert dj.verdict(ft2, 0.02, 0.005, "time_series")["identifiable"]["clearance_um"] is True
+    assert dj.verdict(ft2, 0.02, 0.005)["identifiable"]["clearance_um"] is True
     assert e2["lo95"] <= 31.0 <= e2["hi95"]
 
 
