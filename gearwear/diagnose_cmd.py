@@ -152,7 +152,6 @@ def diagnose(spec: ds.BuildSpec, measured: str, rel: float, floor_frac: float, w
     info = {"file": Path(measured).name, "sha256": io.file_sha256(measured), "kind": meas.kind,
             "features": len(ft.features), "signals": meas.signals, **meas.info}
     doc = dj.document(ft, ver, info, rel, floor_frac, spec.name)
-    doc["surrogate"]["cache_key"] = io.input_hash(spec.inputs())
     timing = {"total_s": time.perf_counter() - t0, "fit_s": time.perf_counter() - t1,
               "surrogate_from_cache": sur.from_cache,
               **({} if sur.from_cache else {"surrogate_build_s": sur.meta.get("build_wall_s")})}

@@ -52,7 +52,6 @@ import copy
 import functools
 import hashlib
 import io as _io
-import json
 import math
 import time
 from concurrent.futures import Executor, as_completed
@@ -457,21 +456,9 @@ def lookup(inputs: dict[str, Any], unknowns: list[Unknown], folder: Path) -> tup
     """(surrogate, None) on a valid entry, (None, None) without one, (None, reason) for an
     entry that must not be used (checked: sidecar of these inputs, the npz's SHA-256,
     array shapes, finite values)."""
-    key = tables.table_key(inputs)
-    path = folder / f"{key}.npz"
-    side = Path(str(path) + ".json")
-    if not (path.exists() or side.exists()):
-        return None, None
-    if not side.exists():
-        return None, "has no sidecar"
-    if not path.exists():
-        return None, "has a sidecar but no data"
-    try:
-        meta = json.loads(side.read_text())
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        return None, f"has an unreadable sidecar ({type(exc).__name__})"
-    if not isinstance(meta, dict) or meta.get("input_sha256") != key:
-        return None, "has a sidecar that belongs to other inputs"
+    path, meta, reason = tables.entry(folder, tables.table_key(inputs), ".npz")
+    if meta is None:
+        return None, reason
     raw = path.read_bytes()
     if hashlib.sha256(raw).hexdigest() != meta.get("npz_sha256"):
         return None, "does not match the npz_sha256 of its sidecar (changed after it was stored)"
