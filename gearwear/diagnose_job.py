@@ -139,9 +139,10 @@ def verdict(ft: Fit, rel: float, floor_frac: float) -> dict[str, Any]:
                        f"with {known} known it would span {100 * here['conditional'][j]:.0f} % (Cramer-Rao)")
             else:
                 d["reason"] = "insensitive"
+                c = here["conditional"][j]
+                extent = f"spans {100 * c:.0f} % of" if c <= 1 else "is wider than"
                 why = ("the measured features hardly respond to it "
-                       f"(even with the other unknowns known, the Cramer-Rao 95 % interval spans "
-                       f"{100 * min(here['conditional'][j], 9.99):.0f} % of the prior range)")
+                       f"(even with the other unknowns known, the Cramer-Rao 95 % interval {extent} the prior range)")
             advice = resolving_measurement(sur, est, ft, j, rel, floor_frac)
             d["would_resolve"] = advice
             lines.append(f"{u.name} cannot be resolved from this measurement (95 %: {span}): {why}. "
