@@ -215,6 +215,22 @@ def test_clearance_with_bearings_in_contact_shifts_the_means_by_half_and_leaves_
     assert b[n + 2] == pytest.approx(a[n + 2], rel=1e-12)   # the mean mesh force is the torque's
 
 
+def test_bearing_harmonics_are_the_mesh_force_through_a_fixed_transfer_function(world):
+    """With the bearings pressed into their clearance, m_p y'' + c_b y' + k_b y = -F_m cos(a)
+    is linear: harmonic k of y_p (x_p) is F_m's times -cos(a) (-sin(a)) / (k_b - m_p w^2 +
+    i c_b w), w = 2 pi k f_m, whatever the wear and clearance (closed form, 1e-5)."""
+    from gearwear.dynamics.analysis import window_fourier
+    from gearwear.simulate_job import run
+
+    r = run(ds.scene_at(world["raw"], world["name"], {"wear": 25.0, "clearance": 40.0})).result
+    m = r.model
+    c = window_fourier(r, ["y_p", "x_p", "F_m"], K)
+    w = 2 * np.pi * r.fm_Hz * np.arange(1, K + 1)
+    H = 1 / (m.k_b - m.m_p * w ** 2 + 1j * m.c_b_pair[0] * w)
+    np.testing.assert_allclose(c["y_p"], -math.cos(m.alpha) * H * c["F_m"], rtol=1e-5)
+    np.testing.assert_allclose(c["x_p"], -math.sin(m.alpha) * H * c["F_m"], rtol=1e-5)
+
+
 def test_window_fourier_agrees_with_a_fit_of_the_samples(world):
     """The exact complex harmonics (quadrature of the dense solution) equal the least-squares
     Fourier coefficients of the sampled displacements (smooth signals, no aliasing)."""
