@@ -55,6 +55,10 @@ report: $(STAMP)
 	$(VENV)/bin/gearwear runup examples/runup_backlash.toml --set operating.speed_rpm=1000:3000:41 --out reports/runup/backlash_50rpm
 	$(VENV)/bin/gearwear runup examples/runup_backlash.toml --set operating.speed_rpm=1000:3000:81 --out reports/runup/backlash_25rpm
 	$(VENV)/bin/gearwear runup paper-default --set operating.speed_rpm=1000:12000:111 --out reports/runup/paper_default
+	GEARWEAR_CACHE=$(CURDIR)/.gearwear-cache $(VENV)/bin/gearwear diagnose examples/diagnose/scene.toml --measured examples/diagnose/measured_timeseries.csv --out reports/diagnose/timeseries
+	GEARWEAR_CACHE=$(CURDIR)/.gearwear-cache $(VENV)/bin/gearwear diagnose examples/diagnose/scene.toml --measured examples/diagnose/measured_harmonics.csv --out reports/diagnose/harmonics
+	GEARWEAR_CACHE=$(CURDIR)/.gearwear-cache $(VENV)/bin/gearwear diagnose examples/diagnose/scene.toml --measured examples/diagnose/measured_timeseries.csv --unknowns wear,clearance,torque --out reports/diagnose/torque
+	GEARWEAR_CACHE=$(CURDIR)/.gearwear-cache $(VENV)/bin/gearwear diagnose --plan examples/diagnose/scene.toml --out reports/diagnose/plan
 	for s in tip_relief measured_deviation root_crack spall; do \
 	  $(VENV)/bin/gearwear stiffness examples/$$s.toml --out reports/examples/$$s/stiffness || exit 1; \
 	  $(VENV)/bin/gearwear simulate examples/$$s.toml --out reports/examples/$$s/simulate || exit 1; \

@@ -8,7 +8,7 @@ from .model import GearDynamics, _accelerations, bearing_f, mesh_state
 
 _trapezoid = getattr(np, "trapezoid", None) or getattr(np, "trapz")
 
-__all__ = ["spectrum", "harmonics", "window_harmonics", "fourier_amplitudes", "gauss_grid",
+__all__ = ["spectrum", "harmonics", "window_harmonics", "window_fourier", "fourier_amplitudes", "gauss_grid",
            "energy_balance", "mechanical_energy", "acceleration_signals"]
 
 # 3-point Gauss-Legendre on [0, 1]: exact for polynomials of degree 5
@@ -71,8 +71,15 @@ def _phasors(tq, f0: float, n: int) -> np.ndarray:
 
 
 def window_harmonics(result, names, n: int = 10, chunk: int = 200_000) -> dict:
-    """Mesh harmonics k f_m (k = 1..n) of signals over the whole sampled window, as exact
-    Fourier integrals of the continuous signal rather than a DFT of its samples.
+    """Amplitudes of the mesh harmonics k f_m (k = 1..n): ``|window_fourier|``."""
+    return {name: np.abs(c) for name, c in window_fourier(result, names, n, chunk).items()}
+
+
+def window_fourier(result, names, n: int = 10, chunk: int = 200_000) -> dict:
+    """Complex mesh-harmonic coefficients c_k = (2 / T) int x(t) e^{-i 2 pi k f_m t} dt,
+    k = 1..n, of signals over the whole sampled window (length T, whole mesh periods, so
+    the phase is referred to the mesh angle phi = 0 at t = 0), as exact Fourier
+    integrals of the continuous signal rather than a DFT of its samples.
 
     Why: F_m = c_h delta' + k_h(phi) f(s) contains the linear table k_h(phi), whose kinks
     put energy at all harmonics up to the table's resolution; a DFT of S samples per mesh
@@ -105,13 +112,13 @@ def window_harmonics(result, names, n: int = 10, chunk: int = 200_000) -> dict:
                 ph = _phasors(tq[:3 * P], result.fm_Hz, n)
             for name in names:
                 acc[name] += ph @ (wq * sig[name]).reshape(-1, 3 * P).sum(axis=0)
-        return {name: 2.0 * np.abs(v) / span for name, v in acc.items()}
+        return {name: 2.0 * v / span for name, v in acc.items()}
     for c0 in range(0, t.size - 1, chunk):
         tq, wq, sig = _signals_at_quadrature(model, t, Z, F, c0, chunk, names, compute_signals)
         ph = _phasors(tq, result.fm_Hz, n)
         for name in names:
             acc[name] += ph @ (wq * sig[name])
-    return {name: 2.0 * np.abs(v) / span for name, v in acc.items()}
+    return {name: 2.0 * v / span for name, v in acc.items()}
 
 
 def _period_pattern(t: np.ndarray, M: int) -> int:

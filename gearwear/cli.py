@@ -448,6 +448,67 @@ def _cmd_runup(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_diagnose(args: argparse.Namespace) -> int:
+    from . import diagnose_cmd as dc
+    from .diagnose_surrogate import BuildSpec, validate_range
+    from .scene import apply_overrides, load_scene_dict, scene_from_dict
+
+    data, name = load_scene_dict(args.scene, default="paper-wear-severe")
+    unknowns = dc.parse_unknowns(args.unknowns)
+    sets = _alias_sets(args)
+    dc.check_sets(sets, unknowns)
+    raw = apply_overrides(data, sets)
+    scene = scene_from_dict(raw, name=name)  # the known part, checked first
+    lo, hi = dc.prior_ranges(raw, unknowns, {"wear": args.wear_range_um, "clearance": args.clearance_range_um,
+                                             "torque": args.torque_range_Nm})
+    validate_range(raw, name, unknowns, lo, hi)
+    rel = _bounded_float("--noise-pct", args.noise_pct, "%", 0.01, 100) / 100
+    floor = _bounded_float("--noise-floor-pct", args.noise_floor_pct, "%", 0, 100) / 100
+    workers = _int_arg("--workers", args.workers, 1, 1024) if args.workers else None
+    d, K = len(unknowns), int(scene.output["harmonics"])
+    design = dc.design_size(args.design_points, "--design-points",
+                            (dc.PLAN_DESIGN_POINTS if args.plan else dc.DESIGN_POINTS)[d])
+    if args.plan:
+        if args.measured:
+            raise InputError(f"--measured {args.measured}: not used with --plan (the plan needs no measurement)")
+        speeds, torques = dc.plan_candidates(raw, unknowns, dc.parse_list(args.speeds_rpm, "--speeds-rpm", "rpm", 1e6),
+                                             dc.parse_list(args.torques_Nm, "--torques-Nm", "N m", 1e7))
+        out = _check_out(args.out, "diagnose plan")
+        doc, timing = dc.run_plan(raw, name, unknowns, lo, hi, speeds, torques, K, design, dc.HOLDOUT_POINTS[d], rel,
+                                  floor, workers, not args.json)
+        spec = BuildSpec(raw, name, unknowns, lo, hi, K, design, dc.HOLDOUT_POINTS[d])
+        inputs = dc.inputs(spec, rel, floor, {"plan_speeds_rpm": speeds, "plan_torques_Nm": torques})
+        files = _write(out, "diagnose plan", scene, inputs,
+                       lambda f: dc.write_plan(doc, f, inputs, io.scene_labels(scene)), timing)
+        if args.json:
+            print(io.json_text({**doc, "wall_s": timing["total_s"], "files": [str(f) for f in files]}, indent=None))
+        else:
+            from .diagnose_plan import print_table
+            print_table(doc)
+            for f in files:
+                print(f"wrote {f}")
+        return 0
+    if not args.measured:
+        raise InputError("--measured: missing; give the measured CSV (a time series or a harmonic table), "
+                         "or --plan for a measurement plan")
+    if args.speeds_rpm or args.torques_Nm:
+        raise InputError("--speeds-rpm/--torques-Nm: only used with --plan")
+    spec = BuildSpec(raw, name, unknowns, lo, hi, K, design, dc.HOLDOUT_POINTS[d])
+    from .diagnose_features import read_measurement
+    read_measurement(args.measured, scene.mesh_frequency_Hz, K)  # a bad file: one line, before any work
+    out = _check_out(args.out, "diagnose")
+    res = dc.diagnose(spec, args.measured, rel, floor, workers, not args.json, refresh=args.refresh)
+    inputs = dc.inputs(spec, rel, floor, {"measured_sha256": res.doc["measured"]["sha256"]})
+    labels = {**io.scene_labels(scene), "measured_file": str(args.measured)}
+    files = _write(out, "diagnose", scene, inputs, lambda f: dc.write_diagnosis(res, f, inputs, labels), res.timing)
+    if args.json:
+        print(io.json_text({**res.doc, "wall_s": res.timing["total_s"], "timing": res.timing,
+                            "files": [str(f) for f in files]}, indent=None))
+    else:
+        dc.print_diagnosis(res.doc, res.timing, files)
+    return 0
+
+
 def _cmd_scene(args: argparse.Namespace) -> int:
     from .schema import json_schema, reference_markdown, resolved_dict, to_toml
     from .scene import builtin_scene_names
@@ -685,6 +746,42 @@ def build_parser() -> argparse.ArgumentParser:
     ru.add_argument("--out", help="output folder")
     ru.add_argument("--json", action="store_true", help="print one JSON object (the summary)")
     ru.set_defaults(func=_cmd_runup)
+
+    dg = sub.add_parser("diagnose", help="estimate wear depth and bearing clearance (and torque) from a measured "
+                                         "vibration, with 95 % intervals and an identifiability verdict",
+                        description="Fit the 6-DOF model to measured mesh harmonics (and mean values) through a "
+                                    "cached surrogate of the model over the unknowns; print estimates, 95 % "
+                                    "intervals and which unknown the measurement cannot resolve. --plan: which "
+                                    "signals, speeds and torques would separate the unknowns. The scene fixes "
+                                    "everything known (default: paper-wear-severe). Writes diagnosis.json, "
+                                    "features.csv, corner.png, features.png (plan: plan.json, plan.csv).")
+    _scene_options(dg, "paper-wear-severe", aliases=("torque",))
+    dg.add_argument("--measured", help="CSV: a time series (time_s plus any of y_p_um, x_p_um, delta_um, F_m_N; "
+                                       "displacements, so integrate a housing accelerometer upstream) or a "
+                                       "harmonic table (signal,harmonic,amplitude)")
+    dg.add_argument("--plan", action="store_true", help="no measurement: rank signals, speeds and torques by how "
+                                                        "well they would separate the unknowns (Fisher information)")
+    dg.add_argument("--unknowns", default="wear,clearance", help="comma-separated, of wear (wear_max_depth_um), "
+                                                                 "clearance (clearance_um), torque (torque_Nm); "
+                                                                 "default wear,clearance")
+    dg.add_argument("--wear-range-um", help="prior range LO:HI of the maximum wear depth (default 0:40; 0.1:40 "
+                                            "with transmission_error)")
+    dg.add_argument("--clearance-range-um", help="prior range LO:HI of the bearing clearance (default 0:50)")
+    dg.add_argument("--torque-range-Nm", help="prior range LO:HI of the torque (default 0.5 to 1.5 x the scene's)")
+    dg.add_argument("--noise-pct", default="2", help="relative measurement noise of each feature, %% (default 2)")
+    dg.add_argument("--noise-floor-pct", default="0.5", help="absolute noise floor, %% of the largest measured "
+                                                             "harmonic of the same signal (default 0.5)")
+    dg.add_argument("--design-points", help="surrogate design size, a power of two (default 256 for two unknowns, "
+                                            "512 for three; --plan 128 / 256)")
+    dg.add_argument("--workers", help="local worker processes for building a surrogate (default: all cores)")
+    dg.add_argument("--speeds-rpm", help="--plan: candidate pinion speeds, comma-separated (default 0.5, 1, 2 x "
+                                         "the scene's)")
+    dg.add_argument("--torques-Nm", help="--plan: candidate torques, comma-separated (default 0.5, 1, 2 x the "
+                                         "scene's)")
+    dg.add_argument("--refresh", action="store_true", help="rebuild the surrogate even if it is cached")
+    dg.add_argument("--out", help="output folder")
+    dg.add_argument("--json", action="store_true", help="print one JSON object")
+    dg.set_defaults(func=_cmd_diagnose)
 
     sc = sub.add_parser("scene", help="print a fully resolved scene (every default), the JSON Schema, or the "
                                       "built-in scene names",

@@ -210,24 +210,31 @@ def lookup(inputs: dict[str, Any], folder: Path | None = None) -> tuple[Stiffnes
 
     Pure apart from reading the files (and :func:`cache_dir` creating the folder):
     it prints nothing; the caller reports the reason (:func:`entry_message`)."""
-    folder = folder or cache_dir()
-    key = table_key(inputs)
-    csv = folder / f"{key}.csv"
-    side = Path(str(csv) + ".json")
-    has_csv, has_side = csv.exists(), side.exists()
-    if not (has_csv or has_side):
-        return None, None
+    csv, meta, reason = entry(folder or cache_dir(), table_key(inputs), ".csv")
+    return (None, reason) if meta is None else read(csv, meta)
+
+
+def entry(folder: Path, key: str, suffix: str) -> tuple[Path, dict[str, Any] | None, str | None]:
+    """(data file ``<key><suffix>``, its sidecar's metadata, None) for an entry whose sidecar
+    belongs to ``key``; (path, None, None) if there is no entry; (path, None, reason) if
+    there is one that must not be used. Shared by every kind of cache entry (stiffness
+    tables, diagnosis surrogates); the caller then checks the data itself."""
+    path = folder / f"{key}{suffix}"
+    side = Path(str(path) + ".json")
+    has_data, has_side = path.exists(), side.exists()
+    if not (has_data or has_side):
+        return path, None, None
     if not has_side:
-        return None, "has no sidecar"
-    if not has_csv:
-        return None, "has a sidecar but no data"
+        return path, None, "has no sidecar"
+    if not has_data:
+        return path, None, "has a sidecar but no data"
     try:
         meta = json.loads(side.read_text())
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        return None, f"has an unreadable sidecar ({type(exc).__name__})"
+        return path, None, f"has an unreadable sidecar ({type(exc).__name__})"
     if not isinstance(meta, dict) or meta.get("input_sha256") != key:
-        return None, "has a sidecar that belongs to other inputs"
-    return read(csv, meta)
+        return path, None, "has a sidecar that belongs to other inputs"
+    return path, meta, None
 
 
 def entry_message(key: str, label: str, reason: str) -> str:

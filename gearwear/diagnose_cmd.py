@@ -1,0 +1,256 @@
+"""The ``gearwear diagnose`` command: option checks, the run, its files and its printout.
+
+gearwear.cli parses the line and checks the generic flags; this module checks what is
+particular to the diagnosis (unknowns, prior ranges, --set of an unknown's key) before
+any simulation, runs the diagnosis or the plan, and writes:
+
+* diagnose: ``diagnosis.json`` (estimates, intervals, identifiable, verdict, the
+  surrogate's held-out error, the noise model), ``features.csv`` (+ sidecar: measured,
+  fitted, sigmas per feature), ``corner.png``, ``features.png``;
+* plan: ``plan.json``, ``plan.csv`` (+ sidecar).
+
+Wall times go to timing.json and --json only.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from gearwear.core.validation import InputError
+
+from . import diagnose_job as dj
+from . import diagnose_surrogate as ds
+from . import io
+from .diagnose_features import Measurement, read_measurement
+
+#: default design sizes (Sobol points; the 2^d corners come on top) and held-out runs
+DESIGN_POINTS = {1: 64, 2: 256, 3: 512}
+PLAN_DESIGN_POINTS = {1: 32, 2: 128, 3: 256}
+HOLDOUT_POINTS = {1: 16, 2: 32, 3: 64}
+PLAN_SPEED_FACTORS = (0.5, 1.0, 2.0)
+PLAN_TORQUE_FACTORS = (0.5, 1.0, 2.0)
+
+
+def parse_unknowns(text: str) -> list[ds.Unknown]:
+    names = [x.strip() for x in text.split(",") if x.strip()]
+    bad = [n for n in names if n not in ds.UNKNOWNS]
+    if not names or bad:
+        raise InputError(f"--unknowns = {text}: {'no unknown given' if not names else repr(bad[0]) + ' is not one'}; "
+                         f"choose from {', '.join(ds.UNKNOWNS)} (comma-separated)")
+    if len(set(names)) != len(names):
+        raise InputError(f"--unknowns = {text}: names an unknown twice")
+    return [ds.UNKNOWNS[n] for n in ds.UNKNOWNS if n in names]   # a fixed order: the same inputs, the same key
+
+
+#: the scene key (or table) each unknown replaces
+OWNED_KEYS = {"wear": "effects.wear", "clearance": "effects.bearing_clearance", "torque": "operating.torque_Nm"}
+
+
+def check_sets(sets: list[str], unknowns: list[ds.Unknown]) -> None:
+    """An override of an unknown's scene key would be ignored: refuse it."""
+    for item in sets:
+        key = item.split("=", 1)[0].strip()
+        for u in unknowns:
+            own = OWNED_KEYS[u.short]
+            if key == own or key.startswith(own + "."):
+                raise InputError(f"--set {key}: sets {u.name}, an unknown of the diagnosis (--unknowns); give its "
+                                 f"prior range with {u.flag} LO:HI instead")
+
+
+def prior_ranges(raw: dict[str, Any], unknowns: list[ds.Unknown],
+                 given: dict[str, str | None]) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """(lo, hi) per unknown: LO:HI from its flag, else the documented default."""
+    lo, hi = [], []
+    for u in unknowns:
+        text = given.get(u.short)
+        if text is None:
+            a, b = ds.default_range(u, raw)
+        else:
+            parts = text.split(":")
+            try:
+                if len(parts) != 2:
+                    raise ValueError
+                a, b = float(parts[0]), float(parts[1])
+            except ValueError:
+                raise InputError(f"{u.flag} = {text}: must be LO:HI in {u.unit}, e.g. 0:40") from None
+            if not (math.isfinite(a) and math.isfinite(b) and 0.0 <= a < b):
+                raise InputError(f"{u.flag} = {text} {u.unit}: must be LO:HI with "
+                                 f"{'0 < LO' if u.short == 'torque' else '0 <= LO'} < HI")
+            if u.short == "torque" and a <= 0:
+                raise InputError(f"{u.flag} = {text} {u.unit}: LO must be > 0 (the mesh stiffness needs a load)")
+        lo.append(float(a))
+        hi.append(float(b))
+    return tuple(lo), tuple(hi)
+
+
+def design_size(text: str | None, flag: str, default: int) -> int:
+    if text is None:
+        return default
+    try:
+        n = int(text)
+    except ValueError:
+        n = -1
+    if n < 8 or n > 65536 or n & (n - 1):
+        raise InputError(f"{flag} = {text}: must be a power of two in [8, 65536] (a Sobol design)")
+    return n
+
+
+class LazyExecutor:
+    """Local processes (sweep_job.make_executor), started on the first call, i.e. only if a
+    surrogate must be built, and reused by every later build; one worker: this process."""
+
+    def __init__(self, workers: int | None):
+        self.workers = workers
+        self.executor: Any = None
+
+    def __call__(self):
+        if self.executor is None and self.workers != 1:
+            from .sweep_job import make_executor
+            self.executor = make_executor(self.workers)
+        return self.executor
+
+    def shutdown(self) -> None:
+        if self.executor is not None:
+            self.executor.shutdown()
+            self.executor = None
+
+
+def _bar(total: int, enabled: bool):
+    import sys
+
+    from tqdm import tqdm
+
+    return tqdm(total=total, desc="diagnose surrogate", unit="run", disable=not enabled or None, file=sys.stderr)
+
+
+@dataclass
+class Diagnosis:
+    doc: dict[str, Any]
+    fit: dj.Fit
+    measurement: Measurement
+    timing: dict[str, Any]
+
+
+def diagnose(spec: ds.BuildSpec, measured: str, rel: float, floor_frac: float, workers: int | None,
+             progress: bool, refresh: bool = False) -> Diagnosis:
+    t0 = time.perf_counter()
+    base = spec.base_scene()
+    meas = read_measurement(measured, base.mesh_frequency_Hz, spec.harmonics)
+    ex = LazyExecutor(workers)
+    try:
+        with _bar(spec.design_points + 2 ** len(spec.unknowns) + spec.holdout_points, progress) as bar:
+            sur = ds.build(spec, ex, bar.update, refresh=refresh)
+    finally:
+        ex.shutdown()
+    t1 = time.perf_counter()
+    ft = dj.fit(sur, meas.values, rel, floor_frac)
+    ver = dj.verdict(ft, rel, floor_frac)
+    info = {"file": Path(measured).name, "sha256": io.file_sha256(measured), "kind": meas.kind,
+            "features": len(ft.features), "signals": meas.signals, **meas.info}
+    doc = dj.document(ft, ver, info, rel, floor_frac, spec.name)
+    timing = {"total_s": time.perf_counter() - t0, "fit_s": time.perf_counter() - t1,
+              "surrogate_from_cache": sur.from_cache,
+              **({} if sur.from_cache else {"surrogate_build_s": sur.meta.get("build_wall_s")})}
+    return Diagnosis(doc, ft, meas, timing)
+
+
+def inputs(spec: ds.BuildSpec, rel: float, floor_frac: float, extra: dict[str, Any]) -> dict[str, Any]:
+    return {**io.scene_inputs(spec.base_scene()), "unknowns": [u.name for u in spec.unknowns],
+            "prior_lo": list(spec.lo), "prior_hi": list(spec.hi), "noise_relative": rel,
+            "noise_floor_fraction": floor_frac, "design_points": spec.design_points,
+            "holdout_points": spec.holdout_points, "harmonics": spec.harmonics, **extra}
+
+
+def write_diagnosis(d: Diagnosis, folder: Path, inp: dict[str, Any], labels: dict[str, Any]) -> list[Path]:
+    from . import diagnose_plots
+
+    files = [io.write_json(folder / "diagnosis.json", d.doc)]
+    rows = d.doc["features"]
+    cols = ["feature", "signal", "harmonic", "measured", "fitted", "sigma_noise", "sigma_surrogate",
+            "residual_over_sigma"]
+    lines = [",".join(cols)] + [",".join(str(r[c]) if isinstance(r[c], (str, int)) else f"{r[c]:.8g}" for c in cols)
+                                for r in rows]
+    csv = io.write_text(folder / "features.csv", "\n".join(lines) + "\n")
+    files += [csv, io.sidecar(csv, inp, "gearwear diagnose (grid posterior over the surrogate)", labels)]
+    files.append(io.write_figure(diagnose_plots.corner(d.fit), folder / "corner.png"))
+    files.append(io.write_figure(diagnose_plots.features(d.fit), folder / "features.png"))
+    return files
+
+
+def print_diagnosis(doc: dict[str, Any], timing: dict[str, Any], files: list[Path]) -> None:
+    m = doc["measured"]
+    print(f"measured: {m['file']} ({m['kind'].replace('_', ' ')}, {m['features']} features of "
+          f"{', '.join(m['signals'])})")
+    print(f"{'unknown':<20}{'estimate':>10}{'lo95':>10}{'hi95':>10}  {'prior':<14}{'identifiable':>13}")
+    for n, e in doc["estimates"].items():
+        p = doc["prior"][n]
+        print(f"{n:<20}{e['value']:>10.4g}{e['lo95']:>10.4g}{e['hi95']:>10.4g}  "
+              f"{p['lo']:g}-{p['hi']:g} {p['unit']:<6}{'yes' if doc['identifiable'][n] else 'no':>9}")
+    print(doc["verdict"])
+    h = doc["surrogate"]["heldout"]
+    print(f"surrogate: {doc['surrogate']['design_points']} runs, held-out error of the harmonic amplitudes "
+          f"{100 * h['harmonic_relative_error_median']:.2f} % median, {100 * h['harmonic_relative_error_p95']:.1f} % "
+          f"95th percentile ({h['points']} full simulations; enters the noise model)")
+    built = "read from the cache" if timing["surrogate_from_cache"] else \
+        f"built in {timing.get('surrogate_build_s', 0.0):.1f} s"
+    print(f"wall {timing['total_s']:.1f} s (surrogate {built}, fit {timing['fit_s']:.1f} s)")
+    for f in files:
+        print(f"wrote {f}")
+
+
+def plan_candidates(raw: dict[str, Any], unknowns: list[ds.Unknown], speeds: list[float] | None,
+                    torques: list[float] | None) -> tuple[list[float], list[float] | None]:
+    op = raw.get("operating", {})
+    n0, T0 = float(op.get("speed_rpm", 1200.0)), float(op.get("torque_Nm", 40.0))
+    sp = speeds or [f * n0 for f in PLAN_SPEED_FACTORS]
+    if any(u.short == "torque" for u in unknowns):
+        if torques:
+            raise InputError("--torques-Nm: the torque is an unknown (--unknowns), so the plan cannot choose it; "
+                             "drop --torques-Nm or the torque unknown")
+        return sp, None
+    return sp, torques or [f * T0 for f in PLAN_TORQUE_FACTORS]
+
+
+def parse_list(text: str | None, flag: str, unit: str, hi: float) -> list[float] | None:
+    if text is None:
+        return None
+    out = []
+    for part in text.split(","):
+        try:
+            v = float(part)
+        except ValueError:
+            raise InputError(f"{flag} = {text}: must be numbers separated by commas, in (0, {hi:g}] {unit}") from None
+        if not (math.isfinite(v) and 0 < v <= hi):
+            raise InputError(f"{flag} = {v:g} {unit}: must be in (0, {hi:g}] {unit}")
+        out.append(v)
+    return out
+
+
+def run_plan(raw, name, unknowns, lo, hi, speeds, torques, harmonics, design_points, holdout_points, rel, floor_frac,
+             workers, progress) -> tuple[dict[str, Any], dict[str, Any]]:
+    from . import diagnose_plan
+
+    t0 = time.perf_counter()
+    total = len(speeds) * len(torques or [None]) * (design_points + 2 ** len(unknowns) + holdout_points)
+    ex = LazyExecutor(workers)
+    try:
+        with _bar(total, progress) as bar:
+            doc = diagnose_plan.plan(raw, name, unknowns, lo, hi, speeds, torques, harmonics, design_points,
+                                     holdout_points, rel, floor_frac, ex, bar.update)
+    finally:
+        ex.shutdown()
+    timing = {"total_s": time.perf_counter() - t0, "surrogates": doc.pop("surrogates")}
+    return doc, timing
+
+
+def write_plan(doc: dict[str, Any], folder: Path, inp: dict[str, Any], labels: dict[str, Any]) -> list[Path]:
+    from . import diagnose_plan
+
+    files = [io.write_json(folder / "plan.json", doc)]
+    csv = io.write_text(folder / "plan.csv", diagnose_plan.table_csv(doc))
+    files += [csv, io.sidecar(csv, inp, "gearwear diagnose --plan (Fisher information of the surrogates)", labels)]
+    return files
