@@ -37,7 +37,7 @@ for p in (str(ROOT), str(HERE)):
         sys.path.insert(0, p)
 
 from gearwear.scene import load_scene_dict  # noqa: E402
-from gearwear.sweep_job import DaskExecutor, parse_axis, sweep  # noqa: E402
+from gearwear.sweep_job import make_executor, parse_axis, sweep  # noqa: E402
 
 N_SCENES = 100
 FIXED = ["solver.duration_s=1.0", "solver.discard_s=0.3"]
@@ -55,15 +55,8 @@ def warm() -> float:
 
 
 def executor(kind: str, workers: int):
-    if kind == "processes":
-        from concurrent.futures import ProcessPoolExecutor
-
-        return ProcessPoolExecutor(max_workers=workers)
-    from dask.distributed import Client, LocalCluster
-
-    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, host="127.0.0.1",
-                           dashboard_address=None, silence_logs=logging.ERROR)
-    return DaskExecutor(Client(cluster), cluster)
+    """The executors ``gearwear sweep --workers N`` and ``--scheduler local:N`` use."""
+    return make_executor(workers) if kind == "processes" else make_executor(scheduler=f"local:{workers}")
 
 
 def measure(kind: str, workers: int) -> dict:
