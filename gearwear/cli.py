@@ -277,42 +277,18 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     torque = scene.operating.torque_Nm
     points = _int_arg("--points", args.points, 8, 1_000_000)
     out = _check_out(args.out, "calibrate")
-    rows: list[dict] = []
-    copies: dict[str, bytes] = {}  # the cached tables, copied into --out as a whole at the end
-    fe_s: dict[str, float] = {}
     folder = tables.cache_dir()  # a bad GEARWEAR_CACHE: exit 2 before any FE run
     for c in clearances:  # the FE pair contact needs overlap: refuse before any FE run
         try:
             calibrate.require_overlap(scene.pair, c)
         except InputError as exc:
             raise fail("--clearance-um", c * 1e6, "um", "the FE calibration " + str(exc).split(": ", 1)[1]) from None
-    for w in wears:
-        fe: list = []
-
-        def calibration(w=w, fe=fe):  # one FE run per wear, and only on a cache miss
-            if not fe:
-                fe.append(calibrate.run_fe(scene.pair, w))
-            return fe[0]
-
-        for c in clearances:
-            tab = calibrate.calibrated_table(scene.pair, w, c, torque, points, calibration=calibration,
-                                             refresh=args.refresh)  # a damaged entry: one line, recomputed
-            hit = tab.from_cache
-            label = f"{w.label if w else 'unworn'}_clearance{c * 1e6:g}um"
-            if out:
-                src = folder / f"{tab.meta['input_sha256']}.csv"
-                copies[f"calibrated_{label}.csv"] = src.read_bytes()
-                copies[f"calibrated_{label}.csv.json"] = Path(str(src) + ".json").read_bytes()
-            if not hit and fe:
-                fe_s[label] = fe[0].wall_s
-            m = tab.meta
-            rows.append({"wear": w.label if w else "unworn", "clearance_um": c * 1e6, "cache_hit": hit,
-                         "mean_N_per_m": tab.mean_N_per_m, "min_N_per_m": float(tab.k_N_per_m.min()),
-                         "max_N_per_m": float(tab.k_N_per_m.max()),
-                         "uncorrected_mean_N_per_m": m.get("uncorrected_mean_N_per_m"),
-                         "check_residual": m.get("check_residual"), "fit_residual": m.get("fit_residual"),
-                         "fe_estimated_relative_error": m.get("fe_estimated_relative_error"),
-                         "input_sha256": m.get("input_sha256"), "points": int(len(tab.k_N_per_m))})
+    executor = _fe_executor(args)
+    try:
+        rows, copies, fe_s = _calibrate_tables(args, scene, wears, clearances, torque, points, out, folder, executor)
+    finally:
+        if executor is not None:
+            executor.shutdown()
     inputs = {**io.scene_inputs(scene), "wear": [w.label if w else "unworn" for w in wears],
               "wear_spec": [_wear_dict(w) for w in wears], "clearance_um": [c * 1e6 for c in clearances],
               "torque_Nm": torque, "points": points}
@@ -331,6 +307,56 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
         for f in files:
             print(f"wrote {f}")
     return 0
+
+
+def _fe_executor(args: argparse.Namespace):
+    """Where the FE runs of a calibration go: None (this process, the default: every body is
+    built once and shared by the wear states), local processes (--workers N) or Dask
+    (--scheduler). Each worker builds the bodies it needs once; the tables are the same to
+    the bit on any executor."""
+    from . import sweep_job
+
+    if not (args.workers or args.scheduler):
+        return None
+    workers = _int_arg("--workers", args.workers, 1, 1024) if args.workers else None
+    return sweep_job.make_executor(workers, args.scheduler)
+
+
+def _calibrate_tables(args, scene, wears, clearances, torque, points, out, folder, executor):
+    """(rows, files to copy into --out, FE wall times) of every (wear, clearance) table."""
+    from . import calibrate
+
+    rows: list[dict] = []
+    copies: dict[str, bytes] = {}  # the cached tables, copied into --out as a whole at the end
+    fe_s: dict[str, float] = {}
+    for w in wears:
+        fe: list = []
+
+        def calibration(w=w, fe=fe):  # one FE run per wear, and only on a cache miss
+            if not fe:
+                fe.append(calibrate.run_fe(scene.pair, w, executor=executor))
+            return fe[0]
+
+        for c in clearances:
+            tab = calibrate.calibrated_table(scene.pair, w, c, torque, points, calibration=calibration,
+                                             refresh=args.refresh, executor=executor)  # a damaged entry: recomputed
+            hit = tab.from_cache
+            label = f"{w.label if w else 'unworn'}_clearance{c * 1e6:g}um"
+            if out:
+                src = folder / f"{tab.meta['input_sha256']}.csv"
+                copies[f"calibrated_{label}.csv"] = src.read_bytes()
+                copies[f"calibrated_{label}.csv.json"] = Path(str(src) + ".json").read_bytes()
+            if not hit and fe:
+                fe_s[label] = fe[0].wall_s
+            m = tab.meta
+            rows.append({"wear": w.label if w else "unworn", "clearance_um": c * 1e6, "cache_hit": hit,
+                         "mean_N_per_m": tab.mean_N_per_m, "min_N_per_m": float(tab.k_N_per_m.min()),
+                         "max_N_per_m": float(tab.k_N_per_m.max()),
+                         "uncorrected_mean_N_per_m": m.get("uncorrected_mean_N_per_m"),
+                         "check_residual": m.get("check_residual"), "fit_residual": m.get("fit_residual"),
+                         "fe_estimated_relative_error": m.get("fe_estimated_relative_error"),
+                         "input_sha256": m.get("input_sha256"), "points": int(len(tab.k_N_per_m))})
+    return rows, copies, fe_s
 
 
 def _cmd_simulate(args: argparse.Namespace) -> int:
@@ -696,6 +722,9 @@ def build_parser() -> argparse.ArgumentParser:
     _scene_options(c, "paper-default", multi=True)
     c.add_argument("--points", default="360", help="angles per mesh period (default 360)")
     c.add_argument("--refresh", action="store_true", help="recompute even if a cached table exists")
+    c.add_argument("--workers", help="solve the FE runs and pair positions on N local worker processes (default: "
+                                     "in this process, where every gear body is built once for all wear states)")
+    c.add_argument("--scheduler", help=SCHEDULER_HELP)
     c.add_argument("--out", help="copy the tables (CSV + JSON sidecar) here")
     c.add_argument("--json", action="store_true", help="print one JSON object")
     c.set_defaults(func=_cmd_calibrate)

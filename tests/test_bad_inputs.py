@@ -166,6 +166,7 @@ CASES: list[tuple[str, list[str], str, str | None, dict[str, str]]] = [
     ("sweep-one-bad-value", ["sweep", S, "operating.speed_rpm=1200,-5"], "operating.speed_rpm", "-5", {}),
     ("sweep-nothing-swept", ["sweep", S, "operating.speed_rpm=1200"], "--set", None, {}),
     ("sweep-workers-zero", ["sweep", S, "operating.speed_rpm=1000,1200", "--workers", "0"], "--workers", "0", {}),
+    ("calibrate-workers-zero", ["calibrate", "--refresh", "--workers", "0"], "--workers", "0", {}),
     ("scene-bad-set", ["scene", S, "pair.teeth=[1,2]"], "pair.teeth[0]", "1", {}),
     # ---- flank modifications and faults (issue 13)
     ("relief-start-above-tip", ["stiffness", S, "flank.tip_relief={amount_um=5, start_diameter_mm=170}", "--out", "o"],

@@ -124,11 +124,17 @@ def test_bad_input_one_line_exit_2_nothing_written(argv, key, tmp_path, monkeypa
 def test_dask_local_cluster_gives_the_bytes_of_the_local_processes(tmp_path):
     """A LocalCluster on the loopback interface (two worker processes, as --scheduler
     local:2 starts it), reached by its address: a sweep and a run-up through it write the
-    same bytes as the local process pool."""
+    same bytes as the local process pool, and an FE calibration's runs (the pair FE
+    positions in chunks, the single-tooth FE; each worker builds its own gear bodies) give
+    every array of the run in this process to the bit."""
     import logging
 
-    from dask.distributed import LocalCluster
+    import numpy as np
+    from dask.distributed import Client, LocalCluster
 
+    from gearwear import calibrate
+    from gearwear.fem.pair import pair_contact
+    from gearwear.geometry.spec import default_pair
     from gearwear.sweep_job import DaskExecutor, make_executor
 
     sweep = ["sweep", "paper-default", "--set", "operating.torque_Nm=20,30,40", "--set", "solver.duration_s=0.04",
@@ -142,6 +148,20 @@ def test_dask_local_cluster_gives_the_bytes_of_the_local_processes(tmp_path):
             assert main([*argv, "--scheduler", addr, "--out", str(tmp_path / f"{name}_dask")]) == 0
             assert main([*argv, "--workers", "2", "--out", str(tmp_path / f"{name}_local")]) == 0
             assert snapshot(tmp_path / f"{name}_dask") == snapshot(tmp_path / f"{name}_local")
+        ex = DaskExecutor(Client(addr))
+        try:
+            fe = {"positions": 8, "extended": False, "contact_scale": 2.0, "mesh_scale": 1.5}
+            on_dask = pair_contact(default_pair(), executor=ex, chunk_positions=3, **fe)
+            cal_dask = calibrate.run_fe(default_pair(), None, positions=9, estimate_error=False, executor=ex)
+        finally:
+            ex.shutdown()
+        here = pair_contact(default_pair(), **fe)
+        for key in ("k_N_per_m", "k_tangent_N_per_m", "ste_m", "excitation_m", "pair_load_N", "half_width_m"):
+            assert getattr(on_dask, key).tobytes() == getattr(here, key).tobytes(), key
+        cal_here = calibrate.run_fe(default_pair(), None, positions=9, estimate_error=False)
+        for a, b in zip(cal_dask.fe, cal_here.fe):
+            assert a.fem_compliance_um_per_N_per_mm.tobytes() == b.fem_compliance_um_per_N_per_mm.tobytes()
+        assert np.array_equal(cal_dask.corrections[0].coeffs, cal_here.corrections[0].coeffs)
     ex = make_executor(scheduler="local:1")  # the factory's own LocalCluster: a plain Executor
     try:
         assert isinstance(ex, DaskExecutor)
