@@ -156,8 +156,8 @@ def make_executor(workers: int | None = None, scheduler: str | None = None) -> E
 
     Dask needs the optional extra ``gearwear[dask]`` (it is in the ``test`` extra too)."""
     if not scheduler:
-        n = workers or os.cpu_count() or 1
-        return ProcessPoolExecutor(max_workers=n, initializer=_share_cores, initargs=(n,))
+        procs = workers or os.cpu_count() or 1
+        return ProcessPoolExecutor(max_workers=procs, initializer=_share_cores, initargs=(procs,))
     n = _local_workers(scheduler)
     try:
         from dask.distributed import Client, LocalCluster
