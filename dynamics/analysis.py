@@ -9,7 +9,7 @@ from .model import GearDynamics, _accelerations, bearing_f, has_flank_law, mesh_
 _trapezoid = getattr(np, "trapezoid", None) or getattr(np, "trapz")
 
 __all__ = ["spectrum", "harmonics", "window_harmonics", "window_fourier", "fourier_amplitudes", "gauss_grid",
-           "energy_balance", "mechanical_energy", "acceleration_signals"]
+           "dense_derivatives", "energy_balance", "mechanical_energy", "acceleration_signals"]
 
 # 3-point Gauss-Legendre on [0, 1]: exact for polynomials of degree 5
 _GL_X = 0.5 + 0.5 * np.array([-np.sqrt(0.6), 0.0, np.sqrt(0.6)])
@@ -85,12 +85,19 @@ def window_fourier(result, names, n: int = 10, chunk: int = 200_000, fold: bool 
     put energy at all harmonics up to the table's resolution; a DFT of S samples per mesh
     period folds harmonic S +- k onto k (aliasing), which for a worn table is larger
     than the harmonic itself. ``simulate`` therefore also samples the state at every
-    table node inside the window [t_0, t_0 + M T_m] (``result.t_dense``); between those
-    points the state is smooth and is taken as the cubic Hermite interpolant of the
-    sampled states and their exact derivatives (the model's right-hand side), the tables
-    are linear, and 3-point Gauss-Legendre integrates each piece of the signal to the
-    interpolation error of the integrator's own output (O(h^4)). The signals are
-    evaluated by ``compute_signals`` (the same definitions as the samples).
+    table node inside the window [t_0, t_0 + M T_m] (``result.t_dense``), and the adaptive
+    solver adds every switching event it located there twice, with the derivative before
+    and after it (``simulate.dense_with_events``: at contact loss and flank impacts the
+    acceleration jumps, at bearing contacts it kinks, so a piece across one is not
+    smooth, and F_m itself jumps when the mesh damper switches off); between
+    those points the state is smooth and is taken as the cubic Hermite interpolant of the
+    sampled states and their exact derivatives (the model's right-hand side, the solver's
+    one-sided derivatives at events), the tables are linear, and 3-point Gauss-Legendre
+    integrates each piece of the signal to the interpolation error of the integrator's
+    own output (O(h^4)). The signals are evaluated by ``compute_signals`` (the same
+    definitions as the samples; inside a piece the contact mode of the interpolated
+    state is the piece's own). RK4 locates no events: its harmonics with backlash or
+    clearance keep the error of pieces across them (and RK4's own, first order there).
 
     Cost (``fold``; the same integral, reordered): when the dense times repeat every
     period, e^{-i k w t} repeats too, so the weighted signal is summed over the periods
@@ -100,13 +107,18 @@ def window_fourier(result, names, n: int = 10, chunk: int = 200_000, fold: bool 
     table periods of s(t_q + r T, z_r) is s(t_q, sum_r z_r) + (R - 1) s(t_q, 0), and the
     Hermite interpolant is linear in its end values, so the states are summed first and
     the signals are evaluated on one table period only (a 1 s run: ~0.3 s -> ~0.02 s).
+    Neither fold applies when events lie inside the window (their times do not repeat).
     ``fold=False`` evaluates every piece (the reference the tests compare with)."""
     from .simulate import compute_signals
 
     model = result.model
     t = result.t_dense
     Z = result.states_dense
-    F = np.hstack([Z[:, 5:10], _accelerations(model, t, Z)])
+    F = dense_derivatives(result)
+    nodes = getattr(result, "event_nodes", None)
+    # event times repeat from period to period only to the solver's tolerance, if at all:
+    # no fold then (it would take one period's piece pattern for all)
+    fold = fold and (nodes is None or nodes.size == 0)
     span = t[-1] - t[0]
     L = model.table_periods
     R = result.n_periods // L if result.n_periods % L == 0 else 0
@@ -135,6 +147,19 @@ def window_fourier(result, names, n: int = 10, chunk: int = 200_000, fold: bool 
         for name in names:
             acc[name] += ph @ (wq * sig[name])
     return {name: 2.0 * v / span for name, v in acc.items()}
+
+
+def dense_derivatives(result) -> np.ndarray:
+    """Time derivatives (len(t_dense), 10) of the dense states ``result.states_dense``:
+    the model's right-hand side at each state (velocities, then ``_accelerations``), and
+    at the event nodes the solver's one-sided derivatives (``result.event_nodes``,
+    ``event_derivs``), since the state on a switching surface cannot tell its side."""
+    Z = result.states_dense
+    F = np.hstack([Z[:, 5:10], _accelerations(result.model, result.t_dense, Z)])
+    nodes = getattr(result, "event_nodes", None)
+    if nodes is not None and nodes.size:
+        F[nodes] = result.event_derivs
+    return F
 
 
 def _affine_fold(model, t, Z, F, R: int, Pt: int, names, n: int, fm_Hz: float, span: float, compute_signals):
