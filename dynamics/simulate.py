@@ -29,8 +29,7 @@ from . import kernels
 from .model import (STATE_NAMES, GearDynamics, derived, has_flank_law, max_linear_rate, mesh_state,
                     rk4_schedule, static_equilibrium, table_node_times)
 
-__all__ = ["SimResult", "simulate", "kernel_switches", "compute_signals", "round_to_table_periods",
-           "dense_with_events"]
+__all__ = ["SimResult", "simulate", "kernel_switches", "compute_signals", "round_to_table_periods"]
 
 ENERGY_NAMES = ("W_in", "D", "W_k", "W_e")
 
@@ -59,14 +58,20 @@ class SimResult:
     z_end: np.ndarray                 # final state
     switches: tuple = field(default=())
     model: GearDynamics | None = None  # the model that produced it (exact harmonics)
-    t_dense: np.ndarray | None = None  # the sample times plus the table nodes and the window end,
-                                       # and every switching event twice (dense_with_events)
+    t_dense: np.ndarray | None = None  # the sample times plus the table nodes and the window end
     states_dense: np.ndarray | None = None  # (len(t_dense), 10) states there
-    event_times: np.ndarray | None = None   # switching events located inside the window (dopri5)
-    event_nodes: np.ndarray | None = None   # indices into t_dense with a one-sided derivative
-    event_derivs: np.ndarray | None = None  # (len(event_nodes), 10) those derivatives
+    window_events: np.ndarray | None = None  # (E, kernels.EV_COLS) the switching events dopri5
+                                             # located in the window: time, state, derivative
+                                             # before and after (analysis.event_pieces)
     _harmonics_memo: dict = field(default_factory=dict, repr=False)
     table_periods: int = 1            # mesh periods per table period (model.table_periods)
+
+    @property
+    def event_times(self) -> np.ndarray:
+        """Times (s) of the switching events located inside the window (dopri5; none for RK4)."""
+        if self.window_events is None:
+            return np.empty(0)
+        return self.window_events[:, kernels.EV_T].copy()
 
     @property
     def whole_table_periods(self) -> bool:
@@ -167,66 +172,6 @@ def _diagnose(method, counters, t_stop, t_end, max_steps, zlim) -> str:
     why = chatter if rate >= 50 else f"{int(counters[2])} contact events so far"
     return (f"dynamics: {method} used its whole budget of {max_steps} steps by {where} ({why}); "
             f"raise max_steps or shorten duration_s")
-
-
-def dense_with_events(t_out: np.ndarray, states: np.ndarray, ev: np.ndarray, tol: float) -> dict:
-    """The dense output the exact window integrals use (``analysis.window_fourier``):
-    SimResult fields t_dense, states_dense, event_times, event_nodes, event_derivs.
-
-    Between the output times the state is taken as the cubic Hermite interpolant of the
-    states and their derivatives, which is exact to the integrator's order only where the
-    right-hand side is smooth. A switching event is not: at contact loss or impact on a
-    flank the acceleration jumps (the mesh damper c_h delta' switches on or off) or, with
-    the damper always on, kinks (the spring's slope changes); at a bearing lifting off or
-    touching it kinks (the dead-zone spring is continuous). So every event ``ev`` (kernel
-    rows: time, state, derivative before, derivative after, ``kernels.EV_*``) becomes two nodes
-    at its time: the first carries the derivative before the event, the second the one
-    after (a piece of zero length between them has zero quadrature weight). An output time
-    within ``tol`` of an event is dropped (its state is the event's, and its side, which
-    the state alone cannot tell, is ambiguous); at the window's ends it is kept and takes
-    the derivative of the side inside the window. Without events the output is returned
-    as it is (no copy)."""
-    E = ev.shape[0]
-    if E == 0:
-        return dict(t_dense=t_out, states_dense=states, event_times=np.empty(0), event_nodes=None,
-                    event_derivs=None)
-    te = ev[:, kernels.EV_T]
-    n = t_out.size
-    lo = np.searchsorted(t_out, te - tol, side="left")
-    hi = np.searchsorted(t_out, te + tol, side="right")
-    keep = np.ones(n, dtype=bool)
-    inner = np.ones(E, dtype=bool)
-    ends = {}
-    for e in np.nonzero(hi > lo)[0]:
-        if lo[e] == 0:                          # at the window start: the side after it
-            ends[0] = ev[e, kernels.EV_F1:kernels.EV_F1 + 10]
-            inner[e] = False
-        elif hi[e] == n:                        # at the window end: the side before it
-            ends.setdefault(n - 1, ev[e, kernels.EV_F0:kernels.EV_F0 + 10])
-            inner[e] = False
-        else:
-            keep[lo[e]:hi[e]] = False
-    ev_in = ev[inner]
-    k = ev_in.shape[0]
-    idx = np.nonzero(keep)[0]
-    t_all = np.concatenate([t_out[idx], np.repeat(ev_in[:, kernels.EV_T], 2)])
-    z_ev = ev_in[:, kernels.EV_Z:kernels.EV_Z + 10]
-    z_all = np.concatenate([states[idx], np.repeat(z_ev, 2, axis=0)])
-    # ties (events at one time) keep the kernel's order, before-copy first
-    seq = np.concatenate([np.zeros(idx.size), 1.0 + np.arange(2 * k)])
-    order = np.lexsort((seq, t_all))
-    pos = np.empty(order.size, dtype=np.int64)
-    pos[order] = np.arange(order.size)
-    f = np.empty((2 * k, 10))
-    f[0::2] = ev_in[:, kernels.EV_F0:kernels.EV_F0 + 10]
-    f[1::2] = ev_in[:, kernels.EV_F1:kernels.EV_F1 + 10]
-    nodes = list(pos[idx.size:])
-    derivs = [f]
-    for j, fj in sorted(ends.items()):
-        nodes.append(pos[np.searchsorted(idx, j)])
-        derivs.append(fj[None, :])
-    return dict(t_dense=t_all[order], states_dense=z_all[order], event_times=te.copy(),
-                event_nodes=np.asarray(nodes, dtype=np.int64), event_derivs=np.vstack(derivs))
 
 
 def compute_signals(model: GearDynamics, t: np.ndarray, Z: np.ndarray) -> dict:
@@ -458,12 +403,11 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
     energy = None
     if track_energy:
         energy = {name: Z_win[:, 10 + i].copy() for i, name in enumerate(ENERGY_NAMES)}
-    dense = dense_with_events(t_out, out[:, :10], ev, 1e-9 * Pt)
     return SimResult(t=t_win, signals=sig, fm_Hz=fm, fs_Hz=S * fm, steps=int(counters[0]),
                      rejected=int(counters[1]), events=int(counters[2]), wall_s=wall,
                      compile_s=compile_s, separation_fraction=sep, backside_fraction=back,
                      bearing_contact_fraction=bc, method=method, states=Z_win[:, :10].copy(),
                      energy=energy, n_periods=M, stats=stats,
                      periodic_with=_periodic_with(sig["delta"], S, M, table_periods=model.table_periods),
-                     z_end=z_end[:10].copy(), switches=sw, model=model, table_periods=model.table_periods,
-                     **dense)
+                     z_end=z_end[:10].copy(), switches=sw, model=model, t_dense=t_out,
+                     states_dense=out[:, :10], window_events=ev, table_periods=model.table_periods)

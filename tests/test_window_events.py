@@ -18,13 +18,15 @@ Truths used, none taken from the code's own output:
 """
 
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
 from gearwear.dynamics import paper_pair, rhs_python, simulate, static_equilibrium
-from gearwear.dynamics.analysis import _hermite_at_gauss, dense_derivatives, gauss_grid, window_fourier
+from gearwear.dynamics.analysis import (_hermite_at_gauss, dense_derivatives, event_pieces, window_fourier,
+                                        window_harmonics)
 from gearwear.dynamics.model import mesh_state
 
 NAMES = ["F_m", "delta"]
@@ -78,24 +80,33 @@ def test_event_harmonics_do_not_depend_on_the_output_sampling(case):
 @pytest.mark.parametrize("case", list(CASES))
 def test_no_quadrature_piece_holds_a_contact_change(case):
     """At the Gauss points of every piece (the interpolated states window_fourier
-    evaluates) the contact state (flank mode, the four bearing contacts) is that of the
-    whole piece, and it changes from piece to piece only at a located event."""
+    evaluates: the whole pieces between output times and the sub-pieces of those that hold
+    events) the contact state (flank mode, the four bearing contacts) is that of the whole
+    piece, and it changes from piece to piece only at a located event."""
     m = paper_pair(**CASES[case])
     r = _window(m, 64)
-    t, Z = r.t_dense, r.states_dense
     F = dense_derivatives(r)
-    tq, _ = gauss_grid(t)
-    dt = np.diff(t)[:, None]
-    Zq = _hermite_at_gauss(Z[:-1], Z[1:], F[:-1] * dt, F[1:] * dt)
-    state = mesh_state(m, tq, Zq)["mode"].astype(np.int64)
-    if m.bearing_half_clearance_m is not None:
-        on = np.abs(Zq[:, :4]) > m.bearing_half_clearance_m
-        state = 10 * state + on @ np.array([1, 2, 4, 8])
-    state = state.reshape(-1, 3)
-    real = dt[:, 0] > 0
-    assert np.all(state[real] == state[real, :1]), "a piece holds a contact change"
-    s, ends = state[real, 0], t[1:][real]
-    changed = ends[:-1][s[1:] != s[:-1]]
+    broken, (ts, Zs, Fs, sub) = event_pieces(r, F)
+    starts, ends, states = [], [], []
+    for t, Z, Fd, pieces in ((r.t_dense, r.states_dense, F, np.nonzero(~broken)[0]), (ts, Zs, Fs, sub)):
+        dt = (t[pieces + 1] - t[pieces])[:, None]
+        pieces = pieces[dt[:, 0] > 0]
+        dt = dt[dt[:, 0] > 0]
+        Zq = _hermite_at_gauss(Z[pieces], Z[pieces + 1], Fd[pieces] * dt, Fd[pieces + 1] * dt)
+        tq = (t[pieces][:, None] + dt * np.array([0.11, 0.5, 0.89])).ravel()   # only the time of k, e
+        state = mesh_state(m, tq, Zq)["mode"].astype(np.int64)
+        if m.bearing_half_clearance_m is not None:
+            on = np.abs(Zq[:, :4]) > m.bearing_half_clearance_m
+            state = 10 * state + on @ np.array([1, 2, 4, 8])
+        state = state.reshape(-1, 3)
+        assert np.all(state == state[:, :1]), "a piece holds a contact change"
+        starts.append(t[pieces])
+        ends.append(t[pieces + 1])
+        states.append(state[:, 0])
+    order = np.argsort(np.concatenate(starts), kind="stable")
+    end, s = np.concatenate(ends)[order], np.concatenate(states)[order]
+    assert np.array_equal(np.concatenate(starts)[order][1:], end[:-1])    # the pieces tile the window
+    changed = end[:-1][s[1:] != s[:-1]]
     assert changed.size >= 15
     assert np.all(np.isin(changed, r.event_times))
 
@@ -174,28 +185,45 @@ def test_event_harmonics_match_scipy_dop853_with_located_events():
         assert np.abs(c[name] - ref[name]).max() <= 5e-9 * scale, (name, np.abs(c[name] - ref[name]).max() / scale)
 
 
-def test_event_nodes_are_merged_in_time_order_with_their_sides():
-    """Hand-made kernel rows: an event at the window start (its sample takes the side
-    after), one between samples, two at one time (kernel order kept), one 1e-12 from a
-    sample (the sample's state is the event's, its side ambiguous: dropped) and one at the
-    window end (its sample takes the side before)."""
+def test_event_pieces_split_the_pieces_that_hold_events():
+    """Hand-made kernel rows on the output times 0..6 (mesh periods): an event at the window
+    start (that time takes the derivative after it), one inside a piece, two at one time
+    (kernel order kept), one 1e-12 after an output time (that time's state is the event's,
+    its side ambiguous: the event replaces it) and one at the window end (derivative
+    before)."""
     from gearwear.dynamics import kernels
-    from gearwear.dynamics.simulate import dense_with_events
 
-    t_out = np.arange(5.0)
-    states = np.arange(50.0).reshape(5, 10)
-    times = [0.0, 1.5, 2.5, 2.5, 3.0 + 1e-12, 4.0]
-    ev = np.zeros((len(times), kernels.EV_COLS))
+    m = paper_pair()
+    fm = m.mesh_frequency_Hz
+    Z = np.arange(70.0).reshape(7, 10)
+    times = np.array([0.0, 1.5, 2.5, 2.5, 5.0 + 1e-12, 6.0]) / fm
+    ev = np.zeros((times.size, kernels.EV_COLS))
     for i, te in enumerate(times):
         ev[i, kernels.EV_T] = te
         ev[i, kernels.EV_Z:kernels.EV_Z + 10] = 100 + i
         ev[i, kernels.EV_F0:kernels.EV_F0 + 10] = -(i + 1)       # before: -1, -2, ...
         ev[i, kernels.EV_F1:kernels.EV_F1 + 10] = i + 1          # after: 1, 2, ...
-    d = dense_with_events(t_out, states, ev, 1e-9)
-    assert np.array_equal(d["t_dense"], [0, 1, 1.5, 1.5, 2, 2.5, 2.5, 2.5, 2.5, 3 + 1e-12, 3 + 1e-12, 4])
-    assert np.array_equal(d["states_dense"][:, 0], [0, 10, 101, 101, 20, 102, 102, 103, 103, 104, 104, 40])
-    side = dict(zip(d["event_nodes"].tolist(), d["event_derivs"][:, 0].tolist()))
-    assert side == {0: 1, 2: -2, 3: 2, 5: -3, 6: 3, 7: -4, 8: 4, 9: -5, 10: 5, 11: -6}
-    assert np.array_equal(d["event_times"], times)
-    none = dense_with_events(t_out, states, ev[:0], 1e-9)
-    assert none["t_dense"] is t_out and none["states_dense"] is states and none["event_nodes"] is None
+    r = SimpleNamespace(model=m, t_dense=np.arange(7.0) / fm, states_dense=Z, window_events=ev, fm_Hz=fm)
+    F = dense_derivatives(r)
+    assert F[0, 0] == 1 and F[-1, 0] == -6                  # the sides inside the window
+    broken, (ts, Zs, Fs, pieces) = event_pieces(r, F)
+    assert broken.tolist() == [False, True, True, False, True, True]
+    assert np.allclose(ts * fm, [1, 1.5, 1.5, 2, 2.5, 2.5, 2.5, 2.5, 3, 4, 5, 5, 6], rtol=0, atol=1e-9)
+    assert Zs[:, 0].tolist() == [10, 101, 101, 20, 102, 102, 103, 103, 30, 40, 104, 104, 60]
+    assert Fs[:, 0].tolist() == [F[1, 0], -2, 2, F[2, 0], -3, 3, -4, 4, F[3, 0], F[4, 0], -5, 5, -6]
+    # the sub-pieces all have an event end: 3 -> 4 is whole (integrated with the rest)
+    assert pieces.tolist() == [0, 1, 2, 3, 4, 5, 6, 7, 9, 10, 11]
+
+
+def test_folds_with_events_equal_the_piece_by_piece_integral():
+    """The period folds leave out the pieces that hold events and add their sub-pieces:
+    the same integral as evaluating every piece (fold=False), to rounding, for the affine
+    fold (bearing clearance alone) and the phasor fold (a flank law)."""
+    for case in ("bearing lift-off", "contact loss"):
+        r = _window(paper_pair(**CASES[case]), 64)
+        assert r.event_times.size >= 15
+        folded, direct = window_fourier(r, NAMES, 10), window_fourier(r, NAMES, 10, fold=False)
+        for name in NAMES:
+            scale = np.abs(direct[name]).max()
+            assert np.abs(folded[name] - direct[name]).max() <= 1e-12 * scale, (case, name)
+        assert np.allclose(window_harmonics(r, NAMES, 10)["F_m"], np.abs(direct["F_m"]), rtol=1e-12, atol=0)
