@@ -39,7 +39,7 @@ cubic spline, ``GearDynamics.interpolation``), at the exact time of every stage:
   a step the table segment is fixed and evaluated at each stage time. Switching events
   (flank contact, bearing contact) are located and stepped to, and those inside the
   output window are returned with the state and both one-sided derivatives, so that the
-  exact window integrals split there too (``simulate.dense_with_events``).
+  exact window integrals split there too (``analysis.event_pieces``).
 
 State ``z``: y_p, x_p, y_g, x_g, q, then their velocities; with the energy switch four
 quadrature states follow: input work int F_s q' dt, dissipated energy, parametric
