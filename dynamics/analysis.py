@@ -308,13 +308,20 @@ def _period_pattern(t: np.ndarray, M: int) -> int:
 
 
 def _signals_at_quadrature(model, t, Z, F, pieces, names, compute_signals):
-    """Gauss points and weights of the pieces [t_j, t_j+1] (j in ``pieces``), and the
-    signals there from the cubic Hermite interpolant of the states Z and derivatives F."""
-    a, dt = t[pieces], (t[pieces + 1] - t[pieces])
+    """Gauss points and weights of the pieces [t_j, t_j+1] (j in ``pieces``, increasing),
+    and the signals there from the cubic Hermite interpolant of the states Z and
+    derivatives F."""
+    if pieces.size and pieces[-1] - pieces[0] + 1 == pieces.size:
+        # a run of pieces: slices are views, where an index array would copy Z and F
+        j0, j1 = slice(pieces[0], pieces[-1] + 1), slice(pieces[0] + 1, pieces[-1] + 2)
+    else:
+        j0, j1 = pieces, pieces + 1
+    a = t[j0]
+    dt = t[j1] - a
     tq = (a[:, None] + dt[:, None] * _GL_X[None, :]).ravel()
     wq = (dt[:, None] * _GL_W[None, :]).ravel()
     dt = dt[:, None]
-    Zq = _hermite_at_gauss(Z[pieces], Z[pieces + 1], F[pieces] * dt, F[pieces + 1] * dt)
+    Zq = _hermite_at_gauss(Z[j0], Z[j1], F[j0] * dt, F[j1] * dt)
     return tq, wq, compute_signals(model, tq, Zq)
 
 
