@@ -174,7 +174,7 @@ def test_event_harmonics_match_scipy_dop853_with_located_events():
     """10 mesh periods after 2, 4000 rpm, 50 um backlash: 40 contact events. Measured
     7.5e-10 (F_m) and 8.5e-10 (delta) of the largest harmonic at rtol 1e-11 and 1024 samples
     per period (7.5e-8 at rtol 1e-9; the reference moves by 4e-12 from rtol 1e-12 to
-    1e-13); 3.1e-5 for F_m before the events were nodes of the dense output."""
+    1e-13); 1.4e-5 for F_m before the pieces were split at the events."""
     m = paper_pair(torque_Nm=5.0, speed_rpm=4000, backlash_total_m=50e-6, n_table=64)
     r = _window(m, 1024, rtol=1e-11, periods=10, discard=2)
     assert _mode_changes(r, m) >= 20
