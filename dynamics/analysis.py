@@ -9,7 +9,7 @@ from .model import GearDynamics, _accelerations, bearing_f, has_flank_law, mesh_
 _trapezoid = getattr(np, "trapezoid", None) or getattr(np, "trapz")
 
 __all__ = ["spectrum", "harmonics", "window_harmonics", "window_fourier", "fourier_amplitudes", "gauss_grid",
-           "energy_balance", "mechanical_energy", "acceleration_signals"]
+           "dense_derivatives", "event_pieces", "energy_balance", "mechanical_energy", "acceleration_signals"]
 
 # 3-point Gauss-Legendre on [0, 1]: exact for polynomials of degree 5
 _GL_X = 0.5 + 0.5 * np.array([-np.sqrt(0.6), 0.0, np.sqrt(0.6)])
@@ -85,66 +85,189 @@ def window_fourier(result, names, n: int = 10, chunk: int = 200_000, fold: bool 
     put energy at all harmonics up to the table's resolution; a DFT of S samples per mesh
     period folds harmonic S +- k onto k (aliasing), which for a worn table is larger
     than the harmonic itself. ``simulate`` therefore also samples the state at every
-    table node inside the window [t_0, t_0 + M T_m] (``result.t_dense``); between those
-    points the state is smooth and is taken as the cubic Hermite interpolant of the
-    sampled states and their exact derivatives (the model's right-hand side), the tables
-    are linear, and 3-point Gauss-Legendre integrates each piece of the signal to the
-    interpolation error of the integrator's own output (O(h^4)). The signals are
-    evaluated by ``compute_signals`` (the same definitions as the samples).
+    table node inside the window [t_0, t_0 + M T_m] (``result.t_dense``), and the adaptive
+    solver returns every switching event it located there (``result.window_events``): at
+    contact loss and flank impacts the acceleration jumps (and F_m with the mesh damper),
+    at bearing contacts it kinks, so the pieces between output times that hold events are
+    split there (:func:`event_pieces`). Inside every piece the state is smooth and is taken
+    as the cubic Hermite interpolant of the states and their exact derivatives (the model's
+    right-hand side; the solver's one-sided derivatives at events), the tables are linear,
+    and 3-point Gauss-Legendre integrates each piece of the signal to the interpolation
+    error of the integrator's own output (O(h^4)). The signals are evaluated by
+    ``compute_signals`` (the same definitions as the samples; inside a piece the contact
+    mode of the interpolated state is the piece's own). RK4 locates no events: its
+    harmonics with backlash or clearance keep the error of pieces across them (and RK4's
+    own, first order there).
 
-    Cost (``fold``; the same integral, reordered): when the dense times repeat every
-    period, e^{-i k w t} repeats too, so the weighted signal is summed over the periods
+    Cost (``fold``; the same integral, reordered): the output times repeat every period,
+    so e^{-i k w t} repeats too, and the weighted signal is summed over the periods
     before one period's phasors are applied. Without a flank law (no backlash, static or
     no centre-distance coupling) every signal is affine in the state with coefficients
     that repeat every table period, s(t, z) = A(t) z + b(t); then the sum over the R
     table periods of s(t_q + r T, z_r) is s(t_q, sum_r z_r) + (R - 1) s(t_q, 0), and the
     Hermite interpolant is linear in its end values, so the states are summed first and
     the signals are evaluated on one table period only (a 1 s run: ~0.3 s -> ~0.02 s).
-    ``fold=False`` evaluates every piece (the reference the tests compare with)."""
+    Both folds leave out the pieces that hold events (zero weight; in the affine sums
+    piece q counts the c_q periods where it is whole: s(t_q, sum z) + (c_q - 1) s(t_q, 0))
+    and add those pieces' sub-pieces one by one. ``fold=False`` evaluates every piece
+    (the reference the tests compare with)."""
     from .simulate import compute_signals
 
     model = result.model
     t = result.t_dense
     Z = result.states_dense
-    F = np.hstack([Z[:, 5:10], _accelerations(model, t, Z)])
+    F = dense_derivatives(result)
+    broken, sub = event_pieces(result, F)
     span = t[-1] - t[0]
     L = model.table_periods
     R = result.n_periods // L if result.n_periods % L == 0 else 0
-    if fold and R >= 2 and not has_flank_law(model):
-        Pt = _period_pattern(t, R)
-        if Pt:
-            return _affine_fold(model, t, Z, F, R, Pt, names, n, result.fm_Hz, span, compute_signals)
     acc = {name: np.zeros(n, complex) for name in names}
-    P = _period_pattern(t, result.n_periods) if fold else 0
-    if P:
+    if sub is not None:
+        _add_pieces(acc, model, *sub, names, n, result.fm_Hz, chunk, compute_signals)
+    Pt = _period_pattern(t, R) if fold and R >= 2 and not has_flank_law(model) else 0
+    P = _period_pattern(t, result.n_periods) if fold and not Pt else 0
+    if Pt:
+        _affine_fold(acc, model, t, Z, F, broken, R, Pt, names, n, result.fm_Hz, compute_signals)
+    elif P:
         # the sample times repeat every mesh period (uniform grid + table nodes), so
         # e^{-i k w t} does too (k w T_m = 2 pi k): sum the weighted signal over the periods
         # first and apply the phasors of one period (n x 3P products instead of n x 3MP)
         chunk = max(1, chunk // P) * P
         ph = None
         for c0 in range(0, t.size - 1, chunk):
-            tq, wq, sig = _signals_at_quadrature(model, t, Z, F, c0, chunk, names, compute_signals)
+            sel = np.arange(c0, min(c0 + chunk, t.size - 1))
+            tq, wq, sig = _signals_at_quadrature(model, t, Z, F, sel, names, compute_signals)
+            if sub is not None:
+                wq = wq * np.repeat(~broken[sel], 3)
             if ph is None:
                 ph = _phasors(tq[:3 * P], result.fm_Hz, n)
             for name in names:
                 acc[name] += ph @ (wq * sig[name]).reshape(-1, 3 * P).sum(axis=0)
-        return {name: 2.0 * v / span for name, v in acc.items()}
-    for c0 in range(0, t.size - 1, chunk):
-        tq, wq, sig = _signals_at_quadrature(model, t, Z, F, c0, chunk, names, compute_signals)
-        ph = _phasors(tq, result.fm_Hz, n)
-        for name in names:
-            acc[name] += ph @ (wq * sig[name])
+    else:
+        _add_pieces(acc, model, t, Z, F, np.nonzero(~broken)[0], names, n, result.fm_Hz, chunk,
+                    compute_signals)
     return {name: 2.0 * v / span for name, v in acc.items()}
 
 
-def _affine_fold(model, t, Z, F, R: int, Pt: int, names, n: int, fm_Hz: float, span: float, compute_signals):
-    """window_fourier for signals affine in the state (see there): the end values of every
-    piece summed over the R table periods (Pt pieces each), the signals on one period."""
+def _add_pieces(acc, model, t, Z, F, pieces, names, n: int, fm_Hz: float, chunk: int, compute_signals):
+    """acc[name] += int x e^{-i k w t} dt over the pieces [t_j, t_j+1] listed (in chunks)."""
+    for c0 in range(0, pieces.size, chunk):
+        tq, wq, sig = _signals_at_quadrature(model, t, Z, F, pieces[c0:c0 + chunk], names, compute_signals)
+        ph = _phasors(tq, fm_Hz, n)
+        for name in names:
+            acc[name] += ph @ (wq * sig[name])
+
+
+#: an output time this close to an event (in mesh periods) is the event's instant: its state
+#: is the event's and its side, which the state alone cannot tell, is ambiguous
+EVENT_SNAP_PERIODS = 1e-9
+
+
+def _event_sides(result):
+    """The window's events and where they meet the output times t_dense: (rows, lo, hi,
+    first, last); output times lo..hi-1 are within EVENT_SNAP_PERIODS of the event, first /
+    last mark events at the window's start / end. None without events."""
+    from .kernels import EV_T
+
+    ev = getattr(result, "window_events", None)
+    if ev is None or ev.shape[0] == 0:
+        return None
+    t = result.t_dense
+    tol = EVENT_SNAP_PERIODS / result.fm_Hz
+    te = ev[:, EV_T]
+    lo = np.searchsorted(t, te - tol, side="left")
+    hi = np.searchsorted(t, te + tol, side="right")
+    first = (hi > lo) & (lo == 0)
+    last = (hi > lo) & (hi == t.size) & ~first
+    return ev, lo, hi, first, last
+
+
+def dense_derivatives(result) -> np.ndarray:
+    """Time derivatives (len(t_dense), 10) of the dense states ``result.states_dense``:
+    the model's right-hand side at each state (velocities, then ``_accelerations``). An
+    event at the window's first (last) output time gives it the solver's derivative after
+    (before) the event, the side inside the window."""
+    from .kernels import EV_F0, EV_F1
+
+    Z = result.states_dense
+    F = np.hstack([Z[:, 5:10], _accelerations(result.model, result.t_dense, Z)])
+    sides = _event_sides(result)
+    if sides is not None:
+        ev, lo, hi, first, last = sides
+        if first.any():
+            F[0] = ev[np.nonzero(first)[0][-1], EV_F1:EV_F1 + 10]
+        if last.any():
+            F[-1] = ev[np.nonzero(last)[0][0], EV_F0:EV_F0 + 10]
+    return F
+
+
+def event_pieces(result, F) -> tuple[np.ndarray, tuple | None]:
+    """The pieces of the window integral that switching events split.
+
+    Returns (broken, sub): broken[j] marks the piece [t_j, t_j+1] of ``result.t_dense``
+    that holds an event (or ends on an output time within EVENT_SNAP_PERIODS of one, which
+    the event replaces); sub = (t, Z, F, pieces) are the nodes of those pieces with every
+    event inside them twice, the first copy with the solver's derivative before the event,
+    the second with the one after (the kernel's rows, ``result.window_events``), and the
+    indices of their sub-pieces (a zero-length one between the copies has zero weight).
+    ``F`` are the output times' derivatives (:func:`dense_derivatives`). sub is None
+    without events inside the window."""
+    from .kernels import EV_F0, EV_F1, EV_T, EV_Z
+
+    t = result.t_dense
+    n = t.size
+    broken = np.zeros(n - 1, dtype=bool)
+    sides = _event_sides(result)
+    if sides is None:
+        return broken, None
+    ev, lo, hi, first, last = sides
+    inner = ~(first | last)
+    if not inner.any():
+        return broken, None
+    ev, lo, hi = ev[inner], lo[inner], hi[inner]
+    # pieces lo-1 .. hi-1 touch the event (one piece, or the two around a replaced time)
+    d = np.zeros(n, dtype=np.int64)
+    np.add.at(d, lo - 1, 1)
+    np.add.at(d, np.maximum(hi, lo), -1)
+    broken = np.cumsum(d)[:-1] > 0
+    dropped = np.zeros(n, dtype=bool)
+    for e in np.nonzero(hi > lo)[0]:
+        dropped[lo[e]:hi[e]] = True
+    ends = np.zeros(n, dtype=bool)
+    ends[:-1] |= broken
+    ends[1:] |= broken
+    keep = np.nonzero(ends & ~dropped)[0]
+    k = ev.shape[0]
+    m = keep.size + 2 * k
+    # rows are in time order and no kept output time is an event's: the copies of event e
+    # follow the kept times before it and the copies of the events before it
+    before = np.searchsorted(t[keep], ev[:, EV_T]) + 2 * np.arange(k)
+    copy = np.zeros(m, dtype=bool)
+    copy[before] = copy[before + 1] = True
+    ts, Zs, Fs = np.empty(m), np.empty((m, 10)), np.empty((m, 10))
+    ts[~copy], Zs[~copy], Fs[~copy] = t[keep], result.states_dense[keep, :10], F[keep]
+    for c, f0 in ((before, EV_F0), (before + 1, EV_F1)):
+        ts[c], Zs[c], Fs[c] = ev[:, EV_T], ev[:, EV_Z:EV_Z + 10], ev[:, f0:f0 + 10]
+    # a piece between two output times is either whole (integrated with the rest) or the
+    # gap between two runs of broken pieces: only pieces with an event end are new
+    pieces = np.nonzero(copy[:-1] | copy[1:])[0]
+    return broken, (ts, Zs, Fs, pieces)
+
+
+def _affine_fold(acc, model, t, Z, F, broken, R: int, Pt: int, names, n: int, fm_Hz: float, compute_signals):
+    """acc[name] += the window integral over the whole pieces for signals affine in the
+    state (window_fourier): the end values of every piece summed over the R table periods
+    (Pt pieces each) with the pieces that hold events left out, the signals on one period."""
     nz = Z.shape[1]
-    Zs0 = Z[:-1].reshape(R, Pt, nz).sum(axis=0)
-    Zs1 = Z[1:].reshape(R, Pt, nz).sum(axis=0)
-    Fs0 = F[:-1].reshape(R, Pt, nz).sum(axis=0)
-    Fs1 = F[1:].reshape(R, Pt, nz).sum(axis=0)
+    Zs0, Zs1, Fs0, Fs1 = (X.reshape(R, Pt, nz).sum(axis=0) for X in (Z[:-1], Z[1:], F[:-1], F[1:]))
+    count = np.full(Pt, float(R))
+    out = np.nonzero(broken)[0]
+    if out.size:
+        # few pieces (two per event at most): take them out of the sums again
+        q = out % Pt
+        for Xs, X in ((Zs0, Z[out]), (Zs1, Z[out + 1]), (Fs0, F[out]), (Fs1, F[out + 1])):
+            np.subtract.at(Xs, q, X)
+        np.subtract.at(count, q, 1.0)
     tb = t[:Pt + 1]
     tq, wq = gauss_grid(tb)
     dt = np.diff(tb)[:, None]
@@ -152,7 +275,9 @@ def _affine_fold(model, t, Z, F, R: int, Pt: int, names, n: int, fm_Hz: float, s
     summed = compute_signals(model, tq, Zq)
     zero = compute_signals(model, tq, np.zeros_like(Zq))
     ph = _phasors(tq, fm_Hz, n)
-    return {name: 2.0 * (ph @ (wq * (summed[name] + (R - 1) * zero[name]))) / span for name in names}
+    c = np.repeat(count - 1.0, 3)
+    for name in names:
+        acc[name] += ph @ (wq * (summed[name] + c * zero[name]))
 
 
 def _hermite_at_gauss(Z0, Z1, F0, F1) -> np.ndarray:
@@ -182,14 +307,21 @@ def _period_pattern(t: np.ndarray, M: int) -> int:
     return P if np.max(np.abs(tau - tau[0])) <= 1e-9 * T else 0
 
 
-def _signals_at_quadrature(model, t, Z, F, c0: int, chunk: int, names, compute_signals):
-    """Gauss points and weights of the intervals c0 .. c0 + chunk of t, and the signals
-    there from the cubic Hermite interpolant of the states Z and their derivatives F."""
-    tb = t[c0:c0 + chunk + 1]
-    tq, wq = gauss_grid(tb)
-    sl0, sl1 = slice(c0, c0 + tb.size - 1), slice(c0 + 1, c0 + tb.size)
-    dt = np.diff(tb)[:, None]
-    Zq = _hermite_at_gauss(Z[sl0], Z[sl1], F[sl0] * dt, F[sl1] * dt)
+def _signals_at_quadrature(model, t, Z, F, pieces, names, compute_signals):
+    """Gauss points and weights of the pieces [t_j, t_j+1] (j in ``pieces``, increasing),
+    and the signals there from the cubic Hermite interpolant of the states Z and
+    derivatives F."""
+    if pieces.size and pieces[-1] - pieces[0] + 1 == pieces.size:
+        # a run of pieces: slices are views, where an index array would copy Z and F
+        j0, j1 = slice(pieces[0], pieces[-1] + 1), slice(pieces[0] + 1, pieces[-1] + 2)
+    else:
+        j0, j1 = pieces, pieces + 1
+    a = t[j0]
+    dt = t[j1] - a
+    tq = (a[:, None] + dt[:, None] * _GL_X[None, :]).ravel()
+    wq = (dt[:, None] * _GL_W[None, :]).ravel()
+    dt = dt[:, None]
+    Zq = _hermite_at_gauss(Z[j0], Z[j1], F[j0] * dt, F[j1] * dt)
     return tq, wq, compute_signals(model, tq, Zq)
 
 

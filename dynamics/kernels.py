@@ -36,7 +36,10 @@ cubic spline, ``GearDynamics.interpolation``), at the exact time of every stage:
   in the hot loop; any table length, any N; 4th order throughout).
 * Dormand-Prince: every step ends on the next table node (the interpolant's kinks
   are at known times), so each step integrates a polynomial right-hand side; inside
-  a step the table segment is fixed and evaluated at each stage time.
+  a step the table segment is fixed and evaluated at each stage time. Switching events
+  (flank contact, bearing contact) are located and stepped to, and those inside the
+  output window are returned with the state and both one-sided derivatives, so that the
+  exact window integrals split there too (``analysis.event_pieces``).
 
 State ``z``: y_p, x_p, y_g, x_g, q, then their velocities; with the energy switch four
 quadrature states follow: input work int F_s q' dt, dissipated energy, parametric
@@ -69,6 +72,8 @@ _PD = np.array([
 
 NG = 10  # switching functions: s-b, -s-b, then +-u_j - b_b for y_p, x_p, y_g, x_g
 ST_OK, ST_BUDGET, ST_HMIN, ST_DIVERGED = 0, 1, 2, 3
+# one row per located event in the output window: t, the state, f before (old mode), f after
+EV_T, EV_Z, EV_F0, EV_F1, EV_COLS = 0, 1, 11, 21, 31
 
 
 # ------------------------------------------------------------------------------------
@@ -634,6 +639,22 @@ def _illinois(t, h, i, m, z, K, PD, gi, act_i, a, fa, bq, fb, zs, gs, p, phx, kx
 
 
 @njit(cache=True)
+def _ev_put(ev, n, t, z, f0, f1):
+    """Row n of the event record (grown by doubling when full): time, state, one-sided
+    derivatives. Returns the (possibly new) buffer."""
+    if n == ev.shape[0]:
+        grown = np.empty((2 * n, EV_COLS))
+        grown[:n] = ev
+        ev = grown
+    ev[n, EV_T] = t
+    for r in range(10):
+        ev[n, EV_Z + r] = z[r]
+        ev[n, EV_F0 + r] = f0[r]
+        ev[n, EV_F1 + r] = f1[r]
+    return ev
+
+
+@njit(cache=True)
 def dopri5(z0, t_end, t_out, rtol, atol, h0, hmax, hmin, max_steps, zlim, gidx,
            p, phi, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en):
     """Adaptive Dormand-Prince 5(4) from t = 0 with event location.
@@ -646,8 +667,13 @@ def dopri5(z0, t_end, t_out, rtol, atol, h0, hmax, hmin, max_steps, zlim, gidx,
     With time-varying tables, steps also end on the table nodes (kinks of the linear
     interpolant). Guards: at most ``max_steps`` steps (accepted + rejected), a step
     proposed below ``hmin`` stops (status 2), a state beyond ``zlim`` stops (status 3).
+    Every event at a time inside the output window [t_out[0], t_out[-1]] is recorded (one
+    row of ``EV_COLS``: time, state, the derivative in the old mode (the last stage of the
+    step that ends on the event, or the step's first stage for an event of zero length)
+    and in the new mode (the restart's first stage)): the state is smooth between
+    events, not across them, so exact window integrals must split their pieces there.
     Returns (out, counters [accepted, rejected, events, samples, status, events per
-    1000 steps averaged over the last ~1000 steps], z and t at the stop)."""
+    1000 steps averaged over the last ~1000 steps], z and t at the stop, event rows)."""
     nz = z0.shape[0]
     nerr = 10
     n_out = t_out.shape[0]
@@ -680,6 +706,10 @@ def dopri5(z0, t_end, t_out, rtol, atol, h0, hmax, hmin, max_steps, zlim, gidx,
     n_acc = 0
     n_rej = 0
     n_ev = 0
+    ev = np.empty((64, EV_COLS))
+    n_rec = 0
+    t_lo = t_out[0] if n_out > 0 else 0.0
+    t_hi = t_out[n_out - 1] if n_out > 0 else -1.0
     n_zero = 0
     ev_rate = 0.0                # moving average of events per step (chatter diagnosis)
     status = ST_OK
@@ -822,7 +852,11 @@ def dopri5(z0, t_end, t_out, rtol, atol, h0, hmax, hmin, max_steps, zlim, gidx,
             hn = min(hp, tn - t) if clip else hp
             if clip:
                 si, sm = _segment(t + 0.5 * hn, p, phx)
+            f_old = ks[5] if h_used > 0.0 else k1
             k1, w1 = _f_first(t, si, sm, z, p, modes, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en)
+            if event and t_lo <= t <= t_hi:
+                ev = _ev_put(ev, n_rec, t, z, f_old, k1)
+                n_rec += 1
             if ng > 0:
                 _g_arr(t, si, sm, z, gcur, p, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn)
             if n_zero > 20:
@@ -843,7 +877,7 @@ def dopri5(z0, t_end, t_out, rtol, atol, h0, hmax, hmin, max_steps, zlim, gidx,
             else:
                 hp = h * fac
     counters = np.array([n_acc, n_rej, n_ev, ko, status, int(1000.0 * ev_rate)], dtype=np.int64)
-    return out, counters, z, t
+    return out, counters, z, t, ev[:n_rec].copy()
 
 
 @njit(cache=True)

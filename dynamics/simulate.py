@@ -60,8 +60,18 @@ class SimResult:
     model: GearDynamics | None = None  # the model that produced it (exact harmonics)
     t_dense: np.ndarray | None = None  # the sample times plus the table nodes and the window end
     states_dense: np.ndarray | None = None  # (len(t_dense), 10) states there
+    window_events: np.ndarray | None = None  # (E, kernels.EV_COLS) the switching events dopri5
+                                             # located in the window: time, state, derivative
+                                             # before and after (analysis.event_pieces)
     _harmonics_memo: dict = field(default_factory=dict, repr=False)
     table_periods: int = 1            # mesh periods per table period (model.table_periods)
+
+    @property
+    def event_times(self) -> np.ndarray:
+        """Times (s) of the switching events located inside the window (dopri5; none for RK4)."""
+        if self.window_events is None:
+            return np.empty(0)
+        return self.window_events[:, kernels.EV_T].copy()
 
     @property
     def whole_table_periods(self) -> bool:
@@ -137,7 +147,7 @@ def _run(method, model, z0, t_end, t_out, steps_per_period, rtol, atol_vec, sw, 
         n_steps = max(int(math.ceil(t_end / h - 1e-9)), 0)
         sched = rk4_schedule(model, steps_per_period)
         out, counters, z = kernels.rk4(z0, h, n_steps, t_out, zlim, p, *sched, *sw)
-        return out, counters, z, counters[0] * h
+        return out, counters, z, counters[0] * h, np.empty((0, kernels.EV_COLS))
     h0 = Pt / 256.0
     hmax = Pt / 4.0
     hmin = 1e-9 * Pt
@@ -359,8 +369,8 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
         compile_s = time.perf_counter() - tc
         _WARM.add(key)
     tw = time.perf_counter()
-    out, counters, z_end, t_stop = _run(method, model, z0, t_end, t_out, steps_per_mesh_period,
-                                        rtol, atol_vec, sw, max_steps, zlim)
+    out, counters, z_end, t_stop, ev = _run(method, model, z0, t_end, t_out, steps_per_mesh_period,
+                                            rtol, atol_vec, sw, max_steps, zlim)
     wall = time.perf_counter() - tw
     ko = int(counters[3])
     if int(counters[4]) != kernels.ST_OK or ko < n_out or not np.all(np.isfinite(out)):
@@ -400,4 +410,4 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
                      energy=energy, n_periods=M, stats=stats,
                      periodic_with=_periodic_with(sig["delta"], S, M, table_periods=model.table_periods),
                      z_end=z_end[:10].copy(), switches=sw, model=model, t_dense=t_out,
-                     states_dense=out[:, :10], table_periods=model.table_periods)
+                     states_dense=out[:, :10], window_events=ev, table_periods=model.table_periods)
