@@ -201,7 +201,7 @@ def dense_derivatives(result) -> np.ndarray:
     return F
 
 
-def event_pieces(result, F) -> tuple[np.ndarray, tuple | None]:
+def event_pieces(result, F) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None]:
     """The pieces of the window integral that switching events split.
 
     Returns (broken, sub): broken[j] marks the piece [t_j, t_j+1] of ``result.t_dense``
