@@ -8,6 +8,7 @@ nothing is written before all inputs are validated, and files are written atomic
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import sys
 from pathlib import Path
@@ -168,17 +169,14 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
     fields = [_int_arg("--fields", f, 0, rows - 1) for f in _split_multi(args.fields)]
     if fields and (args.method != "fem" or not args.out):
         raise InputError(f"--fields = {','.join(map(str, fields))}: needs --method fem and --out")
-    fe: dict = {}
     with tqdm(desc="pair FE positions", unit="position", disable=args.json or args.method != "fem" or None,
               file=sys.stderr) as bar:
-        if args.method == "fem":
-            def progress(done: int, total: int) -> None:
-                bar.total = total
-                bar.n = done
-                bar.refresh()
-            fe["progress"] = progress
+        def progress(done: int, total: int) -> None:  # only the pair FE reports progress
+            bar.total = total
+            bar.n = done
+            bar.refresh()
         curves = stiffness_job.compute(scene.pair, args.method, wears, clearances, torque, points, scene.flank,
-                                       scene.faults, **fe)
+                                       scene.faults, progress=progress)
     harris = stiffness_job.harris(curves, scene.pair, scene.flank)
     inputs = {**io.scene_inputs(scene), "pair": _pair_inputs(scene), "method": args.method, "torque_Nm": torque,
               "points": points}
@@ -283,12 +281,8 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
             calibrate.require_overlap(scene.pair, c)
         except InputError as exc:
             raise fail("--clearance-um", c * 1e6, "um", "the FE calibration " + str(exc).split(": ", 1)[1]) from None
-    executor = _fe_executor(args)
-    try:
+    with _fe_executor(args) or contextlib.nullcontext() as executor:
         rows, copies, fe_s = _calibrate_tables(args, scene, wears, clearances, torque, points, out, folder, executor)
-    finally:
-        if executor is not None:
-            executor.shutdown()
     inputs = {**io.scene_inputs(scene), "wear": [w.label if w else "unworn" for w in wears],
               "wear_spec": [_wear_dict(w) for w in wears], "clearance_um": [c * 1e6 for c in clearances],
               "torque_Nm": torque, "points": points}
@@ -318,8 +312,12 @@ def _fe_executor(args: argparse.Namespace):
 
     if not (args.workers or args.scheduler):
         return None
-    workers = _int_arg("--workers", args.workers, 1, 1024) if args.workers else None
-    return sweep_job.make_executor(workers, args.scheduler)
+    return sweep_job.make_executor(_workers(args), args.scheduler)
+
+
+def _workers(args: argparse.Namespace) -> int | None:
+    """--workers N (1..1024), or None: the executor's default (all cores)."""
+    return _int_arg("--workers", args.workers, 1, 1024) if args.workers else None
 
 
 def _calibrate_tables(args, scene, wears, clearances, torque, points, out, folder, executor):
@@ -390,12 +388,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     scene_from_dict(apply_overrides(data, fixed), name=name)  # the fixed keys are checked first
     if not axes:
         raise InputError("--set: give at least one swept key, KEY=START:STOP:N or KEY=a,b,c")
-    workers = _int_arg("--workers", args.workers, 1, 1024) if args.workers else None
-    executor = sweep.make_executor(workers, args.scheduler)
-    try:
+    with sweep.make_executor(_workers(args), args.scheduler) as executor:
         results = sweep.sweep(data, name, axes, fixed, executor=executor, progress=not args.json)
-    finally:
-        executor.shutdown()
     base = scene_from_dict(apply_overrides(data, fixed), name=name)  # the scene every point starts from
     inputs = {**io.scene_inputs(base), "axes": {a.key: list(a.values) for a in axes}}
     labels = {**io.scene_labels(base), "fixed": fixed}
@@ -433,14 +427,11 @@ def _cmd_runup(args: argparse.Namespace) -> int:
         max_periods=_int_arg("--max-periods", args.max_periods, 2, 1_000_000),
         keep_periods=_int_arg("--keep-periods", args.keep_periods, 1, 100_000),
         jump_tol=_bounded_float("--jump-tolerance", args.jump_tolerance, "", 1e-9, 1.0))
-    workers = _int_arg("--workers", args.workers, 1, 1024) if args.workers else None
+    workers = _workers(args)
     t0 = time.perf_counter()
     points, chains = runup_job.plan(data, name, speed, others, fixed, args.direction)
-    executor = sweep.make_executor(workers, args.scheduler)
-    try:
+    with sweep.make_executor(workers, args.scheduler) as executor:
         runup_job.run(points, chains, settings, executor, progress=not args.json)
-    finally:
-        executor.shutdown()
     wall = time.perf_counter() - t0
     summ = runup_job.summary(points, chains, speed, others, settings)
     base = points[0].scene
@@ -490,19 +481,18 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
     validate_range(raw, name, unknowns, lo, hi)
     rel = _bounded_float("--noise-pct", args.noise_pct, "%", 0.01, 100) / 100
     floor = _bounded_float("--noise-floor-pct", args.noise_floor_pct, "%", 0, 100) / 100
-    workers = _int_arg("--workers", args.workers, 1, 1024) if args.workers else None
+    workers = _workers(args)
     d, K = len(unknowns), int(scene.output["harmonics"])
     design = dc.design_size(args.design_points, "--design-points",
                             (dc.PLAN_DESIGN_POINTS if args.plan else dc.DESIGN_POINTS)[d])
+    spec = BuildSpec(raw, name, unknowns, lo, hi, K, design, dc.HOLDOUT_POINTS[d])
     if args.plan:
         if args.measured:
             raise InputError(f"--measured {args.measured}: not used with --plan (the plan needs no measurement)")
         speeds, torques = dc.plan_candidates(raw, unknowns, dc.parse_list(args.speeds_rpm, "--speeds-rpm", "rpm", 1e6),
                                              dc.parse_list(args.torques_Nm, "--torques-Nm", "N m", 1e7))
         out = _check_out(args.out, "diagnose plan")
-        doc, timing = dc.run_plan(raw, name, unknowns, lo, hi, speeds, torques, K, design, dc.HOLDOUT_POINTS[d], rel,
-                                  floor, workers, not args.json)
-        spec = BuildSpec(raw, name, unknowns, lo, hi, K, design, dc.HOLDOUT_POINTS[d])
+        doc, timing = dc.run_plan(spec, speeds, torques, rel, floor, workers, not args.json)
         inputs = dc.inputs(spec, rel, floor, {"plan_speeds_rpm": speeds, "plan_torques_Nm": torques})
         files = _write(out, "diagnose plan", scene, inputs,
                        lambda f: dc.write_plan(doc, f, inputs, io.scene_labels(scene)), timing)
@@ -519,11 +509,10 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
                          "or --plan for a measurement plan")
     if args.speeds_rpm or args.torques_Nm:
         raise InputError("--speeds-rpm/--torques-Nm: only used with --plan")
-    spec = BuildSpec(raw, name, unknowns, lo, hi, K, design, dc.HOLDOUT_POINTS[d])
     from .diagnose_features import read_measurement
-    read_measurement(args.measured, scene.mesh_frequency_Hz, K)  # a bad file: one line, before any work
+    meas = read_measurement(args.measured, scene.mesh_frequency_Hz, K)  # a bad file: one line, before any work
     out = _check_out(args.out, "diagnose")
-    res = dc.diagnose(spec, args.measured, rel, floor, workers, not args.json, refresh=args.refresh)
+    res = dc.diagnose(spec, meas, rel, floor, workers, not args.json, refresh=args.refresh)
     inputs = dc.inputs(spec, rel, floor, {"measured_sha256": res.doc["measured"]["sha256"]})
     labels = {**io.scene_labels(scene), "measured_file": str(args.measured)}
     files = _write(out, "diagnose", scene, inputs, lambda f: dc.write_diagnosis(res, f, inputs, labels), res.timing)

@@ -25,7 +25,7 @@ from gearwear.core.validation import InputError
 from . import diagnose_job as dj
 from . import diagnose_surrogate as ds
 from . import io
-from .diagnose_features import Measurement, read_measurement
+from .diagnose_features import Measurement
 
 #: default design sizes (Sobol points; the 2^d corners come on top) and held-out runs
 DESIGN_POINTS = {1: 64, 2: 256, 3: 512}
@@ -135,11 +135,11 @@ class Diagnosis:
     timing: dict[str, Any]
 
 
-def diagnose(spec: ds.BuildSpec, measured: str, rel: float, floor_frac: float, workers: int | None,
+def diagnose(spec: ds.BuildSpec, meas: Measurement, rel: float, floor_frac: float, workers: int | None,
              progress: bool, refresh: bool = False) -> Diagnosis:
+    """The diagnosis of ``meas`` (read_measurement of the file, at the scene's mesh
+    frequency and ``spec.harmonics``) over the surrogate of ``spec``."""
     t0 = time.perf_counter()
-    base = spec.base_scene()
-    meas = read_measurement(measured, base.mesh_frequency_Hz, spec.harmonics)
     ex = LazyExecutor(workers)
     try:
         with _bar(spec.design_points + 2 ** len(spec.unknowns) + spec.holdout_points, progress) as bar:
@@ -149,7 +149,7 @@ def diagnose(spec: ds.BuildSpec, measured: str, rel: float, floor_frac: float, w
     t1 = time.perf_counter()
     ft = dj.fit(sur, meas.values, rel, floor_frac)
     ver = dj.verdict(ft, rel, floor_frac)
-    info = {"file": Path(measured).name, "sha256": io.file_sha256(measured), "kind": meas.kind,
+    info = {"file": Path(meas.source).name, "sha256": io.file_sha256(meas.source), "kind": meas.kind,
             "features": len(ft.features), "signals": meas.signals, **meas.info}
     doc = dj.document(ft, ver, info, rel, floor_frac, spec.name)
     timing = {"total_s": time.perf_counter() - t0, "fit_s": time.perf_counter() - t1,
@@ -230,17 +230,17 @@ def parse_list(text: str | None, flag: str, unit: str, hi: float) -> list[float]
     return out
 
 
-def run_plan(raw, name, unknowns, lo, hi, speeds, torques, harmonics, design_points, holdout_points, rel, floor_frac,
-             workers, progress) -> tuple[dict[str, Any], dict[str, Any]]:
+def run_plan(spec: ds.BuildSpec, speeds: list[float], torques: list[float] | None, rel: float, floor_frac: float,
+             workers: int | None, progress: bool) -> tuple[dict[str, Any], dict[str, Any]]:
     from . import diagnose_plan
 
     t0 = time.perf_counter()
-    total = len(speeds) * len(torques or [None]) * (design_points + 2 ** len(unknowns) + holdout_points)
+    total = len(speeds) * len(torques or [None]) * (spec.design_points + 2 ** len(spec.unknowns)
+                                                   + spec.holdout_points)
     ex = LazyExecutor(workers)
     try:
         with _bar(total, progress) as bar:
-            doc = diagnose_plan.plan(raw, name, unknowns, lo, hi, speeds, torques, harmonics, design_points,
-                                     holdout_points, rel, floor_frac, ex, bar.update)
+            doc = diagnose_plan.plan(spec, speeds, torques, rel, floor_frac, ex, bar.update)
     finally:
         ex.shutdown()
     timing = {"total_s": time.perf_counter() - t0, "surrogates": doc.pop("surrogates")}

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from . import diagnose_posterior as dp
-from .diagnose_features import MEAN_SIGNALS, SIGNALS, Feature, feature_name, time_series_features
+from .diagnose_features import MEAN_SIGNALS, SIGNALS, Feature, all_features, feature_name, time_series_features
 from .diagnose_surrogate import Surrogate, error_multiplicity
 
 GRID_POINTS = {1: 401, 2: 101, 3: 41}   # per axis and zoom stage
@@ -87,7 +87,7 @@ def candidate_groups(measured: list[Feature], harmonics: int) -> list[tuple[str,
     for s in SIGNALS:
         if not any(f[0] == s and f[1] > 0 for f in have):
             groups.append((f"the harmonics of {s}", [(s, k) for k in range(1, harmonics + 1)]))
-    every = [(s, k) for s in SIGNALS for k in range(1, harmonics + 1)] + [(s, 0) for s in MEAN_SIGNALS]
+    every = all_features(harmonics)
     if any(f not in have for f in every):
         groups.append(("time series of all four signals (y_p_um, x_p_um, delta_um, F_m_N)", every))
     return groups

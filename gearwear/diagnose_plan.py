@@ -21,9 +21,9 @@ from typing import Any, Callable
 import numpy as np
 
 from . import diagnose_posterior as dp
-from .diagnose_features import MEAN_SIGNALS, SIGNALS, Feature
+from .diagnose_features import MEAN_SIGNALS, SIGNALS, Feature, all_features
 from .diagnose_job import expected_widths
-from .diagnose_surrogate import BuildSpec, Surrogate, Unknown, build
+from .diagnose_surrogate import BuildSpec, Surrogate, build
 
 REFERENCE_POINTS = 16
 REFERENCE_SEED = 11
@@ -36,8 +36,7 @@ def candidates(harmonics: int) -> list[tuple[str, list[Feature]]]:
         out.append((f"{s} harmonics", [(s, k) for k in range(1, harmonics + 1)]))
     for s in MEAN_SIGNALS:
         out.append((f"{s} time series", [(s, k) for k in range(1, harmonics + 1)] + [(s, 0)]))
-    out.append(("all four, time series", [(s, k) for s in SIGNALS for k in range(1, harmonics + 1)]
-                + [(s, 0) for s in MEAN_SIGNALS]))
+    out.append(("all four, time series", all_features(harmonics)))
     return out
 
 
@@ -74,25 +73,26 @@ def assess(sur: Surrogate, rel: float, floor_frac: float) -> list[dict[str, Any]
     return rows
 
 
-def plan(raw: dict[str, Any], name: str, unknowns: list[Unknown], lo, hi, speeds: list[float],
-         torques: list[float] | None, harmonics: int, design_points: int, holdout_points: int, rel: float,
-         floor_frac: float, executor: Executor | Callable[[], Executor | None] | None = None,
+def plan(spec: BuildSpec, speeds: list[float], torques: list[float] | None, rel: float, floor_frac: float,
+         executor: Executor | Callable[[], Executor | None] | None = None,
          progress: Callable[[int], None] | None = None) -> dict[str, Any]:
     """The plan document: rows per operating point and candidate measurement, and the
-    measurements that separate the unknowns. ``torques`` None: the torque is an unknown."""
+    measurements that separate the unknowns. ``spec``: the surrogate at the scene's own
+    operating point, which each candidate point replaces. ``torques`` None: the torque is
+    an unknown."""
     import copy
+    from dataclasses import replace
 
     rows = []
     builds = []
     levels: list[float | None] = list(torques) if torques else [None]
     for n in speeds:
         for T in levels:
-            doc = copy.deepcopy(raw)
+            doc = copy.deepcopy(spec.raw)
             doc.setdefault("operating", {})["speed_rpm"] = float(n)
             if T is not None:
                 doc["operating"]["torque_Nm"] = float(T)
-            sur = build(BuildSpec(doc, name, unknowns, tuple(lo), tuple(hi), harmonics, design_points,
-                                  holdout_points), executor, progress)
+            sur = build(replace(spec, raw=doc), executor, progress)
             builds.append({"speed_rpm": n, "torque_Nm": T, "from_cache": sur.from_cache,
                            "heldout_harmonic_relative_error_median": sur.heldout.get(
                                "harmonic_relative_error_median"),
@@ -101,8 +101,9 @@ def plan(raw: dict[str, Any], name: str, unknowns: list[Unknown], lo, hi, speeds
                 rows.append({"speed_rpm": n, "torque_Nm": T, **r})
     separable = [r for r in rows if r["separable"]]
     best = min(separable, key=lambda r: max(r["width_fraction"].values()), default=None)
-    return {"unknowns": [u.name for u in unknowns],
-            "prior": {u.name: {"lo": float(a), "hi": float(b), "unit": u.unit} for u, a, b in zip(unknowns, lo, hi)},
+    return {"unknowns": [u.name for u in spec.unknowns],
+            "prior": {u.name: {"lo": float(a), "hi": float(b), "unit": u.unit}
+                      for u, a, b in zip(spec.unknowns, spec.lo, spec.hi)},
             "noise_model": {"relative": rel, "floor_fraction_of_largest_harmonic": floor_frac},
             "resolved_fraction": dp.RESOLVED_FRACTION, "rows": rows, "surrogates": builds,
             "separable": [{k: r[k] for k in ("speed_rpm", "torque_Nm", "measurement")} for r in separable],

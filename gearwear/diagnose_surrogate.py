@@ -64,7 +64,7 @@ import numpy as np
 from gearwear.core.validation import InputError
 
 from . import io, tables
-from .diagnose_features import MEAN_SIGNALS, SIGNALS, Feature, all_features
+from .diagnose_features import MEAN_SIGNALS, SIGNALS, Feature, all_features, feature_name
 
 SURROGATE_VERSION = 1
 TRAIN_DISCARD_S = 0.05      # > 6 time constants of the slowest bearing mode (2 % damping, ~1 kHz)
@@ -232,7 +232,7 @@ class Surrogate:
 
     def __post_init__(self):
         self._U = self.unit(self.X)
-        self._scale = np.where(np.std(self.Y, axis=0) > 0, np.std(self.Y, axis=0), 1.0)
+        self._scale = feature_scale(self.Y)
         self._rbf = _rbf(self._U, self.Y / self._scale)
         self.h = bandwidth(len(self.X), len(self.unknowns))
 
@@ -273,10 +273,21 @@ def local_rms(U: np.ndarray, Ud: np.ndarray, r2: np.ndarray, h: float) -> np.nda
     return np.sqrt((w @ r2) / w.sum(axis=1, keepdims=True))
 
 
+def feature_scale(Y: np.ndarray) -> np.ndarray:
+    """Per-column standard deviation of the design outputs (1 for a constant column): the
+    RBF interpolates Y / scale, so every output weighs alike in the shared kernel."""
+    return np.where(np.std(Y, axis=0) > 0, np.std(Y, axis=0), 1.0)
+
+
+def corners(d: int) -> np.ndarray:
+    """The 2^d corners of the unit box (2^d, d), in meshgrid order."""
+    return np.array(np.meshgrid(*[[0.0, 1.0]] * d, indexing="ij")).reshape(d, -1).T
+
+
 def cross_validation(U: np.ndarray, Y: np.ndarray, harmonics: int, folds: int = CV_FOLDS) -> np.ndarray:
     """Feature residuals at every design point of the surrogate fitted without its fold
     (fold = index mod folds: each fold is spread over the Sobol design)."""
-    scale = np.where(np.std(Y, axis=0) > 0, np.std(Y, axis=0), 1.0)
+    scale = feature_scale(Y)
     F = amplitudes(Y, harmonics)
     res = np.empty_like(F)
     idx = np.arange(len(U)) % min(folds, len(U))
@@ -333,8 +344,7 @@ def heldout_summary(Xh, Fh, Ph, Sh, harmonics: int) -> dict[str, Any]:
     err = Ph - Fh
     big = Fh[:, harm] > 1e-3 * np.max(Fh[:, harm], axis=0)  # a relative error of a vanishing amplitude says nothing
     rel = np.abs(err[:, harm])[big] / Fh[:, harm][big]
-    per = {f"{s} {'mean' if k == 0 else f'h{k}'}": float(np.sqrt(np.mean(err[:, i] ** 2)))
-           for i, (s, k) in enumerate(feats)}
+    per = {feature_name(f): float(np.sqrt(np.mean(err[:, i] ** 2))) for i, f in enumerate(feats)}
     inside = np.abs(err) <= 1.959964 * Sh
     return {"points": int(len(Xh)),
             "harmonic_relative_error_median": float(np.median(rel)),
@@ -394,8 +404,7 @@ def design(spec: BuildSpec) -> tuple[np.ndarray, np.ndarray]:
     d = len(spec.unknowns)
     m = int(round(math.log2(spec.design_points)))
     u = qmc.Sobol(d, scramble=True, seed=np.random.default_rng(DESIGN_SEED)).random_base2(m)
-    corners = np.array(np.meshgrid(*[[0.0, 1.0]] * d, indexing="ij")).reshape(d, -1).T
-    u = np.vstack([corners, u])
+    u = np.vstack([corners(d), u])
     X = np.column_stack([un.from_unit(u[:, j], spec.lo[j], spec.hi[j]) for j, un in enumerate(spec.unknowns)])
     rng = np.random.default_rng(HOLDOUT_SEED)
     Xh = np.asarray(spec.lo) + (np.asarray(spec.hi) - np.asarray(spec.lo)) * rng.random((spec.holdout_points, d))
@@ -489,7 +498,7 @@ def validate_range(raw: dict[str, Any], name: str, unknowns: list[Unknown], lo, 
     """Every corner of the prior box is a valid scene (one-line error naming the range flag
     otherwise), so a bad range stops before any simulation."""
     d = len(unknowns)
-    for corner in np.array(np.meshgrid(*[[0, 1]] * d, indexing="ij")).reshape(d, -1).T:
+    for corner in corners(d):
         values = {u.short: (hi[j] if corner[j] else lo[j]) for j, u in enumerate(unknowns)}
         try:
             scene_at(raw, name, values)
