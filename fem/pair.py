@@ -693,6 +693,23 @@ def _reps(body: GearBody, c: dict, gi: int, delta_tooth: int, at_nodes: bool = T
     return idx6, coef6
 
 
+def _reps_memo(body: GearBody, cands: list, gi: int, cracked_tooth: int | None) -> Callable[[int, int], tuple]:
+    """rep(k, dt): _reps of candidate k on body gi, each computed once. Healthy body
+    (``cracked_tooth`` None): read dt teeth from the load tooth; cracked body: on the
+    candidate's own tooth relative to the cracked one, whatever dt."""
+    memo: dict = {}
+
+    def rep(k: int, dt: int) -> tuple:
+        key = (k, dt) if cracked_tooth is None else k
+        if key not in memo:
+            c = cands[k]
+            memo[key] = (_reps(body, c, gi, dt) if cracked_tooth is None
+                         else _reps(body, c, gi, c["teeth"][gi] - cracked_tooth, at_nodes=False))
+        return memo[key]
+
+    return rep
+
+
 def _flexibility(pm: PairModel, cands: list, cracked: tuple = (None, None)) -> np.ndarray:
     """C (n, n) of all candidates: sum over both bodies of a_i^T G a_j. On a healthy body
     the read is on tooth t_i - t_j relative to the load (rotational periodicity); on a
@@ -705,15 +722,11 @@ def _flexibility(pm: PairModel, cands: list, cracked: tuple = (None, None)) -> n
         ct = cracked[gi]
         if ct is not None:
             body = pm.cracked[gi]
-            reps = [_reps(body, c, gi, c["teeth"][gi] - ct[0], at_nodes=False) for c in cands]
+        rep = _reps_memo(body, cands, gi, None if ct is None else ct[0])
         for a, ca in enumerate(cands):
             for b, cb in enumerate(cands):
-                if ct is None:
-                    dt = ca["teeth"][gi] - cb["teeth"][gi]
-                    ia, wa = _reps(body, ca, gi, dt)
-                    ib, wb = _reps(body, cb, gi, 0)
-                else:
-                    (ia, wa), (ib, wb) = reps[a], reps[b]
+                ia, wa = rep(a, ca["teeth"][gi] - cb["teeth"][gi])
+                ib, wb = rep(b, 0)
                 Gs = body.G[np.ix_(ia.ravel(), ib.ravel())].reshape(ia.shape[0], 6, ib.shape[0], 6)
                 C[off[a]:off[a + 1], off[b]:off[b + 1]] += np.einsum("ia,iajb,jb->ij", wa, Gs, wb)
     return 0.5 * (C + C.T)
