@@ -152,7 +152,7 @@ from typing import Any, Callable
 import numpy as np
 
 from gearwear.geometry.crack import check_crack
-from gearwear.geometry.faults import FaultSpec, check_faults, faulty_slots, revolution_periods
+from gearwear.geometry.faults import FaultSpec, check_faults, faulty_slots, holds_fault, revolution_periods
 from gearwear.geometry.loading import load_points
 from gearwear.geometry.curves import CurveStats
 from gearwear.geometry.kinematics import MeshGeometry
@@ -736,14 +736,13 @@ def _slot_faults(pm: PairModel, period: int | None, j: int) -> tuple[tuple, bool
     """(spalled per gear, cracked) for slot j in mesh period ``period`` of a revolution:
     the slot holds the pair that entered period - j periods after tooth pair 0, so the
     faulty tooth of gear g is there when (period - j) mod z_g == tooth
-    (geometry.faults). ``period`` None: the healthy mesh."""
+    (geometry.faults.holds_fault). ``period`` None: the healthy mesh."""
     f = pm.faults
     if period is None or f is None:
         return NO_SPALL, False
-    z = pm.pair.teeth
     sp, cr = f.spall, f.crack
-    spalled = tuple(sp is not None and sp.gear_index == gi and (period - j) % z[gi] == sp.tooth for gi in (0, 1))
-    return spalled, cr is not None and (period - j) % z[cr.gear_index] == cr.tooth
+    spalled = tuple(sp is not None and sp.gear_index == gi and holds_fault(pm.pair, sp, period, j) for gi in (0, 1))
+    return spalled, cr is not None and holds_fault(pm.pair, cr, period, j)
 
 
 def _candidate_slots(mesh: MeshGeometry, d: np.ndarray) -> np.ndarray:

@@ -111,12 +111,17 @@ def revolution_periods(pair: PairSpec, faults: FaultSpec | None) -> int:
     return math.lcm(*zs)
 
 
+def holds_fault(pair: PairSpec, fault, period, j):
+    """Whether slot j of mesh period ``period`` holds the fault's tooth: the pair there
+    entered period - j periods after pair 0, so (period - j) mod z_g == tooth (module
+    docstring). Integers give a bool; integer arrays (broadcast) a bool mask."""
+    return (period - j) % pair.teeth[fault.gear_index] == fault.tooth
+
+
 def faulty_slots(pair: PairSpec, fault, periods: int, n_slots_j: np.ndarray) -> np.ndarray:
     """(periods, slots) mask: True where slot j of mesh period n holds the fault's tooth,
-    i.e. (n - j) mod z_g == tooth (module docstring). ``n_slots_j``: the slot numbers j."""
-    z = pair.teeth[fault.gear_index]
-    n = np.arange(periods)[:, None]
-    return np.mod(n - np.asarray(n_slots_j)[None, :], z) == fault.tooth
+    holds_fault over n = 0 .. periods - 1 and the slot numbers j ``n_slots_j``."""
+    return holds_fault(pair, fault, np.arange(periods)[:, None], np.asarray(n_slots_j)[None, :])
 
 
 def spall_gap_m(spall: Spall, mesh: MeshGeometry, d_m) -> np.ndarray:
