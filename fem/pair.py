@@ -99,9 +99,10 @@ angles, with ``period`` telling which slot holds the faulty tooth.
 * Crack: a second body of the cracked gear (pair_body.build_cracked_body): the straight
   crack of geometry.crack cut into tooth 0 by Gmsh's Crack plugin (both faces free, no
   face contact), the tip refined to CRACK_TIP_FRACTION x min(fillet size, depth) as in
-  fem.tooth, and the drive flanks of the teeth that can be candidates together with the
-  cracked one (fault_neighbours: floor(epsilon + 2 EXTENSION_PITCHES) each side) refined
-  alike and condensed over the radius range they reach meanwhile. At a position where
+  fem.tooth (default_crack_tip_size_m, with the body's fillet size), and the drive
+  flanks of the teeth that can be candidates together with the cracked one
+  (fault_neighbours: floor(epsilon + 2 EXTENSION_PITCHES) each side) refined alike and
+  condensed over the radius range they reach meanwhile. At a position where
   the cracked tooth is a candidate, that gear's flexibility comes from the cracked body,
   every candidate read and loaded on its own tooth relative to the cracked one (no
   periodic mapping); the mating gear keeps its healthy body. Elsewhere the healthy body
@@ -381,7 +382,7 @@ def _cracked_body(pair: PairSpec, mesh: MeshGeometry, faults: FaultSpec, nominal
                   nb: int, cy: tuple[float, float], window: float, plane: str):
     """The body of the cracked gear (cached in-process like the healthy ones; the key
     holds the crack, its tip size and the refined teeth)."""
-    from .tooth import CRACK_TIP_FRACTION
+    from .tooth import default_crack_tip_size_m
 
     cf = faults.crack
     assert cf is not None
@@ -389,7 +390,7 @@ def _cracked_body(pair: PairSpec, mesh: MeshGeometry, faults: FaultSpec, nominal
     g = pair.gear(gi)
     crack = cf.crack
     check_crack(nominal, crack)
-    tip_m = CRACK_TIP_FRACTION * min(sizes.fillet_m, crack.depth_m)
+    tip_m = default_crack_tip_size_m(crack, fillet_m=sizes.fillet_m)
     refined = fault_neighbours(mesh)
     sp = faults.spall
     # a spall on the same gear widens the candidate window by up to its length

@@ -57,8 +57,8 @@ import scipy.linalg as sla
 import scipy.sparse.linalg as spla
 
 from gearwear.fem.mesh import MeshSizes, mesh_full_gear
-from gearwear.geometry.crack import Crack, crack_line
-from gearwear.geometry.polyline import cumulative_length, project_to_polyline, quadratic_parameter, with_midpoints
+from gearwear.geometry.crack import Crack, crack_mouth_arc
+from gearwear.geometry.polyline import cumulative_length, quadratic_parameter, with_midpoints
 from gearwear.geometry.profile import FILLET, INVOLUTE, ToothProfile, ring_outline, tooth_outline
 from gearwear.geometry.sampling import profile_at, region_junctions
 from gearwear.geometry.spec import GearSpec, Material
@@ -304,10 +304,7 @@ def _mesh_body(gear: GearSpec, material: Material, face_width_m: float, nominal:
     if crack is not None:
         # the crack mouth (ISO 30-deg fillet point, far below the fine range) becomes a
         # vertex of tooth 0's outline; the flank above it keeps tooth 0's sampling
-        mouth, tip = crack_line(nominal, crack)
-        pr = project_to_polyline(mouth[None, :], nominal.xy)
-        k0 = int(pr.segment[0])
-        s_m = float(nominal.s[k0] + pr.t[0] * (nominal.s[k0 + 1] - nominal.s[k0]))
+        mouth, tip, s_m = crack_mouth_arc(nominal, crack)
         right_c = _sample_flank(nominal, fine, (s_lo, s_hi, hc), keep_s=(s_m,))
         v = right_c[0::2]
         crack_xy = np.array([v[int(np.argmin(np.hypot(*(v - mouth).T)))], tip])

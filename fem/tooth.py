@@ -120,7 +120,7 @@ import skfem
 from skfem import Basis, ElementTriP1, asm
 from skfem.models.poisson import laplace
 
-from gearwear.geometry.crack import Crack, crack_line
+from gearwear.geometry.crack import Crack, crack_mouth_arc
 from gearwear.geometry.loading import load_points
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.fem.mesh import GearMesh, MeshError, MeshSizes, inverted_elements, mesh_full_gear
@@ -511,11 +511,12 @@ def tooth_mesh(pair: PairSpec, gear_index: int = 0, wear: WearSpec | None = None
                      morph_s=time.perf_counter() - t0, crack=crack, crack_xy=crack_xy)
 
 
-def default_crack_tip_size_m(crack: Crack, mesh_scale: float = 1.0) -> float:
-    """Default crack-tip element size (m): CRACK_TIP_FRACTION x the fillet size at
-    ``mesh_scale``, and at most that fraction of the crack depth (so a short crack
-    still has several elements along it)."""
-    fillet = mesh_sizes(mesh_scale).fillet_m
+def default_crack_tip_size_m(crack: Crack, mesh_scale: float = 1.0, fillet_m: float | None = None) -> float:
+    """Default crack-tip element size (m): CRACK_TIP_FRACTION x the fillet size
+    (``fillet_m``, by default the single tooth's at ``mesh_scale``; the pair bodies pass
+    theirs), and at most that fraction of the crack depth (so a short crack still has
+    several elements along it)."""
+    fillet = mesh_sizes(mesh_scale).fillet_m if fillet_m is None else fillet_m
     assert fillet is not None  # mesh_sizes always sets it
     return CRACK_TIP_FRACTION * min(fillet, float(crack.depth_m))
 
@@ -525,11 +526,8 @@ def _with_crack_mouth(base: ToothProfile, spacing: dict, quad: bool, crack: Crac
     a vertex, and the crack's (mouth vertex, tip) (m). The nearest vertex moves onto
     the mouth unless it is a region junction or an end (then the mouth is inserted),
     so the edges next to it stay between half and 1.5 spacings long."""
-    mouth, tip = crack_line(base, crack)
+    mouth, tip, s_m = crack_mouth_arc(base, crack)
     sn = resample_profile(base, spacing).s
-    pr = project_to_polyline(mouth[None, :], base.xy)
-    k0 = int(pr.segment[0])
-    s_m = float(base.s[k0] + pr.t[0] * (base.s[k0 + 1] - base.s[k0]))
     k = int(np.argmin(np.abs(sn - s_m)))
     fixed = base.s[region_junctions(base)]
     if np.min(np.abs(fixed - sn[k])) <= 1e-12 * base.s[-1]:

@@ -46,6 +46,7 @@ from scipy.optimize import brentq
 from gearwear.core.validation import fail
 
 from .loading import flank_height_table
+from .polyline import project_to_polyline
 from .profile import RackGeometry, ToothProfile, _undercut_intersection, fillet_points
 
 #: ISO 6336-3 critical section: the fillet tangent at 30 deg to the tooth centre line.
@@ -141,6 +142,17 @@ def crack_line(profile: ToothProfile, crack: Crack) -> tuple[np.ndarray, np.ndar
     mouth = np.array([x_c, y_c])
     d = np.array([-math.sin(crack.angle_rad), -math.cos(crack.angle_rad)])
     return mouth, mouth + crack.depth_m * d
+
+
+def crack_mouth_arc(profile: ToothProfile, crack: Crack) -> tuple[np.ndarray, np.ndarray, float]:
+    """(mouth_xy, tip_xy, s_m): ``crack_line`` and the mouth's arc position s_m (m) along
+    the profile (its projection onto profile.xy, interpolated in profile.s), where a
+    mesh of the cracked tooth puts the mouth vertex."""
+    mouth, tip = crack_line(profile, crack)
+    pr = project_to_polyline(mouth[None, :], profile.xy)
+    k0 = int(pr.segment[0])
+    s_m = float(profile.s[k0] + pr.t[0] * (profile.s[k0 + 1] - profile.s[k0]))
+    return mouth, tip, s_m
 
 
 def crack_tip_offset_m(profile: ToothProfile, crack: Crack) -> tuple[float, float]:
