@@ -593,6 +593,20 @@ def _arc(rb: float, R) -> np.ndarray:
     return rb * ((np.asarray(R, dtype=float) / rb) ** 2 - 1.0) / 2.0
 
 
+def _tip_roll(g) -> float:
+    """Roll angle u_a (rad) of gear g's tip circle."""
+    return math.sqrt((g.tip_radius_m / g.base_radius_m) ** 2 - 1.0)
+
+
+def _contact_arc(pm: PairModel, gi: int, d: float) -> float:
+    """Arc position s_c = r_b u^2 / 2 (m) on gear gi's flank of the kinematic contact at
+    LOA position d, the roll u clamped to [0, u_a]."""
+    g = pm.pair.gear(gi)
+    rb = g.base_radius_m
+    u = (d if gi == 0 else pm.mesh.line_of_action_m - d) / rb
+    return rb * min(max(u, 0.0), _tip_roll(g)) ** 2 / 2.0
+
+
 def _spall_edges(pm: PairModel, d: float, spalled: tuple):
     """(gear, edge radii (2,), edge arc positions (2,), widened window) when the slot's
     spalled flank can touch the mating flank near its pit at LOA position d, else None.
@@ -608,8 +622,7 @@ def _spall_edges(pm: PairModel, d: float, spalled: tuple):
     rb = g.base_radius_m
     radii = np.array(_spall_radii(pm))
     s_edges = _arc(rb, radii)
-    u = (d if gs == 0 else pm.mesh.line_of_action_m - d) / rb
-    s_c = rb * min(max(u, 0.0), math.sqrt((g.tip_radius_m / rb) ** 2 - 1.0)) ** 2 / 2.0
+    s_c = _contact_arc(pm, gs, d)
     w = pm.window_m
     if not (s_edges[0] - w <= s_c <= s_edges[1] + w):
         return None
@@ -625,13 +638,11 @@ def _candidates(pm: PairModel, d: float, j: int, spalled: tuple = NO_SPALL) -> l
     slave = 0 if d >= mid else 1
     gs = pm.pair.gear(slave)
     rb = gs.base_radius_m
-    L = pm.mesh.line_of_action_m
-    u_kin = d / rb if slave == 0 else (L - d) / rb
-    u_a = math.sqrt((gs.tip_radius_m / rb) ** 2 - 1.0)
-    s_c = rb * min(max(u_kin, 0.0), u_a) ** 2 / 2.0
+    u_a = _tip_roll(gs)
+    s_c = _contact_arc(pm, slave, d)
     body = pm.bodies[slave]
     r_nodes = body.flank_r[0]
-    s_nodes = rb * ((r_nodes / rb) ** 2 - 1.0) / 2.0
+    s_nodes = _arc(rb, r_nodes)
     edges = _spall_edges(pm, d, spalled)
     window = pm.window_m if edges is None else edges[3]
     sel = np.flatnonzero(np.abs(s_nodes - s_c) <= window)
@@ -791,7 +802,7 @@ def solve_position(pm: PairModel, theta: float, total_N: float, period: int | No
         on = np.flatnonzero(qc > 0)
         if on.size and not c.get("corner"):
             rb = pm.pair.gear(c["slave"]).base_radius_m
-            s = rb * ((c["R"] / rb) ** 2 - 1.0) / 2.0
+            s = _arc(rb, c["R"])
             ds = np.diff(s).mean() if len(s) > 1 else 0.0
             hw[k] = 0.5 * (s[on].max() - s[on].min() + ds)
             c["window_hit"] = bool(on[0] == 0 and s[0] > s.min() - 1) and (on[0] == 0 or on[-1] == n - 1)
