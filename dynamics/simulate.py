@@ -241,7 +241,7 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
              steps_per_mesh_period: int = 256, rtol: float = 1e-8, atol=None, y0=None,
              samples_per_mesh_period: int | None = None, track_energy: bool = False,
              max_steps: int | None = None, max_output_bytes: float = 2 * 2 ** 30,
-             on_compile=None) -> SimResult:
+             on_compile=None, dense: bool = True) -> SimResult:
     """Integrate the model over [0, duration_s] and sample the kept window.
 
     method: "rk4" (fixed step, ``steps_per_mesh_period``), "dopri5" (adaptive, rtol/atol,
@@ -258,6 +258,10 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
     with a diagnosis (chattering contact, collapse, divergence) instead of running on.
     ``on_compile(message)`` is called once if compiling the kernels for this effect set
     takes noticeable time (first run only; numba caches them on disk).
+    ``dense=False`` outputs the uniform samples only, without the table nodes (no
+    ``t_dense``/``states_dense``, so ``harmonics`` falls back to the samples): for runs
+    that read only ``states`` and ``z_end``. Neither kernel takes its steps from the
+    output times, so the samples and the end state are the same as with ``dense=True``.
     """
     if not (isinstance(duration_s, (int, float)) and math.isfinite(duration_s) and duration_s > 0):
         raise InputError(f"duration_s = {duration_s} s: must be > 0")
@@ -285,10 +289,10 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
     S = int(samples_per_mesh_period or steps_per_mesh_period)
     dt = Pt / S
     # output: the uniform grid of the kept window (M periods, S per period, plus its end
-    # point) and every table node inside it, so the signals between output points are
-    # free of table kinks (exact harmonics, analysis.window_harmonics)
+    # point) and (dense) every table node inside it, so the signals between output points
+    # are free of table kinks (exact harmonics, analysis.window_harmonics)
     t_uni = t0 + dt * np.arange(M * S + 1)
-    nodes = table_node_times(model, t_uni[0], t_uni[-1])
+    nodes = table_node_times(model, t_uni[0], t_uni[-1]) if dense else np.empty(0)
     if nodes.size:
         r = (nodes - t0) / dt
         nodes = nodes[np.abs(r - np.rint(r)) > 1e-9]
@@ -409,5 +413,6 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
                      bearing_contact_fraction=bc, method=method, states=Z_win[:, :10].copy(),
                      energy=energy, n_periods=M, stats=stats,
                      periodic_with=_periodic_with(sig["delta"], S, M, table_periods=model.table_periods),
-                     z_end=z_end[:10].copy(), switches=sw, model=model, t_dense=t_out,
-                     states_dense=out[:, :10], window_events=ev, table_periods=model.table_periods)
+                     z_end=z_end[:10].copy(), switches=sw, model=model, t_dense=t_out if dense else None,
+                     states_dense=out[:, :10] if dense else None, window_events=ev,
+                     table_periods=model.table_periods)
