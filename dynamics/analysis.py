@@ -47,7 +47,12 @@ def gauss_grid(breaks) -> tuple[np.ndarray, np.ndarray]:
     """Quadrature nodes and weights (3-point Gauss-Legendre per interval) over the sorted
     breakpoints: exact for integrands that are polynomials of degree <= 5 between breaks."""
     b = np.asarray(breaks, float)
-    a, w = b[:-1], np.diff(b)
+    return _gauss_nodes(b[:-1], np.diff(b))
+
+
+def _gauss_nodes(a: np.ndarray, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """3-point Gauss-Legendre nodes and weights of the intervals [a_j, a_j + w_j], in time
+    order (3 per interval)."""
     tq = (a[:, None] + w[:, None] * _GL_X[None, :]).ravel()
     wq = (w[:, None] * _GL_W[None, :]).ravel()
     return tq, wq
@@ -269,8 +274,9 @@ def _affine_fold(acc, model, t, Z, F, broken, R: int, Pt: int, names, n: int, fm
             np.subtract.at(Xs, q, X)
         np.subtract.at(count, q, 1.0)
     tb = t[:Pt + 1]
-    tq, wq = gauss_grid(tb)
-    dt = np.diff(tb)[:, None]
+    w = np.diff(tb)
+    tq, wq = _gauss_nodes(tb[:-1], w)
+    dt = w[:, None]
     Zq = _hermite_at_gauss(Zs0, Zs1, Fs0 * dt, Fs1 * dt)
     summed = compute_signals(model, tq, Zq)
     zero = compute_signals(model, tq, np.zeros_like(Zq))
@@ -318,8 +324,7 @@ def _signals_at_quadrature(model, t, Z, F, pieces, names, compute_signals):
         j0, j1 = pieces, pieces + 1
     a = t[j0]
     dt = t[j1] - a
-    tq = (a[:, None] + dt[:, None] * _GL_X[None, :]).ravel()
-    wq = (dt[:, None] * _GL_W[None, :]).ravel()
+    tq, wq = _gauss_nodes(a, dt)
     dt = dt[:, None]
     Zq = _hermite_at_gauss(Z[j0], Z[j1], F[j0] * dt, F[j1] * dt)
     return tq, wq, compute_signals(model, tq, Zq)
