@@ -39,7 +39,7 @@ from gearwear.core.validation import InputError
 
 from . import io
 from .scene import Scene, apply_overrides, scene_from_dict
-from .sweep_job import Axis, _fmt, grid, point_sets
+from .sweep_job import Axis, csv_cell, format_value, grid, point_label, point_sets
 
 SPEED_KEY = "operating.speed_rpm"
 DIRECTIONS = ("up", "down", "both")
@@ -140,8 +140,9 @@ def plan(raw: dict[str, Any], name: str, speed: Axis, others: list[Axis], fixed:
     for values in grid(others) if others else [{}]:  # every (point, speed) is a valid scene, before any work
         sets = point_sets(values, list(fixed))
         for v in speed.values[1:]:
-            scene_from_dict(apply_overrides(raw, sets + [f"{SPEED_KEY}={_fmt(v)}"]), name=name)
-        scene = scene_from_dict(apply_overrides(raw, sets + [f"{SPEED_KEY}={_fmt(speed.values[0])}"]), name=name)
+            scene_from_dict(apply_overrides(raw, sets + [f"{SPEED_KEY}={format_value(v)}"]), name=name)
+        scene = scene_from_dict(apply_overrides(raw, sets + [f"{SPEED_KEY}={format_value(speed.values[0])}"]),
+                                name=name)
         if not scene.operating.torque_Nm > 0:
             raise InputError("operating.torque_Nm = 0 N m: a run-up needs a load (K_v = max F_m / static F)")
         scenes.append((values, scene))
@@ -281,8 +282,8 @@ def table_csv(points: list[Point], chains: list[Chain], others: list[Axis]) -> s
         p = points[c.point_index]
         iso_by_speed = dict(zip(p.speeds, p.iso["K_v"]))
         for r in c.rows:
-            vals = [str(p.values[a.key]) if isinstance(p.values[a.key], str) else _fmt(p.values[a.key]) for a in others]
-            vals += [c.direction, _fmt(r["speed_rpm"])]
+            vals = [csv_cell(p.values[a.key]) for a in others]
+            vals += [c.direction, format_value(r["speed_rpm"])]
             for k in ROW_KEYS:
                 v = r[k]
                 vals.append("" if v is None else (v if isinstance(v, str) else (str(v) if isinstance(v, int)
@@ -294,8 +295,7 @@ def table_csv(points: list[Point], chains: list[Chain], others: list[Axis]) -> s
 
 
 def _label(p: Point, others: list[Axis]) -> str:
-    return ", ".join(f"{a.key.split('.')[-1]}={p.values[a.key]}" for a in others) or \
-        f"{p.scene.operating.torque_Nm:g} N m"
+    return point_label(others, [p.values[a.key] for a in others]) or f"{p.scene.operating.torque_Nm:g} N m"
 
 
 def kv_figure(points: list[Point], chains: list[Chain], others: list[Axis], summ: dict[str, Any]):

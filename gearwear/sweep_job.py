@@ -72,13 +72,26 @@ def grid(axes: list[Axis]) -> list[dict[str, Any]]:
     return [dict(zip([a.key for a in axes], combo)) for combo in itertools.product(*[a.values for a in axes])]
 
 
-def _fmt(v) -> str:
+def format_value(v) -> str:
+    """A swept value as text: a float to 12 significant digits, a string as its repr."""
     return repr(v) if isinstance(v, str) else (f"{v:.12g}" if isinstance(v, float) else str(v))
+
+
+def csv_cell(v) -> str:
+    """A swept value as a CSV cell: a string as is, a number by :func:`format_value`."""
+    return str(v) if isinstance(v, str) else format_value(v)
+
+
+def point_label(axes: list[Axis], values) -> str:
+    """``name=value, ...`` of a point's values on ``axes`` (the key's last part); empty
+    without axes."""
+    return ", ".join(f"{a.key.split('.')[-1]}={v}" for a, v in zip(axes, values))
 
 
 def point_sets(point: dict[str, Any], fixed: list[str]) -> list[str]:
     """The --set overrides of one grid point (fixed ones first)."""
-    return list(fixed) + [f"{k}={_fmt(v) if not isinstance(v, str) else json.dumps(v)}" for k, v in point.items()]
+    return list(fixed) + [f"{k}={format_value(v) if not isinstance(v, str) else json.dumps(v)}"
+                          for k, v in point.items()]
 
 
 def run_point(raw: dict[str, Any], name: str, point: dict[str, Any], fixed: list[str]) -> dict[str, Any]:
@@ -224,8 +237,7 @@ def table_csv(axes: list[Axis], results: list[dict[str, Any]]) -> str:
         cols += [f"rms_{k}", f"p2p_{k}"] + [f"h{j}_{k}" for j in range(1, n + 1)]
     rows = [",".join(cols)]
     for r in results:
-        vals = [str(r["point"][a.key]) if isinstance(r["point"][a.key], str) else _fmt(r["point"][a.key])
-                for a in axes]
+        vals = [csv_cell(r["point"][a.key]) for a in axes]
         bc = r["bearing_contact_fraction"]
         vals += [f"{r['separation_fraction']:.6g}", f"{r['backside_fraction']:.6g}",
                  f"{bc.get('pinion', float('nan')):.6g}", f"{bc.get('gear', float('nan')):.6g}",
@@ -255,7 +267,7 @@ def figures(axes: list[Axis], results: list[dict[str, Any]]):
             groups.setdefault(tuple(r["point"][a.key] for a in others), []).append(r)
         xs_str = any(isinstance(v, str) for v in ax0.values)
         for gkey, rs in groups.items():
-            label = ", ".join(f"{a.key.split('.')[-1]}={v}" for a, v in zip(others, gkey)) or None
+            label = point_label(others, gkey) or None
             x = list(range(len(rs))) if xs_str else [r["point"][ax0.key] for r in rs]
             for k in range(nh):
                 a = axs[k // ncol][k % ncol]
