@@ -158,10 +158,11 @@ def _chunk(model: GearDynamics, z, n_table: int, sim: dict, samples: int, dense:
                     **sim)
 
 
-def _sections(res: SimResult, L: int) -> np.ndarray:
-    """The section states after t = 0 of a chunk: every table period, and the end state."""
+def _sections(res: SimResult, L: int, start: bool = False) -> np.ndarray:
+    """The section states of a chunk: every table period after t = 0 (from t = 0 with
+    ``start``), and the end state."""
     S = int(round(res.fs_Hz / res.fm_Hz))
-    return np.vstack([res.states[S * L::S * L], res.z_end[None, :]])
+    return np.vstack([res.states[0 if start else S * L::S * L], res.z_end[None, :]])
 
 
 def steady_state(model: GearDynamics, y0=None, *, tol: float = 1e-6, max_periods: int = 1500,
@@ -189,7 +190,7 @@ def steady_state(model: GearDynamics, y0=None, *, tol: float = 1e-6, max_periods
     converged = False
     p_found = 0
     dist = math.inf
-    scale = None
+    scale: np.ndarray  # set by every chunk; the loop runs at least once (max_periods >= 1)
     wall = 0.0
     while spent < max_periods:
         n = int(min(chunk_periods, max_periods - spent))
@@ -229,7 +230,7 @@ def steady_state(model: GearDynamics, y0=None, *, tol: float = 1e-6, max_periods
     S = int(samples_per_mesh_period or steps_per_mesh_period)
     res = _chunk(model, z, keep, sim, S)
     wall += res.wall_s
-    Xk = np.vstack([res.states[::S * L], res.z_end[None, :]])
+    Xk = _sections(res, L, start=True)
     kscale = _group_scale(res.states)
     if converged:
         d = section_residuals(Xk, p_found, kscale)
@@ -239,8 +240,8 @@ def steady_state(model: GearDynamics, y0=None, *, tol: float = 1e-6, max_periods
     seq = np.asarray(X)
     tail = seq[seq.shape[0] // 2:]
     obs = mesh_geometry(model, tail)[0]
-    label, p, r, k = classify_sequence(tail, obs, scale if scale is not None else kscale, tol, p_max)
-    d1 = section_residuals(tail, 1, scale if scale is not None else kscale)
+    label, p, r, k = classify_sequence(tail, obs, scale, tol, p_max)
+    d1 = section_residuals(tail, 1, scale)
     if label == "quasi-periodic" and d1.size >= 8:  # a decaying transient is regular (K ~ 0)
         q = [float(np.max(part)) for part in np.array_split(d1, 4)]
         if all(b < a for a, b in zip(q, q[1:])) and q[-1] < UNSETTLED_DROP * q[0]:
