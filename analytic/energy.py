@@ -139,16 +139,23 @@ def foundation_compliance(w_rad, u_f_m, S_f_m: float, h_fi: float, theta_f_rad: 
     return np.cos(w) ** 2 / (material.youngs_modulus_Pa * face_width_m) * bracket
 
 
-def hertz_compliance_linear(material: Material, face_width_m: float) -> float:
-    """Linearised Hertz contact compliance of two teeth of the same material (m/N):
+def hertz_compliance_linear(materials: Material | tuple[Material, Material], face_width_m: float) -> float:
+    """Linearised Hertz contact compliance of a tooth pair (m/N), Yang & Lin (1987):
 
-        1/k_h = 4 (1 - nu^2) / (pi E b)       (Yang & Lin 1987)
+        1/k_h = 4 (1 - nu^2) / (pi E b)                          one material
+        1/k_h = 2 / (pi b) [(1 - nu1^2) / E1 + (1 - nu2^2) / E2]   = 2 / (pi b E*)
 
-    independent of the load and of the contact radii (the load-independent
-    linearisation of the line contact; a nonlinear law belongs elsewhere).
+    (the same expression: with E1 = E2 the bracket is 2 (1 - nu^2) / E). Independent of
+    the load and of the contact radii (the load-independent linearisation of the line
+    contact; a nonlinear law belongs elsewhere). ``materials``: one Material for both
+    teeth or (pinion, gear).
     """
-    nu = material.poisson_ratio
-    return 4.0 * (1.0 - nu ** 2) / (math.pi * material.youngs_modulus_Pa * face_width_m)
+    m1, m2 = (materials, materials) if isinstance(materials, Material) else materials
+    if m1 == m2:
+        nu = m1.poisson_ratio
+        return 4.0 * (1.0 - nu ** 2) / (math.pi * m1.youngs_modulus_Pa * face_width_m)
+    s = sum((1.0 - m.poisson_ratio ** 2) / m.youngs_modulus_Pa for m in (m1, m2))
+    return 2.0 * s / (math.pi * face_width_m)
 
 
 @lru_cache(maxsize=8)

@@ -192,12 +192,17 @@ def _weber(y_axis_m, w_rad, y_M: float, s_f: float, material: Material, face_wid
     return np.cos(w) ** 2 * (1 - nu ** 2) / (E * face_width_m) * bracket
 
 
-def hertz_approach_m(force_N, material: Material, face_width_m: float) -> np.ndarray:
+def hertz_approach_m(force_N, materials: Material | tuple[Material, Material], face_width_m: float) -> np.ndarray:
     """Nonlinear Hertzian approach of the pair, paper Eq. 5: 1.275 F^0.9 / (E^0.9 b^0.8) (m)."""
     F = np.maximum(np.asarray(force_N, dtype=float), 0.0)
-    return hertz_coefficient(material, face_width_m) * F ** 0.9
+    return hertz_coefficient(materials, face_width_m) * F ** 0.9
 
 
-def hertz_coefficient(material: Material, face_width_m: float) -> float:
-    """a in delta_3 = a F^0.9 (SI)."""
-    return 1.275 / (material.youngs_modulus_Pa ** 0.9 * face_width_m ** 0.8)
+def hertz_coefficient(materials: Material | tuple[Material, Material], face_width_m: float) -> float:
+    """a in delta_3 = a F^0.9 (SI). Palmgren's empirical law is written for one steel
+    (nu = 0.3 built in); for two materials E is the equivalent modulus 2 E1 E2 / (E1 + E2),
+    as ISO 6336-1 takes it, which is exact for the Hertz E* when nu1 = nu2."""
+    m1, m2 = (materials, materials) if isinstance(materials, Material) else materials
+    E1, E2 = m1.youngs_modulus_Pa, m2.youngs_modulus_Pa
+    E = E1 if E1 == E2 else 2.0 * E1 * E2 / (E1 + E2)
+    return 1.275 / (E ** 0.9 * face_width_m ** 0.8)

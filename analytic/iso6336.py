@@ -30,7 +30,7 @@ Single stiffness of a tooth pair (ISO 6336-1:2019, clause 9):
 
 and, for materials other than steel/steel, the ISO material factor
 E / E_st, E = 2 E1 E2 / (E1 + E2), E_st = 206000 N/mm^2 (1 for this project's
-default steel; both gears share ``pair.material`` here). The q' fit covers
+default steel; each gear has its own ``pair.materials[i]``). The q' fit covers
 x1 >= x2 and -0.5 <= x1 + x2 <= 2; outside, :class:`IsoStiffness` flags it.
 
 At low line load (F_t K_A / b < 100 N/mm) the standard reduces c' by the factor
@@ -199,8 +199,8 @@ def iso6336_stiffness(pair: PairSpec, torque_Nm: float | None = None,
     C_B = 0.5 * (basic_rack_factor(pair.gear(0).dedendum_coefficient, pair.pressure_angle_rad)
                  + basic_rack_factor(pair.gear(1).dedendum_coefficient, pair.pressure_angle_rad))
     cos_beta = 1.0  # spur gears
-    # Both gears share one material here, so E = 2 E1 E2 / (E1 + E2) = E1.
-    material_factor = pair.material.youngs_modulus_Pa / E_STEEL_ISO_Pa
+    # the equivalent modulus E = 2 E1 E2 / (E1 + E2) of the two gears' own materials
+    material_factor = pair.equivalent_youngs_modulus_Pa / E_STEEL_ISO_Pa
     c_prime = c_th * C_M_SOLID * C_R * C_B * cos_beta * material_factor
     eps = (MeshGeometry(pair, pair.centre_distance_m).contact_ratio
            if contact_ratio is None else float(contact_ratio))

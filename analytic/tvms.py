@@ -125,14 +125,15 @@ def _tooth_compliance(method: str, loaded: ToothProfile, nominal: ToothProfile, 
         return np.zeros(0)
     if method == "ishikawa":
         try:
-            c = ishikawa.tooth_compliance(loaded, radius_m, pair.material, pair.face_width_m, n_slices,
+            c = ishikawa.tooth_compliance(loaded, radius_m, loaded.gear.material, pair.face_width_m, n_slices,
                                           opposite=nominal, crack=crack)
         except ValueError as exc:
             raise fail("wear depth", float(loaded.depth.max()) * 1e6, "um",
                        f"makes a slice of the {loaded.gear.name} tooth non-positive ({exc})") from None
         return c.total_m_per_N
     from . import energy
-    ce = energy.tooth_compliance(loaded, radius_m, pair.material, pair.face_width_m, opposite=nominal, crack=crack)
+    ce = energy.tooth_compliance(loaded, radius_m, loaded.gear.material, pair.face_width_m, opposite=nominal,
+                                 crack=crack)
     return np.asarray(ce.total_m_per_N)
 
 
@@ -337,10 +338,10 @@ def mesh_stiffness(pair: PairSpec, method: str = "ishikawa", points: int = 360, 
     c_u = c_g[0] + c_g[1]
     c_hertz = 0.0
     if method == "ishikawa":
-        a, expo = ishikawa.hertz_coefficient(pair.material, pair.face_width_m), 0.9
+        a, expo = ishikawa.hertz_coefficient(pair.materials, pair.face_width_m), 0.9
     else:
         from . import energy
-        c_hertz = energy.hertz_compliance_linear(pair.material, pair.face_width_m)
+        c_hertz = energy.hertz_compliance_linear(pair.materials, pair.face_width_m)
         a, expo = 0.0, 1.0
     c = spread(c_u + c_hertz)
     # gaps: wear and flank modifications inside the path (at the path end for the

@@ -29,11 +29,11 @@ import numpy as np  # noqa: E402
 
 prof = _profiles(pair, None, pair.centre_distance_m)[0][0]
 R = np.linspace(71.8e-3, 79.9e-3, 200)
-ref_e = energy.tooth_compliance(prof, R, pair.material, pair.face_width_m, n_gauss=64).total_m_per_N
+ref_e = energy.tooth_compliance(prof, R, pair.materials[0], pair.face_width_m, n_gauss=64).total_m_per_N
 print("\nEnergy method Gauss points per profile piece (reference: 64), single-tooth compliance, 200 radii")
 print(f"{'points':>8}{'max rel. error':>16}{'wall (ms)':>11}")
 for n in (1, 2, 4, 8, 16):
-    c, t = timed(lambda: energy.tooth_compliance(prof, R, pair.material, pair.face_width_m, n_gauss=n))
+    c, t = timed(lambda: energy.tooth_compliance(prof, R, pair.materials[0], pair.face_width_m, n_gauss=n))
     print(f"{n:>8}{np.max(np.abs(c.total_m_per_N / ref_e - 1)):>16.2e}{t * 1e3:>11.2f}")
 
 from gearwear.fem.convergence import observed_order, richardson  # noqa: E402

@@ -240,20 +240,36 @@ def _plane_constants(E: float, nu: float, plane: str) -> tuple[float, float]:
     raise fail("plane", repr(plane), "", "must be 'stress' or 'strain'")
 
 
-def weber_approach_m(F_N, h1_m, h2_m, R_star_m, E_Pa: float, nu: float, b_m: float,
+def weber_approach_m(F_N, h1_m, h2_m, R_star_m, E_Pa, nu, b_m: float,
                      plane: str = "strain") -> np.ndarray:
-    """Weber (1949) approach of the two centre-line points of a line contact (m):
-    2 F (1 - nu^2)/(pi E b) [ln(2 h1/a) + ln(2 h2/a) - nu/(1 - nu)] with the Hertz
-    half-width a = sqrt(4 (F/b) R* / (pi E*)), 1/E* = 2 (1 - nu^2)/E (plane strain;
-    ``plane="stress"`` converts E, nu). h1, h2: contact point to the centre-line
-    points along the load line. Zero for F <= 0."""
-    Ep, nup = _plane_constants(E_Pa, nu, plane)
+    """Weber (1949) approach of the two centre-line points of a line contact (m), the sum
+    of each body's own term
+
+        w_i = 2 F (1 - nu_i^2) / (pi E_i b) [ln(2 h_i / a) - nu_i / (2 (1 - nu_i))]
+
+    (one material: 2 F (1 - nu^2)/(pi E b) [ln(2 h1/a) + ln(2 h2/a) - nu/(1 - nu)]) with the
+    Hertz half-width a = sqrt(4 (F/b) R* / (pi E*)), 1/E* = sum (1 - nu_i^2)/E_i (plane
+    strain; ``plane="stress"`` converts E, nu). ``E_Pa``, ``nu``: one value or (body 1,
+    body 2). h1, h2: contact point to the centre-line points along the load line. Zero for
+    F <= 0."""
     F = np.maximum(np.asarray(F_N, dtype=float), 0.0)
-    E_star = Ep / (2.0 * (1.0 - nup ** 2))
     Fs = np.where(F > 0, F, 1.0)
+    if np.ndim(E_Pa) == 0 and np.ndim(nu) == 0:
+        Ep, nup = _plane_constants(float(E_Pa), float(nu), plane)
+        E_star = Ep / (2.0 * (1.0 - nup ** 2))
+        a = np.sqrt(4.0 * (Fs / b_m) * np.asarray(R_star_m) / (math.pi * E_star))
+        br = np.log(2.0 * np.asarray(h1_m) / a) + np.log(2.0 * np.asarray(h2_m) / a) - nup / (1.0 - nup)
+        return np.where(F > 0, 2.0 * F * (1.0 - nup ** 2) / (math.pi * Ep * b_m) * br, 0.0)
+    Es = np.broadcast_to(np.asarray(E_Pa, dtype=float), (2,))
+    nus = np.broadcast_to(np.asarray(nu, dtype=float), (2,))
+    consts = [_plane_constants(float(e), float(n), plane) for e, n in zip(Es, nus)]
+    E_star = 1.0 / sum((1.0 - n ** 2) / e for e, n in consts)
     a = np.sqrt(4.0 * (Fs / b_m) * np.asarray(R_star_m) / (math.pi * E_star))
-    br = np.log(2.0 * np.asarray(h1_m) / a) + np.log(2.0 * np.asarray(h2_m) / a) - nup / (1.0 - nup)
-    return np.where(F > 0, 2.0 * F * (1.0 - nup ** 2) / (math.pi * Ep * b_m) * br, 0.0)
+    out = 0.0
+    for (e, n), h in zip(consts, (h1_m, h2_m)):
+        out = out + 2.0 * F * (1.0 - n ** 2) / (math.pi * e * b_m) * (np.log(2.0 * np.asarray(h) / a)
+                                                                      - n / (2.0 * (1.0 - n)))
+    return np.where(F > 0, out, 0.0)
 
 
 # ---------------------------------------------------------------------------
@@ -327,7 +343,7 @@ def _candidate_radius_range(mesh: MeshGeometry, gi: int, window_m: float) -> flo
 
 
 def _body_key(g, pair, sizes, r_lo, nb, cy, plane):
-    return (replace(g, name=""), pair.material, pair.face_width_m, sizes, round(r_lo, 9), nb,
+    return (replace(g, name=""), g.material, pair.face_width_m, sizes, round(r_lo, 9), nb,
             tuple(round(c, 9) for c in cy), plane)
 
 
@@ -398,7 +414,7 @@ def _cracked_body(pair: PairSpec, mesh: MeshGeometry, faults: FaultSpec, nominal
     ranges = _cracked_ranges(mesh, gi, refined, r_lo, margin)
     key = ("cracked", _body_key(g, pair, sizes, r_lo, nb, cy, plane), crack, round(tip_m, 12), refined,
            tuple((t, round(a, 9), round(b, 9)) for t, (a, b) in sorted(ranges.items())))
-    return _cached(key, lambda: build_cracked_body(g, pair.material, pair.face_width_m, nominal, sizes, ranges, nb,
+    return _cached(key, lambda: build_cracked_body(g, g.material, pair.face_width_m, nominal, sizes, ranges, nb,
                                                    refined, cy, crack, tip_m, plane))
 
 
@@ -453,7 +469,7 @@ def pair_model(pair: PairSpec, wear: WearSpec | None = None, torque_Nm: float = 
         lp = load_points(nominal, np.array([max(r_lo, nominal.form_radius_m), g.tip_radius_m * (1 - 1e-9)]))
         cy = (float(lp.y_axis_m.min()) - 1.0 * pair.module_m * 0.2, float(lp.y_axis_m.max()) + 0.2 * pair.module_m)
         body, built = _cached(_body_key(g, pair, sizes, r_lo, nb, cy, plane),
-                              lambda: build_body(g, pair.material, pair.face_width_m, nominal, sizes, r_lo, nb, cy,
+                              lambda: build_body(g, g.material, pair.face_width_m, nominal, sizes, r_lo, nb, cy,
                                                  plane))
         if built:
             for k2, v in body.timings.items():
@@ -1065,7 +1081,7 @@ def consistency(pair: PairSpec, torque_Nm: float = 40.0, positions: int = 24, co
         rows.append(centre_line_compliance(pm, ps))
     if not rows:
         return rows
-    mat = pair.material
+    mats = pair.materials
     for gi in (0, 1):
         R = np.array([r[f"R{gi + 1}_m"] for r in rows])
         fe = single_tooth_compliance(pair, gear_index=gi, radii_m=R, load_N=F, plane=plane, read_at="load_line")
@@ -1075,7 +1091,8 @@ def consistency(pair: PairSpec, torque_Nm: float = 40.0, positions: int = 24, co
     for r in rows:
         for pl in ("stress", "strain"):
             r[f"weber_{pl}_m_per_N"] = float(weber_approach_m(r["load_N"], r["h1_m"], r["h2_m"], r["R_star_m"],
-                                                              mat.youngs_modulus_Pa, mat.poisson_ratio,
+                                                              tuple(m.youngs_modulus_Pa for m in mats),
+                                                              tuple(m.poisson_ratio for m in mats),
                                                               pair.face_width_m, pl)) / r["load_N"]
         r["k_pair_N_per_m"] = 1.0 / r["c_pair_m_per_N"]
         r["k_identity_N_per_m"] = 1.0 / (r["c1_tooth_m_per_N"] + r["c2_tooth_m_per_N"] + r["c_local_m_per_N"])
@@ -1145,7 +1162,7 @@ def write_fields(pm: PairModel, positions: list[int], points: int, torque_Nm: fl
                 np.add.at(f, body.dofs[idx], coef * c["force_N"][:, None])
             U = np.zeros(model.ndofs)
             U[model.free] = body._lu.solve(f[model.free])
-            S = _stress(body, U, pm.pair.material)
+            S = _stress(body, U, pm.pair.materials[gi])
             Rm = rot(_frames(pm, d0)[gi])
             loc = model.basis.doflocs[:, 0::2].T
             p = loc @ Rm.T + (0.0 if gi == 0 else O2)
@@ -1154,7 +1171,7 @@ def write_fields(pm: PairModel, positions: list[int], points: int, torque_Nm: fl
             sig = np.stack([np.stack([S[:, 0], S[:, 2]], -1), np.stack([S[:, 2], S[:, 1]], -1)], -2)
             sig = Rm @ sig @ Rm.T
             sxx, syy, sxy = sig[:, 0, 0], sig[:, 1, 1], sig[:, 0, 1]
-            szz = (pm.pair.material.poisson_ratio * (sxx + syy)) if pm.plane == "strain" else 0.0 * sxx
+            szz = (pm.pair.materials[gi].poisson_ratio * (sxx + syy)) if pm.plane == "strain" else 0.0 * sxx
             vm = np.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) + 3 * sxy ** 2)
             pts.append(np.column_stack([p, np.zeros(len(p))]))
             disp.append(np.column_stack([u, np.zeros(len(u))]))

@@ -608,7 +608,7 @@ def single_tooth_compliance(pair: PairSpec, gear_index: int = 0, wear: WearSpec 
     lp = load_points(tm.loaded, R)
     e_F = -np.column_stack([np.cos(lp.w_rad), np.sin(lp.w_rad)])
 
-    model = assemble(mesh, pair.material, b, gm.boundaries["bore"], plane=plane, order=order)
+    model = assemble(mesh, g.material, b, gm.boundaries["bore"], plane=plane, order=order)
 
     # -- loads: Hertz patches on the meshed (curved) flank, all positions as right-hand sides
     t0 = time.perf_counter()

@@ -575,8 +575,16 @@ def _pair_inputs(scene) -> dict:
             "dedendum_coefficient": p.dedendum_coefficient,
             "rack_tip_radius_coefficient": p.rack_tip_radius_coefficient,
             "profile_shift": list(p.profile_shift), "hub_radius_mm": [h * 1e3 for h in p.hub_radius_m],
-            "allow_undercut": p.allow_undercut, "youngs_modulus_GPa": p.material.youngs_modulus_Pa / 1e9,
-            "poisson_ratio": p.material.poisson_ratio}
+            "allow_undercut": p.allow_undercut,
+            "youngs_modulus_GPa": _one_or_two([m.youngs_modulus_Pa / 1e9 for m in p.materials]),
+            "poisson_ratio": _one_or_two([m.poisson_ratio for m in p.materials]),
+            **({"centre_distance_mm": p.installed_centre_distance_m * 1e3}
+               if p.installed_centre_distance_m is not None else {})}
+
+
+def _one_or_two(values: list) -> Any:
+    """A per-gear value as the scene writes it: one value for both gears, else [pinion, gear]."""
+    return values[0] if values[0] == values[1] else values
 
 
 def _print_geometry(s: dict) -> None:

@@ -61,10 +61,10 @@ def tooth_vs_analytic(fe: ToothFE) -> ToothComparison:
     to_um_per_N_per_mm = 1e6 * pair.face_width_m * 1e3
     t0 = time.perf_counter()
     crack = getattr(fe, "crack", None)  # the same root crack in the analytic models (reduced section)
-    ish = ishikawa.tooth_compliance(fe.loaded, fe.radius_m, pair.material, pair.face_width_m, opposite=fe.nominal,
+    ish = ishikawa.tooth_compliance(fe.loaded, fe.radius_m, fe.loaded.gear.material, pair.face_width_m, opposite=fe.nominal,
                                     crack=crack)
     t1 = time.perf_counter()
-    en = energy.tooth_compliance(fe.loaded, fe.radius_m, pair.material, pair.face_width_m, opposite=fe.nominal,
+    en = energy.tooth_compliance(fe.loaded, fe.radius_m, fe.loaded.gear.material, pair.face_width_m, opposite=fe.nominal,
                                  crack=crack)
     t2 = time.perf_counter()
     return ToothComparison(fe, ish.total_m_per_N * to_um_per_N_per_mm, en.total_m_per_N * to_um_per_N_per_mm,

@@ -560,8 +560,8 @@ def markdown(res: dict[str, Any], rows: list[dict[str, str]], figs: list[str]) -
     L += ["", "## Assumed parameters (not given in the paper)", "",
           "| quantity | value |", "|---|---|",
           f"| face width | {pair.face_width_m * 1e3:g} mm |",
-          f"| Young's modulus, Poisson, density | {pair.material.youngs_modulus_Pa / 1e9:g} GPa, "
-          f"{pair.material.poisson_ratio:g}, {pair.material.density_kg_per_m3:g} kg/m^3 |",
+          f"| Young's modulus, Poisson, density | {pair.materials[0].youngs_modulus_Pa / 1e9:g} GPa, "
+          f"{pair.materials[0].poisson_ratio:g}, {pair.materials[0].density_kg_per_m3:g} kg/m^3 |",
           f"| basic rack | h_a* {pair.addendum_coefficient:g}, h_f* {pair.dedendum_coefficient:g}, "
           f"rho_f* {pair.rack_tip_radius_coefficient:g} |",
           f"| hub (bore) radius | {pair.hub_radius_m[0] * 1e3:g} mm |",

@@ -99,7 +99,8 @@ PAIR_KEYS = {"teeth": "pair.teeth", "addendum_coefficient": "pair.addendum_coeff
              "rack_tip_radius_coefficient": "pair.rack_tip_radius_coefficient",
              "profile_shift": "pair.profile_shift", "hub_radius_m": ("pair.hub_radius_mm", 1e3, "mm"),
              "tip_diameter_m": ("pair.tip_diameter_mm", 1e3, "mm"),
-             "root_diameter_m": ("pair.root_diameter_mm", 1e3, "mm")}
+             "root_diameter_m": ("pair.root_diameter_mm", 1e3, "mm"),
+             "installed_centre_distance_m": ("pair.centre_distance_mm", 1e3, "mm")}
 
 #: unitless own names that a geometry message may mention after its key ("profile_shift[0] >= 0.3")
 _PAIR_WORDS = re.compile(r"(?<![\w.])(profile_shift|allow_undercut|addendum_coefficient|teeth)(?=\[\d\]|\s*(?:>=|<=|=))")
@@ -132,8 +133,10 @@ def pair_spec(doc: SceneDoc) -> PairSpec:
         dedendum_coefficient=p.dedendum_coefficient, rack_tip_radius_coefficient=p.rack_tip_radius_coefficient,
         profile_shift=p.profile_shift, hub_radius_m=(p.hub_radius_mm[0] * 1e-3, p.hub_radius_mm[1] * 1e-3),
         allow_undercut=p.allow_undercut,
-        material=Material(m.youngs_modulus_GPa * 1e9, m.poisson_ratio, m.density_kg_per_m3),
-        tip_diameter_m=mm(p.tip_diameter_mm), root_diameter_m=mm(p.root_diameter_mm))
+        materials=tuple(Material(m.youngs_modulus_GPa[i] * 1e9, m.poisson_ratio[i], m.density_kg_per_m3[i])
+                        for i in (0, 1)),  # type: ignore[arg-type]
+        tip_diameter_m=mm(p.tip_diameter_mm), root_diameter_m=mm(p.root_diameter_mm),
+        installed_centre_distance_m=None if p.centre_distance_mm is None else p.centre_distance_mm * 1e-3)
     try:
         check_pair(spec)
     except InputError as exc:

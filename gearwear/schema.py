@@ -34,10 +34,13 @@ from gearwear.core.validation import Field, InputError, fail
 
 
 def _num(unit: str = "", lo: float = -math.inf, hi: float = math.inf, *, lo_open: bool = False,
-         hi_open: bool = False, integer: bool = False, doc: str = "") -> Any:
+         hi_open: bool = False, integer: bool = False, doc: str = "", limits: str = "") -> Any:
     """A number with unit and range, carried both as pydantic constraints and as JSON
-    Schema annotations (``unit``, ``range``) that error messages and docs read back."""
+    Schema annotations (``unit``, ``range``) that error messages and docs read back.
+    ``limits``: the range that depends on other keys (checked when the pair is resolved)."""
     f = Field(unit, lo, hi, lo_open, hi_open, int if integer else float)
+    if limits:
+        doc = f"{doc} Limits: {limits}."
     kw: dict[str, Any] = {}
     if lo > -math.inf:
         kw["gt" if lo_open else "ge"] = lo
@@ -45,7 +48,7 @@ def _num(unit: str = "", lo: float = -math.inf, hi: float = math.inf, *, lo_open
         kw["lt" if hi_open else "le"] = hi
     if not integer:
         kw["allow_inf_nan"] = False
-    extra: JsonDict = {"unit": unit, "range": f.range_text()}
+    extra: JsonDict = {"unit": unit, "range": f.range_text(), **({"limits": limits} if limits else {})}
     return Annotated[int if integer else float, PField(description=doc, json_schema_extra=extra, **kw)]
 
 
@@ -103,6 +106,14 @@ class PairDoc(_Table):
         limits="d_a above the base circle d_b and the root circle d_f, at most the pointed-tooth diameter, "
                "at most 2 a_w - d_f of the mate (tip clearance), and free of tip/root interference with the "
                "mate") = None
+    centre_distance_mm: _num(  # type: ignore[valid-type]
+        "mm", 0, 1e5, lo_open=True,
+        doc="Installed (operating) centre distance a'; absent: the zero-backlash a_w of the profile shifts. A "
+            "larger one opens the normal backlash 2 (r_b1 + r_b2) (inv alpha' - inv alpha_w) (added to "
+            "effects.backlash.initial_um, which then stands for the tooth-thickness allowances) and shortens the "
+            "path of contact; geometry, stiffness and dynamics all run at it.",
+        limits="at least a_w (closer, the flanks interpenetrate), below the distance where the tip circles stop "
+               "overlapping on the line of action") = None
     root_diameter_mm: _per_gear(  # type: ignore[valid-type]
         "mm", 0, 20000, lo_open=True,
         doc="Root diameter d_f; absent: d - 2 (h_f* - x) m. Given, it sets this gear's tool dedendum "
@@ -113,10 +124,14 @@ class PairDoc(_Table):
 
 
 class MaterialDoc(_Table):
-    """Linear elastic steel (assumed: the paper gives no material data)."""
-    youngs_modulus_GPa: _num("GPa", 0, 2000, lo_open=True, doc="Young's modulus E.") = 206.0  # type: ignore[valid-type]
-    poisson_ratio: _num("", 0, 0.5, hi_open=True, doc="Poisson's ratio nu.") = 0.3  # type: ignore[valid-type]
-    density_kg_per_m3: _num("kg/m^3", 0, 1e5, lo_open=True, doc="Density.") = 7850.0  # type: ignore[valid-type]
+    """Linear elastic, isotropic, per gear: one value for both gears or [pinion, gear]. Every
+    model takes each gear's own values (the tooth models per tooth, the Hertz terms both,
+    ISO 6336 the equivalent modulus 2 E1 E2 / (E1 + E2), the FE per body, the wear law E').
+    Absent keys: steel, 206 GPa, 0.3, 7850 kg/m^3 (stated as assumed in every output)."""
+    youngs_modulus_GPa: _per_gear("GPa", 0, 2000, lo_open=True, doc="Young's modulus E.") = (206.0, 206.0)  # type: ignore[valid-type]
+    poisson_ratio: _per_gear("", 0, 0.5, hi_open=True, doc="Poisson's ratio nu.") = (0.3, 0.3)  # type: ignore[valid-type]
+    density_kg_per_m3: _per_gear("kg/m^3", 0, 1e5, lo_open=True,  # type: ignore[valid-type]
+                                 doc="Density: the body masses and inertias are computed from it.") = (7850.0, 7850.0)
 
 
 class BodiesDoc(_Table):

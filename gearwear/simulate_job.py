@@ -135,7 +135,7 @@ def build_model(scene: Scene, stiff: StiffnessInput) -> GearDynamics:
         J_g = 0.5 * m_g * g2.pitch_radius_m ** 2
     R_p, R_g = g1.base_radius_m, g2.base_radius_m
     Cp = operating_centre_distance(scene)
-    alpha = math.acos((R_p + R_g) / Cp) if Cp != pair.centre_distance_m else pair.working_pressure_angle_rad
+    alpha = math.acos((R_p + R_g) / Cp) if Cp != pair.centre_distance_m else pair.operating_pressure_angle_rad
     m_e = 1.0 / (R_p ** 2 / J_p + R_g ** 2 / J_g)
     c_h, c_b = damping_from_ratios(b.mesh_damping_ratio, b.bearing_damping_ratio, stiff.mean_N_per_m, m_e,
                                    b.bearing_stiffness_N_per_m, m_p, m_g)

@@ -134,12 +134,19 @@ def figures(v: Verification):
     return figs
 
 
+def _per_gear(values) -> str:
+    """'206' for one value of both gears, '206/103' for pinion/gear."""
+    a, b = values
+    return f"{a:g}" if a == b else f"{a:g}/{b:g}"
+
+
 def markdown(v: Verification, files: dict[str, str]) -> str:
     p = v.pair
     lines = ["# Verification: analytic tooth compliance against FE", "",
              f"Pair: z = {p.teeth[0]}/{p.teeth[1]}, m = {p.module_m * 1e3:g} mm, alpha = "
              f"{np.degrees(p.pressure_angle_rad):g} deg, b = {p.face_width_m * 1e3:g} mm, E = "
-             f"{p.material.youngs_modulus_Pa / 1e9:g} GPa, nu = {p.material.poisson_ratio:g}, bore radius "
+             f"{_per_gear(m.youngs_modulus_Pa / 1e9 for m in p.materials)} GPa, nu = "
+             f"{_per_gear(m.poisson_ratio for m in p.materials)}, bore radius "
              f"{p.hub_radius_m[0] * 1e3:g} mm. FE: full gear (all teeth), bore fixed, plane stress, P2 "
              "triangles, load along the line of action as a Hertzian pressure patch; the deflection is the "
              "displacement of the tooth centre line at the load radius projected on the load direction. "

@@ -46,7 +46,7 @@ class MeshGeometry:
     def pressure_angle_rad(self) -> float:
         """Operating pressure angle alpha' = arccos((r_b1 + r_b2) / C') (paper Eq. 14)."""
         if self.centre_distance_m == self.pair.centre_distance_m:
-            return self.pair.working_pressure_angle_rad  # bit-exact nominal value
+            return self.pair.operating_pressure_angle_rad  # bit-exact nominal value
         return math.acos(sum(g.base_radius_m for g in self.pair.gears) / self.centre_distance_m)
 
     @property

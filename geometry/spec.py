@@ -65,6 +65,7 @@ class GearSpec:
     name: str = "gear"
     tip_alteration_coefficient: float = 0.0
     tip_diameter_m: float | None = None
+    material: Material = field(default_factory=Material)
 
     @property
     def pitch_radius_m(self) -> float:
@@ -110,7 +111,13 @@ class GearSpec:
 
 @dataclass(frozen=True)
 class PairSpec:
-    """A spur gear pair: pinion (index 0, driver) and gear (index 1)."""
+    """A spur gear pair: pinion (index 0, driver) and gear (index 1).
+
+    ``materials``: (pinion, gear), each gear's own elastic constants and density.
+    ``installed_centre_distance_m``: the centre distance the pair is mounted at (m);
+    None: the zero-backlash working centre distance a_w of the profile shifts. A larger
+    one opens normal backlash 2 (r_b1 + r_b2) (inv alpha' - inv alpha_w) (geometry.operating)
+    and shortens the path of contact; every consumer reads :attr:`centre_distance_m`."""
 
     teeth: tuple[int, int] = (30, 30)
     module_m: float = 5e-3
@@ -122,9 +129,10 @@ class PairSpec:
     profile_shift: tuple[float, float] = (0.0, 0.0)
     hub_radius_m: tuple[float, float] = (40e-3, 40e-3)
     allow_undercut: bool = False
-    material: Material = field(default_factory=Material)
+    materials: tuple[Material, Material] = (Material(), Material())
     tip_diameter_m: tuple[float, float] | None = None
     root_diameter_m: tuple[float, float] | None = None
+    installed_centre_distance_m: float | None = None
 
     def gear(self, i: int) -> GearSpec:
         """The pinion (i = 0) or the gear (i = 1) as a single-gear spec, with the
@@ -147,7 +155,7 @@ class PairSpec:
             face_width_m=self.face_width_m, allow_undercut=self.allow_undercut,
             name=("pinion", "gear")[i],
             tip_alteration_coefficient=0.0 if tip is not None else self.tip_alteration_coefficient,
-            tip_diameter_m=tip,
+            tip_diameter_m=tip, material=self.materials[i],
         )
 
     @property
@@ -169,12 +177,43 @@ class PairSpec:
         return inverse_involute(target)
 
     @property
-    def centre_distance_m(self) -> float:
-        """Nominal zero-backlash centre distance a_w = a cos(alpha) / cos(alpha_w)."""
+    def zero_backlash_centre_distance_m(self) -> float:
+        """Zero-backlash working centre distance a_w = a cos(alpha) / cos(alpha_w) of the
+        profile shifts (ISO 21771)."""
         if sum(self.profile_shift) == 0.0:
             return self.reference_centre_distance_m
         return (self.reference_centre_distance_m * math.cos(self.pressure_angle_rad)
                 / math.cos(self.working_pressure_angle_rad))
+
+    @property
+    def centre_distance_m(self) -> float:
+        """The centre distance the pair runs at before bearing effects: the installed one
+        when given, else the zero-backlash a_w."""
+        if self.installed_centre_distance_m is not None:
+            return self.installed_centre_distance_m
+        return self.zero_backlash_centre_distance_m
+
+    @property
+    def operating_pressure_angle_rad(self) -> float:
+        """Pressure angle at :attr:`centre_distance_m`: cos(alpha') = (r_b1 + r_b2) / a'
+        (alpha_w itself, bit for bit, without an installed centre distance)."""
+        if self.installed_centre_distance_m is None:
+            return self.working_pressure_angle_rad
+        rb_sum = sum(g.base_radius_m for g in self.gears)
+        return math.acos(min(1.0, rb_sum / self.installed_centre_distance_m))
+
+    @property
+    def equivalent_youngs_modulus_Pa(self) -> float:
+        """E = 2 E1 E2 / (E1 + E2) (Pa), the equivalent modulus of ISO 6336-1 and of the
+        empirical Hertz formulas written for one material (E itself when E1 = E2)."""
+        e1, e2 = (m.youngs_modulus_Pa for m in self.materials)
+        return e1 if e1 == e2 else 2.0 * e1 * e2 / (e1 + e2)
+
+    @property
+    def contact_modulus_Pa(self) -> float:
+        """Plane-strain contact modulus E* (Pa) of Hertz line contact:
+        1 / E* = (1 - nu1^2) / E1 + (1 - nu2^2) / E2."""
+        return 1.0 / sum((1.0 - m.poisson_ratio ** 2) / m.youngs_modulus_Pa for m in self.materials)
 
     @property
     def tip_alteration_coefficient(self) -> float:
@@ -185,7 +224,7 @@ class PairSpec:
         (tip shortening); 0 exactly without a net profile shift."""
         if sum(self.profile_shift) == 0.0:
             return 0.0
-        return ((self.centre_distance_m - self.reference_centre_distance_m) / self.module_m
+        return ((self.zero_backlash_centre_distance_m - self.reference_centre_distance_m) / self.module_m
                 - sum(self.profile_shift))
 
     @property
@@ -307,6 +346,8 @@ def check_pair(spec: PairSpec) -> None:
                    f"{spec.profile_shift[1 - i]:g}: the sum x1 + x2 must exceed {sum_min:.4g} for these teeth "
                    "(else no working pressure angle: inv(alpha_w) <= 0)")
     gears = spec.gears
+    if spec.installed_centre_distance_m is not None:
+        _check_installed_centre_distance(spec, gears)
     a_w = spec.centre_distance_m
     for i, g in enumerate(gears):
         hf = g.dedendum_coefficient
@@ -336,6 +377,25 @@ def check_pair(spec: PairSpec) -> None:
                        "puts the root circle at or below the gear centre")
         _check_tip(spec, i, g, mate, a_w)
     _check_generation(spec, gears, a_w)
+
+
+def _check_installed_centre_distance(spec: PairSpec, gears: tuple[GearSpec, GearSpec]) -> None:
+    """The installed centre distance a' lies in [a_w, a_max): not below the zero-backlash
+    a_w (closer, the flanks would interpenetrate), and below the distance where the path
+    of contact vanishes, sqrt(a_max^2 - (r_b1 + r_b2)^2) = sqrt(r_a1^2 - r_b1^2) +
+    sqrt(r_a2^2 - r_b2^2) (the tip circles stop overlapping on the line of action)."""
+    a_w = spec.zero_backlash_centre_distance_m
+    rb_sum = sum(g.base_radius_m for g in gears)
+    reach = sum(math.sqrt(max(g.tip_radius_m ** 2 - g.base_radius_m ** 2, 0.0)) for g in gears)
+    a_max = math.hypot(reach, rb_sum)
+    a = spec.installed_centre_distance_m
+    assert a is not None
+    if not a_w <= a < a_max:
+        lo, hi = _round_in(a_w, a_max, 9)  # m: nm digits, rounded inward so every value quoted is allowed
+        raise fail_range("installed_centre_distance_m", a, Field("m", lo, hi, hi_open=True),
+                         "at least the zero-backlash centre distance of these profile shifts (closer, the flanks "
+                         "would interpenetrate) and below the distance where the tip circles stop overlapping on "
+                         "the line of action (no contact)")
 
 
 def _check_tip(spec: PairSpec, i: int, g: GearSpec, mate: GearSpec, a_w: float) -> None:

@@ -134,8 +134,11 @@ def load_share(mesh: MeshGeometry, d) -> np.ndarray:
 
 def hertz_half_width(mesh: MeshGeometry, d, load_per_width_N_per_m) -> np.ndarray:
     """Hertz line-contact half-width a = sqrt(4 w R / (pi E')) (m) at LOA position d."""
-    mat = mesh.pair.material
-    e_star = mat.youngs_modulus_Pa / (2.0 * (1.0 - mat.poisson_ratio ** 2))
+    m1, m2 = mesh.pair.materials
+    if m1 == m2:  # E* = E / (2 (1 - nu^2)), bit for bit as before per-gear materials
+        e_star = m1.youngs_modulus_Pa / (2.0 * (1.0 - m1.poisson_ratio ** 2))
+    else:
+        e_star = mesh.pair.contact_modulus_Pa
     d = np.asarray(d, dtype=float)
     R = d * (mesh.line_of_action_m - d) / mesh.line_of_action_m
     return np.sqrt(4.0 * np.asarray(load_per_width_N_per_m) * np.maximum(R, 0.0) / (math.pi * e_star))

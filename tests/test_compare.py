@@ -31,9 +31,9 @@ def nominal(pair):
 def test_ishikawa_column_units(pair, nominal):
     """The reference column is analytic.ishikawa delta_1 + delta_2 (m/N) x 1e6 x b[mm]."""
     prof = tooth_profile(pair.gear(0))
-    ref = ishikawa.tooth_compliance(prof, nominal.fe.radius_m, pair.material, pair.face_width_m).total_m_per_N
+    ref = ishikawa.tooth_compliance(prof, nominal.fe.radius_m, pair.materials[0], pair.face_width_m).total_m_per_N
     assert np.allclose(nominal.ishikawa_um_per_N_per_mm, ref * 1e6 * pair.face_width_m * 1e3, rtol=1e-3)
-    ref_e = energy.tooth_compliance(prof, nominal.fe.radius_m, pair.material, pair.face_width_m).total_m_per_N
+    ref_e = energy.tooth_compliance(prof, nominal.fe.radius_m, pair.materials[0], pair.face_width_m).total_m_per_N
     assert np.allclose(nominal.energy_um_per_N_per_mm, ref_e * 1e6 * pair.face_width_m * 1e3, rtol=1e-3)
     row = nominal.rows()[10]
     assert set(row) >= {"radius_mm", "roll_angle_deg", "fem_compliance_um_per_N_per_mm",

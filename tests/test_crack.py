@@ -94,18 +94,18 @@ def radii(paper):
 @pytest.mark.parametrize("model", MODELS)
 def test_crack_none_is_bit_identical(paper, radii, model):
     pair, prof = paper
-    a = model.tooth_compliance(prof, radii, pair.material, pair.face_width_m)
-    b = model.tooth_compliance(prof, radii, pair.material, pair.face_width_m, crack=None)
+    a = model.tooth_compliance(prof, radii, pair.materials[0], pair.face_width_m)
+    b = model.tooth_compliance(prof, radii, pair.materials[0], pair.face_width_m, crack=None)
     assert np.array_equal(a.total_m_per_N, b.total_m_per_N)
 
 
 @pytest.mark.parametrize("model", MODELS)
 def test_depth_to_zero_gives_intact_tooth(paper, radii, model):
     pair, prof = paper
-    c0 = model.tooth_compliance(prof, radii, pair.material, pair.face_width_m).total_m_per_N
+    c0 = model.tooth_compliance(prof, radii, pair.materials[0], pair.face_width_m).total_m_per_N
     rel = []
     for q in (1e-6, 1e-8, 1e-10):
-        c = model.tooth_compliance(prof, radii, pair.material, pair.face_width_m, crack=Crack(q, NU_45))
+        c = model.tooth_compliance(prof, radii, pair.materials[0], pair.face_width_m, crack=Crack(q, NU_45))
         rel.append(float(np.max(np.abs(c.total_m_per_N / c0 - 1.0))))
     # the residual at q -> 0 is the 0.2 um chord sag of the profile polyline at the mouth
     assert rel[-1] <= 1e-9
@@ -116,9 +116,9 @@ def test_depth_to_zero_gives_intact_tooth(paper, radii, model):
 def test_compliance_rises_monotonically_with_depth(paper, radii, model):
     pair, prof = paper
     depths = np.array([0.25, 0.5, 1.0, 2.0, 4.0, 6.0]) * 1e-3
-    c = np.array([model.tooth_compliance(prof, radii, pair.material, pair.face_width_m,
+    c = np.array([model.tooth_compliance(prof, radii, pair.materials[0], pair.face_width_m,
                                          crack=Crack(q, NU_45)).total_m_per_N for q in depths])
-    c0 = model.tooth_compliance(prof, radii, pair.material, pair.face_width_m).total_m_per_N
+    c0 = model.tooth_compliance(prof, radii, pair.materials[0], pair.face_width_m).total_m_per_N
     assert np.all(c[0] > c0)
     assert np.all(np.diff(c, axis=0) > 0)
 
@@ -128,7 +128,7 @@ def test_bending_at_tip_matches_hand_integration(paper):
     I = t_c^3 b / 12, t_c = min(h_x, h_q) + h_x above the tip height: trapezoid rule on
     a fine uniform grid, thickness read from the profile points directly."""
     pair, prof = paper
-    g, E, b = pair.gear(0), pair.material.youngs_modulus_Pa, pair.face_width_m
+    g, E, b = pair.gear(0), pair.materials[0].youngs_modulus_Pa, pair.face_width_m
     crack = Crack(1.5e-3, NU_45)
     _, tip = crack_line(prof, crack)
     h_q, y_q = tip
@@ -146,8 +146,8 @@ def test_bending_at_tip_matches_hand_integration(paper):
     hand = float(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(y)))
     intact = np.sum(0.5 * ((f * t ** 3 / (2 * hx) ** 3)[1:] + (f * t ** 3 / (2 * hx) ** 3)[:-1]) * np.diff(y))
     assert hand > 1.01 * intact  # the crack matters in this case
-    en = energy.tooth_compliance(prof, R, pair.material, b, crack=crack).bending_m_per_N[0]
-    ish = ishikawa.tooth_compliance(prof, R, pair.material, b, n_slices=20_000, crack=crack).bending_m_per_N[0]
+    en = energy.tooth_compliance(prof, R, pair.materials[0], b, crack=crack).bending_m_per_N[0]
+    ish = ishikawa.tooth_compliance(prof, R, pair.materials[0], b, n_slices=20_000, crack=crack).bending_m_per_N[0]
     assert en == pytest.approx(hand, rel=1e-4)
     assert ish == pytest.approx(hand, rel=1e-4)
 
@@ -252,9 +252,9 @@ def test_fe_over_analytic_increase_is_reported(paper, fe_runs):
     fe0 = fe_runs["intact"].fem_compliance_um_per_N_per_mm
     lines = []
     for model in (energy, ishikawa):
-        a0 = model.tooth_compliance(prof, R, pair.material, pair.face_width_m).total_m_per_N
+        a0 = model.tooth_compliance(prof, R, pair.materials[0], pair.face_width_m).total_m_per_N
         for q in (0.5, 1.0, 2.0):
-            a = model.tooth_compliance(prof, R, pair.material, pair.face_width_m,
+            a = model.tooth_compliance(prof, R, pair.materials[0], pair.face_width_m,
                                        crack=Crack(q * 1e-3, NU_45)).total_m_per_N
             d_an = (a - a0) * 1e9 * pair.face_width_m  # m/N -> um/(N/mm)
             d_fe = fe_runs[q].fem_compliance_um_per_N_per_mm - fe0

@@ -106,20 +106,20 @@ def test_real_profile_against_adaptive_quadrature(paper):
 
 def test_gauss_convergence(paper):
     pair, prof, _, radii = paper
-    ref = tooth_compliance(prof, radii, pair.material, pair.face_width_m, n_gauss=32).total_m_per_N
+    ref = tooth_compliance(prof, radii, pair.materials[0], pair.face_width_m, n_gauss=32).total_m_per_N
     for n in (8, 16):
-        c = tooth_compliance(prof, radii, pair.material, pair.face_width_m, n_gauss=n).total_m_per_N
-        c2 = tooth_compliance(prof, radii, pair.material, pair.face_width_m, n_gauss=2 * n).total_m_per_N
+        c = tooth_compliance(prof, radii, pair.materials[0], pair.face_width_m, n_gauss=n).total_m_per_N
+        c2 = tooth_compliance(prof, radii, pair.materials[0], pair.face_width_m, n_gauss=2 * n).total_m_per_N
         assert np.max(np.abs(c2 / c - 1.0)) < 1e-6
         assert np.max(np.abs(c / ref - 1.0)) < 1e-6
     # the check has teeth: one point per piece (midpoint rule) is measurably off (~1e-4)
-    c1 = tooth_compliance(prof, radii, pair.material, pair.face_width_m, n_gauss=1).total_m_per_N
+    c1 = tooth_compliance(prof, radii, pair.materials[0], pair.face_width_m, n_gauss=1).total_m_per_N
     assert np.max(np.abs(c1 / ref - 1.0)) > 1e-8
 
 
 def test_compliance_grows_from_sap_to_tip(paper):
     pair, prof, _, radii = paper
-    c = tooth_compliance(prof, radii, pair.material, pair.face_width_m)
+    c = tooth_compliance(prof, radii, pair.materials[0], pair.face_width_m)
     assert np.all(np.diff(c.total_m_per_N) > 0)
     assert np.all(np.diff(c.bending_m_per_N) > 0)
     assert np.all(np.diff(c.foundation_m_per_N) > 0)
@@ -131,8 +131,8 @@ def test_worn_tooth_more_compliant(paper):
     pair, prof, _, radii = paper
     depth = np.where(prof.region == INVOLUTE, 30e-6, 0.0)
     worn = prof.worn(depth)
-    c0 = tooth_compliance(prof, radii, pair.material, pair.face_width_m).total_m_per_N
-    cw = tooth_compliance(worn, radii, pair.material, pair.face_width_m).total_m_per_N
+    c0 = tooth_compliance(prof, radii, pair.materials[0], pair.face_width_m).total_m_per_N
+    cw = tooth_compliance(worn, radii, pair.materials[0], pair.face_width_m).total_m_per_N
     assert np.all(cw > c0)
 
 
@@ -154,7 +154,7 @@ def test_sainsot_coefficients_by_hand():
 
 def test_foundation_inputs_and_fit_range_flag(paper):
     pair, prof, _, radii = paper
-    c = tooth_compliance(prof, radii[:3], pair.material, pair.face_width_m)
+    c = tooth_compliance(prof, radii[:3], pair.materials[0], pair.face_width_m)
     g = pair.gear(0)
     assert c.h_fi == pytest.approx(g.root_radius_m / g.hub_radius_m, rel=1e-15)
     _, x_M = root_section(prof)
@@ -162,7 +162,7 @@ def test_foundation_inputs_and_fit_range_flag(paper):
     assert c.foundation_in_fit_range
     # a tiny bore puts h_fi far outside the fit: flagged, still computed
     small_bore = tooth_profile(replace(g, hub_radius_m=4e-3))
-    cs = tooth_compliance(small_bore, radii[:3], pair.material, pair.face_width_m)
+    cs = tooth_compliance(small_bore, radii[:3], pair.materials[0], pair.face_width_m)
     assert not cs.foundation_in_fit_range
     assert np.all(np.isfinite(cs.foundation_m_per_N))
 
@@ -178,11 +178,11 @@ def test_pitch_point_stiffness_in_literature_and_iso_range(paper):
     implied by ISO 6336-1 through 1/c_pair = 2/c_tooth + 1/c_Hertz, between the measured
     (c') and the theoretical (c'_th) single pair stiffness."""
     pair, prof, _, _ = paper
-    c = tooth_compliance(prof, pair.gear(0).pitch_radius_m, pair.material, pair.face_width_m)
+    c = tooth_compliance(prof, pair.gear(0).pitch_radius_m, pair.materials[0], pair.face_width_m)
     k_per_width = 1.0 / (float(c.total_m_per_N[0]) * pair.face_width_m)
     print(f"\nsingle-tooth stiffness at the pitch point: {k_per_width:.4g} N/m per m of face width")
     iso = iso6336_stiffness(pair)
-    h = hertz_compliance_linear(pair.material, 1.0) * 1e9  # mm um / N per mm of width
+    h = hertz_compliance_linear(pair.materials[0], 1.0) * 1e9  # mm um / N per mm of width
     tooth = [2.0 / (1.0 / cp - h) * 1e9 for cp in (iso.c_prime, iso.c_th_prime)]  # N/m per m
     print(f"ISO-implied single-tooth range: {tooth[0]:.4g} .. {tooth[1]:.4g} N/m per m")
     assert 1e10 < k_per_width < 4e10
@@ -192,4 +192,4 @@ def test_pitch_point_stiffness_in_literature_and_iso_range(paper):
 def test_contact_below_root_section_rejected(paper):
     pair, prof, _, _ = paper
     with pytest.raises(ValueError):
-        tooth_compliance(prof, pair.gear(0).root_radius_m + 1e-6, pair.material, pair.face_width_m)
+        tooth_compliance(prof, pair.gear(0).root_radius_m + 1e-6, pair.materials[0], pair.face_width_m)

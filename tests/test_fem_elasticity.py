@@ -277,7 +277,7 @@ def test_gear_tooth_radial_load_is_symmetric():
     outline = gear_polygon(poly, poly, other)  # vertex, edge mid-point, vertex, ...
     gm = mesh_full_gear(outline[0::2], g.hub_radius_m, sizes, order=2, outline_mid_xy=outline[1::2])
     mesh = gm.mesh
-    model = assemble(gm.mesh, pair.material, pair.face_width_m, gm.boundaries["bore"], order=2)
+    model = assemble(gm.mesh, pair.materials[0], pair.face_width_m, gm.boundaries["bore"], order=2)
     # the FE runs on Gmsh's curved 6-node mesh itself: its P2 dofs sit on Gmsh's nodes
     assert np.array_equal(model.basis.doflocs[:, 0::2], gm.mesh.doflocs)
     mid = mesh.p[:, mesh.facets[:, gm.boundaries["outer"]]].mean(axis=1)

@@ -102,7 +102,7 @@ def test_resolved_half_width_is_hertz_plane_stress(nominal):
     a = sqrt(4 w R* / (pi E*)), E* = E / 2, within one node spacing."""
     r = nominal
     m = r.mesh
-    mat = r.pair.material
+    mat = r.pair.materials[0]
     single = r.pairs_in_contact == 1
     assert single.any()
     for p in np.flatnonzero(single):

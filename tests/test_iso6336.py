@@ -103,7 +103,7 @@ def test_more_teeth_stiffer():
 
 def test_softer_material_scales_stiffness():
     pair = default_pair()
-    alu = replace(pair, material=replace(pair.material, youngs_modulus_Pa=103e9))
+    alu = replace(pair, materials=(replace(pair.materials[0], youngs_modulus_Pa=103e9),) * 2)
     assert iso6336_stiffness(alu).c_prime == pytest.approx(0.5 * iso6336_stiffness(pair).c_prime, rel=1e-14)
 
 

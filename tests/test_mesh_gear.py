@@ -82,7 +82,7 @@ def test_tooth_fe_mesh_carries_gmsh_mid_side_nodes_on_the_flank():
     tm = tooth_mesh(pair, mesh_scale=2.0)
     m = tm.mesh
     assert isinstance(m, skfem.MeshTri2)
-    model = assemble(m, pair.material, pair.face_width_m, tm.gear_mesh.boundaries["bore"], order=2)
+    model = assemble(m, pair.materials[0], pair.face_width_m, tm.gear_mesh.boundaries["bore"], order=2)
     assert np.array_equal(model.basis.doflocs[:, 0::2], m.doflocs)  # the P2 nodes are Gmsh's nodes
     nodes = tm.flank_nodes
     assert np.all(nodes[0::2] < m.nvertices) and np.all(nodes[1::2] >= m.nvertices)  # vertex, mid, vertex, ...

@@ -151,7 +151,7 @@ def test_geometry_and_assumption_figures(pair):
     g = pair.gear(0)
     body = tooth_mesh(pair).gear_mesh                           # the FE default mesh of the whole gear
     area = body.area_m2
-    mass = area * pair.face_width_m * pair.material.density_kg_per_m3
+    mass = area * pair.face_width_m * pair.materials[0].density_kg_per_m3
     say(f"the gear body ({round(area * 1e6):,d} mm^2 from the mesh, x 20 mm, steel) weighs {mass:.2f} kg"
         .replace(f"{round(area * 1e6):,d}", f"{round(area * 1e6):,d}".replace(",", " ")))
     prof = tooth_profile(g)
@@ -191,8 +191,8 @@ def test_slice_and_gauss_accuracy(pair):
     say(f"| {sci(errs[64])} vs 1024 slices |")
     prof = _profiles(pair, None, pair.centre_distance_m)[0][0]
     R = np.linspace(71.8e-3, 79.9e-3, 200)
-    c64 = energy.tooth_compliance(prof, R, pair.material, pair.face_width_m, n_gauss=64).total_m_per_N
-    c16 = energy.tooth_compliance(prof, R, pair.material, pair.face_width_m, n_gauss=16).total_m_per_N
+    c64 = energy.tooth_compliance(prof, R, pair.materials[0], pair.face_width_m, n_gauss=64).total_m_per_N
+    c16 = energy.tooth_compliance(prof, R, pair.materials[0], pair.face_width_m, n_gauss=16).total_m_per_N
     assert np.max(np.abs(c16 / c64 - 1)) <= 1e-15          # round-off: the README's "1e-15"
     say("| Gauss 16 points: 1e-15 |")
 

@@ -15,7 +15,7 @@ def test_default_is_paper_pair():
     assert p.teeth == (30, 30) and p.module_m == 5e-3
     assert p.pressure_angle_rad == math.radians(20)
     assert p.centre_distance_m == pytest.approx(0.150, rel=1e-15)
-    assert p.material.youngs_modulus_Pa == 206e9 and p.material.poisson_ratio == 0.3
+    assert all(m.youngs_modulus_Pa == 206e9 and m.poisson_ratio == 0.3 for m in p.materials)
 
 
 @pytest.mark.parametrize("table,key,value,pattern", [

@@ -47,7 +47,7 @@ def test_slices_exact_for_prismatic_beam(w_deg, x_F):
 def test_slice_convergence_is_second_order(pair):
     prof = tooth_profile(pair.gear(0))
     R = np.array([71.8e-3, 75e-3, 79.5e-3])
-    vals = [tooth_compliance(prof, R, pair.material, pair.face_width_m, n).total_m_per_N for n in (16, 32, 64, 128)]
+    vals = [tooth_compliance(prof, R, pair.materials[0], pair.face_width_m, n).total_m_per_N for n in (16, 32, 64, 128)]
     d1, d2, d3 = (np.abs(vals[i + 1] - vals[i]) for i in range(3))
     # midpoint slices: second order where the beam is long (pitch, tip); near the SAP the
     # beam is ~3 mm long and the change is already at the polyline's resolution
@@ -93,10 +93,10 @@ def test_load_sharing_equilibrium_and_compatibility(pair, curves):
         loaded = np.flatnonzero(r.pair_load_N[i] > 0)
         for k in loaded:
             d = r.pair_d_m[i, k]
-            c1 = tooth_compliance(prof, np.array([mesh.pinion_radius_at(d)]), pair.material, pair.face_width_m)
-            c2 = tooth_compliance(prof, np.array([mesh.gear_radius_at(d)]), pair.material, pair.face_width_m)
+            c1 = tooth_compliance(prof, np.array([mesh.pinion_radius_at(d)]), pair.materials[0], pair.face_width_m)
+            c2 = tooth_compliance(prof, np.array([mesh.gear_radius_at(d)]), pair.materials[0], pair.face_width_m)
             Fk = r.pair_load_N[i, k]
-            approach = (c1.total_m_per_N[0] + c2.total_m_per_N[0]) * Fk + hertz_approach_m(Fk, pair.material, 0.02)
+            approach = (c1.total_m_per_N[0] + c2.total_m_per_N[0]) * Fk + hertz_approach_m(Fk, pair.materials[0], 0.02)
             assert approach == pytest.approx(r.ste_m[i], rel=1e-9)
 
 
