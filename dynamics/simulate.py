@@ -45,8 +45,10 @@ class SimResult:
     events: int                       # located switching events (adaptive only)
     wall_s: float                     # integration wall time (compilation excluded)
     compile_s: float                  # compilation / cache load in this call (0 if warm)
-    separation_fraction: float        # fraction of samples with |s| <= b
-    backside_fraction: float          # fraction of samples with s < -b
+    separation_fraction: float | None  # fraction of samples with |s| <= b; None: the model has no
+                                       # backlash dead zone (a two-sided spring cannot separate)
+    backside_fraction: float          # back-flank contact: fraction of samples with s < -b (backlash),
+                                      # or with a negative mesh force (two-sided spring)
     bearing_contact_fraction: dict    # "pinion"/"gear": fraction with |y| > b_b or |x| > b_b
     method: str
     states: np.ndarray                # (N, 10) sampled states
@@ -387,12 +389,15 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
     t_win, Z_win = t_uni[:-1], out[uni[:-1]]
     sig = compute_signals(model, t_win, Z_win)
     mode = sig["mode"]
+    sep: float | None
     if has_flank_law(model):
         sep = float(np.mean(mode == 0))
         back = float(np.mean((mode == -1) | (mode == 2)))
     else:
-        sep = 0.0
-        back = 0.0
+        # a two-sided linear mesh spring cannot separate: the fraction is undefined, not 0;
+        # a negative mesh force is the back flanks carrying load
+        sep = None
+        back = float(np.mean(sig["F_m"] < 0.0))
     if model.bearing_half_clearance_m is not None:
         bb = model.bearing_half_clearance_m
         bc = {"pinion": float(np.mean((np.abs(Z_win[:, 0]) > bb) | (np.abs(Z_win[:, 1]) > bb))),

@@ -20,7 +20,7 @@ from gearwear.core.validation import InputError
 from gearwear.geometry.spec import PairSpec, default_pair
 from gearwear.geometry.wear import WearSpec
 
-from .scene import Scene, pair_from_dict, wear_from_dict
+from .scene import Scene, pair_from_dict, parse_wear_arg, wear_from_dict
 
 METHODS = ("ishikawa", "energy", "iso6336", "fem")
 
@@ -33,17 +33,22 @@ def paper_pair() -> PairSpec:
 
 def pair(**keys: Any) -> PairSpec:
     """A pair from ``[pair]`` scene keys (units in the names), e.g.
-    ``gw.pair(teeth=[21, 37], profile_shift=[0.25, -0.1])``; ``material={...}`` too."""
+    ``gw.pair(teeth=[21, 37], module_mm=3, face_width_mm=30, profile_shift=[0.25, -0.1])``
+    (teeth, module_mm and face_width_mm are required); ``material={...}`` too."""
     material = keys.pop("material", {})
     return pair_from_dict({"pair": keys, "material": material})
 
 
 def wear_spec(spec: str | Mapping[str, Any] | WearSpec | None, torque_Nm: float = 40.0,
               speed_rpm: float = 1200.0) -> WearSpec | None:
-    """A wear spec from a phase name (``"severe"``), an ``[effects] wear`` table
-    (``{"max_depth_um": 25}``, ``{"hours": 500}``), a WearSpec, or None (unworn)."""
+    """A wear spec from every spelling the command line's ``--wear`` takes: a phase name
+    (``"severe"``), a depth (``"25um"``), running hours (``"500h"``), an ``[effects] wear``
+    table (``{"max_depth_um": 25}``, ``{"hours": 500}``), a WearSpec, or None (unworn).
+    Running hours wear at the operating point ``torque_Nm`` (N m) and ``speed_rpm``."""
     if spec is None or isinstance(spec, WearSpec):
         return spec
+    if isinstance(spec, str):
+        return parse_wear_arg(spec, torque_Nm, speed_rpm)
     return wear_from_dict(spec, torque_Nm, speed_rpm)
 
 
@@ -51,15 +56,21 @@ wear = wear_spec  # gw.wear("severe"); functions below take a ``wear`` argument,
 
 
 def mesh_stiffness(pair: PairSpec | None = None, method: str = "ishikawa", wear: Any = None,
-                   torque_Nm: float = 40.0, clearance_um: float = 0.0, points: int | None = None):
+                   torque_Nm: float | None = None, clearance_um: float = 0.0, points: int | None = None):
     """k_h over one mesh period: ``method`` ishikawa (paper Eqs. 2-6), energy, iso6336
     (constant, ISO 6336-1 method B) or fem (resolved FE pair contact, ~10 s for 24
-    positions). Returns an object with ``angle_rad``, ``k_N_per_m``, ``excitation_m``,
-    ``mean_N_per_m``, ``contact_ratio`` and more (``gearwear.analytic.tvms.MeshStiffness``)."""
+    positions). ``torque_Nm``: the pinion torque, required with your own pair (without a
+    pair: the paper pair at its 40 N m). Returns an object with ``angle_rad``,
+    ``k_N_per_m``, ``excitation_m``, ``mean_N_per_m``, ``contact_ratio`` and more
+    (``gearwear.analytic.tvms.MeshStiffness``)."""
     from . import stiffness_job
 
     if method not in METHODS:
         raise InputError(f"method = {method!r}: must be one of {', '.join(METHODS)}")
+    if torque_Nm is None:
+        if pair is not None:
+            raise InputError("torque_Nm: missing; the load sharing needs the pinion torque of your pair (N m)")
+        torque_Nm = 40.0  # the paper's operating point, with the paper's pair
     n = points if points is not None else (24 if method == "fem" else 360)
     p = pair or default_pair()
     curves = stiffness_job.compute(p, method, [wear_spec(wear, torque_Nm)], [clearance_um * 1e-6],

@@ -93,6 +93,7 @@ def _cmd_geometry(args: argparse.Namespace) -> int:
     from . import geometry_job
 
     scene = _load(args, loaded=False)
+    assumed = _assumed(scene, "geometry")
     torque, clearance_um, wear = scene.operating.torque_Nm, round(scene.clearance_m * 1e6, 9), scene.wear
     mesh_size = _bounded_float("--mesh-size-mm", args.mesh_size_mm, "mm", *MESH_SIZE_RANGE_MM)
     out = _check_out(args.out, "geometry")
@@ -101,12 +102,14 @@ def _cmd_geometry(args: argparse.Namespace) -> int:
     inputs = {**io.scene_inputs(scene), "pair": _pair_inputs(scene), "wear": wear.label if wear else "unworn",
               "wear_spec": _wear_dict(wear), "clearance_um": clearance_um, "torque_Nm": torque,
               "bearing_stiffness_N_per_m": scene.bodies.bearing_stiffness_N_per_m,
+              "bodies": {"mass_kg": list(scene.bodies.mass_kg), "inertia_kg_m2": list(scene.bodies.inertia_kg_m2)},
               "initial_backlash_um": scene.initial_backlash_m * 1e6, "mesh": not args.no_mesh,
               "mesh_size_mm": mesh_size}
     files = _write(out, "geometry", scene, inputs,
                    lambda d: geometry_job.write(res, d, inputs, io.scene_labels(scene)),
                    {"total_s": res.wall_s, "mesh_build_s": res.mesh_build_s})
     summary = res.summary()
+    summary["assumptions"] = assumed
     summary["files"] = [str(f) for f in files]
     if args.json:
         print(io.json_text(summary, indent=None))
@@ -130,13 +133,40 @@ def _wear_dict(wear) -> dict | None:
     return None if wear is None else dataclasses.asdict(wear)
 
 
-def _write(out: Path | None, command: str, scene, inputs: dict, writer, timing: dict | None = None) -> list[Path]:
+#: which results each command's files hold, for the assumptions they list (gearwear.assumptions.USES)
+COMMAND_USES = {"geometry": "geometry", "stiffness": "stiffness", "verify": "verify", "calibrate": "calibrate",
+                "simulate": "simulate", "sweep": "simulate", "runup": "runup", "diagnose": "simulate",
+                "diagnose plan": "simulate", "report pair": "report pair"}
+
+
+def _assumed(scene, uses: str) -> list[dict]:
+    """The assumptions of ``scene`` a command's results rest on (gearwear.assumptions), as
+    dicts (``key``, ``value``, ``unit``, ``why``)."""
+    from .assumptions import as_dicts, for_command
+
+    return as_dicts(for_command(scene, uses))
+
+
+def print_assumed(assumed: list[dict]) -> None:
+    """One ``assumed:`` line per value (with the results: a bad input stays one line)."""
+    from .assumptions import line_of
+
+    for a in assumed:
+        print(line_of(a))
+
+
+def _write(out: Path | None, command: str, scene, inputs: dict, writer, timing: dict | None = None,
+           uses: str | None = None) -> list[Path]:
     """Write a command's files into ``out`` as a whole (gearwear.io.write_folder): the
-    manifest gets the inputs, the scene's name and referenced file paths."""
+    manifest gets the inputs, the scene's name and referenced file paths, and every value
+    the results assume that the scene did not give (``uses``: which results, default by
+    command)."""
 
     if out is None:
         return []
     prov = {**inputs, **(io.scene_labels(scene) if scene is not None else {})}
+    if scene is not None:
+        prov["assumptions"] = _assumed(scene, uses or COMMAND_USES[command])
     return io.write_folder(out, command, prov, writer, timing)
 
 
@@ -159,6 +189,8 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
     if args.method not in stiffness_job.METHODS:
         raise InputError(f"--method = {args.method!r}: must be one of {', '.join(stiffness_job.METHODS)}")
     scene, wears, clearances = _variants(args)
+    uses = "stiffness-fem" if args.method == "fem" else "stiffness"
+    assumed = _assumed(scene, uses)
     torque = scene.operating.torque_Nm
     if args.points is None:
         args.points = "24" if args.method == "fem" else "360"  # FE: 24 positions take ~10 s
@@ -182,11 +214,11 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
               "points": points}
 
     def write_stiffness(folder: Path) -> list[Path]:
-        written = stiffness_job.write(curves, folder, inputs, io.scene_labels(scene), harris)
+        written = stiffness_job.write(curves, folder, inputs, io.scene_labels(scene), harris, assumed)
         return written + (stiffness_job.write_fields(curves, folder, fields) if fields else [])
     files = _write(out, "stiffness", scene, {**inputs, "fields": fields}, write_stiffness,
-                   {"curves": {c.slug: c.result.wall_s for c in curves}})
-    summaries = [c.summary() for c in curves]
+                   {"curves": {c.slug: c.result.wall_s for c in curves}}, uses=uses)
+    summaries = [{**c.summary(), "assumptions": assumed} for c in curves]
     if args.json:
         doc = dict(summaries[0])
         doc["curves"] = summaries
@@ -203,6 +235,7 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
                   f"{s['min_N_per_m']:>12.4e}{s['max_N_per_m']:>12.4e}{s['contact_ratio']:>8.4f}"
                   f"{_num_or_dash(s['double_zone_mean_N_per_m'])}{_num_or_dash(s['single_zone_mean_N_per_m'])}"
                   f"{s['wall_s'] * 1e3:>9.1f}")
+        print_assumed(assumed)
         for w in dict.fromkeys(w for s in summaries for w in s.get("warnings", [])):
             print(f"warning: {w}")
         for f in files:
@@ -230,6 +263,7 @@ def _cmd_verify(args: argparse.Namespace) -> int:
         args.wear = ["unworn", "mild", "severe"]
     scene, wears, _ = _variants(args)
     wears = _unworn_as_none(wears)
+    assumed = _assumed(scene, "verify")
     positions = _int_arg("--positions", args.positions, 5, 201)
     out = _check_out(args.out, "verify")
     steps = len(wears) + (0 if args.no_convergence else 12)
@@ -248,6 +282,7 @@ def _cmd_verify(args: argparse.Namespace) -> int:
     files = _write(out, "verify", scene, inputs, lambda d: verify_job.write(v, d, inputs, io.scene_labels(scene)),
                    timing)
     js = verify_job.to_json(v)
+    js["assumptions"] = assumed
     js["files"] = [str(f) for f in files]
     if args.json:
         print(io.json_text(js, indent=None))
@@ -258,6 +293,7 @@ def _cmd_verify(args: argparse.Namespace) -> int:
             de = 100 * (ph.energy / ph.fem - 1)
             print(f"{ph.label:<9}{ph.fem_wall_s:>7.2f}{ph.dofs:>9}{di.min():>14.1f} .. {di.max():<11.1f}"
                   f"{de.min():>12.1f} .. {de.max():<11.1f}")
+        print_assumed(assumed)
         if v.acceptance:
             a = v.acceptance
             print(f"FE convergence: two finest P2 levels differ by {a['finest_p2_change_pct']:.3f} %, default level "
@@ -272,6 +308,7 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
 
     scene, wears, clearances = _variants(args)
     wears = _unworn_as_none(wears)
+    assumed = _assumed(scene, "calibrate")
     torque = scene.operating.torque_Nm
     points = _int_arg("--points", args.points, 8, 1_000_000)
     out = _check_out(args.out, "calibrate")
@@ -289,7 +326,7 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     files = _write(out, "calibrate", scene, inputs, lambda d: [io.write_bytes(d / n, b) for n, b in copies.items()],
                    {"fe_calibration_s": fe_s})
     if args.json:
-        print(io.json_text({"tables": rows, "files": [str(f) for f in files]}, indent=None))
+        print(io.json_text({"tables": rows, "assumptions": assumed, "files": [str(f) for f in files]}, indent=None))
     else:
         print(f"{'wear':<9}{'clear um':>9}{'mean N/m':>12}{'analytic':>12}{'check res %':>12}{'FE err %':>9}  cache")
         for r in rows:
@@ -298,6 +335,7 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
             print(f"{r['wear']:<9}{r['clearance_um']:>9g}{r['mean_N_per_m']:>12.4e}"
                   f"{r['uncorrected_mean_N_per_m']:>12.4e}{100 * max(res):>12.2f}"
                   f"{100 * err:>9.2f}  {'hit' if r['cache_hit'] else 'new'}")
+        print_assumed(assumed)
         for f in files:
             print(f"wrote {f}")
     return 0
@@ -360,7 +398,10 @@ def _calibrate_tables(args, scene, wears, clearances, torque, points, out, folde
 def _cmd_simulate(args: argparse.Namespace) -> int:
     from . import simulate_io, simulate_job
 
+    from .scene import require_dynamics
+
     scene = _load(args, default="paper-wear-severe")
+    require_dynamics(scene)
     out = _check_out(args.out, "simulate")
     run = simulate_job.run(scene, on_compile=lambda msg: print(msg, file=sys.stderr, flush=True))
     summary = run.summary()
@@ -379,13 +420,13 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
     from . import sweep_job as sweep
-    from .scene import load_scene_dict
+    from .scene import load_scene_dict, require_dynamics
 
     data, name = load_scene_dict(args.scene, default="paper-wear-severe")
     out = _check_out(args.out, "sweep")
     axes, fixed = sweep.split_sets(_alias_sets(args))
     from .scene import apply_overrides, scene_from_dict
-    scene_from_dict(apply_overrides(data, fixed), name=name)  # the fixed keys are checked first
+    require_dynamics(scene_from_dict(apply_overrides(data, fixed), name=name))  # the fixed keys are checked first
     if not axes:
         raise InputError("--set: give at least one swept key, KEY=START:STOP:N or KEY=a,b,c")
     with sweep.make_executor(_workers(args), args.scheduler) as executor:
@@ -404,7 +445,10 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
             pt = ", ".join(f"{k}={v}" for k, v in r["point"].items())
             fm = r["harmonics"].get("F_m_N")
             extra = f"  F_m harmonics 1-4 (N): {', '.join(f'{x:.3g}' for x in fm[:4])}" if fm else ""
-            print(f"{pt}: separation {100 * r['separation_fraction']:.2f} %{extra}")
+            sep = r["separation_fraction"]
+            contact = ("no backlash: cannot separate, back flanks loaded "
+                       f"{100 * r['backside_fraction']:.2f} %" if sep is None else f"separation {100 * sep:.2f} %")
+            print(f"{pt}: {contact}{extra}")
         for f in files:
             print(f"wrote {f}")
     return 0
@@ -415,12 +459,12 @@ def _cmd_runup(args: argparse.Namespace) -> int:
 
     from . import runup_job
     from . import sweep_job as sweep
-    from .scene import apply_overrides, load_scene_dict, scene_from_dict
+    from .scene import apply_overrides, load_scene_dict, require_dynamics, scene_from_dict
 
     data, name = load_scene_dict(args.scene, default="paper-default")
     out = _check_out(args.out, "runup")
     axes, fixed = sweep.split_sets(_alias_sets(args))
-    scene_from_dict(apply_overrides(data, fixed), name=name)  # the fixed keys are checked first
+    require_dynamics(scene_from_dict(apply_overrides(data, fixed), name=name))  # the fixed keys are checked first
     speed, others = runup_job.split_speed_axis(axes)
     settings = runup_job.Settings(
         tol=_bounded_float("--tolerance", args.tolerance, "", 1e-12, 1e-2),
@@ -468,7 +512,7 @@ def _cmd_runup(args: argparse.Namespace) -> int:
 def _cmd_diagnose(args: argparse.Namespace) -> int:
     from . import diagnose_cmd as dc
     from .diagnose_surrogate import BuildSpec, validate_range
-    from .scene import apply_overrides, load_scene_dict, scene_from_dict
+    from .scene import apply_overrides, load_scene_dict, require_dynamics, scene_from_dict
 
     data, name = load_scene_dict(args.scene, default="paper-wear-severe")
     unknowns = dc.parse_unknowns(args.unknowns)
@@ -476,6 +520,7 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
     dc.check_sets(sets, unknowns)
     raw = apply_overrides(data, sets)
     scene = scene_from_dict(raw, name=name)  # the known part, checked first
+    require_dynamics(scene)
     lo, hi = dc.prior_ranges(raw, unknowns, {"wear": args.wear_range_um, "clearance": args.clearance_range_um,
                                              "torque": args.torque_range_Nm})
     validate_range(raw, name, unknowns, lo, hi)
@@ -537,10 +582,20 @@ def _cmd_scene(args: argparse.Namespace) -> int:
     if args.list:
         print("\n".join(builtin_scene_names()))
         return 0
-    scene = _load(args)
+    from .assumptions import scene_assumptions
+
+    scene = _load(args, loaded=False)
     assert scene.doc is not None
     data = resolved_dict(scene.doc)
-    print(json.dumps(data, indent=2) if args.json else to_toml(data), end="\n" if args.json else "")
+    # what the run derives from the pair: the bore and the bodies where the scene gives none
+    data["pair"].setdefault("hub_radius_mm", [round(r * 1e3, 6) for r in scene.pair.hub_radius_m])
+    data["bodies"].setdefault("mass_kg", [float(f"{m:.9g}") for m in scene.bodies.mass_kg])
+    data["bodies"].setdefault("inertia_kg_m2", [float(f"{j:.9g}") for j in scene.bodies.inertia_kg_m2])
+    assumed = scene_assumptions(scene)
+    if args.json:
+        print(json.dumps({**data, "assumptions": [a.to_dict() for a in assumed]}, indent=2))
+    else:
+        print("".join(f"# {a.line}\n" for a in assumed) + to_toml(data), end="")
     return 0
 
 
@@ -601,8 +656,12 @@ def _print_geometry(s: dict) -> None:
         ("HPSTC diameter (mm)", ", ".join("-" if g["hpstc_diameter_mm"] is None else f"{g['hpstc_diameter_mm']:.4f}"
                                           for g in (g0, g1))),
         ("undercut", f"{g0['undercut']}, {g1['undercut']}"),
-        ("bearing clearance (um)", f"{s['clearance_um']:g}  (torque {s['torque_Nm']:g} N m, "
-                                   f"bearing stiffness {s['bearing_stiffness_N_per_m']:.3g} N/m)"),
+        ("body mass (kg)", f"{g0['mass_kg']:.4g}, {g1['mass_kg']:.4g}  ({s['bodies_from']['mass_kg']})"),
+        ("body inertia (kg m^2)", f"{g0['inertia_kg_m2']:.4g}, {g1['inertia_kg_m2']:.4g}  "
+                                  f"({s['bodies_from']['inertia_kg_m2']})"),
+        ("bearing clearance (um)", f"{s['clearance_um']:g}  (torque {s['torque_Nm']:g} N m, bearing stiffness "
+                                   + ("rigid: not given" if s['bearing_stiffness_N_per_m'] is None
+                                      else f"{s['bearing_stiffness_N_per_m']:.3g} N/m") + ")"),
         ("centre distance (mm)", f"{s['centre_distance_mm']:.6f}  (nominal {s['nominal_centre_distance_mm']:.6f})"),
         ("operating pressure angle (deg)", f"{s['operating_pressure_angle_deg']:.6f}"),
         ("contact ratio", f"{s['contact_ratio']:.6f}  (nominal {s['nominal_contact_ratio']:.6f})"),
@@ -617,6 +676,7 @@ def _print_geometry(s: dict) -> None:
     w = max(len(r[0]) for r in rows)
     for k, v in rows:
         print(f"{k:<{w}}  {v}")
+    print_assumed(s.get("assumptions", []))
     for note in s.get("warnings", []):
         print(f"warning: {note}")
     for f in s.get("files", []):
@@ -773,8 +833,9 @@ def build_parser() -> argparse.ArgumentParser:
     ru.add_argument("--json", action="store_true", help="print one JSON object (the summary)")
     ru.set_defaults(func=_cmd_runup)
 
+    # argparse %-formats help texts: a literal percent sign is written %%
     dg = sub.add_parser("diagnose", help="estimate wear depth and bearing clearance (and torque) from a measured "
-                                         "vibration, with 95 % intervals and an identifiability verdict",
+                                         "vibration, with 95 %% intervals and an identifiability verdict",
                         description="Fit the 6-DOF model to measured mesh harmonics (and mean values) through a "
                                     "cached surrogate of the model over the unknowns; print estimates, 95 % "
                                     "intervals and which unknown the measurement cannot resolve. --plan: which "

@@ -58,6 +58,7 @@ class GeometryResult:
                 "undercut": prof.undercut,
                 "max_wear_depth_um": float(self.worn[i].depth.max()) * 1e6,
                 "hub_radius_mm": g.hub_radius_m * 1e3,
+                "mass_kg": self.scene.bodies.mass_kg[i], "inertia_kg_m2": self.scene.bodies.inertia_kg_m2[i],
             })
         p0 = per_gear[0]
         out = {
@@ -75,7 +76,9 @@ class GeometryResult:
             "wear": self.wear.label if self.wear else "unworn",
             "clearance_um": og.clearance_m * 1e6,
             "torque_Nm": og.torque_Nm,
-            "bearing_stiffness_N_per_m": og.bearing_stiffness_N_per_m,
+            "bearing_stiffness_N_per_m": None if math.isinf(og.bearing_stiffness_N_per_m) else
+            og.bearing_stiffness_N_per_m,
+            "bodies_from": {"mass_kg": self.scene.bodies.mass_from, "inertia_kg_m2": self.scene.bodies.inertia_from},
             "face_width_mm": pair.face_width_m * 1e3,
             "gears": per_gear,
             "warnings": og.mesh.contact_ratio_warnings() + wear_warnings(og.mesh, self.wear),
@@ -92,7 +95,9 @@ def compute(scene: Scene, wear: WearSpec | None, clearance_m: float, torque_Nm: 
             build_mesh: bool = True, mesh_size_mm: float = 2.5) -> GeometryResult:
     t0 = time.perf_counter()
     pair = scene.pair
-    og = operating_geometry(pair, clearance_m, torque_Nm, scene.bodies.bearing_stiffness_N_per_m,
+    k_b = scene.bodies.bearing_stiffness_N_per_m
+    # without a bearing stiffness the bearings are rigid here: only the clearance moves the centres
+    og = operating_geometry(pair, clearance_m, torque_Nm, math.inf if k_b is None else k_b,
                             scene.initial_backlash_m, scene.backlash_form)
     spec = wear or WearSpec(phase="unworn")
     # the wear pattern follows the contact path at the operating centre distance

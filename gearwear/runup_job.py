@@ -259,7 +259,8 @@ def summary(points: list[Point], chains: list[Chain], speed: Axis, others: list[
             per = [r["residual"] for r in c.rows if r["label"] == "periodic"]
             entry["directions"][d] = {"K_v_max": best["K_v"], "K_v_max_speed_rpm": best["speed_rpm"],
                                       "labels": labels, "max_residual_periodic": max(per) if per else None,
-                                      "contact_loss_speeds": sum(r["separation_fraction"] > 0 for r in c.rows)}
+                                      "contact_loss_speeds": sum((r["separation_fraction"] or 0.0) > 0
+                                                                                 for r in c.rows)}
         if "up" in mine and "down" in mine:
             entry["jump_bands_rpm"] = jump_bands(mine["up"].rows, mine["down"].rows, settings.jump_tol)
         out.append(entry)

@@ -11,13 +11,13 @@ from __future__ import annotations
 import math
 import re
 import tomllib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from importlib import resources
 from pathlib import Path
 from typing import Any, Mapping
 
 from gearwear.core.validation import Field, InputError, fail, fail_range, renamed
-from gearwear.geometry.spec import Material, PairSpec, check_pair
+from gearwear.geometry.spec import Material, PairSpec, Web, check_pair
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.faults import CrackFault, FaultSpec, Spall, check_faults
 from gearwear.geometry.flank import Deviation, FlankSpec, Relief, check_flank
@@ -31,16 +31,55 @@ TABLE_MIN_ROWS = 8
 
 @dataclass(frozen=True)
 class Bodies:
-    """Masses, inertias (None: J = m r^2 / 2 of a disc at the pitch radius), bearing
-    stiffness and damping: either ratios (c = 2 zeta sqrt(k m)) or explicit coefficients
-    (the coefficients replace the ratios; a scene may give one form per damper)."""
-    mass_kg: tuple[float, float] = (3.75, 3.75)
-    bearing_stiffness_N_per_m: float = 2.6e8
+    """Masses and polar moments of inertia (resolved: given in the scene, or from each
+    gear's own blank, ``geometry.blank``), bearing stiffness (None: not given; the dynamics
+    refuse to run without it) and damping: either ratios (c = 2 zeta sqrt(k m)) or explicit
+    coefficients (the coefficients replace the ratios; a scene may give one form per
+    damper). ``mass_from`` / ``inertia_from``: "scene" or "blank" per gear (inertia also
+    "blank radius of gyration": J = m J_blank / m_blank for a given mass)."""
+    mass_kg: tuple[float, float]
+    inertia_kg_m2: tuple[float, float]
+    bearing_stiffness_N_per_m: float | None
     bearing_damping_ratio: float = 0.02
     mesh_damping_ratio: float = 0.05
-    inertia_kg_m2: tuple[float, float] | None = None
     bearing_damping_N_s_per_m: tuple[float, float] | None = None
     mesh_damping_N_s_per_m: float | None = None
+    mass_from: str = "scene"
+    inertia_from: str = "scene"
+
+
+def resolve_bodies(b, pair: PairSpec) -> Bodies:
+    """The 6-DOF bodies of a validated ``[bodies]`` table: masses and inertias not given
+    come from each gear's blank (geometry.blank.body_properties: the generated section with
+    its teeth, minus the bore, with its web, times the face width and that gear's density);
+    a given mass without an inertia keeps the blank's radius of gyration."""
+    from gearwear.geometry.blank import body_properties
+
+    blank = [body_properties(g, pair.face_width_m) for g in pair.gears]
+    if b.mass_kg is None:
+        mass, mass_from = tuple(p.mass_kg for p in blank), "blank"
+    else:
+        mass, mass_from = tuple(b.mass_kg), "scene"
+    if b.inertia_kg_m2 is not None:
+        inertia, inertia_from = tuple(b.inertia_kg_m2), "scene"
+    elif b.mass_kg is None:
+        inertia, inertia_from = tuple(p.inertia_kg_m2 for p in blank), "blank"
+    else:
+        inertia = tuple(m * p.inertia_kg_m2 / p.mass_kg for m, p in zip(mass, blank))
+        inertia_from = "blank radius of gyration"
+    return Bodies(mass, inertia, b.bearing_stiffness_N_per_m,  # type: ignore[arg-type]
+                  DEFAULT_BEARING_DAMPING_RATIO if b.bearing_damping_ratio is None else b.bearing_damping_ratio,
+                  DEFAULT_MESH_DAMPING_RATIO if b.mesh_damping_ratio is None else b.mesh_damping_ratio,
+                  b.bearing_damping_N_s_per_m, b.mesh_damping_N_s_per_m, mass_from, inertia_from)
+
+
+def require_dynamics(scene: "Scene") -> None:
+    """The inputs only the 6-DOF dynamics need, checked before any work of a dynamic
+    command (simulate, sweep, runup, diagnose)."""
+    if scene.bodies.bearing_stiffness_N_per_m is None:
+        raise InputError("bodies.bearing_stiffness_N_per_m: missing; the 6-DOF dynamics need the radial bearing "
+                         "stiffness (it sets the lateral modes the mesh excites and spans orders of magnitude, "
+                         "about 1e7 to 1e10 N/m, between designs, so no default would be right for your pair)")
 
 
 @dataclass(frozen=True)
@@ -110,6 +149,13 @@ def renamed_pair_error(exc: InputError) -> InputError:
     """A geometry error with its key and the unitless own names in its text renamed to
     scene keys (``teeth[0] = 12: ...; allow_undercut = true ...`` ->
     ``pair.teeth[0] = 12: ...; pair.allow_undercut = true ...``)."""
+    if exc.key is not None and exc.key in WEB_KEYS:
+        web_key, factor, unit = WEB_KEYS[exc.key]
+        f = exc.field
+        if f is not None:
+            return fail_range(web_key, exc.value * factor, Field(unit, f.lo * factor, f.hi * factor, f.lo_open,
+                                                                 f.hi_open), exc.note)
+        return fail(web_key, exc.value * factor, unit, exc.why)
     out = renamed(exc, PAIR_KEYS)
     text = str(out)
     head, sep, body = text.partition(": ")
@@ -123,20 +169,47 @@ def renamed_pair_error(exc: InputError) -> InputError:
     return out
 
 
+#: the bore radius of a scene without pair.hub_radius_mm, as a fraction of the root radius (assumed)
+DEFAULT_BORE_FRACTION = 0.5
+
+
+def default_bore_radii_m(spec: PairSpec) -> tuple[float, float]:
+    """The assumed bore radius of each gear: DEFAULT_BORE_FRACTION of its root radius (m;
+    a tiny positive value where the root circle is not above the centre, which check_pair
+    then refuses by the profile shift)."""
+    return tuple(max(DEFAULT_BORE_FRACTION * g.root_radius_m, 1e-9) for g in spec.gears)  # type: ignore[return-value]
+
+
+def _web(doc) -> Web | None:
+    return None if doc is None else Web(doc.web_thickness_mm * 1e-3, doc.rim_thickness_mm * 1e-3,
+                                        doc.hub_outer_radius_mm * 1e-3)
+
+
+#: geometry's web keys -> scene keys, per gear index
+WEB_KEYS = {f"web.{own}[{i}]": (f"blank.{gear}.{key}", 1e3, "mm")
+            for i, gear in enumerate(("pinion", "gear"))
+            for own, key in (("thickness_m", "web_thickness_mm"), ("rim_thickness_m", "rim_thickness_mm"),
+                             ("hub_radius_m", "hub_outer_radius_mm"))}
+
+
 def pair_spec(doc: SceneDoc) -> PairSpec:
     """The SI pair spec of a validated document, checked for geometric consistency."""
     p, m = doc.pair, doc.material
     mm = (lambda v: None if v is None else (v[0] * 1e-3, v[1] * 1e-3))
+    webs = (None, None) if doc.blank is None else (_web(doc.blank.pinion), _web(doc.blank.gear))
     spec = PairSpec(
         teeth=p.teeth, module_m=p.module_mm * 1e-3, pressure_angle_rad=math.radians(p.pressure_angle_deg),
         face_width_m=p.face_width_mm * 1e-3, addendum_coefficient=p.addendum_coefficient,
         dedendum_coefficient=p.dedendum_coefficient, rack_tip_radius_coefficient=p.rack_tip_radius_coefficient,
-        profile_shift=p.profile_shift, hub_radius_m=(p.hub_radius_mm[0] * 1e-3, p.hub_radius_mm[1] * 1e-3),
+        profile_shift=p.profile_shift, hub_radius_m=(1e-9, 1e-9) if p.hub_radius_mm is None else
+        (p.hub_radius_mm[0] * 1e-3, p.hub_radius_mm[1] * 1e-3), webs=webs,
         allow_undercut=p.allow_undercut,
         materials=tuple(Material(m.youngs_modulus_GPa[i] * 1e9, m.poisson_ratio[i], m.density_kg_per_m3[i])
                         for i in (0, 1)),  # type: ignore[arg-type]
         tip_diameter_m=mm(p.tip_diameter_mm), root_diameter_m=mm(p.root_diameter_mm),
         installed_centre_distance_m=None if p.centre_distance_mm is None else p.centre_distance_mm * 1e-3)
+    if p.hub_radius_mm is None:
+        spec = replace(spec, hub_radius_m=default_bore_radii_m(spec))
     try:
         check_pair(spec)
     except InputError as exc:
@@ -145,8 +218,13 @@ def pair_spec(doc: SceneDoc) -> PairSpec:
 
 
 def pair_from_dict(data: Mapping[str, Any]) -> PairSpec:
-    """A pair spec from a scene document (only [pair] and [material] matter), validated."""
-    return pair_spec(validate_document(data))
+    """A pair spec from a scene document (only [pair], [material] and [blank] are read),
+    validated."""
+    from types import SimpleNamespace
+
+    from .schema import validate_tables
+
+    return pair_spec(SimpleNamespace(**validate_tables(data, ("pair", "material", "blank"))))  # type: ignore[arg-type]
 
 
 #: geometry.wear's own parameter names -> scene keys
@@ -183,10 +261,13 @@ def wear_from_dict(table: Mapping[str, Any] | str, torque_Nm: float = 40.0, spee
                    pair: PairSpec | None = None) -> WearSpec:
     """A wear spec from an ``[effects] wear`` table (or a phase name), validated (with
     ``pair``: also against the depth limit of that pair, see :func:`wear_spec`)."""
-    doc = validate_document({"effects": {"wear": table}, "operating": {"torque_Nm": torque_Nm,
-                                                                      "speed_rpm": speed_rpm}})
-    assert doc.effects.wear is not None
-    return wear_spec(doc.effects.wear, doc.operating, pair)
+    from .schema import check_wear_table, validate_tables
+
+    t = validate_tables({"effects": {"wear": table}, "operating": {"torque_Nm": torque_Nm, "speed_rpm": speed_rpm}},
+                        ("effects", "operating"))
+    assert t["effects"].wear is not None
+    check_wear_table(t["effects"].wear)
+    return wear_spec(t["effects"].wear, t["operating"], pair)
 
 
 def wear_override(text: str) -> str:
@@ -214,10 +295,7 @@ def scene_from_doc(doc: SceneDoc) -> Scene:
     """The runtime (SI) scene of a validated document."""
     pair = pair_spec(doc)
     b, e = doc.bodies, doc.effects
-    bodies = Bodies(b.mass_kg, b.bearing_stiffness_N_per_m,
-                    DEFAULT_BEARING_DAMPING_RATIO if b.bearing_damping_ratio is None else b.bearing_damping_ratio,
-                    DEFAULT_MESH_DAMPING_RATIO if b.mesh_damping_ratio is None else b.mesh_damping_ratio,
-                    b.inertia_kg_m2, b.bearing_damping_N_s_per_m, b.mesh_damping_N_s_per_m)
+    bodies = resolve_bodies(b, pair)
     operating = Operating(doc.operating.speed_rpm, doc.operating.torque_Nm)
     effects: dict[str, dict[str, Any]] = {}
     if e.mesh_stiffness is not None:
@@ -480,13 +558,45 @@ def load_toml(path: str | Path) -> dict[str, Any]:
 
 def load_scene_dict(path: str | Path | None, default: str = "paper-default") -> tuple[dict[str, Any], str]:
     """(raw document, name) of a scene file or a built-in scene name; the built-in
-    ``default`` when path is None. A file of that name wins over a built-in name."""
+    ``default`` when path is None. A file of that name wins over a built-in name. A file
+    may start from another scene, ``extends = "paper-default"`` (a built-in name, or a
+    file relative to it): that scene's keys, then the file's (tables merge key by key)."""
     if path is None:
         return builtin_scene_dict(default), default
     p = Path(path)
     if not p.exists() and str(path) in builtin_scene_names():
         return builtin_scene_dict(str(path)), str(path)
-    return _resolve_table_path(load_toml(p), p.resolve().parent), p.stem
+    return _extended(_resolve_table_path(load_toml(p), p.resolve().parent), p, 0), p.stem
+
+
+def _extended(data: dict[str, Any], path: Path, depth: int) -> dict[str, Any]:
+    """``data`` on top of the scene its ``extends`` key names (recursively, at most 8 deep)."""
+    base_name = data.pop("extends", None)
+    if base_name is None:
+        return data
+    if not isinstance(base_name, str) or not base_name:
+        raise fail("extends", repr(base_name), "", "must be a built-in scene name or a scene file path")
+    if depth >= 8:
+        raise fail("extends", repr(base_name), "", "scenes extend each other more than 8 deep (a cycle?)")
+    candidate = Path(base_name) if Path(base_name).is_absolute() else path.resolve().parent / base_name
+    if candidate.exists():
+        base = _extended(_resolve_table_path(load_toml(candidate), candidate.resolve().parent), candidate, depth + 1)
+    elif base_name in builtin_scene_names():
+        base = builtin_scene_dict(base_name)
+    else:
+        raise fail("extends", repr(base_name), "", f"no such scene file, and not a built-in scene (built-in: "
+                   f"{', '.join(builtin_scene_names())})")
+    base.pop("name", None)
+    base.pop("description", None)
+    return _merge(base, data)
+
+
+def _merge(base: dict[str, Any], top: Mapping[str, Any]) -> dict[str, Any]:
+    """``top`` over ``base``: tables merge key by key, any other value replaces."""
+    out = dict(base)
+    for k, v in top.items():
+        out[k] = _merge(out[k], v) if isinstance(v, dict) and isinstance(out.get(k), dict) else v
+    return out
 
 
 def builtin_scene_names() -> list[str]:

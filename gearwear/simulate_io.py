@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 
 from . import io
+from .assumptions import line_of
 from .simulate_job import SIGNAL_UNITS, SimulationRun
 
 
@@ -118,8 +119,12 @@ def print_summary(s: dict[str, Any]) -> None:
           f"compile {s['compile_s']:.2f} s)")
     print(f"effects: {', '.join(s['effects']) or 'none'}; mesh stiffness {s['stiffness_source']}, mean "
           f"{s['mean_mesh_stiffness_N_per_m']:.4e} N/m")
-    print(f"tooth separation {100 * s['separation_fraction']:.2f} % of the time, back-side contact "
-          f"{100 * s['backside_fraction']:.2f} %")
+    if s["separation_fraction"] is None:
+        print(f"tooth separation: not modelled ({s['separation_note']}); back-flank contact "
+              f"{100 * s['backside_fraction']:.2f} % of the time (negative mesh force)")
+    else:
+        print(f"tooth separation {100 * s['separation_fraction']:.2f} % of the time, back-side contact "
+              f"{100 * s['backside_fraction']:.2f} %")
     print(f"{'signal':<12}{'rms':>12}{'p-p':>12}   harmonics k f_m, k = 1..{len(next(iter(s['harmonics'].values())))}")
     for key, h in s["harmonics"].items():
         print(f"{key:<12}{s['rms'][key]:>12.4g}{s['peak_to_peak'][key]:>12.4g}   " + " ".join(f"{x:.3g}" for x in h))
@@ -134,6 +139,8 @@ def print_summary(s: dict[str, Any]) -> None:
               f"sidebands {num(a['sideband_ratio_dB'], '.1f')} dB")
     elif ci.get("why_none"):
         print(f"indicators: none, {ci['why_none']}")
+    for a in s.get("assumptions", []):
+        print(line_of(a))
     for note in s.get("warnings", []):
         print(f"warning: {note}")
     for f in s.get("files", []):

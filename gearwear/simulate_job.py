@@ -21,8 +21,8 @@ Only what the scene's ``[effects]`` names is modelled:
   twice); "dynamic": alpha' and the backlash follow the instantaneous centre distance.
   Absent: the nominal geometry.
 
-Inertias (not given in the paper): ``bodies.inertia_kg_m2``, else J = m r^2 / 2 of a
-solid disc with the pitch radius (assumed, listed in the README). Damping:
+Masses and inertias: ``bodies.mass_kg`` / ``inertia_kg_m2``, else each gear's own blank
+(``gearwear.scene.resolve_bodies``, ``geometry.blank``). Damping:
 ``bodies.mesh_damping_N_s_per_m`` / ``bearing_damping_N_s_per_m``, else from the ratios
 c_h = 2 zeta_m sqrt(k_mean m_e), c_b = 2 zeta_b sqrt(k_b m).
 
@@ -46,7 +46,8 @@ from gearwear.geometry.operating import backlash, centre_distance
 from gearwear.geometry.spec import PairSpec
 from gearwear.core.validation import InputError, renamed
 
-from .scene import Scene
+from .assumptions import as_dicts, for_command
+from .scene import Scene, require_dynamics
 
 SIGNAL_UNITS = {"y_p": ("um", 1e6), "x_p": ("um", 1e6), "y_g": ("um", 1e6), "x_g": ("um", 1e6),
                 "q": ("um", 1e6), "delta": ("um", 1e6), "F_m": ("N", 1.0)}
@@ -126,13 +127,11 @@ def stiffness_input(scene: Scene, points: int = 360) -> StiffnessInput:
 def build_model(scene: Scene, stiff: StiffnessInput) -> GearDynamics:
     pair: PairSpec = scene.pair
     b = scene.bodies
+    require_dynamics(scene)
+    assert b.bearing_stiffness_N_per_m is not None
     m_p, m_g = b.mass_kg
+    J_p, J_g = b.inertia_kg_m2
     g1, g2 = pair.gears
-    if b.inertia_kg_m2 is not None:
-        J_p, J_g = b.inertia_kg_m2
-    else:
-        J_p = 0.5 * m_p * g1.pitch_radius_m ** 2
-        J_g = 0.5 * m_g * g2.pitch_radius_m ** 2
     R_p, R_g = g1.base_radius_m, g2.base_radius_m
     Cp = operating_centre_distance(scene)
     alpha = math.acos((R_p + R_g) / Cp) if Cp != pair.centre_distance_m else pair.operating_pressure_angle_rad
@@ -197,10 +196,34 @@ class SimulationRun:
                 "condition_indicators": condition_indicators(self.scene, r),
                 **({"flank": self.scene.flank.label()} if self.scene.flank is not None else {}),
                 **({"faults": self.scene.faults.label()} if self.scene.faults is not None else {}),
-                **operating_notes(self.scene)}
+                **contact_notes(self.scene, r),
+                "assumptions": as_dicts(for_command(self.scene, "simulate")),
+                **operating_notes(self.scene, contact_warnings(self.scene, r))}
 
 
-def operating_notes(scene: Scene) -> dict[str, Any]:
+#: why a model without a backlash dead zone reports no separation fraction
+NO_SEPARATION = ("no [effects] backlash: the mesh is a two-sided spring, which cannot separate; "
+                 "add [effects.backlash] to model separation")
+
+
+def contact_notes(scene: Scene, r) -> dict[str, Any]:
+    """``separation_note``: why ``separation_fraction`` is null (a model that cannot separate)."""
+    return {"separation_note": NO_SEPARATION} if r.separation_fraction is None else {}
+
+
+def contact_warnings(scene: Scene, r) -> list[str]:
+    """A warning when a model without backlash pulls: its mesh force goes negative, so the back
+    flanks carry load that a real pair with backlash would lose by separating."""
+    if r.separation_fraction is not None or r.backside_fraction <= 0.0:
+        return []
+    f_min = float(np.min(r.signals["F_m"]))
+    return [f"the mesh force is negative {100 * r.backside_fraction:.2f} % of the time (down to {f_min:.4g} N): "
+            "without [effects] backlash the mesh is a two-sided spring, so the back flanks carry that load; a real "
+            "pair separates instead. Add [effects.backlash] (initial_um = the pair's normal backlash) to model "
+            "separation and back-flank impacts"]
+
+
+def operating_notes(scene: Scene, extra: list[str] | None = None) -> dict[str, Any]:
     """The contact ratio of the static operating geometry, and one-line warnings where a
     result rests on it (below 1, part of every mesh period has no pair in contact) or on
     an extrapolated input (running hours beyond the 'severe' wear phase)."""
@@ -208,12 +231,18 @@ def operating_notes(scene: Scene) -> dict[str, Any]:
     from gearwear.geometry.operating import operating_geometry
     from gearwear.geometry.wear import wear_warnings
 
+    from gearwear.geometry.operating import backlash
+
     pair = scene.pair
     Cp = operating_centre_distance(scene)
     mesh = operating_geometry(pair, scene.clearance_m if Cp != pair.centre_distance_m else 0.0).mesh
+    opened = backlash(pair, pair.centre_distance_m)
+    if "backlash" not in scene.effects and opened > 0.0:
+        extra = [f"pair.centre_distance_mm opens {opened * 1e6:.4g} um of normal backlash, which the dynamics model "
+                 "only with [effects.backlash] (add it to let the teeth separate)"] + list(extra or [])
     return {"contact_ratio": mesh.contact_ratio,
             "warnings": mesh.contact_ratio_warnings() + wear_warnings(mesh, scene.wear)
-            + flank_warnings(pair, scene.flank)}
+            + flank_warnings(pair, scene.flank) + list(extra or [])}
 
 
 #: signals the condition indicators are computed on: the relative acceleration along the line

@@ -268,7 +268,7 @@ def figures(curves: list[Curve]):
 
 
 def write(curves: list[Curve], out: Path, inputs: dict[str, Any], labels: dict[str, Any] | None = None,
-          harris_map=None) -> list[Path]:
+          harris_map=None, assumptions: list[dict] | None = None) -> list[Path]:
     """One CSV + sidecar per curve, the overlay PNGs and stiffness_summary.json into the
     folder ``out``. The sidecar's hashed inputs hold every field of the wear definition
     (not only its label); ``labels`` (the scene's name) are recorded, not hashed. No
@@ -288,5 +288,7 @@ def write(curves: list[Curve], out: Path, inputs: dict[str, Any], labels: dict[s
         rows = harris_map.rows()
         text = ",".join(rows[0]) + "\n" + "".join(",".join(f"{v:.9g}" for v in r.values()) + "\n" for r in rows)
         files.append(io.write_text(out / "harris_map.csv", text))
-    files.append(io.write_json(out / "stiffness_summary.json", [io.without_timing(c.summary()) for c in curves]))
+    extra = {} if assumptions is None else {"assumptions": assumptions}
+    files.append(io.write_json(out / "stiffness_summary.json", [{**io.without_timing(c.summary()), **extra}
+                                                                for c in curves]))
     return files

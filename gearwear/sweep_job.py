@@ -239,7 +239,8 @@ def table_csv(axes: list[Axis], results: list[dict[str, Any]]) -> str:
     for r in results:
         vals = [csv_cell(r["point"][a.key]) for a in axes]
         bc = r["bearing_contact_fraction"]
-        vals += [f"{r['separation_fraction']:.6g}", f"{r['backside_fraction']:.6g}",
+        sep = r["separation_fraction"]  # None (empty cell): no backlash dead zone, the mesh cannot separate
+        vals += ["" if sep is None else f"{sep:.6g}", f"{r['backside_fraction']:.6g}",
                  f"{bc.get('pinion', float('nan')):.6g}", f"{bc.get('gear', float('nan')):.6g}",
                  str(r["steps"])]
         for k in sig_keys:

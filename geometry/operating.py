@@ -107,7 +107,9 @@ def backlash(pair: PairSpec, centre_distance_m: float, initial_backlash_m: float
         raise ValueError(f"backlash form = {form!r}: must be one of {', '.join(BACKLASH_FORMS)}")
     rb_sum = sum(g.base_radius_m for g in pair.gears)
     a_w = pair.working_pressure_angle_rad
-    a_op = math.acos(rb_sum / centre_distance_m)
+    # at a_w itself the backlash is exactly j_n0 (acos of the rounded ratio would leave ~1e-13 m)
+    a_op = a_w if centre_distance_m == pair.zero_backlash_centre_distance_m else \
+        math.acos(rb_sum / centre_distance_m)
     if form == "consistent":
         return initial_backlash_m + 2.0 * rb_sum * (inv(a_op) - inv(a_w))
     return initial_backlash_m + 2.0 * centre_distance_m * math.cos(a_w) * (inv(a_op) - inv(a_w))

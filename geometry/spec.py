@@ -384,14 +384,14 @@ def check_pair(spec: PairSpec) -> None:
             raise fail("rack_tip_radius_coefficient", rho, "",
                        f"must be in [0, {rho_max:.4f}] for dedendum {hf:g} and pressure angle "
                        f"{math.degrees(a):g} deg (larger rounds do not fit the rack tooth)")
+        if g.root_radius_m <= 0:
+            raise fail(f"profile_shift[{i}]", g.profile_shift, "",
+                       "puts the root circle at or below the gear centre")
         if g.hub_radius_m >= g.root_radius_m:
             raise fail_range(f"hub_radius_m[{i}]", g.hub_radius_m,
                              Field("m", 0.0, g.root_radius_m, lo_open=True, hi_open=True), "below the root radius")
         if g.web is not None:
             _check_web(spec, i, g)
-        if g.root_radius_m <= 0:
-            raise fail(f"profile_shift[{i}]", g.profile_shift, "",
-                       "puts the root circle at or below the gear centre")
         _check_tip(spec, i, g, mate, a_w)
     _check_generation(spec, gears, a_w)
 

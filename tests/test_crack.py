@@ -18,14 +18,14 @@ from gearwear.geometry.crack import Crack, crack_line, critical_fillet_point, ma
 from gearwear.geometry.loading import load_points
 from gearwear.geometry.polyline import project_to_polyline
 from gearwear.geometry.profile import FILLET, INVOLUTE, TIP_LAND, RackGeometry, fillet_points, tooth_profile
-from gearwear.scene import pair_from_dict
+from scenes import paper_pair_from
 
 NU_45 = math.radians(45.0)
 
 
 @pytest.fixture(scope="module")
 def paper():
-    pair = pair_from_dict({})  # the paper pair: module 5 mm, pinion 30 teeth
+    pair = paper_pair_from({})  # the paper pair: module 5 mm, pinion 30 teeth
     prof = tooth_profile(pair.gear(0))
     return pair, prof
 

@@ -32,9 +32,7 @@ K = 10
 #: acts only through the bearing dead zones) and a shorter run; 32 design + 32 held-out runs
 SCENE_TOML = """
 name = "diagnose-test"
-[pair]
-face_width_mm = 20.0
-hub_radius_mm = 40.0
+extends = "paper-default"
 [operating]
 speed_rpm = 1200
 torque_Nm = 40

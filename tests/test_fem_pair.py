@@ -13,7 +13,7 @@ from gearwear.fem.contact import check_complementarity, solve_contact
 from gearwear.fem.pair import (consistency, pair_contact, pair_model, solve_position, weber_approach_m,
                       write_fields)
 from gearwear.geometry.spec import default_pair
-from gearwear.scene import pair_from_dict
+from scenes import paper_pair_from
 from gearwear.core.validation import InputError
 from gearwear.geometry.wear import WearSpec
 
@@ -170,7 +170,7 @@ def test_single_contact_against_single_tooth_fe_and_weber(pair):
 
 @pytest.mark.slow
 def test_unequal_profile_shifted_pair():
-    pair = pair_from_dict({"pair": {"teeth": [21, 37], "profile_shift": [0.25, -0.10],
+    pair = paper_pair_from({"pair": {"teeth": [21, 37], "profile_shift": [0.25, -0.10],
                                     "hub_radius_mm": [30.0, 40.0]}})
     r = pair_contact(pair, positions=8, contact_scale=COARSE, extended=False)
     F = r.total_load_N

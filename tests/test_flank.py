@@ -24,9 +24,10 @@ from gearwear.core.validation import InputError
 from gearwear.geometry.faults import FaultSpec, Spall, spall_gap_m
 from gearwear.geometry.flank import Deviation, FlankSpec, Relief, hpstc_diameters_m
 from gearwear.geometry.kinematics import MeshGeometry
-from gearwear.scene import pair_from_dict, scene_from_dict
+from gearwear.scene import scene_from_dict
+from scenes import paper_pair_from, with_paper
 
-PAIR = pair_from_dict({})
+PAIR = paper_pair_from({})
 MESH = MeshGeometry(PAIR, PAIR.centre_distance_m)
 LIGHT_NM = 1e-4  # elastic approach ~1e-10 m: the TE is the kinematics
 CA = 20e-6
@@ -151,7 +152,7 @@ def test_spall_in_single_contact_raises_the_te_by_its_bridged_gap_once_per_revol
 
 
 def test_fault_on_the_gear_spans_the_gear_revolution():
-    pair = pair_from_dict({"pair": {"teeth": [20, 31]}})
+    pair = paper_pair_from({"pair": {"teeth": [20, 31]}})
     mesh = MeshGeometry(pair, pair.centre_distance_m)
     rb = pair.gear(1).base_radius_m
     sap = mesh.start_of_active_profile_m[1]
@@ -173,7 +174,7 @@ def test_fault_on_the_gear_spans_the_gear_revolution():
 ])
 def test_bad_flank_tables_are_refused_in_one_line(table, key):
     with pytest.raises(InputError) as exc:
-        scene_from_dict({"flank": table})
+        scene_from_dict(with_paper({"flank": table}))
     msg = str(exc.value)
     assert msg.startswith(key) and "\n" not in msg and ("mm" in msg or "um" in msg), msg
 
@@ -185,7 +186,7 @@ def test_bad_flank_tables_are_refused_in_one_line(table, key):
 ])
 def test_bad_spalls_are_refused_in_one_line(spall, key):
     with pytest.raises(InputError) as exc:
-        scene_from_dict({"faults": {"spall": spall}})
+        scene_from_dict(with_paper({"faults": {"spall": spall}}))
     assert str(exc.value).startswith(key) and "\n" not in str(exc.value)
 
 

@@ -18,7 +18,7 @@ from gearwear.core.validation import InputError
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.profile import form_radius_m, tooth_profile
 from gearwear.geometry.spec import PairSpec
-from gearwear.scene import pair_from_dict
+from scenes import paper_pair_from
 
 ALPHA = math.radians(20.0)
 M = 5e-3
@@ -30,7 +30,7 @@ def inv(a: float) -> float:
 
 def refused(pair: dict) -> str:
     with pytest.raises(InputError) as err:
-        pair_from_dict({"pair": pair})
+        paper_pair_from({"pair": pair})
     msg = str(err.value)
     assert "\n" not in msg and "domain" not in msg
     return msg
@@ -103,7 +103,7 @@ def test_undercut_refusal_names_the_scene_keys_and_the_limits():
     assert int(m.group(1)) == z_min
     assert x_min <= float(m.group(2)) < x_min + 1e-4
     # the quoted shift is enough
-    p = pair_from_dict({"pair": {"teeth": [12, 30], "profile_shift": [float(m.group(2)), 0.0],
+    p = paper_pair_from({"pair": {"teeth": [12, 30], "profile_shift": [float(m.group(2)), 0.0],
                                  "hub_radius_mm": [10, 40]}})
     assert not tooth_profile(p.gear(0)).undercut
 
@@ -121,7 +121,7 @@ def test_classical_rack_limit_z_min_17():
     r2, C = 0.5 * M * 1000, 0.5 * M * 1016
     assert C * math.sin(ALPHA) - math.sqrt((r2 + M) ** 2 - (r2 * math.cos(ALPHA)) ** 2) < 0
     # 18 teeth, not undercut: contact starts above the form circle cut by the rack's flank end
-    pair = pair_from_dict({"pair": {"teeth": [18, 1000], "hub_radius_mm": [10, 40]}})
+    pair = paper_pair_from({"pair": {"teeth": [18, 1000], "hub_radius_mm": [10, 40]}})
     r1, C = 0.5 * M * 18, 0.5 * M * 1018
     rb1 = r1 * math.cos(ALPHA)
     y_T = -(1.25 - 0.38 * (1 - math.sin(ALPHA))) * M      # lower end of the rack's straight flank
@@ -139,7 +139,7 @@ def test_classical_equal_gears_limit():
     s2 = math.sin(ALPHA) ** 2
     assert 2 / (3 * s2) * (1 + math.sqrt(1 + 3 * s2)) == pytest.approx(12.32, abs=0.01)
     rack = {"dedendum_coefficient": 1.05, "rack_tip_radius_coefficient": 0.45, "hub_radius_mm": [10, 10]}
-    pair = pair_from_dict({"pair": {"teeth": [13, 13], **rack}})
+    pair = paper_pair_from({"pair": {"teeth": [13, 13], **rack}})
     assert not tooth_profile(pair.gear(0)).undercut
     msg = refused({"teeth": [12, 12], "allow_undercut": True, **rack})
     assert "tip/root interference" in msg and "beyond its interference point T1" in msg
@@ -164,7 +164,7 @@ def test_interference_boundary_on_the_mates_tip_diameter():
     assert 2e3 * ra2_max == pytest.approx(208.57, abs=0.01)
     assert "tip/root interference" in refused({"teeth": [z1, z2], **rack})   # the default gear tip, 210 mm
     d_ok = 2 * ra2_max * 0.999 * 1e3
-    pair = pair_from_dict({"pair": {"teeth": [z1, z2], "tip_diameter_mm": [75.0, d_ok], **rack}})
+    pair = paper_pair_from({"pair": {"teeth": [z1, z2], "tip_diameter_mm": [75.0, d_ok], **rack}})
     assert form_radius_m(pair.gear(0)) == pytest.approx(r_form, abs=1e-12)
     mesh = MeshGeometry(pair, pair.centre_distance_m)
     assert mesh.start_of_active_profile_m[0] > r_form
@@ -215,7 +215,7 @@ def test_form_radius_is_the_generated_involute_start():
 @pytest.mark.parametrize("teeth,shift", [((21, 37), (0.25, -0.10)), ((20, 40), (0.6, 0.4)), ((25, 31), (0.3, -0.3))])
 def test_tip_shortening_keeps_the_bottom_clearance(teeth, shift):
     (z1, z2), (x1, x2) = teeth, shift
-    pair = pair_from_dict({"pair": {"teeth": list(teeth), "profile_shift": list(shift), "hub_radius_mm": [20, 30]}})
+    pair = paper_pair_from({"pair": {"teeth": list(teeth), "profile_shift": list(shift), "hub_radius_mm": [20, 30]}})
     _, a_w, k = working(z1, z2, x1, x2)
     assert k <= 0.0
     if x1 + x2 == 0:
@@ -246,12 +246,12 @@ def test_x_sum_one_worked_example():
     assert math.degrees(alpha_w) == pytest.approx(24.197, abs=1e-3)
     assert a_w == pytest.approx(154.530e-3, abs=1e-6)
     assert k == pytest.approx(-0.0939, abs=1e-4)
-    pair = pair_from_dict({"pair": {"teeth": [20, 40], "profile_shift": [0.6, 0.4], "hub_radius_mm": [20, 30]}})
+    pair = paper_pair_from({"pair": {"teeth": [20, 40], "profile_shift": [0.6, 0.4], "hub_radius_mm": [20, 30]}})
     assert pair.gear(0).tip_radius_m == pytest.approx(50e-3 + 1.6 * M + k * M, abs=1e-12)
 
 
 def test_given_tip_and_root_diameters():
-    pair = pair_from_dict({"pair": {"tip_diameter_mm": [159.0, 158.0], "root_diameter_mm": [137.0, 138.0]}})
+    pair = paper_pair_from({"pair": {"tip_diameter_mm": [159.0, 158.0], "root_diameter_mm": [137.0, 138.0]}})
     g1, g2 = pair.gears
     assert (g1.tip_radius_m, g2.tip_radius_m) == (79.5e-3, 79.0e-3)
     assert g1.root_radius_m == pytest.approx(68.5e-3, abs=1e-15)
@@ -348,4 +348,4 @@ def test_interference_of_a_large_pinion_shift_and_the_fix_it_names():
     msg = refused({"profile_shift": [1.3, -0.3]})
     assert msg.startswith("pair.profile_shift[1] = -0.3: tip/root interference: the gear tip circle")
     assert msg.endswith("or more profile shift on the gear")
-    pair_from_dict({"pair": {"profile_shift": [1.3, 0.3]}})
+    paper_pair_from({"pair": {"profile_shift": [1.3, 0.3]}})

@@ -9,7 +9,7 @@ from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.operating import backlash, centre_distance, operating_geometry
 from gearwear.geometry.profile import tooth_profile
 from gearwear.geometry.spec import default_pair, inv
-from gearwear.scene import pair_from_dict
+from scenes import paper_pair_from
 from gearwear.core.validation import InputError
 
 
@@ -106,7 +106,7 @@ def test_backlash_hand_computation_and_thickness_route():
 
 
 def test_profile_shifted_pair_zero_backlash_at_working_distance():
-    pair = pair_from_dict({"pair": {"teeth": [20, 45], "profile_shift": [0.4, 0.1], "hub_radius_mm": [20, 40]}})
+    pair = paper_pair_from({"pair": {"teeth": [20, 45], "profile_shift": [0.4, 0.1], "hub_radius_mm": [20, 40]}})
     Cw = pair.centre_distance_m
     assert backlash(pair, Cw) == pytest.approx(0.0, abs=1e-15)
     mesh = MeshGeometry(pair, Cw)
@@ -137,7 +137,7 @@ def test_pairs_on_path_and_zone_shares_above_a_contact_ratio_of_two():
     """z = 60/60, alpha = 14.5 deg, h_a* = 1.4: epsilon = 2.907 by the textbook formula.
     Over a mesh period 3 pairs are on the path for (epsilon - 2) of it and 2 pairs for
     (3 - epsilon); the mean number of pairs is epsilon."""
-    pair = pair_from_dict({"pair": HIGH_CONTACT_RATIO})
+    pair = paper_pair_from({"pair": HIGH_CONTACT_RATIO})
     mesh = MeshGeometry(pair, pair.centre_distance_m)
     m, a = 5e-3, math.radians(14.5)
     r = 30 * m
@@ -160,7 +160,7 @@ def test_pairs_on_path_and_zone_shares_above_a_contact_ratio_of_two():
 def test_zone_means_by_number_of_pairs_never_nan():
     from gearwear.geometry.curves import CurveStats, zone_means_by_count
 
-    pair = pair_from_dict({"pair": HIGH_CONTACT_RATIO})
+    pair = paper_pair_from({"pair": HIGH_CONTACT_RATIO})
     mesh = MeshGeometry(pair, pair.centre_distance_m)
 
     class Curve(CurveStats):

@@ -240,6 +240,8 @@ def test_ctrl_c_during_the_swap_rolls_back(tmp_path, monkeypatch):
 # -- (e) provenance is the content of the inputs ----------------------------------------------
 
 SCENE = """
+extends = "paper-default"
+
 [operating]
 torque_Nm = {torque}
 
@@ -276,7 +278,7 @@ def test_referenced_table_enters_by_content(tmp_path):
     from gearwear.scene import Scene
 
     rows = "\n".join(f"{12 * i / 16:g},{2.5e8 + 1e7 * (i % 2):.6g}" for i in range(16))
-    scene = '[effects]\nmesh_stiffness = { source = "table", path = "k.csv" }\n'
+    scene = 'extends = "paper-default"\n[effects]\nmesh_stiffness = { source = "table", path = "k.csv" }\n'
     for sub in ("x", "y"):
         (tmp_path / sub).mkdir()
         (tmp_path / sub / "s.toml").write_text(scene)

@@ -336,9 +336,9 @@ def test_local_approach_row_against_verification_json(pair_fe):
 
 def test_shifted_pair_row():
     from gearwear.fem.pair import pair_contact
-    from gearwear.scene import pair_from_dict
+    from scenes import paper_pair_from
 
-    sh = pair_from_dict({"pair": {"teeth": [21, 37], "profile_shift": [0.25, -0.10], "hub_radius_mm": [30.0, 40.0]}})
+    sh = paper_pair_from({"pair": {"teeth": [21, 37], "profile_shift": [0.25, -0.10], "hub_radius_mm": [30.0, 40.0]}})
     r = pair_contact(sh, positions=24)
     p = _plateaus(r)
     say("| unequal shifted pair 21/37, x = +0.25/-0.10 |")

@@ -13,6 +13,8 @@ from gearwear.core.validation import InputError
 from gearwear.schema import json_schema, reference_markdown, resolved_dict, to_toml, validate_document
 from gearwear.scene import builtin_scene_dict, builtin_scene_names, scene_from_dict
 
+from scenes import with_paper
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -53,7 +55,7 @@ IGNORED = [
 @pytest.mark.parametrize("doc,message", IGNORED)
 def test_options_that_would_be_ignored_are_errors(doc, message):
     with pytest.raises(InputError) as err:
-        scene_from_dict(doc)
+        scene_from_dict(with_paper(doc))
     assert str(err.value).startswith(message), str(err.value)
     assert "\n" not in str(err.value)
 
@@ -67,7 +69,7 @@ def test_the_same_options_are_accepted_where_they_act():
                 {"effects": {"bearing_clearance": {"clearance_um": 10}, "centre_distance": {}},
                  "solver": {"rtol": 1e-6}},
                 {"solver": {"method": "rk4", "steps_per_mesh_period": 512}}):
-        scene_from_dict(doc)
+        scene_from_dict(with_paper(doc))
 
 
 def test_typos_get_the_nearest_key_at_every_depth():
@@ -76,12 +78,12 @@ def test_typos_get_the_nearest_key_at_every_depth():
                       ({"effects": {"backlash": {"initial_mu": 3}}}, "did you mean effects.backlash.initial_um?"),
                       ({"solver": {"duraton_s": 1}}, "did you mean solver.duration_s?")):
         with pytest.raises(InputError, match=hint.replace("?", r"\?").replace(".", r"\.")):
-            validate_document(doc)
+            validate_document(with_paper(doc))
 
 
 def test_strings_are_not_read_as_numbers():
     with pytest.raises(InputError, match=r"operating.speed_rpm = '1200': must be a number in \(0, 1e\+06\] rpm"):
-        validate_document({"operating": {"speed_rpm": "1200"}})
+        validate_document(with_paper({"operating": {"speed_rpm": "1200"}}))
 
 
 @pytest.mark.parametrize("name", builtin_scene_names())

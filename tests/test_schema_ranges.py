@@ -16,6 +16,8 @@ from gearwear.core.validation import InputError
 from gearwear.scene import scene_from_dict
 from gearwear.schema import json_schema
 
+from scenes import paper_doc
+
 
 def _ranged_keys():
     schema = json_schema()
@@ -58,11 +60,15 @@ def _outside(bound, is_open, integer, direction):
 REQUIRED = {"faults.crack": {"depth_mm": 1.0},
             "faults.spall": {"start_diameter_mm": 150.0, "length_mm": 0.5, "depth_um": 20.0},
             "flank.tip_relief": {"amount_um": 10.0, "start_diameter_mm": 155.0},
-            "flank.root_relief": {"amount_um": 10.0, "start_diameter_mm": 148.0}}
+            "flank.root_relief": {"amount_um": 10.0, "start_diameter_mm": 148.0},
+            "blank.pinion": {"web_thickness_mm": 10.0, "rim_thickness_mm": 10.0, "hub_outer_radius_mm": 50.0},
+            "blank.gear": {"web_thickness_mm": 10.0, "rim_thickness_mm": 10.0, "hub_outer_radius_mm": 50.0}}
 
 
 def _doc_with(key, value):
-    doc: dict = {}
+    """The paper scene (a complete document: a scene must name its pair and operating point)
+    with ``key`` set to ``value``."""
+    doc = paper_doc()
     node = doc
     parts = key.split(".")
     for i, p in enumerate(parts[:-1]):

@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given, strategies as st
 
 from gearwear.geometry.spec import default_pair
-from gearwear.scene import pair_from_dict
+from scenes import paper_pair_from
 from gearwear.core.validation import InputError
 
 
@@ -31,21 +31,21 @@ def test_default_is_paper_pair():
 ])
 def test_bad_values(table, key, value, pattern):
     with pytest.raises(InputError, match=pattern) as err:
-        pair_from_dict({table: {key: value}})
+        paper_pair_from({table: {key: value}})
     assert "\n" not in str(err.value)
 
 
 def test_unknown_keys_suggest_nearest():
     with pytest.raises(InputError, match="pair.modul_mm: unknown key; did you mean pair.module_mm"):
-        pair_from_dict({"pair": {"modul_mm": 5}})
+        paper_pair_from({"pair": {"modul_mm": 5}})
     with pytest.raises(InputError, match="materail: unknown key; did you mean material"):
-        pair_from_dict({"materail": {}})
+        paper_pair_from({"materail": {}})
 
 
 @given(st.floats(allow_nan=True, allow_infinity=True) | st.integers(-10**6, 10**6))
 def test_module_validation_never_passes_garbage(v):
     try:
-        p = pair_from_dict({"pair": {"module_mm": v, "hub_radius_mm": 1e-3}})
+        p = paper_pair_from({"pair": {"module_mm": v, "hub_radius_mm": 1e-3}})
     except InputError as e:
         assert str(e).startswith("pair.")
         return

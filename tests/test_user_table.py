@@ -13,6 +13,7 @@ from scipy.integrate import solve_ivp
 
 from gearwear import simulate_job
 from gearwear.scene import apply_overrides, load_scene_dict, scene_from_dict
+from scenes import with_paper
 from gearwear.core.validation import InputError
 
 EX = Path(__file__).resolve().parents[1] / "examples" / "user_table"
@@ -129,7 +130,7 @@ def test_bad_tables_get_one_line(tmp_path, csv, needle):
     (tmp_path / "k.csv").write_text(csv)
     doc = {"effects": {"mesh_stiffness": {"source": "table", "path": str(tmp_path / "k.csv")}}}
     with pytest.raises(InputError) as exc:
-        scene_from_dict(doc)
+        scene_from_dict(with_paper(doc))
     msg = str(exc.value)
     assert needle in msg and "effects.mesh_stiffness.path" in msg and "\n" not in msg
 
@@ -148,4 +149,4 @@ def test_damping_given_twice_and_ignored_options_are_errors():
     with pytest.raises(InputError, match="effects.wear"):
         _scene('effects.wear={phase="severe"}')
     with pytest.raises(InputError, match="value_N_per_m"):
-        scene_from_dict({"effects": {"mesh_stiffness": {"source": "analytic", "value_N_per_m": 3e8}}})
+        scene_from_dict(with_paper({"effects": {"mesh_stiffness": {"source": "analytic", "value_N_per_m": 3e8}}}))
