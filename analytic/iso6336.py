@@ -4,11 +4,26 @@ All symbols and units follow the standard: stiffness per unit face width in
 N/(mm um) (= 1e9 N/m per m of face width), module and face width in mm inside the
 ISO formulas only; every input and every ``*_N_per_m`` output is SI.
 
+Gear order. ISO 6336 (like every rating code) calls gear 1 the gear with FEWER teeth
+(its "pinion"), whichever of the two drives; gear 2 has more. This project's pairs put
+the driver at index 0 (``geometry.spec.PairSpec``), so every function here that takes a
+pair first puts it in ISO's order (:func:`iso_ordered`: the per-gear values swapped when
+the driver has more teeth; equal tooth counts keep the driver as gear 1). What follows
+the order: z1, x1 and z2, x2 in q' below (and the fit range x1 >= x2), z1 and the gear-1
+speed n1 in the resonance speed n_E1 and the ratio N = n1 / n_E1, and the reference
+diameter d1 = m z1 with the gear-1 torque T1 = T_driver z1 / z_driver in F_t = 2 T1 / d1.
+C_B, C_R, the equivalent modulus, eps_alpha and m_red do not depend on the order. A
+KISSsoft report shows the order at work (``tests/test_iso6336_kisssoft.py``): in the
+NREL 5 MW gearbox's first planetary stage the 19-tooth sun is KISSsoft's "gear 1", yet its
+c' = 12.362 N/(mm um) is the one with the 17-tooth planet as ISO's gear 1 (the sun as
+gear 1 gives 12.665, 2.4 % high).
+
 Theoretical single stiffness (ISO 6336-1:2019, clause 9, method B; spur gears, so the virtual
 tooth numbers are z_n = z / cos^3(beta) = z):
 
     q'    = C1 + C2/z_n1 + C3/z_n2 + C4 x1 + C5 x1/z_n1 + C6 x2 + C7 x2/z_n2
             + C8 x1^2 + C9 x2^2                                   [mm um / N]
+            (index 1: the gear with fewer teeth, see "Gear order")
     c'_th = 1 / q'                                                [N / (mm um)]
 
     C1..C9 = 0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188,
@@ -47,7 +62,7 @@ Conversion to a spring of face width b: c [N/(mm um)] * b [mm] = c b N/um
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields, replace
 from typing import Any
 
 from gearwear.core.validation import fail
@@ -71,12 +86,31 @@ def flexibility_theoretical(z1: float, z2: float, x1: float, x2: float) -> float
     """Minimum theoretical flexibility q' (mm um / N) of a solid spur tooth pair.
 
     q' = C1 + C2/z1 + C3/z2 + C4 x1 + C5 x1/z1 + C6 x2 + C7 x2/z2 + C8 x1^2 + C9 x2^2
-    (ISO 6336-1:2019, method B, with z_n = z for spur gears). Index 1 is the
-    pinion, 2 the wheel; x are the profile shift coefficients.
+    (ISO 6336-1:2019, method B, with z_n = z for spur gears). Index 1 is ISO's gear 1,
+    the gear with fewer teeth (whichever drives), 2 the other; x are the profile shift
+    coefficients. Not symmetric in the two gears: :func:`iso_ordered` puts a pair in
+    this order.
     """
     c1, c2, c3, c4, c5, c6, c7, c8, c9 = ISO_Q_CONSTANTS
     return (c1 + c2 / z1 + c3 / z2 + c4 * x1 + c5 * x1 / z1 + c6 * x2 + c7 * x2 / z2
             + c8 * x1 ** 2 + c9 * x2 ** 2)
+
+
+def iso_ordered(pair: PairSpec) -> PairSpec:
+    """``pair`` in ISO 6336's gear order: index 0 is ISO's gear 1, the gear with fewer teeth.
+
+    ``pair`` itself when its driver (index 0) has no more teeth than the driven gear;
+    otherwise the same pair with every per-gear value (each tuple field of ``PairSpec``:
+    teeth, profile shifts, bores, materials, webs, given tip and root diameters) swapped,
+    so that ``iso_ordered(pair).gear(0)`` is the driven gear. Shared values (module,
+    rack, face width, centre distance) stay. The driver is then index 1: a driver torque
+    is converted with the tooth ratio by the caller.
+    """
+    if pair.teeth[0] <= pair.teeth[1]:
+        return pair
+    # every tuple field of PairSpec holds one value per gear (index 0 = pinion/driver)
+    return replace(pair, **{f.name: getattr(pair, f.name)[::-1] for f in fields(pair)
+                            if isinstance(getattr(pair, f.name), tuple)})
 
 
 def single_stiffness_theoretical(z1: float, z2: float, x1: float, x2: float) -> float:
@@ -134,9 +168,12 @@ class IsoStiffness:
     Stiffness values per unit face width in N/(mm um) (ISO units); the
     ``*_N_per_m`` properties give the spring of the whole face width in N/m.
     ``line_load_N_per_mm`` = F_t K_A / b (None when no torque was given, then the
-    low-load factor is 1).
+    low-load factor is 1). ``z1``, ``z2``: the tooth counts in ISO's order (z1 <= z2,
+    gear 1 = the gear with fewer teeth, whichever drives).
     """
 
+    z1: int                    # teeth of ISO's gear 1 (the fewer)
+    z2: int
     c_th_prime: float          # theoretical single stiffness c'_th, N/(mm um)
     C_M: float
     C_R: float
@@ -178,10 +215,15 @@ def iso6336_stiffness(pair: PairSpec, torque_Nm: float | None = None,
                       rim_thickness_m: float | None = None) -> IsoStiffness:
     """ISO 6336-1:2019 method B single and mesh stiffness of ``pair`` (spur gears).
 
-    ``torque_Nm``: pinion torque (N m); the nominal tangential load at the reference
-    circle is F_t = 2 T / d_1 (N, d_1 = m z_1 in m), and the line load F_t K_A / b
-    (N/mm) decides the low-load factor. ``contact_ratio`` defaults to the transverse
-    contact ratio eps_alpha at the nominal centre distance (geometry.kinematics).
+    ISO's gear 1 is the gear with fewer teeth whatever drives (module docstring, "Gear
+    order"): the pair is taken in that order (:func:`iso_ordered`), so a pair and the same
+    pair with driver and driven gear exchanged give the same result.
+    ``torque_Nm``: torque of the pair's driver, index 0 (N m); ISO's gear 1 carries
+    T1 = T z1 / z_driver (no losses), and the nominal tangential load at its reference
+    circle is F_t = 2 T1 / d1 (N, d1 = m z1 in m; the same force at either reference
+    circle). The line load F_t K_A / b (N/mm) decides the low-load factor.
+    ``contact_ratio`` defaults to the transverse contact ratio eps_alpha at the nominal
+    centre distance (geometry.kinematics).
     ``web_thickness_m`` / ``rim_thickness_m`` describe a webbed blank (C_R); by
     default the blank is a solid disc (C_R = 1). Both gears share the basic rack, so
     one C_B applies (the mean of the two when a given root diameter changes a gear's
@@ -190,6 +232,8 @@ def iso6336_stiffness(pair: PairSpec, torque_Nm: float | None = None,
     """
     if K_A <= 0:
         raise ValueError(f"K_A = {K_A:g}: must be > 0")
+    z_driver = pair.teeth[0]
+    pair = iso_ordered(pair)  # from here on index 0 is ISO's gear 1 (fewer teeth)
     z1, z2 = pair.teeth
     x1, x2 = pair.profile_shift
     c_th = single_stiffness_theoretical(z1, z2, x1, x2)
@@ -214,13 +258,15 @@ def iso6336_stiffness(pair: PairSpec, torque_Nm: float | None = None,
     if torque_Nm is not None:
         if torque_Nm <= 0:
             raise ValueError(f"torque = {torque_Nm:g} N m: must be > 0")
+        # T1 = T z1 / z_driver: the ratio first, so that it is exactly 1 without a swap
+        torque_1_Nm = torque_Nm * (z1 / z_driver)
         d1_m = pair.module_m * z1
-        F_t = 2.0 * torque_Nm / d1_m
+        F_t = 2.0 * torque_1_Nm / d1_m
         line_load = F_t * K_A / b_mm
     f_low = low_load_factor(line_load)
     mesh_factor = 0.75 * eps + 0.25
     return IsoStiffness(
-        c_th_prime=c_th, C_M=C_M_SOLID, C_R=C_R, C_B=C_B, cos_beta=cos_beta,
+        z1=z1, z2=z2, c_th_prime=c_th, C_M=C_M_SOLID, C_R=C_R, C_B=C_B, cos_beta=cos_beta,
         material_factor=material_factor, c_prime=c_prime,
         eps_alpha=eps, c_gamma_alpha=c_prime * mesh_factor, low_load_factor=f_low,
         c_prime_low_load=c_prime * f_low, c_gamma_alpha_low_load=c_prime * f_low * mesh_factor,
@@ -231,9 +277,12 @@ def iso6336_stiffness(pair: PairSpec, torque_Nm: float | None = None,
 
 # -- dynamic factor K_v, method B (ISO 6336-1:2006 clause 6.5) --------------------------------
 #
-# Resonance speed and ratio:
+# Resonance speed and ratio (z1, n1: teeth and speed of ISO's gear 1, the gear with fewer
+# teeth whichever drives; in a planetary stage n1 is the speed relative to the carrier):
 #     n_E1 = 30000 / (pi z1) sqrt(c_gamma / m_red)      [min^-1]; c_gamma N/(mm um), m_red kg/mm
 #     N    = n1 / n_E1
+# (n1 z1 is the mesh frequency times 60, so N is the same whichever gear it is written
+# for; n_E1 itself is a speed of gear 1.)
 # m_red is the mass of the pair per unit face width reduced to the line of action,
 # m1* m2* / (m1* + m2*) with m* = J* / r_b^2 (J* the polar moment of inertia per face width).
 # Lower limit of the main resonance range (w = F_t K_A / b in N/mm):
@@ -256,8 +305,9 @@ KV_RANGES = ("subcritical", "main resonance", "intermediate", "supercritical")
 
 def resonance_speed_rpm(z1: int, c_gamma_N_per_mm_um: float, m_red_kg_per_mm: float) -> float:
     """n_E1 = 30000 / (pi z1) sqrt(c_gamma / m_red) in min^-1 (ISO 6336-1 method B): the
-    pinion speed whose mesh frequency is the natural frequency sqrt(k / m_e) / (2 pi) of
-    the pair's relative torsional vibration on rigid bearings."""
+    speed of ISO's gear 1 (``z1`` teeth, the fewer of the pair) whose mesh frequency is the
+    natural frequency sqrt(k / m_e) / (2 pi) of the pair's relative torsional vibration on
+    rigid bearings."""
     if not (c_gamma_N_per_mm_um > 0 and m_red_kg_per_mm > 0 and z1 > 0):
         raise ValueError("resonance_speed_rpm: z1, c_gamma and m_red must be > 0")
     return 30000.0 / (math.pi * z1) * math.sqrt(c_gamma_N_per_mm_um / m_red_kg_per_mm)
@@ -282,7 +332,8 @@ def cv_coefficients(eps_gamma: float) -> tuple[float, float, float, float, float
 
 @dataclass(frozen=True)
 class IsoDynamicFactor:
-    """ISO 6336-1 method B dynamic factor over pinion speeds (arrays follow ``speed_rpm``)."""
+    """ISO 6336-1 method B dynamic factor over the speeds of ISO's gear 1 (the gear with fewer
+    teeth; arrays follow ``speed_rpm``)."""
     speed_rpm: Any             # numpy array (min^-1)
     K_v: Any                   # numpy array
     N: Any                     # numpy array, resonance ratio n1 / n_E1
@@ -299,10 +350,14 @@ class IsoDynamicFactor:
 def dynamic_factor(speed_rpm, z1: int, c_gamma_N_per_mm_um: float, c_prime_N_per_mm_um: float,
                    m_red_kg_per_mm: float, line_load_N_per_mm: float, f_pb_eff_um: float,
                    f_f_eff_um: float, C_a_um: float, eps_gamma: float) -> IsoDynamicFactor:
-    """K_v of ISO 6336-1 method B at each pinion speed (equations above the function).
+    """K_v of ISO 6336-1 method B at each speed ``speed_rpm`` of ISO's gear 1 (equations above
+    the function).
 
-    ``line_load_N_per_mm`` = F_t K_A / b with F_t the nominal tangential load at the
-    reference circle; stiffnesses per unit face width in N/(mm um); deviations in um."""
+    ``z1`` and ``speed_rpm`` belong to ISO's gear 1, the gear with FEWER teeth whichever
+    drives (a driver speed n converts to n z_driver / z1; relative to the carrier in a
+    planetary stage). ``line_load_N_per_mm`` = F_t K_A / b with F_t the nominal tangential
+    load at the reference circle; stiffnesses per unit face width in N/(mm um); deviations
+    in um."""
     import numpy as np
 
     if not line_load_N_per_mm > 0:

@@ -6,8 +6,8 @@ from dataclasses import replace
 
 import pytest
 
-from gearwear.analytic.iso6336 import (basic_rack_factor, gear_blank_factor, iso6336_stiffness, low_load_factor,
-                              single_stiffness_theoretical)
+from gearwear.analytic.iso6336 import (basic_rack_factor, gear_blank_factor, iso6336_stiffness, iso_ordered,
+                                       low_load_factor, single_stiffness_theoretical)
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.spec import default_pair, replace_checked
 
@@ -120,3 +120,44 @@ def test_bad_inputs():
         iso6336_stiffness(default_pair(), torque_Nm=-1.0)
     with pytest.raises(ValueError):
         iso6336_stiffness(default_pair(), K_A=0.0)
+
+
+def driver_with_more_teeth():
+    """A pair whose driver (index 0) has more teeth than the driven gear, with every
+    per-gear value different, and the same pair with driver and driven gear exchanged."""
+    pair = replace_checked(default_pair(), teeth=(47, 23), profile_shift=(0.1, 0.3), hub_radius_m=(60e-3, 30e-3),
+                           materials=(replace(default_pair().materials[0], youngs_modulus_Pa=200e9),
+                                      default_pair().materials[1]))
+    swapped = replace_checked(pair, teeth=(23, 47), profile_shift=(0.3, 0.1), hub_radius_m=(30e-3, 60e-3),
+                              materials=pair.materials[::-1])
+    return pair, swapped
+
+
+def test_iso_order_puts_the_gear_with_fewer_teeth_first():
+    pair, swapped = driver_with_more_teeth()
+    assert iso_ordered(pair) == swapped
+    assert iso_ordered(pair).gear(0) == replace(pair.gear(1), name="pinion")
+    assert iso_ordered(swapped) is swapped
+    same = default_pair()  # equal tooth counts: the driver stays gear 1
+    assert iso_ordered(same) is same
+
+
+def test_gear_1_is_the_gear_with_fewer_teeth_whichever_drives():
+    """ISO 6336's gear 1 has fewer teeth: a pair whose driver has more teeth gives exactly
+    the stiffness of the same pair with driver and driven gear exchanged, and that is the
+    q' polynomial with z1 = 23 (x1 = 0.3), z2 = 47 (x2 = 0.1) by hand. Read with the driver
+    as gear 1 the polynomial is 2.6 % softer (the error this guards against)."""
+    pair, swapped = driver_with_more_teeth()
+    a, b = iso6336_stiffness(pair), iso6336_stiffness(swapped)
+    assert a == b
+    assert (a.z1, a.z2) == (23, 47)
+    q = (0.04723 + 0.15551 / 23 + 0.25791 / 47 - 0.00635 * 0.3 - 0.11654 * 0.3 / 23
+         - 0.00193 * 0.1 - 0.24188 * 0.1 / 47 + 0.00529 * 0.3 ** 2 + 0.00182 * 0.1 ** 2)
+    assert a.c_th_prime == pytest.approx(1.0 / q, rel=1e-12)
+    assert 1 - single_stiffness_theoretical(47, 23, 0.1, 0.3) / a.c_th_prime > 0.025  # the driver-first reading
+    # the driver's torque T is T z1 / z_driver on gear 1: the swapped pair's driver carries T 23 / 47
+    T = 350.0
+    assert iso6336_stiffness(pair, torque_Nm=T) == iso6336_stiffness(swapped, torque_Nm=T * (23 / 47))
+    # F_t = 2 T1 / d1 = 2 (T 23 / 47) / (5 mm * 23): the same force as 2 T / d_driver
+    assert iso6336_stiffness(pair, torque_Nm=T).line_load_N_per_mm == pytest.approx(
+        2 * T / (5e-3 * 47) / 20.0, rel=1e-14)
