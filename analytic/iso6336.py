@@ -40,6 +40,7 @@ Single stiffness of a tooth pair (ISO 6336-1:2019, clause 9):
 
     C_M = 0.8                 theoretical-to-measured correction (solid spur gears)
     C_R = 1 + ln(b_s/b) / (5 exp(s_R / (5 m_n)))    gear blank factor; 1 for solid discs
+          (per gear from its own web, the pair's C_R the mean of the two; see below)
     C_B = [1 + 0.5 (1.2 - h_fP/m_n)] [1 - 0.02 (20 deg - alpha_n)]    basic rack factor
     cos(beta) = 1 (spur)
 
@@ -47,6 +48,21 @@ and, for materials other than steel/steel, the ISO material factor
 E / E_st, E = 2 E1 E2 / (E1 + E2), E_st = 206000 N/mm^2 (1 for this project's
 default steel; each gear has its own ``pair.materials[i]``). The q' fit covers
 x1 >= x2 and -0.5 <= x1 + x2 <= 2; outside, :class:`IsoStiffness` flags it.
+
+Gear blank factor of two gears. ISO 6336-1 writes C_R with one web thickness b_s and
+one rim thickness s_R (web b_s wide in the middle of the face, rim s_R deep below the
+root), that is for a pair whose two blanks are alike. Here each gear has its own blank
+(``pair.gear(i).web``, a ``geometry.spec.Web``, or None for a solid disc, C_R,i = 1), and
+the pair takes the mean
+
+    C_R = (C_R,1 + C_R,2) / 2
+
+the same averaging ISO 6336-1 prescribes for the basic rack factor of two different
+racks, C_B = (C_B1 + C_B2) / 2. It gives the standard's C_R when the blanks are alike. The
+standard's own wording for unlike blanks could not be checked here (no copy at hand):
+the KISSsoft reports reproduced in ``tests/test_iso6336_kisssoft.py`` print one b_s / b
+per mesh (0.25), and both gears' inner diameters give the same s_R (3.5 m_n in the
+planetary stages, 5 m_n in stage 3), so they confirm the formula, not the averaging.
 
 At low line load (F_t K_A / b < 100 N/mm) the standard reduces c' by the factor
 (F_t K_A / b / 100)^0.25 (ISO 6336-1, clause 9): the contact is not yet fully
@@ -67,7 +83,7 @@ from typing import Any
 
 from gearwear.core.validation import fail
 from gearwear.geometry.kinematics import MeshGeometry
-from gearwear.geometry.spec import PairSpec
+from gearwear.geometry.spec import GearSpec, PairSpec
 
 #: ISO 6336-1:2019 constants C1..C9 of q' (mm um / N).
 ISO_Q_CONSTANTS = (0.04723, 0.15551, 0.25791, -0.00635, -0.11654, -0.00193, -0.24188, 0.00529, 0.00182)
@@ -135,6 +151,20 @@ def gear_blank_factor(face_width_m: float, module_m: float, web_thickness_m: flo
     ratio = min(max(web_thickness_m / face_width_m, 0.2), 1.2)
     rim = max(rim_thickness_m / module_m, 1.0)
     return 1.0 + math.log(ratio) / (5.0 * math.exp(rim / 5.0))
+
+
+def gear_blank_factor_of(gear: GearSpec) -> float:
+    """C_R of one gear from its own blank: 1 for a solid disc (``gear.web`` None), else
+    :func:`gear_blank_factor` of its web thickness b_s and rim thickness s_R."""
+    if gear.web is None:
+        return 1.0
+    return gear_blank_factor(gear.face_width_m, gear.module_m, gear.web.thickness_m, gear.web.rim_thickness_m)
+
+
+def pair_blank_factor(pair: PairSpec) -> float:
+    """C_R of a pair whose gears have their own blanks: (C_R,1 + C_R,2) / 2 (module
+    docstring, "Gear blank factor of two gears"); C_R of the standard when both are alike."""
+    return 0.5 * (gear_blank_factor_of(pair.gear(0)) + gear_blank_factor_of(pair.gear(1)))
 
 
 def basic_rack_factor(dedendum_coefficient: float, pressure_angle_rad: float) -> float:
@@ -210,9 +240,7 @@ class IsoStiffness:
 
 
 def iso6336_stiffness(pair: PairSpec, torque_Nm: float | None = None,
-                      contact_ratio: float | None = None, K_A: float = 1.0,
-                      web_thickness_m: float | None = None,
-                      rim_thickness_m: float | None = None) -> IsoStiffness:
+                      contact_ratio: float | None = None, K_A: float = 1.0) -> IsoStiffness:
     """ISO 6336-1:2019 method B single and mesh stiffness of ``pair`` (spur gears).
 
     ISO's gear 1 is the gear with fewer teeth whatever drives (module docstring, "Gear
@@ -224,11 +252,11 @@ def iso6336_stiffness(pair: PairSpec, torque_Nm: float | None = None,
     circle). The line load F_t K_A / b (N/mm) decides the low-load factor.
     ``contact_ratio`` defaults to the transverse contact ratio eps_alpha at the nominal
     centre distance (geometry.kinematics).
-    ``web_thickness_m`` / ``rim_thickness_m`` describe a webbed blank (C_R); by
-    default the blank is a solid disc (C_R = 1). Both gears share the basic rack, so
-    one C_B applies (the mean of the two when a given root diameter changes a gear's
-    tool dedendum), and one material (material factor E / E_st). See the module
-    docstring for the equations.
+    Each gear's own blank gives its C_R (``pair.gear(i).web``; None: a solid disc, C_R = 1),
+    the pair takes the mean of the two (:func:`pair_blank_factor`). Both gears share the
+    basic rack, so one C_B applies (the mean of the two when a given root diameter changes
+    a gear's tool dedendum); the material factor is E / E_st with the equivalent modulus
+    E = 2 E1 E2 / (E1 + E2). See the module docstring for the equations.
     """
     if K_A <= 0:
         raise ValueError(f"K_A = {K_A:g}: must be > 0")
@@ -237,7 +265,7 @@ def iso6336_stiffness(pair: PairSpec, torque_Nm: float | None = None,
     z1, z2 = pair.teeth
     x1, x2 = pair.profile_shift
     c_th = single_stiffness_theoretical(z1, z2, x1, x2)
-    C_R = gear_blank_factor(pair.face_width_m, pair.module_m, web_thickness_m, rim_thickness_m)
+    C_R = pair_blank_factor(pair)
     # ISO 6336-1: racks that differ (a given root diameter sets each gear's tool
     # dedendum) give C_B = (C_B1 + C_B2) / 2
     C_B = 0.5 * (basic_rack_factor(pair.gear(0).dedendum_coefficient, pair.pressure_angle_rad)
