@@ -411,12 +411,34 @@ def dynamic_factor(speed_rpm, z1: int, c_gamma_N_per_mm_um: float, c_prime_N_per
     return IsoDynamicFactor(n, K_v, N, names, nE1, NS, Bp, Bf, Bk, cv, w)
 
 
+#: ISO 1328-1:1995 range limits (mm) of the reference diameter d and of the normal module m:
+#: the tolerance formulae take the geometric mean of the limits of the range holding the
+#: gear's value (5 <= d <= 20, 20 < d <= 50, ...; 0.5 <= m <= 2, 2 < m <= 3.5, ...)
+ISO1328_DIAMETER_LIMITS_MM = (5.0, 20.0, 50.0, 125.0, 280.0, 560.0, 1000.0, 1600.0, 2500.0, 4000.0, 6000.0,
+                              8000.0, 10000.0)
+ISO1328_MODULE_LIMITS_MM = (0.5, 2.0, 3.5, 6.0, 10.0, 16.0, 25.0, 40.0, 70.0)
+
+
+def iso1328_range_mean(value_mm: float, limits_mm: tuple[float, ...]) -> float:
+    """sqrt(lo hi) (mm) of the ISO 1328-1:1995 range lo < value <= hi of ``limits_mm`` that holds
+    ``value_mm`` (the first range includes its lower limit)."""
+    if not limits_mm[0] <= value_mm <= limits_mm[-1]:
+        raise ValueError(f"{value_mm:g} mm: outside the ISO 1328-1 ranges [{limits_mm[0]:g}, {limits_mm[-1]:g}] mm")
+    hi_index = next(i for i, hi in enumerate(limits_mm[1:], 1) if value_mm <= hi)
+    return math.sqrt(limits_mm[hi_index - 1] * limits_mm[hi_index])
+
+
 def iso1328_deviations_um(module_m: float, reference_diameter_m: float, grade: int) -> tuple[float, float]:
     """(f_pt, f_f_alpha) in um of ISO 1328-1:1995 accuracy ``grade`` (1-12): the grade-5
     values f_pt = 0.3 (m + 0.4 sqrt(d)) + 4 and f_f_alpha = 2.5 sqrt(m) + 0.17 sqrt(d) + 0.5
-    (m, d in mm) times 2^((Q - 5) / 2), rounded as ISO 1328-1 prescribes (above 10 um to
-    whole um, 5-10 um to 0.5 um, below 5 um to 0.1 um)."""
-    m, d = module_m * 1e3, reference_diameter_m * 1e3
+    with m and d (mm) the geometric means of their ISO 1328-1 ranges
+    (:func:`iso1328_range_mean`), times 2^((Q - 5) / 2), rounded as ISO 1328-1 prescribes
+    (above 10 um to whole um, 5-10 um to 0.5 um, below 5 um to 0.1 um). The range means are
+    what KISSsoft's tolerance tables show: its NREL 5 MW reports print, at grade 6,
+    f_pt / f_f_alpha = 18 / 21 um for m = 21 mm, d = 378 mm (the gear's own m and d would
+    give 18 / 22) and 33 / 33 um for m = 45 mm, d = 855 mm (own m and d: 30 / 31)."""
+    m = iso1328_range_mean(module_m * 1e3, ISO1328_MODULE_LIMITS_MM)
+    d = iso1328_range_mean(reference_diameter_m * 1e3, ISO1328_DIAMETER_LIMITS_MM)
     step = 2.0 ** ((grade - 5) / 2.0)
 
     def rnd(x: float) -> float:
