@@ -18,8 +18,8 @@ NREL 5 MW gearbox's first planetary stage the 19-tooth sun is KISSsoft's "gear 1
 c' = 12.362 N/(mm um) is the one with the 17-tooth planet as ISO's gear 1 (the sun as
 gear 1 gives 12.665, 2.4 % high).
 
-Theoretical single stiffness (ISO 6336-1:2019, clause 9, method B; spur gears, so the virtual
-tooth numbers are z_n = z / cos^3(beta) = z):
+Theoretical single stiffness (ISO 6336-1:2019, clause 9, method B; the pairs of this
+project are spur gears, so the virtual tooth numbers z_n are z):
 
     q'    = C1 + C2/z_n1 + C3/z_n2 + C4 x1 + C5 x1/z_n1 + C6 x2 + C7 x2/z_n2
             + C8 x1^2 + C9 x2^2                                   [mm um / N]
@@ -32,7 +32,9 @@ tooth numbers are z_n = z / cos^3(beta) = z):
 The constants are the published ISO 6336-1 table values for q', as given in this
 project's brief; they agree with the values quoted in the gear literature, but
 they were not re-checked against a copy of the standard. Equation numbers are
-not quoted because they differ between the 2006 and 2019 editions.
+not quoted because they differ between the 2006 and 2019 editions. With them the
+stiffness below reproduces every c' and c_gamma_alpha of KISSsoft's ISO 6336:2006
+reports read for this module to the printed digits (``tests/test_iso6336_kisssoft.py``).
 
 Single stiffness of a tooth pair (ISO 6336-1:2019, clause 9):
 
@@ -48,6 +50,14 @@ and, for materials other than steel/steel, the ISO material factor
 E / E_st, E = 2 E1 E2 / (E1 + E2), E_st = 206000 N/mm^2 (1 for this project's
 default steel; each gear has its own ``pair.materials[i]``). The q' fit covers
 x1 >= x2 and -0.5 <= x1 + x2 <= 2; outside, :class:`IsoStiffness` flags it.
+
+Helical gears (pure functions of numbers below; the pair model itself is spur): q' takes
+the virtual tooth numbers z_n = z / (cos^2(beta_b) cos(beta)), sin(beta_b) = sin(beta)
+cos(alpha_n) (ISO 21771; z / cos^3(beta) is its approximation), c' the factor cos(beta),
+eps_alpha is the transverse contact ratio and the dynamic factor's C_v coefficients take the
+total contact ratio eps_gamma = eps_alpha + eps_beta, eps_beta = b sin(beta) / (pi m_n).
+KISSsoft's helical stage 3 of the NREL 5 MW gearbox (beta = 10 deg) prints z_n = 25.037 /
+99.104 and c' = 13.832 N/(mm um): the exact z_n gives 13.832, z / cos^3(beta) 13.837.
 
 Gear blank factor of two gears. ISO 6336-1 writes C_R with one web thickness b_s and
 one rim thickness s_R (web b_s wide in the middle of the face, rim s_R deep below the
@@ -102,7 +112,8 @@ def flexibility_theoretical(z1: float, z2: float, x1: float, x2: float) -> float
     """Minimum theoretical flexibility q' (mm um / N) of a solid spur tooth pair.
 
     q' = C1 + C2/z1 + C3/z2 + C4 x1 + C5 x1/z1 + C6 x2 + C7 x2/z2 + C8 x1^2 + C9 x2^2
-    (ISO 6336-1:2019, method B, with z_n = z for spur gears). Index 1 is ISO's gear 1,
+    (ISO 6336-1:2019, method B; z_n = z for spur gears, :func:`virtual_teeth` for
+    helical gears: the arguments are then the virtual numbers). Index 1 is ISO's gear 1,
     the gear with fewer teeth (whichever drives), 2 the other; x are the profile shift
     coefficients. Not symmetric in the two gears: :func:`iso_ordered` puts a pair in
     this order.
@@ -177,6 +188,53 @@ def basic_rack_factor(dedendum_coefficient: float, pressure_angle_rad: float) ->
     """
     return ((1.0 + 0.5 * (1.2 - dedendum_coefficient))
             * (1.0 - 0.02 * (20.0 - math.degrees(pressure_angle_rad))))
+
+
+def single_stiffness(c_th_prime: float, C_R: float, C_B: float, material_factor: float,
+                     helix_angle_rad: float = 0.0) -> float:
+    """c' = c'_th C_M C_R C_B cos(beta) E / E_st in N/(mm um), C_M = 0.8 (ISO 6336-1 method B,
+    module docstring), without the low-load factor."""
+    return c_th_prime * C_M_SOLID * C_R * C_B * math.cos(helix_angle_rad) * material_factor
+
+
+def mesh_stiffness(c_prime: float, eps_alpha: float) -> float:
+    """c_gamma_alpha = c' (0.75 eps_alpha + 0.25) in the units of c' (ISO 6336-1 method B; the
+    mean of the total mesh stiffness over the path of contact)."""
+    return c_prime * (0.75 * eps_alpha + 0.25)
+
+
+def base_helix_angle_rad(helix_angle_rad: float, normal_pressure_angle_rad: float) -> float:
+    """beta_b: sin(beta_b) = sin(beta) cos(alpha_n) (ISO 21771), rad."""
+    return math.asin(math.sin(helix_angle_rad) * math.cos(normal_pressure_angle_rad))
+
+
+def virtual_teeth(teeth: float, helix_angle_rad: float, normal_pressure_angle_rad: float) -> float:
+    """Virtual number of teeth z_n = z / (cos^2(beta_b) cos(beta)) of a helical gear (ISO 21771),
+    the z_n of q'; z itself for spur gears."""
+    c = math.cos(base_helix_angle_rad(helix_angle_rad, normal_pressure_angle_rad))
+    return teeth / (c * c * math.cos(helix_angle_rad))
+
+
+def transverse_pressure_angle_rad(normal_pressure_angle_rad: float, helix_angle_rad: float) -> float:
+    """alpha_t: tan(alpha_t) = tan(alpha_n) / cos(beta) (ISO 21771), rad."""
+    return math.atan(math.tan(normal_pressure_angle_rad) / math.cos(helix_angle_rad))
+
+
+def transverse_contact_ratio(tip_radii_m: tuple[float, float], base_radii_m: tuple[float, float],
+                             centre_distance_m: float, transverse_base_pitch_m: float) -> float:
+    """eps_alpha = (sqrt(r_a1^2 - r_b1^2) + sqrt(r_a2^2 - r_b2^2) - a sin(alpha_wt)) / p_bt of an
+    external pair, cos(alpha_wt) = (r_b1 + r_b2) / a (ISO 21771); radii, a and the transverse
+    base pitch p_bt = pi m_t cos(alpha_t) in m."""
+    (ra1, ra2), (rb1, rb2) = tip_radii_m, base_radii_m
+    alpha_wt = math.acos((rb1 + rb2) / centre_distance_m)
+    approach = math.sqrt(ra1 ** 2 - rb1 ** 2) + math.sqrt(ra2 ** 2 - rb2 ** 2)
+    return (approach - centre_distance_m * math.sin(alpha_wt)) / transverse_base_pitch_m
+
+
+def overlap_ratio(face_width_m: float, helix_angle_rad: float, normal_module_m: float) -> float:
+    """eps_beta = b sin(beta) / (pi m_n) (ISO 21771); 0 for spur gears. The dynamic factor's
+    C_v take eps_gamma = eps_alpha + eps_beta."""
+    return face_width_m * math.sin(helix_angle_rad) / (math.pi * normal_module_m)
 
 
 def low_load_factor(line_load_N_per_mm: float | None) -> float:
@@ -270,10 +328,9 @@ def iso6336_stiffness(pair: PairSpec, torque_Nm: float | None = None,
     # dedendum) give C_B = (C_B1 + C_B2) / 2
     C_B = 0.5 * (basic_rack_factor(pair.gear(0).dedendum_coefficient, pair.pressure_angle_rad)
                  + basic_rack_factor(pair.gear(1).dedendum_coefficient, pair.pressure_angle_rad))
-    cos_beta = 1.0  # spur gears
     # the equivalent modulus E = 2 E1 E2 / (E1 + E2) of the two gears' own materials
     material_factor = pair.equivalent_youngs_modulus_Pa / E_STEEL_ISO_Pa
-    c_prime = c_th * C_M_SOLID * C_R * C_B * cos_beta * material_factor
+    c_prime = single_stiffness(c_th, C_R, C_B, material_factor)
     eps = (MeshGeometry(pair, pair.centre_distance_m).contact_ratio
            if contact_ratio is None else float(contact_ratio))
     if eps < 1.0:
@@ -292,12 +349,11 @@ def iso6336_stiffness(pair: PairSpec, torque_Nm: float | None = None,
         F_t = 2.0 * torque_1_Nm / d1_m
         line_load = F_t * K_A / b_mm
     f_low = low_load_factor(line_load)
-    mesh_factor = 0.75 * eps + 0.25
     return IsoStiffness(
-        z1=z1, z2=z2, c_th_prime=c_th, C_M=C_M_SOLID, C_R=C_R, C_B=C_B, cos_beta=cos_beta,
+        z1=z1, z2=z2, c_th_prime=c_th, C_M=C_M_SOLID, C_R=C_R, C_B=C_B, cos_beta=1.0,  # spur gears
         material_factor=material_factor, c_prime=c_prime,
-        eps_alpha=eps, c_gamma_alpha=c_prime * mesh_factor, low_load_factor=f_low,
-        c_prime_low_load=c_prime * f_low, c_gamma_alpha_low_load=c_prime * f_low * mesh_factor,
+        eps_alpha=eps, c_gamma_alpha=mesh_stiffness(c_prime, eps), low_load_factor=f_low,
+        c_prime_low_load=c_prime * f_low, c_gamma_alpha_low_load=mesh_stiffness(c_prime * f_low, eps),
         face_width_mm=b_mm, line_load_N_per_mm=line_load,
         in_fit_range=bool(x1 >= x2 and -0.5 <= x1 + x2 <= 2.0),
     )
@@ -312,7 +368,9 @@ def iso6336_stiffness(pair: PairSpec, torque_Nm: float | None = None,
 # (n1 z1 is the mesh frequency times 60, so N is the same whichever gear it is written
 # for; n_E1 itself is a speed of gear 1.)
 # m_red is the mass of the pair per unit face width reduced to the line of action,
-# m1* m2* / (m1* + m2*) with m* = J* / r_b^2 (J* the polar moment of inertia per face width).
+# m1* m2* / (m1* + m2*) with m* = J* / r_b^2 (J* the polar moment of inertia per face width),
+# :func:`reduced_mass_kg_per_mm`; a planetary stage has its own rule,
+# :func:`reduced_mass_sun_planet_kg_per_mm` (and m_red = m_planet* for the planet-annulus mesh).
 # Lower limit of the main resonance range (w = F_t K_A / b in N/mm):
 #     N_S = 0.5 + 0.35 sqrt(w / 100) for w < 100 N/mm, else 0.85
 # With B_p = c' f_pb,eff / w, B_f = c' f_f,eff / w, B_k = |1 - c' C_a / w|,
@@ -322,10 +380,21 @@ def iso6336_stiffness(pair: PairSpec, torque_Nm: float | None = None,
 #     supercritical    N >= 1.5:        K_v = C_v5 B_p + C_v6 B_f + C_v7
 #     intermediate     1.15 < N < 1.5:  K_v = K_v(1.5) + (K_v(1.15) - K_v(1.5)) (1.5 - N) / 0.35
 # C_v1..C_v7 depend on the total contact ratio eps_gamma (eps_alpha for spur gears), see
-# :func:`cv_coefficients`. The equations and coefficients here agree with two independent
-# implementations of the 2006 edition read for this module; no copy of the standard was at
-# hand, and no worked example with every input and its printed K_v was found (tests check
-# each range by hand and the continuity at the range boundaries instead).
+# :func:`cv_coefficients`.
+# Inputs as KISSsoft's ISO 6336:2006 reports of the NREL 5 MW gearbox use them
+# (tests/test_iso6336_kisssoft.py): f_pb and f_f are the larger of the two gears' values
+# (its running-in y_p = 1.342 um of the sun-planet mesh is 0.075 x 17.9 um, the planet's
+# f_pb, not the sun's 16.9), from ISO 1328-1:1995 (:func:`iso1328_deviations_um`, f_pb =
+# f_pt cos(alpha_t) printed to 0.1 um); running-in of case-hardened steel y_p = 0.075 f_pb,
+# y_f = 0.075 f_f (:func:`running_in_case_hardened_um`); w = F_t K_A / b with F_t per mesh
+# (a planetary stage: the sun torque over p planets, 2 T_sun / (p d_sun)); C_a = 0 when no
+# tip relief is specified ("only running-in"), so B_k = 1: the helical stage's printed
+# K_v = 1.092 needs B_k = 1 (with C_a = C_ay = 2.0 um, the running-in tip relief it prints,
+# B_k = 0.967 and K_v = 1.091). One open implementation reads ISO 6336-1:2006 as setting
+# B_k = 1 for accuracy grades 6 and coarser, which the grade-6 reports cannot tell apart.
+# Edition: the reports name "ISO 6336:2006 Method B", and these equations reproduce their
+# printed n_E1, N and K_v; whether the 2019 edition changes any of them could not be
+# checked here (no copy of either edition at hand), so they are the 2006 method.
 
 #: ISO 6336-1 speed ranges, by resonance ratio N
 KV_RANGES = ("subcritical", "main resonance", "intermediate", "supercritical")
@@ -339,6 +408,43 @@ def resonance_speed_rpm(z1: int, c_gamma_N_per_mm_um: float, m_red_kg_per_mm: fl
     if not (c_gamma_N_per_mm_um > 0 and m_red_kg_per_mm > 0 and z1 > 0):
         raise ValueError("resonance_speed_rpm: z1, c_gamma and m_red must be > 0")
     return 30000.0 / (math.pi * z1) * math.sqrt(c_gamma_N_per_mm_um / m_red_kg_per_mm)
+
+
+def mass_per_face_width_kg_per_mm(inertia_kg_m2: float, base_radius_m: float, face_width_m: float) -> float:
+    """m* = J / (r_b^2 b) in kg/mm: a gear's polar moment of inertia J (kg m^2) as a mass on
+    its line of action (base radius r_b, m), per mm of face width b (m) (ISO 6336-1 method B)."""
+    return inertia_kg_m2 / base_radius_m ** 2 / (face_width_m * 1e3)
+
+
+def reduced_mass_kg_per_mm(m1_kg_per_mm: float, m2_kg_per_mm: float) -> float:
+    """m_red = m1* m2* / (m1* + m2*) in kg/mm of a gear pair (ISO 6336-1 method B); symmetric
+    in the two gears."""
+    return m1_kg_per_mm * m2_kg_per_mm / (m1_kg_per_mm + m2_kg_per_mm)
+
+
+def reduced_mass_sun_planet_kg_per_mm(m_sun_kg_per_mm: float, m_planet_kg_per_mm: float, planets: int) -> float:
+    """m_red of the sun-planet mesh of a planetary stage with ``planets`` planets (kg/mm):
+
+        m_red = m_sun* m_pla* / (m_sun* + p m_pla*)
+
+    with m* = J / (r_b^2 b) of each gear (:func:`mass_per_face_width_kg_per_mm`). The sun
+    meshes with all p planets, so each mesh sees m_sun* / p in series with one planet:
+    (m_sun*/p) m_pla* / (m_sun*/p + m_pla*). The planet-annulus mesh takes m_red = m_pla*
+    (the annulus as an infinitely heavy, fixed body). This is ISO 6336-1's planetary rule
+    as KISSsoft applies it: its NREL 5 MW stage 2 (p = 3) prints m_red = 0.1534 kg/mm for the
+    sun-planet mesh and 1.4684 kg/mm (= m_pla*) for the planet-annulus mesh, both from its
+    printed moments of inertia (tests/test_iso6336_kisssoft.py); the wording of the
+    standard itself could not be checked here.
+    """
+    if planets < 1:
+        raise ValueError(f"planets = {planets}: must be >= 1")
+    return m_sun_kg_per_mm * m_planet_kg_per_mm / (m_sun_kg_per_mm + planets * m_planet_kg_per_mm)
+
+
+def running_in_case_hardened_um(deviation_um: float) -> float:
+    """Running-in allowance of case-hardened or nitrided steel, y = 0.075 of the deviation
+    (f_pb for y_p, f_f_alpha for y_f), at most 3 um (ISO 6336-1 method B), in um."""
+    return min(0.075 * deviation_um, 3.0)
 
 
 def cv_coefficients(eps_gamma: float) -> tuple[float, float, float, float, float, float, float]:
