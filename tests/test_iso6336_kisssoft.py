@@ -32,6 +32,7 @@ that prints K_v to three decimals. What the reports need, read from their number
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import pytest
 
@@ -63,7 +64,7 @@ def planetary_sun_planet(z, x, m_mm, b_mm, tip_mm, root_min_mm, inner_mm, web_ra
                     tip_diameter_m=tuple(1e-3 * d for d in tip_mm))
     s_R = [0.5e-3 * (df - di) for df, di in zip(root_min_mm, inner_mm)]
     webs = tuple(Web(web_ratio * b_mm * 1e-3, s, pair.gear(i).root_radius_m - s) for i, s in enumerate(s_R))
-    pair = PairSpec(**{**pair.__dict__, "webs": webs})
+    pair = replace(pair, webs=webs)
     check_pair(pair)
     return pair
 
@@ -140,9 +141,9 @@ STAGE1 = dict(z=(19, 17), x=(0.6170, 0.8021), m_mm=45.0, b_mm=491.0, tip_mm=(978
 
 def swapped(pair: PairSpec) -> PairSpec:
     """The same pair with index 0 and 1 exchanged (by hand, field by field)."""
-    return PairSpec(**{**pair.__dict__, "teeth": pair.teeth[::-1], "profile_shift": pair.profile_shift[::-1],
-                       "hub_radius_m": pair.hub_radius_m[::-1], "materials": pair.materials[::-1],
-                       "tip_diameter_m": pair.tip_diameter_m[::-1], "webs": pair.webs[::-1]})
+    return replace(pair, teeth=pair.teeth[::-1], profile_shift=pair.profile_shift[::-1],
+                   hub_radius_m=pair.hub_radius_m[::-1], materials=pair.materials[::-1],
+                   tip_diameter_m=pair.tip_diameter_m[::-1], webs=pair.webs[::-1])
 
 
 def test_stage1_iso_gear_1_is_the_planet_with_fewer_teeth():
