@@ -495,7 +495,9 @@ def _cmd_runup(args: argparse.Namespace) -> int:
     else:
         for p in summ["points"]:
             iso = p["iso6336"]
-            print(f"point {p['point'] or '-'}: ISO 6336 n_E1 = {iso['n_E1_rpm']:.0f} rpm; linear modes "
+            at_driver = ("" if iso["n_E1_driver_rpm"] == iso["n_E1_rpm"] else
+                         f" of ISO's gear 1 ({iso['inputs']['z1']} teeth), {iso['n_E1_driver_rpm']:.0f} rpm at the driver")
+            print(f"point {p['point'] or '-'}: ISO 6336 n_E1 = {iso['n_E1_rpm']:.0f} rpm{at_driver}; linear modes "
                   f"{', '.join(f'{f:.1f}' for f in p['linear_eigenfrequencies_Hz'])} Hz")
             for d, r in p["directions"].items():
                 print(f"  sweep {d}: K_v max {r['K_v_max']:.4f} at {r['K_v_max_speed_rpm']:g} rpm; "

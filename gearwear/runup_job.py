@@ -22,7 +22,11 @@ Next to it, ISO 6336-1 method B K_v (``analytic.iso6336.dynamic_factor``) with i
 resonance speed n_E1 from this tool's own mean mesh stiffness per face width c_gamma (the
 scene's stiffness source) and the reduced mass m_red = m_e / b of the scene's inertias and
 base radii; c', epsilon and the line load are ISO's (``iso6336_stiffness``, low-load factor
-included), the deviations come from the scene's ``[iso6336]`` table.
+included), the deviations come from the scene's ``[iso6336]`` table. ISO's gear 1 is the
+gear with fewer teeth, whichever drives: the run-up's (driver) speeds n enter ISO as that
+gear's speeds n z_driver / z1, ``n_E1_rpm`` is a speed of that gear (z1 in the ISO
+inputs) and ``n_E1_driver_rpm`` the same resonance as a driver speed (the run-up's axis);
+m_red and the mesh stiffness do not depend on the order.
 """
 
 from __future__ import annotations
@@ -94,8 +98,12 @@ def split_speed_axis(axes: list[Axis]) -> tuple[Axis, list[Axis]]:
 
 
 def iso_curve(scene: Scene, k_mean_N_per_m: float, m_e_kg: float, speeds_rpm) -> dict[str, Any]:
-    """ISO 6336-1 method B K_v at ``speeds_rpm`` and its inputs (module docstring)."""
-    from gearwear.analytic.iso6336 import dynamic_factor, iso1328_deviations_um, iso6336_stiffness
+    """ISO 6336-1 method B K_v at the driver speeds ``speeds_rpm`` and its inputs (module
+    docstring): ISO's gear 1 is the gear with fewer teeth, turning at n z_driver / z1."""
+    import numpy as np
+
+    from gearwear.analytic.iso6336 import (dynamic_factor, iso1328_deviations_um, iso6336_stiffness,
+                                           running_in_case_hardened_um)
     from gearwear.schema import Iso6336Doc
 
     doc = (scene.doc.iso6336 if scene.doc is not None else None) or Iso6336Doc()
@@ -103,24 +111,28 @@ def iso_curve(scene: Scene, k_mean_N_per_m: float, m_e_kg: float, speeds_rpm) ->
     b_mm = pair.face_width_m * 1e3
     K_A = doc.application_factor
     T = scene.operating.torque_Nm
-    iso = iso6336_stiffness(pair, torque_Nm=T, K_A=K_A)
-    f_pt, f_f = iso1328_deviations_um(pair.module_m, pair.gear(0).pitch_radius_m * 2, doc.accuracy_grade)
+    iso = iso6336_stiffness(pair, torque_Nm=T, K_A=K_A)  # T: the driver's torque
+    # ISO 6336-1 takes the larger deviation of the pair (the larger gear's ISO 1328 value)
+    f_pt, f_f = (max(v) for v in zip(*(iso1328_deviations_um(pair.module_m, 2 * g.pitch_radius_m,
+                                                             doc.accuracy_grade) for g in pair.gears)))
     f_pb = doc.f_pb_um if doc.f_pb_um is not None else round(f_pt * math.cos(pair.pressure_angle_rad), 3)
     f_fa = doc.f_f_um if doc.f_f_um is not None else f_f
-    # ISO 6336-1 running-in, case-hardened or nitrided steel: 0.075 of the deviation, at most 3 um
-    y_p = doc.y_p_um if doc.y_p_um is not None else min(0.075 * f_pb, 3.0)
-    y_f = doc.y_f_um if doc.y_f_um is not None else min(0.075 * f_fa, 3.0)
+    y_p = doc.y_p_um if doc.y_p_um is not None else running_in_case_hardened_um(f_pb)
+    y_f = doc.y_f_um if doc.y_f_um is not None else running_in_case_hardened_um(f_fa)
     C_a = doc.C_a_um
     if C_a is None:
         tips = [r for r in (scene.flank.tip_relief if scene.flank is not None else ()) if r is not None]
         C_a = max(r.amount_m for r in tips) * 1e6 if tips else 0.0
     c_gamma = k_mean_N_per_m / (b_mm * 1e6)   # N/m -> N/(mm um) per mm of face width
     m_red = m_e_kg / b_mm
-    r = dynamic_factor(speeds_rpm, pair.teeth[0], c_gamma, iso.c_prime_low_load, m_red,
+    # the driver's speed n turns ISO's gear 1 at n z_driver / z1 (the ratio first: exactly 1
+    # when the driver is gear 1)
+    speed_ratio = pair.teeth[0] / iso.z1
+    r = dynamic_factor(np.asarray(speeds_rpm, float) * speed_ratio, iso.z1, c_gamma, iso.c_prime_low_load, m_red,
                        iso.line_load_N_per_mm or 0.0, f_pb - y_p, f_fa - y_f, C_a, iso.eps_alpha)
     return {"K_v": [float(v) for v in r.K_v], "range": list(r.range_name), "n_E1_rpm": r.n_E1_rpm,
-            "N_S": r.N_S, "B_p": r.B_p, "B_f": r.B_f, "B_k": r.B_k,
-            "inputs": {"c_gamma_N_per_mm_um": c_gamma, "c_prime_N_per_mm_um": iso.c_prime_low_load,
+            "n_E1_driver_rpm": r.n_E1_rpm / speed_ratio, "N_S": r.N_S, "B_p": r.B_p, "B_f": r.B_f, "B_k": r.B_k,
+            "inputs": {"z1": iso.z1, "c_gamma_N_per_mm_um": c_gamma, "c_prime_N_per_mm_um": iso.c_prime_low_load,
                        "m_red_kg_per_mm": m_red, "line_load_N_per_mm": iso.line_load_N_per_mm,
                        "eps_gamma": iso.eps_alpha, "accuracy_grade": doc.accuracy_grade, "f_pb_um": f_pb,
                        "f_f_um": f_fa, "y_p_um": y_p, "y_f_um": y_f, "C_a_um": C_a, "application_factor": K_A}}
@@ -249,7 +261,7 @@ def summary(points: list[Point], chains: list[Chain], speed: Axis, others: list[
             "point": p.values, "torque_Nm": p.scene.operating.torque_Nm,
             "linear_eigenfrequencies_Hz": p.eigenfrequencies_Hz,
             "mode_speeds_rpm": {f"k{k}": [60 * f / (k * z1) for f in p.eigenfrequencies_Hz] for k in (1, 2)},
-            "iso6336": {k: p.iso[k] for k in ("n_E1_rpm", "N_S", "B_p", "B_f", "B_k", "inputs")},
+            "iso6336": {k: p.iso[k] for k in ("n_E1_rpm", "n_E1_driver_rpm", "N_S", "B_p", "B_f", "B_k", "inputs")},
             "directions": {}}
         for d, c in mine.items():
             best = max(c.rows, key=lambda r: r["K_v"])
@@ -315,7 +327,7 @@ def kv_figure(points: list[Point], chains: list[Chain], others: list[Axis], summ
             ax.plot([r["speed_rpm"] for r in rows], [r["K_v"] for r in rows], "-" if c.direction == "up" else "--",
                     color=col, lw=1.4, marker="." if c.direction == "up" else None, ms=4,
                     label=f"{lab}, sweep {c.direction}")
-        nE1 = p.iso["n_E1_rpm"]
+        nE1 = p.iso["n_E1_driver_rpm"]  # on the run-up's (driver) speed axis
         ax.plot(p.speeds, p.iso["K_v"], ":", color=col, lw=1.6,
                 label=f"{lab}, ISO 6336-1 method B (n_E1 = {nE1:.0f} rpm)")
         if p.speeds[0] <= nE1 <= p.speeds[-1]:

@@ -326,7 +326,7 @@ class FaultsDoc(_Table):
 class Iso6336Doc(_Table):
     """Inputs of the ISO 6336-1 method B dynamic factor K_v that `gearwear runup` draws next to
     its own (analytic.iso6336.dynamic_factor). Absent deviations come from the ISO 1328-1:1995
-    accuracy grade at the pinion's module and reference diameter (f_pb = f_pt cos alpha), absent
+    accuracy grade, the larger of the two gears' values (f_pb = f_pt cos alpha), absent
     running-in allowances from ISO 6336-1 for case-hardened steel (0.075 of the deviation, at
     most 3 um)."""
     accuracy_grade: _num("", 1, 12, integer=True,  # type: ignore[valid-type]

@@ -6,10 +6,10 @@ from dataclasses import replace
 
 import pytest
 
-from gearwear.analytic.iso6336 import (basic_rack_factor, gear_blank_factor, iso6336_stiffness, low_load_factor,
-                              single_stiffness_theoretical)
+from gearwear.analytic.iso6336 import (basic_rack_factor, gear_blank_factor, iso6336_stiffness, iso_ordered,
+                                       low_load_factor, pair_blank_factor, single_stiffness_theoretical)
 from gearwear.geometry.kinematics import MeshGeometry
-from gearwear.geometry.spec import default_pair, replace_checked
+from gearwear.geometry.spec import Web, default_pair, replace_checked
 
 
 def test_theoretical_stiffness_by_hand_z30_x0():
@@ -120,3 +120,78 @@ def test_bad_inputs():
         iso6336_stiffness(default_pair(), torque_Nm=-1.0)
     with pytest.raises(ValueError):
         iso6336_stiffness(default_pair(), K_A=0.0)
+
+
+def driver_with_more_teeth():
+    """A pair whose driver (index 0) has more teeth than the driven gear, with every
+    per-gear value different, and the same pair with driver and driven gear exchanged."""
+    pair = replace_checked(default_pair(), teeth=(47, 23), profile_shift=(0.1, 0.3), hub_radius_m=(60e-3, 30e-3),
+                           materials=(replace(default_pair().materials[0], youngs_modulus_Pa=200e9),
+                                      default_pair().materials[1]))
+    swapped = replace_checked(pair, teeth=(23, 47), profile_shift=(0.3, 0.1), hub_radius_m=(30e-3, 60e-3),
+                              materials=pair.materials[::-1])
+    return pair, swapped
+
+
+def test_iso_order_puts_the_gear_with_fewer_teeth_first():
+    pair, swapped = driver_with_more_teeth()
+    assert iso_ordered(pair) == swapped
+    assert iso_ordered(pair).gear(0) == replace(pair.gear(1), name="pinion")
+    assert iso_ordered(swapped) is swapped
+    same = default_pair()  # equal tooth counts: the driver stays gear 1
+    assert iso_ordered(same) is same
+
+
+def test_gear_1_is_the_gear_with_fewer_teeth_whichever_drives():
+    """ISO 6336's gear 1 has fewer teeth: a pair whose driver has more teeth gives exactly
+    the stiffness of the same pair with driver and driven gear exchanged, and that is the
+    q' polynomial with z1 = 23 (x1 = 0.3), z2 = 47 (x2 = 0.1) by hand. Read with the driver
+    as gear 1 the polynomial is 2.6 % softer (the error this guards against)."""
+    pair, swapped = driver_with_more_teeth()
+    a, b = iso6336_stiffness(pair), iso6336_stiffness(swapped)
+    assert a == b
+    assert (a.z1, a.z2) == (23, 47)
+    q = (0.04723 + 0.15551 / 23 + 0.25791 / 47 - 0.00635 * 0.3 - 0.11654 * 0.3 / 23
+         - 0.00193 * 0.1 - 0.24188 * 0.1 / 47 + 0.00529 * 0.3 ** 2 + 0.00182 * 0.1 ** 2)
+    assert a.c_th_prime == pytest.approx(1.0 / q, rel=1e-12)
+    assert 1 - single_stiffness_theoretical(47, 23, 0.1, 0.3) / a.c_th_prime > 0.025  # the driver-first reading
+    # the driver's torque T is T z1 / z_driver on gear 1: the swapped pair's driver carries T 23 / 47
+    T = 350.0
+    assert iso6336_stiffness(pair, torque_Nm=T) == iso6336_stiffness(swapped, torque_Nm=T * (23 / 47))
+    # F_t = 2 T1 / d1 = 2 (T 23 / 47) / (5 mm * 23): the same force as 2 T / d_driver
+    assert iso6336_stiffness(pair, torque_Nm=T).line_load_N_per_mm == pytest.approx(
+        2 * T / (5e-3 * 47) / 20.0, rel=1e-14)
+
+
+def test_each_gear_has_its_own_web_and_the_pair_takes_the_mean_blank_factor():
+    """C_R per gear from its own web, the pair's the mean (C_R,1 + C_R,2) / 2; by hand with
+    b = 20 mm, m = 5 mm: b_s = 10 mm, s_R = 10 mm gives 1 + ln 0.5 / (5 e^0.4); b_s = 6 mm,
+    s_R = 5 mm gives 1 + ln 0.3 / (5 e^0.2); a solid disc 1."""
+    cr_a = 1.0 + math.log(0.5) / (5.0 * math.exp(0.4))
+    cr_b = 1.0 + math.log(0.3) / (5.0 * math.exp(0.2))
+    solid = iso6336_stiffness(default_pair())
+    for webs, expected in (((Web(10e-3, 10e-3, 50e-3), None), 0.5 * (cr_a + 1.0)),
+                           ((None, Web(6e-3, 5e-3, 50e-3)), 0.5 * (1.0 + cr_b)),
+                           ((Web(10e-3, 10e-3, 50e-3), Web(6e-3, 5e-3, 50e-3)), 0.5 * (cr_a + cr_b)),
+                           ((Web(10e-3, 10e-3, 50e-3),) * 2, cr_a)):  # alike blanks: the standard's C_R
+        pair = replace_checked(default_pair(), webs=webs)
+        assert pair_blank_factor(pair) == pytest.approx(expected, rel=1e-14)
+        r = iso6336_stiffness(pair)
+        assert r.C_R == pair_blank_factor(pair)
+        assert r.c_prime == pytest.approx(solid.c_prime * expected, rel=1e-14)
+        assert r.c_gamma_alpha == pytest.approx(solid.c_gamma_alpha * expected, rel=1e-14)
+    assert pair_blank_factor(default_pair()) == 1.0
+
+
+def test_two_materials_scale_by_the_equivalent_modulus():
+    """E1 = 206 GPa, E2 = 103 GPa: c' and c_gamma_alpha are the steel/steel values times
+    E / E_st with E = 2 E1 E2 / (E1 + E2) (ISO 6336-1), whichever gear is the softer."""
+    pair = default_pair()
+    steel = iso6336_stiffness(pair)
+    factor = 2 * 206 * 103 / (206 + 103) / 206
+    for materials in ((pair.materials[0], replace(pair.materials[1], youngs_modulus_Pa=103e9)),
+                      (replace(pair.materials[0], youngs_modulus_Pa=103e9), pair.materials[1])):
+        r = iso6336_stiffness(replace_checked(pair, materials=materials))
+        assert r.material_factor == pytest.approx(factor, rel=1e-15)
+        assert r.c_prime == pytest.approx(steel.c_prime * factor, rel=1e-15)
+        assert r.c_gamma_alpha == pytest.approx(steel.c_gamma_alpha * factor, rel=1e-15)

@@ -1,10 +1,10 @@
 """ISO 6336-1 method B dynamic factor K_v (analytic.iso6336.dynamic_factor).
 
-No worked example with every input and its printed K_v could be found for this module
-(ISO/TR 6336-30's example K_v = 1.003 reaches us only second-hand and without its
-deviations and reduced mass), so each speed range is checked against values worked out
-by hand below from the equations, plus the continuity ISO builds in at N = 1.15 and 1.5,
-the resonance speed against the natural frequency it stands for, and the C_v table."""
+Each speed range is checked against values worked out by hand below from the equations,
+plus the continuity ISO builds in at N = 1.15 and 1.5, the resonance speed against the
+natural frequency it stands for, and the C_v table. Published examples with every input
+and the printed K_v (KISSsoft's reports of the NREL 5 MW gearbox, subcritical range) are
+reproduced in tests/test_iso6336_kisssoft.py."""
 
 from __future__ import annotations
 
@@ -13,8 +13,8 @@ import math
 import numpy as np
 import pytest
 
-from gearwear.analytic.iso6336 import (cv_coefficients, dynamic_factor, iso1328_deviations_um,
-                                       resonance_speed_rpm)
+from gearwear.analytic.iso6336 import (ISO1328_MODULE_LIMITS_MM, cv_coefficients, dynamic_factor,
+                                       iso1328_deviations_um, iso1328_range_mean, resonance_speed_rpm)
 
 # hand-worked case: z1 = 30, c_gamma = 15, c' = 12 N/(mm um), m_red = 0.05 kg/mm,
 # w = F_t K_A / b = 50 N/mm, f_pb,eff = 8 um, f_f,eff = 10 um, C_a = 2 um, eps = 1.6
@@ -83,8 +83,25 @@ def test_cv_coefficients_table():
 
 
 def test_iso1328_grade_deviations_by_hand():
-    # m = 5 mm, d = 150 mm, grade 5: f_pt = 0.3 (5 + 0.4 sqrt 150) + 4 = 6.970 -> 7.0;
-    # f_f_alpha = 2.5 sqrt 5 + 0.17 sqrt 150 + 0.5 = 8.172 -> 8.0; grade 6 (x sqrt 2): 9.857 -> 10.0,
-    # 11.557 -> 12.0
+    # m = 5 mm in the range (3.5, 6] -> sqrt(3.5 * 6) = 4.5826 mm, d = 150 mm in (125, 280]
+    # -> sqrt(125 * 280) = 187.08 mm; grade 5: f_pt = 0.3 (4.5826 + 0.4 sqrt 187.08) + 4
+    # = 7.016 -> 7.0; f_f_alpha = 2.5 sqrt 4.5826 + 0.17 sqrt 187.08 + 0.5 = 8.177 -> 8.0;
+    # grade 6 (x sqrt 2): 9.922 -> 10.0, 11.564 -> 12.0
     assert iso1328_deviations_um(5e-3, 150e-3, 5) == (7.0, 8.0)
     assert iso1328_deviations_um(5e-3, 150e-3, 6) == (10.0, 12.0)
+    assert iso1328_range_mean(2.0, ISO1328_MODULE_LIMITS_MM) == 1.0       # 0.5 <= m <= 2: sqrt(0.5 * 2)
+    assert iso1328_range_mean(2.000001, ISO1328_MODULE_LIMITS_MM) == math.sqrt(7.0)
+    with pytest.raises(ValueError):
+        iso1328_deviations_um(5e-3, 4e-3, 6)                              # d < 5 mm: no ISO 1328-1 range
+
+
+def test_iso1328_grade_6_tolerances_as_kisssoft_prints_them():
+    """Published: KISSsoft's ISO 1328-1:1995 tables ([fptT], [ffaT], grade 6) in its reports of
+    the NREL 5 MW gearbox (GitHub gfsReboucas/Drivetrain, @NREL_5MW/stage_0{1,2,3}.rtf): every
+    gear, annuli included. Evaluated at the gear's own m and d, (21 mm, 378 mm) would give
+    f_f_alpha = 22 um and (45 mm, 855 mm) f_pt = 30 um."""
+    printed = {(21, 378.000): (18, 21), (21, 756.000): (19, 23), (21, 1953.000): (22, 27),
+               (45, 855.000): (33, 33), (45, 765.000): (33, 33), (45, 2520.000): (38, 40),
+               (14, 341.183): (14, 18), (14, 1350.517): (17, 22)}
+    for (m_mm, d_mm), f in printed.items():
+        assert iso1328_deviations_um(m_mm * 1e-3, d_mm * 1e-3, 6) == f

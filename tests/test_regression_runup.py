@@ -80,7 +80,8 @@ def test_paper_default_run_up_figures():
     nE1 = pt["iso6336"]["n_E1_rpm"]
     say(f"n_E1 = {nE1:.0f} rpm: its model is the torsional one on rigid bearings ({nE1 * 30 / 60:.0f} Hz)")
     inp = pt["iso6336"]["inputs"]
-    say(f"grade 6 at the pinion's module and diameter, {inp['f_pb_um']:.3f} / {inp['f_f_um']:g} um for the paper pair")
+    say(f"grade 6 at the larger gear's module and diameter, {inp['f_pb_um']:.3f} / {inp['f_f_um']:g} um for the "
+        "paper pair")
 
 
 def test_backlash_jump_table_and_text():

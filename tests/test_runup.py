@@ -170,3 +170,33 @@ def test_dask_local_cluster_gives_the_bytes_of_the_local_processes(tmp_path):
     finally:
         ex.shutdown()
     assert ex.client.status == "closed"
+
+
+def test_iso_curve_takes_the_gear_with_fewer_teeth_as_gear_1():
+    """ISO 6336's gear 1 has fewer teeth whichever drives: a run-up of a pair whose driver has
+    47 teeth (driven: 23) gives the ISO K_v curve of the exchanged pair (driver 23 teeth) at
+    the corresponding speeds n_23 = n_47 47 / 23 and torque T 23 / 47, exactly. n_E1 is a speed
+    of the 23-tooth gear, 30000 / (pi 23) sqrt(c_gamma / m_red) with c_gamma = k / b and
+    m_red = m_e / b (here k = 4e8 N/m, m_e = 1 kg, b = 20 mm: sqrt(20 / 0.05) = 20), and the
+    deviations are the larger gear's (grade 6 at d = 235 mm: f_pt = 10 um, f_pb = 9.397 um)."""
+    import copy
+
+    import numpy as np
+
+    from gearwear import runup_job
+    from gearwear.scene import load_scene_dict, scene_from_dict
+
+    data, _ = load_scene_dict("paper-default")
+    big_drives, small_drives = copy.deepcopy(data), copy.deepcopy(data)
+    big_drives["pair"].update(teeth=[47, 23], profile_shift=[0.1, 0.3], hub_radius_mm=[40.0, 30.0])
+    small_drives["pair"].update(teeth=[23, 47], profile_shift=[0.3, 0.1], hub_radius_mm=[30.0, 40.0])
+    small_drives["operating"]["torque_Nm"] = data["operating"]["torque_Nm"] * (23 / 47)
+    n = np.array([1000.0, 3000.0, 6000.0, 9000.0, 12000.0])
+    a = runup_job.iso_curve(scene_from_dict(big_drives, "a"), 4e8, 1.0, n)
+    b = runup_job.iso_curve(scene_from_dict(small_drives, "b"), 4e8, 1.0, n * (47 / 23))
+    assert a["K_v"] == b["K_v"] and a["inputs"] == b["inputs"] and a["n_E1_rpm"] == b["n_E1_rpm"]
+    assert a["range"] == ["subcritical", "main resonance", "intermediate", "supercritical", "supercritical"]
+    assert a["inputs"]["z1"] == 23
+    assert a["n_E1_rpm"] == pytest.approx(30000 / (math.pi * 23) * 20, rel=1e-12)
+    assert a["n_E1_driver_rpm"] == pytest.approx(a["n_E1_rpm"] * 23 / 47, rel=1e-15)
+    assert a["inputs"]["f_pb_um"] == pytest.approx(10 * math.cos(math.radians(20)), abs=1e-3)
