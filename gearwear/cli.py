@@ -93,7 +93,6 @@ def _cmd_geometry(args: argparse.Namespace) -> int:
     from . import geometry_job
 
     scene = _load(args, loaded=False)
-    assumed = _assumed(scene, "geometry")
     torque, clearance_um, wear = scene.operating.torque_Nm, round(scene.clearance_m * 1e6, 9), scene.wear
     mesh_size = _bounded_float("--mesh-size-mm", args.mesh_size_mm, "mm", *MESH_SIZE_RANGE_MM)
     out = _check_out(args.out, "geometry")
@@ -109,7 +108,6 @@ def _cmd_geometry(args: argparse.Namespace) -> int:
                    lambda d: geometry_job.write(res, d, inputs, io.scene_labels(scene)),
                    {"total_s": res.wall_s, "mesh_build_s": res.mesh_build_s})
     summary = res.summary()
-    summary["assumptions"] = assumed
     summary["files"] = [str(f) for f in files]
     if args.json:
         print(io.json_text(summary, indent=None))
@@ -661,10 +659,12 @@ def _print_geometry(s: dict) -> None:
         ("body mass (kg)", f"{g0['mass_kg']:.4g}, {g1['mass_kg']:.4g}  ({s['bodies_from']['mass_kg']})"),
         ("body inertia (kg m^2)", f"{g0['inertia_kg_m2']:.4g}, {g1['inertia_kg_m2']:.4g}  "
                                   f"({s['bodies_from']['inertia_kg_m2']})"),
-        ("bearing clearance (um)", f"{s['clearance_um']:g}  (torque {s['torque_Nm']:g} N m, bearing stiffness "
-                                   + ("rigid: not given" if s['bearing_stiffness_N_per_m'] is None
-                                      else f"{s['bearing_stiffness_N_per_m']:.3g} N/m") + ")"),
-        ("centre distance (mm)", f"{s['centre_distance_mm']:.6f}  (nominal {s['nominal_centre_distance_mm']:.6f})"),
+        ("bearing clearance (um)", f"{s['clearance_um']:g}"),
+        ("centre distance (mm)", f"{s['centre_distance_mm']:.6f}  (nominal {s['nominal_centre_distance_mm']:.6f}; "
+                                 "the stiffness and the dynamics run at it)"),
+        ("loaded centre distance (mm)", "- (no bearing stiffness given)" if s["loaded_centre_distance_mm"] is None
+         else f"{s['loaded_centre_distance_mm']:.6f}  (under {s['torque_Nm']:g} N m with the bearings' elastic "
+              f"deflection, k_b {s['bearing_stiffness_N_per_m']:.3g} N/m: a state of the dynamic model)"),
         ("operating pressure angle (deg)", f"{s['operating_pressure_angle_deg']:.6f}"),
         ("contact ratio", f"{s['contact_ratio']:.6f}  (nominal {s['nominal_contact_ratio']:.6f})"),
         ("contact line length (mm)", f"{s['contact_line_length_mm']:.6f}"),

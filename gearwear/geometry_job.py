@@ -16,11 +16,12 @@ import numpy as np
 
 from gearwear.geometry.flank import hpstc_diameters_m
 from gearwear.geometry.kinematics import MeshGeometry
-from gearwear.geometry.operating import OperatingGeometry, operating_geometry
+from gearwear.geometry.operating import OperatingGeometry, centre_distance, operating_geometry
 from gearwear.geometry.profile import REGION_NAMES, ToothProfile, gear_outline
 from gearwear.geometry.wear import WearSpec, key_roll_angles, wear_warnings, worn_profiles
 
 from . import io
+from .assumptions import as_dicts, for_command
 from .scene import Scene
 
 
@@ -34,6 +35,7 @@ class GeometryResult:
     mesh: Any = None          # gearwear.fem.mesh.GearMesh of the pinion, if built
     mesh_build_s: float = 0.0
     wall_s: float = 0.0
+    loaded_centre_distance_m: float | None = None   # with the bearings' elastic deflection (Eq. 11)
 
     def summary(self) -> dict[str, Any]:
         og = self.operating
@@ -76,11 +78,13 @@ class GeometryResult:
             "wear": self.wear.label if self.wear else "unworn",
             "clearance_um": og.clearance_m * 1e6,
             "torque_Nm": og.torque_Nm,
-            "bearing_stiffness_N_per_m": None if math.isinf(og.bearing_stiffness_N_per_m) else
-            og.bearing_stiffness_N_per_m,
+            "bearing_stiffness_N_per_m": self.scene.bodies.bearing_stiffness_N_per_m,
+            "loaded_centre_distance_mm": None if self.loaded_centre_distance_m is None else
+            self.loaded_centre_distance_m * 1e3,
             "bodies_from": {"mass_kg": self.scene.bodies.mass_from, "inertia_kg_m2": self.scene.bodies.inertia_from},
             "face_width_mm": pair.face_width_m * 1e3,
             "gears": per_gear,
+            "assumptions": as_dicts(for_command(self.scene, "geometry")),
             "warnings": og.mesh.contact_ratio_warnings() + wear_warnings(og.mesh, self.wear),
             "wall_s": self.wall_s,
         }
@@ -95,14 +99,18 @@ def compute(scene: Scene, wear: WearSpec | None, clearance_m: float, torque_Nm: 
             build_mesh: bool = True, mesh_size_mm: float = 2.5) -> GeometryResult:
     t0 = time.perf_counter()
     pair = scene.pair
-    k_b = scene.bodies.bearing_stiffness_N_per_m
-    # without a bearing stiffness the bearings are rigid here: only the clearance moves the centres
-    og = operating_geometry(pair, clearance_m, torque_Nm, math.inf if k_b is None else k_b,
-                            scene.initial_backlash_m, scene.backlash_form)
+    # the operating geometry the stiffness and the dynamics use: the installed centre distance
+    # moved by the bearing clearance (Eq. 11's clearance terms). The elastic bearing deflection
+    # under the static load is a state of the dynamic model, not part of this geometry; it is
+    # reported on its own (GeometryResult.loaded_centre_distance_m)
+    og = operating_geometry(pair, clearance_m, torque_Nm, math.inf, scene.initial_backlash_m, scene.backlash_form)
     spec = wear or WearSpec(phase="unworn")
     # the wear pattern follows the contact path at the operating centre distance
     nominal, worn = worn_profiles(pair, spec, og.mesh)
     res = GeometryResult(scene, wear, og, nominal, worn)
+    k_b = scene.bodies.bearing_stiffness_N_per_m
+    if k_b is not None and torque_Nm > 0:
+        res.loaded_centre_distance_m = centre_distance(pair, clearance_m, torque_Nm, k_b)
     if build_mesh:
         t1 = time.perf_counter()
         res.mesh = pinion_mesh(res, mesh_size_mm * 1e-3)
