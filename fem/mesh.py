@@ -607,6 +607,7 @@ def _run_gmsh(build, sizes, fillet_pts, load_pts, order, n_circle, crack: dict |
             gmsh.model.mesh.generate(2)
             if order == 2:
                 gmsh.model.mesh.setOrder(2)
+                _untangle_curved()
             if crack is not None:
                 groups["crack"] = _split_crack(crack["line"], crack["mouth"])
             return _extract(groups, order)
@@ -614,6 +615,22 @@ def _run_gmsh(build, sizes, fillet_pts, load_pts, order, n_circle, crack: dict |
         raise
     except Exception as exc:  # gmsh raises plain Exception; keep one line
         raise MeshError(f"gmsh failed to mesh the gear body: {_first_line(exc)}") from None
+
+
+def _untangle_curved() -> None:
+    """Where a P2 element folded (its mid-side nodes on a curved outline bulge past its
+    interior corner: a thin element under a tightly curved fillet), let Gmsh's high-order
+    optimizer move the interior nodes until every element is valid (scaled Jacobian > 0).
+    Meshes without a fold are left exactly as they are (the optimizer is not run)."""
+    types, etags, _ = gmsh.model.mesh.getElements(dim=2)
+    tags = np.concatenate([np.asarray(t, dtype=np.int64) for t in etags]) if len(etags) else np.zeros(0, np.int64)
+    if tags.size == 0:
+        return
+    q = np.asarray(gmsh.model.mesh.getElementQualities(tags, "minSJ"))
+    if np.all(q > 0):
+        return
+    gmsh.option.setNumber("Mesh.HighOrderOptimize", 2)   # elastic + optimization
+    gmsh.model.mesh.optimize("HighOrder")
 
 
 def _split_crack(line: int, mouth: int) -> list[int]:
