@@ -10,7 +10,7 @@ OUT    ?= out/demo
 BENCH_VENV  := .venv-bench
 BENCH_STAMP := $(BENCH_VENV)/.installed-stamp
 
-.PHONY: demo test bench report venv clean
+.PHONY: demo test bench report venv clean fe-design-space
 
 venv: $(STAMP)
 
@@ -29,6 +29,11 @@ demo: $(STAMP)
 test: $(STAMP)
 	@$(PY) -m gearwear.envcheck
 	$(PY) -m pytest -q -n 2
+
+# The pair FE on 200 Sobol designs of the geometry's whole space (an hour or more; not in make test)
+fe-design-space: $(STAMP)
+	@$(PY) -m gearwear.envcheck
+	$(PY) -m pytest -q -n 2 -m design_space tests/test_fe_design_space.py
 
 # ROSS (the peer for the stiffness benchmark) lives in its own venv: it is not a
 # runtime dependency. Its install is best-effort; the benchmark notes a missing peer.

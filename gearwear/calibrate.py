@@ -235,6 +235,10 @@ class PairCorrection:
     fe_mean_N_per_m: float
     stage1_mean_at_fe_N_per_m: float
     fe_wall_s: float
+    #: the calibrated table against the pair FE at every FE position: max |k_table / k_FE - 1|
+    #: per contact zone ("single", "double"; None where the pair has no such zone), over all
+    #: positions ("max"), and the rms
+    table_error: dict = dataclasses.field(default_factory=dict)
 
 
 def pair_correction(pair: PairSpec, wear: WearSpec | None, clearance_m: float, torque_Nm: float,
@@ -259,9 +263,13 @@ def pair_correction(pair: PairSpec, wear: WearSpec | None, clearance_m: float, t
         factors[name] = float(np.median(ratio[sel])) if sel.any() else float(np.median(ratio[zone])) if zone.any() else 1.0
     s = np.where(dbl, factors["double"], factors["single"])
     res = np.abs(s / ratio - 1.0)
+    table_error = {"max": float(res.max()), "rms": float(np.sqrt(np.mean(res ** 2))),
+                   **{name: float(res[zone].max()) if zone.any() else None
+                      for name, zone in (("single", ~dbl), ("double", dbl))}}
     return PairCorrection(factors["double"], factors["single"], float(res[~even].max()),
                           float(np.sqrt(np.mean(res[~even] ** 2))), float(res[even].max()),
-                          fe.mean_N_per_m, st1.mean_N_per_m, float(fe.timings.get("total_s", float("nan"))))
+                          fe.mean_N_per_m, st1.mean_N_per_m, float(fe.timings.get("total_s", float("nan"))),
+                          table_error)
 
 
 def run_fe(pair: PairSpec, wear: WearSpec | None, positions: int = 21, estimate_error: bool = True,
@@ -427,6 +435,8 @@ def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float =
         "pair_zone_factors": {"double": pc.double, "single": pc.single},
         "pair_check_residual": pc.check_residual, "pair_check_rms": pc.check_rms,
         "pair_fit_residual": pc.fit_residual,
+        # what a user of the table needs: its error against the pair FE it was calibrated to
+        "table_vs_pair_fe": pc.table_error,
         **({} if cc is None else {"crack_correction_ratio_range": [float(cc.ratio.min()), float(cc.ratio.max())],
                                   "crack_check_residual": cc.check_residual}),
         "fe_pair_mean_N_per_m": pc.fe_mean_N_per_m,

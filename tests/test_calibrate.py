@@ -78,6 +78,28 @@ def test_cache_hit_is_identical_and_inputs_change_the_key(tmp_path, monkeypatch,
     assert tables.cached(inputs) is None
 
 
+def test_the_table_states_its_own_error_against_the_pair_fe(tmp_path, monkeypatch, cal):
+    """Issue 23: the console printed the FE discretisation estimate (0.04 %) as the table's
+    accuracy while the table missed the pair FE by 15 %. The stated error is the table
+    against the pair FE: at 72 table angles every third is an FE position (24), and there
+    the largest |k_table / k_FE - 1|, per contact zone and overall, is what the sidecar says."""
+    from gearwear.fem.pair import pair_contact
+
+    monkeypatch.setenv("GEARWEAR_CACHE", str(tmp_path))
+    pair = default_pair()
+    tab = calibrate.calibrated_table(pair, None, points=72, positions=9, calibration=cal)
+    fe = pair_contact(pair, positions=calibrate.PAIR_POSITIONS, torque_Nm=40.0)
+    k_tab = tab.k_N_per_m[::72 // calibrate.PAIR_POSITIONS]
+    err = np.abs(k_tab / fe.k_N_per_m - 1.0)
+    single = fe.pairs_in_contact[:] < 2
+    stated = tab.meta["table_vs_pair_fe"]
+    assert stated["max"] == pytest.approx(err.max(), rel=1e-9)
+    # zones are the analytic stage's (where one or two pairs carry load); the max over both is the max
+    assert max(v for k, v in stated.items() if k in ("single", "double") and v is not None) == stated["max"]
+    assert stated["rms"] == pytest.approx(np.sqrt(np.mean(err ** 2)), rel=1e-9)
+    assert single.any()
+
+
 def test_calibrated_mean_is_below_analytic(cal):
     pair = default_pair()
     corr = tuple(c.grid() for c in cal.corrections)
