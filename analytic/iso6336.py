@@ -72,7 +72,8 @@ def flexibility_theoretical(z1: float, z2: float, x1: float, x2: float) -> float
 
     q' = C1 + C2/z1 + C3/z2 + C4 x1 + C5 x1/z1 + C6 x2 + C7 x2/z2 + C8 x1^2 + C9 x2^2
     (ISO 6336-1:2019, method B, with z_n = z for spur gears). Index 1 is the
-    pinion, 2 the wheel; x are the profile shift coefficients.
+    pinion, 2 the wheel, in ISO's sense: the pinion is the gear with fewer teeth
+    (z1 <= z2), whichever drives; x are the profile shift coefficients.
     """
     c1, c2, c3, c4, c5, c6, c7, c8, c9 = ISO_Q_CONSTANTS
     return (c1 + c2 / z1 + c3 / z2 + c4 * x1 + c5 * x1 / z1 + c6 * x2 + c7 * x2 / z2
@@ -187,11 +188,19 @@ def iso6336_stiffness(pair: PairSpec, torque_Nm: float | None = None,
     one C_B applies (the mean of the two when a given root diameter changes a gear's
     tool dedendum), and one material (material factor E / E_st). See the module
     docstring for the equations.
+
+    ISO 6336's index 1 is the pinion in its sense, the gear with fewer teeth (u = z2 / z1
+    >= 1), not the driver: q' and the fit range take the smaller gear's z and x as z_n1, x1
+    whichever gear drives (index 0 of ``pair`` is the driver), so a pair has one ISO
+    stiffness in either direction of power flow. The line load is the driver's torque over
+    the driver's reference radius (the same tangential force on both gears).
     """
     if K_A <= 0:
         raise ValueError(f"K_A = {K_A:g}: must be > 0")
     z1, z2 = pair.teeth
     x1, x2 = pair.profile_shift
+    if z1 > z2:  # ISO's pinion is the smaller gear
+        (z1, x1), (z2, x2) = (z2, x2), (z1, x1)
     c_th = single_stiffness_theoretical(z1, z2, x1, x2)
     C_R = gear_blank_factor(pair.face_width_m, pair.module_m, web_thickness_m, rim_thickness_m)
     # ISO 6336-1: racks that differ (a given root diameter sets each gear's tool
@@ -214,7 +223,7 @@ def iso6336_stiffness(pair: PairSpec, torque_Nm: float | None = None,
     if torque_Nm is not None:
         if torque_Nm <= 0:
             raise ValueError(f"torque = {torque_Nm:g} N m: must be > 0")
-        d1_m = pair.module_m * z1
+        d1_m = pair.module_m * pair.teeth[0]  # the driver's reference diameter: T is its torque
         F_t = 2.0 * torque_Nm / d1_m
         line_load = F_t * K_A / b_mm
     f_low = low_load_factor(line_load)
