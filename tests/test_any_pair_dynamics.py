@@ -23,6 +23,7 @@ import math
 import numpy as np
 import pytest
 from scipy.linalg import eigh
+from scipy.signal import find_peaks
 
 from gearwear.analytic.tvms import mesh_stiffness
 from gearwear.dynamics import GearDynamics, linear_eigenfrequencies, simulate, spectrum
@@ -137,7 +138,6 @@ def test_linear_modes_hand_6x6_and_free_vibration_spectrum():
         lo, mid, hi = np.log(total[i - 1:i + 2])
         f_peak = f[i] + 0.5 * (lo - hi) / (lo - 2 * mid + hi) * (f[1] - f[0])
         assert f_peak == pytest.approx(fk, rel=5e-3)
-    from scipy.signal import find_peaks
     peaks, _ = find_peaks(total, height=0.01 * total.max())
     for p in peaks:
         assert np.min(np.abs(f[p] / f_hand - 1)) < 5e-3, f[p]

@@ -25,7 +25,7 @@ from gearwear.analytic.iso6336 import iso6336_stiffness
 from gearwear.analytic.tvms import mesh_stiffness
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.profile import tooth_profile
-from gearwear.geometry.spec import Material, PairSpec
+from gearwear.geometry.spec import Material
 
 from pairs import DRIVER_LARGER, NAMED, UNEQUAL, WITH_PAPER, by_hand_radii, by_hand_working_pressure_angle, \
     valid_pairs
