@@ -30,8 +30,9 @@ a) passes a flank point, the surfaces slide past each other by 2 a |zeta|.
     number of contacts (n in rpm, t in minutes).
 
 The load per pair w follows the static load sharing of the path of contact: the
-whole load in single contact, half of it in double contact (equal sharing; the
-stiffness-based sharing is the analytic stage's business). The models are linear in
+whole load in single contact, half of it in double contact, a third in the triple
+contact of a contact ratio above 2 (equal sharing; the stiffness-based sharing is the
+analytic stage's business). The models are linear in
 N: the profile change does not feed back into the pressure (documented limit).
 
 Named phases are defined by the maximum depth on the pinion flank (the shape comes
