@@ -30,8 +30,9 @@ a) passes a flank point, the surfaces slide past each other by 2 a |zeta|.
     number of contacts (n in rpm, t in minutes).
 
 The load per pair w follows the static load sharing of the path of contact: the
-whole load in single contact, half of it in double contact (equal sharing; the
-stiffness-based sharing is the analytic stage's business). The models are linear in
+whole load in single contact, half of it in double contact, a third in the triple
+contact of a contact ratio above 2 (equal sharing; the stiffness-based sharing is the
+analytic stage's business). The models are linear in
 N: the profile change does not feed back into the pressure (documented limit).
 
 Named phases are defined by the maximum depth on the pinion flank (the shape comes
@@ -122,13 +123,19 @@ def specific_sliding(mesh: MeshGeometry, d) -> tuple[np.ndarray, np.ndarray]:
 
 
 def load_share(mesh: MeshGeometry, d) -> np.ndarray:
-    """Fraction of the normal load carried by a pair at d: 1 in single contact,
-    1/2 in double contact (equal sharing), 0 outside the path of contact."""
+    """Fraction of the normal load carried by a pair at d: 1 / n with n the number of
+    pairs on the path of contact (equal sharing: 1 in single, 1/2 in double, 1/3 in
+    triple contact of a contact ratio above 2), 0 outside the path of contact."""
     d = np.asarray(d, dtype=float)
     A, E, pb = mesh.path_start_m, mesh.path_end_m, mesh.base_pitch_m
     inside = (d >= A) & (d <= E)
-    # neighbours at d +- p_b also in contact -> double contact
-    others = ((d - pb >= A) & (d - pb <= E)).astype(float) + ((d + pb >= A) & (d + pb <= E)).astype(float)
+    # the other pairs sit k base pitches ahead and behind; every one on the path shares
+    others = np.zeros(d.shape)
+    k = 1
+    while k * pb <= E - A:
+        for dk in (d - k * pb, d + k * pb):
+            others += (dk >= A) & (dk <= E)
+        k += 1
     return np.where(inside, 1.0 / (1.0 + others), 0.0)
 
 
