@@ -128,6 +128,8 @@ def _tooth_compliance(method: str, loaded: ToothProfile, nominal: ToothProfile, 
             c = ishikawa.tooth_compliance(loaded, radius_m, loaded.gear.material, pair.face_width_m, n_slices,
                                           opposite=nominal, crack=crack)
         except ValueError as exc:
+            if not loaded.is_worn:
+                raise  # a nominal tooth with a non-positive slice is our bug, not the user's input
             raise fail("wear depth", float(loaded.depth.max()) * 1e6, "um",
                        f"makes a slice of the {loaded.gear.name} tooth non-positive ({exc})") from None
         return c.total_m_per_N
