@@ -14,10 +14,10 @@ rectangular window, no leakage, no interpolation.
 Definitions (x_ac = x - mean(x); amplitudes A(f) are single-sided, a sinusoid of
 amplitude a on a bin has A = a):
 
-* ``rms_ac`` = sqrt(mean(x_ac^2)); ``peak_to_peak`` = max(x) - min(x).
+* ``ac_rms`` = sqrt(mean(x_ac^2)); ``peak_to_peak`` = max(x) - min(x).
 * ``kurtosis`` = mean(x_ac^4) / mean(x_ac^2)^2, the normalised 4th central moment
   (population form, = 3 for Gaussian noise, 1.5 for a sine; not the "excess" kurtosis).
-* ``crest_factor`` = max|x_ac| / rms_ac (sqrt 2 for a sine).
+* ``crest_factor`` = max|x_ac| / ac_rms (sqrt 2 for a sine).
 * ``FM0`` (Stewart 1977; Samuel & Pines 2005, J. Sound Vib. 282:475-508, Sec. 3.1) =
   peak_to_peak / sum_{k=1..H} A(k f_mesh), the peak-to-peak of the signal over the sum
   of the mesh-harmonic amplitudes; H = every mesh harmonic up to the Nyquist
@@ -58,7 +58,7 @@ import numpy as np
 from gearwear.core.validation import InputError
 
 __all__ = ["GearIndicators", "SidebandLines", "gear_indicators", "result_indicators",
-           "rms_ac", "kurtosis", "crest_factor", "fm0", "fm4", "difference_signal",
+           "ac_rms", "kurtosis", "crest_factor", "fm0", "fm4", "difference_signal",
            "sideband_energy", "sideband_lines", "revolution_bins"]
 
 # an AC part below this fraction of the signal's magnitude is floating-point rounding
@@ -148,7 +148,7 @@ def _flat(x: np.ndarray) -> bool:
     return float(np.max(np.abs(ac))) <= _FLAT * max(float(np.max(np.abs(x))), 1e-300)
 
 
-def rms_ac(x) -> float:
+def ac_rms(x) -> float:
     """RMS of the AC part, sqrt(mean((x - mean x)^2)), in the signal's unit."""
     x = _signal(x)
     return float(np.sqrt(np.mean((x - np.mean(x)) ** 2)))
@@ -176,7 +176,7 @@ def _crest(x: np.ndarray):
 
 
 def crest_factor(x) -> float | None:
-    """max|x_ac| / rms_ac (sqrt 2 for a sine sampled at its peaks); None for a constant
+    """max|x_ac| / ac_rms (sqrt 2 for a sine sampled at its peaks); None for a constant
     signal."""
     return _crest(_signal(x))[0]
 
@@ -287,7 +287,7 @@ def sideband_energy(x, fs_Hz: float, f_mesh_Hz: float, f_shaft_Hz: float, K: int
 class GearIndicators:
     """Condition indicators of one record (see the module docstring for the definitions).
 
-    Values in the signal's unit (``unit``): ``mean``, ``rms_ac``, ``peak_to_peak``; in
+    Values in the signal's unit (``unit``): ``mean``, ``ac_rms``, ``peak_to_peak``; in
     unit squared: ``sideband_energy``, ``mesh_energy``; dimensionless: ``kurtosis``,
     ``crest_factor``, ``FM0``, ``FM4``; ``sideband_ratio_dB`` in dB. ``None`` = undefined,
     the reason in ``undefined`` (pairs of name and reason)."""
@@ -299,7 +299,7 @@ class GearIndicators:
     f_mesh_Hz: float
     f_shaft_Hz: float
     mean: float
-    rms_ac: float
+    ac_rms: float
     peak_to_peak: float
     kurtosis: float | None
     crest_factor: float | None
@@ -347,7 +347,7 @@ def gear_indicators(x, fs_Hz: float, f_mesh_Hz: float, f_shaft_Hz: float, K: int
     why += [("sideband_ratio_dB", r)] if r else []
     return GearIndicators(unit=str(unit), n_samples=int(x.size), n_revolutions=R, fs_Hz=float(fs_Hz),
                           f_mesh_Hz=float(f_mesh_Hz), f_shaft_Hz=float(f_shaft_Hz),
-                          mean=float(np.mean(x)), rms_ac=float(np.sqrt(np.mean((x - np.mean(x)) ** 2))),
+                          mean=float(np.mean(x)), ac_rms=float(np.sqrt(np.mean((x - np.mean(x)) ** 2))),
                           peak_to_peak=float(np.ptp(x)), kurtosis=kur, crest_factor=cf, FM0=f0, FM4=f4,
                           sideband_energy=sb, mesh_energy=me, sideband_ratio_dB=db, K_mesh_harmonics=K,
                           N_sidebands=N_sb, FM0_FM4_mesh_harmonics=H, FM4_shaft_orders_removed=ns,

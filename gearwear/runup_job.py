@@ -188,7 +188,7 @@ def run_speed(model, speed_rpm: float, y0, solver: dict[str, Any], settings: Set
     return {"speed_rpm": float(speed_rpm), "fm_Hz": r.fm_Hz, "label": s.label,
             "period_mesh_periods": s.period_mesh_periods, "residual": s.residual, "zero_one_K": s.zero_one_K,
             "periods_integrated": s.periods_integrated * m.table_periods, "K_v": float(F_max / m.F_s),
-            "F_m_max_N": F_max, "delta_rms_ac_um": d["rms_ac"] * 1e6,
+            "F_m_max_N": F_max, "delta_ac_rms_um": d["ac_rms"] * 1e6,
             "delta_p2p_um": d["p2p"] * 1e6, "delta_mean_um": d["mean"] * 1e6,
             "separation_fraction": r.separation_fraction, "backside_fraction": r.backside_fraction,
             "delta_harmonics_um": (h["delta"] * 1e6).tolist(), "F_m_harmonics_N": h["F_m"].tolist(),
@@ -282,7 +282,7 @@ def summary(points: list[Point], chains: list[Chain], speed: Axis, others: list[
 
 
 ROW_KEYS = ("fm_Hz", "label", "period_mesh_periods", "residual", "zero_one_K", "periods_integrated", "K_v",
-            "F_m_max_N", "delta_rms_ac_um", "delta_p2p_um", "delta_mean_um", "separation_fraction",
+            "F_m_max_N", "delta_ac_rms_um", "delta_p2p_um", "delta_mean_um", "separation_fraction",
             "backside_fraction")
 
 

@@ -101,8 +101,7 @@ def write(run: SimulationRun, out: Path, inputs: dict[str, Any], labels: dict[st
     the same inputs give the same bytes (timing goes to timing.json)."""
     files = []
     r = run.result
-    arrays = {"t_s": r.t, **{n: r.signals[n] for n in run.output["signals"]}}
-    files.append(io.write_bytes(out / "signals.npz", io.npz_bytes(arrays)))
+    files.append(io.write_bytes(out / "signals.npz", io.npz_bytes(run.signals)))  # SI, units in the keys
     csv = io.write_text(out / "signals.csv", signals_csv(run))
     files += [csv, io.sidecar(csv, inputs, f"dynamics.simulate ({r.method})", labels)]
     files.append(io.write_figure(figure(run), out / "response.png"))
@@ -125,16 +124,18 @@ def print_summary(s: dict[str, Any]) -> None:
     else:
         print(f"tooth separation {100 * s['separation_fraction']:.2f} % of the time, back-side contact "
               f"{100 * s['backside_fraction']:.2f} %")
-    print(f"{'signal':<12}{'rms':>12}{'p-p':>12}   harmonics k f_m, k = 1..{len(next(iter(s['harmonics'].values())))}")
+    print(f"{'signal':<12}{'mean':>12}{'AC rms':>12}{'p-p':>12}   harmonics k f_m, k = 1.."
+          f"{len(next(iter(s['harmonics'].values())))}")
     for key, h in s["harmonics"].items():
-        print(f"{key:<12}{s['rms'][key]:>12.4g}{s['peak_to_peak'][key]:>12.4g}   " + " ".join(f"{x:.3g}" for x in h))
+        print(f"{key:<12}{s['mean'][key]:>12.4g}{s['ac_rms'][key]:>12.4g}{s['peak_to_peak'][key]:>12.4g}   "
+              + " ".join(f"{x:.3g}" for x in h))
     ci = s.get("condition_indicators", {})
     a = ci.get("a_delta_m_per_s2")
     if a is not None:
         def num(v, fmt):
             return "n/a" if v is None else format(v, fmt)
         print(f"indicators (a_delta, {ci['revolutions']} revolutions at f_shaft = {ci['shaft_frequency_Hz']:.4g} Hz): "
-              f"rms {num(a['rms_ac'], '.4g')} m/s^2, kurtosis {num(a['kurtosis'], '.3f')}, crest "
+              f"rms {num(a['ac_rms'], '.4g')} m/s^2, kurtosis {num(a['kurtosis'], '.3f')}, crest "
               f"{num(a['crest_factor'], '.3f')}, FM0 {num(a['FM0'], '.3f')}, FM4 {num(a['FM4'], '.3f')}, "
               f"sidebands {num(a['sideband_ratio_dB'], '.1f')} dB")
     elif ci.get("why_none"):

@@ -49,6 +49,8 @@ from gearwear.core.validation import InputError, renamed
 from .assumptions import as_dicts, for_command
 from .scene import Scene, require_dynamics
 
+#: SI unit of each signal of the dynamics layer (dynamics.simulate computes them in SI)
+SI_UNITS = {"y_p": "m", "x_p": "m", "y_g": "m", "x_g": "m", "q": "m", "delta": "m", "F_m": "N"}
 SIGNAL_UNITS = {"y_p": ("um", 1e6), "x_p": ("um", 1e6), "y_g": ("um", 1e6), "x_g": ("um", 1e6),
                 "q": ("um", 1e6), "delta": ("um", 1e6), "F_m": ("N", 1.0)}
 @dataclass
@@ -172,22 +174,36 @@ class SimulationRun:
     output: dict
     wall_s: float
 
+    @property
+    def signals(self) -> dict[str, np.ndarray]:
+        """The kept signals in SI with the unit in each key (``t_s``, ``y_p_m``, ``F_m_N``, ...),
+        on the uniform sample times of the kept window; ``result.signals`` is the dynamics
+        layer's own dict (SI, the paper's symbol names without units)."""
+        r = self.result
+        return {"t_s": r.t, **{f"{n}_{SI_UNITS[n]}": r.signals[n] for n in self.output["signals"]}}
+
     def summary(self) -> dict[str, Any]:
         r = self.result
         n = self.output["harmonics"]
-        harm, rms, p2p = {}, {}, {}
+        harm, mean, ac_rms, p2p = {}, {}, {}, {}
         amps = r.harmonics_of(self.output["signals"], n)
         for name in self.output["signals"]:
             unit, scale = SIGNAL_UNITS[name]
             key = f"{name}_{unit}"
             harm[key] = (amps[name] * scale).tolist()
             st = r.stats[name]
-            rms[key] = st["rms"] * scale
+            mean[key] = st["mean"] * scale
+            ac_rms[key] = st["ac_rms"] * scale
             p2p[key] = st["p2p"] * scale
-        return {"scene": self.scene.name, "fm_Hz": r.fm_Hz, "harmonics": harm, "rms": rms, "peak_to_peak": p2p,
+        return {"scene": self.scene.name, "fm_Hz": r.fm_Hz, "harmonics": harm, "mean": mean, "ac_rms": ac_rms,
+                "peak_to_peak": p2p,
                 "separation_fraction": r.separation_fraction, "backside_fraction": r.backside_fraction,
                 "bearing_contact_fraction": r.bearing_contact_fraction, "steps": int(r.steps),
-                "rejected_steps": int(r.rejected), "events": int(r.events), "method": r.method,
+                # dopri5 rejects steps; RK4 rejects none: its second counter is the steps split
+                # where a table node falls inside them (the stage values stay the table's function)
+                **({"rk4_substeps_at_table_nodes": int(r.rejected)} if r.method == "rk4"
+                   else {"rejected_steps": int(r.rejected)}),
+                "events": int(r.events), "method": r.method,
                 "periodic_with_mesh_periods": int(r.periodic_with), "wall_s": self.wall_s,
                 "integration_wall_s": r.wall_s, "compile_s": r.compile_s, "stiffness_source": self.stiffness.source,
                 "mean_mesh_stiffness_N_per_m": self.stiffness.mean_N_per_m,

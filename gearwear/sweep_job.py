@@ -234,7 +234,7 @@ def table_csv(axes: list[Axis], results: list[dict[str, Any]]) -> str:
     cols = [a.key for a in axes] + ["separation_fraction", "backside_fraction", "bearing_contact_pinion",
                                     "bearing_contact_gear", "steps"]
     for k in sig_keys:
-        cols += [f"rms_{k}", f"p2p_{k}"] + [f"h{j}_{k}" for j in range(1, n + 1)]
+        cols += [f"mean_{k}", f"ac_rms_{k}", f"p2p_{k}"] + [f"h{j}_{k}" for j in range(1, n + 1)]
     rows = [",".join(cols)]
     for r in results:
         vals = [csv_cell(r["point"][a.key]) for a in axes]
@@ -244,7 +244,8 @@ def table_csv(axes: list[Axis], results: list[dict[str, Any]]) -> str:
                  f"{bc.get('pinion', float('nan')):.6g}", f"{bc.get('gear', float('nan')):.6g}",
                  str(r["steps"])]
         for k in sig_keys:
-            vals += [f"{r['rms'][k]:.8g}", f"{r['peak_to_peak'][k]:.8g}"] + [f"{x:.8g}" for x in r["harmonics"][k]]
+            vals += [f"{r[q][k]:.8g}" for q in ("mean", "ac_rms", "peak_to_peak")] \
+                + [f"{x:.8g}" for x in r["harmonics"][k]]
         rows.append(",".join(vals))
     return "\n".join(rows) + "\n"
 

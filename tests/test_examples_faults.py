@@ -83,7 +83,7 @@ def test_fem_takes_the_root_crack_through_stiffness_and_simulate(capsys, coarse_
     crack = _json(capsys, ["simulate", str(EXAMPLES / "root_crack.toml"), *fem, "--json"])
     assert crack["stiffness_source"] == "fem" and crack["stiffness_table_mesh_periods"] == 30
     c = crack["condition_indicators"]["a_delta_m_per_s2"]
-    for ind in ("rms_ac", "kurtosis", "crest_factor", "FM0", "sideband_ratio_dB"):
+    for ind in ("ac_rms", "kurtosis", "crest_factor", "FM0", "sideband_ratio_dB"):
         assert c[ind] is not None and math.isfinite(c[ind]), ind
     assert c["sideband_ratio_dB"] > -60
 
@@ -101,7 +101,7 @@ def test_simulate_runs_each_and_reports_the_indicators(name, capsys):
     assert ci["revolutions"] >= 2
     for key in ("a_delta_m_per_s2", "a_y_p_m_per_s2"):
         a = ci[key]
-        for ind in ("rms_ac", "kurtosis", "crest_factor", "FM0", "sideband_ratio_dB"):
+        for ind in ("ac_rms", "kurtosis", "crest_factor", "FM0", "sideband_ratio_dB"):
             assert a[ind] is not None and math.isfinite(a[ind]), (key, ind)
         assert a["FM4"] is not None or "FM4" in a["undefined"]
 

@@ -24,7 +24,7 @@ def test_gaussian_noise_kurtosis_is_3():
     se = math.sqrt(24.0 / x.size)               # standard error of the sample kurtosis
     k = ind.kurtosis(x)
     assert abs(k - 3.0) < 4 * se, (k, se)       # measured 2.9971 (se 0.019)
-    assert ind.rms_ac(x) == pytest.approx(3.0, rel=0.02)
+    assert ind.ac_rms(x) == pytest.approx(3.0, rel=0.02)
 
 
 def test_pure_sine():
@@ -33,7 +33,7 @@ def test_pure_sine():
     assert ind.crest_factor(x) == pytest.approx(math.sqrt(2), rel=1e-12)
     assert ind.kurtosis(x) == pytest.approx(1.5, rel=1e-12)
     assert ind.fm0(x, FS, F_M, F_SH) == pytest.approx(2.0, rel=1e-12)   # p-p 2A over A
-    assert ind.rms_ac(x) == pytest.approx(A / math.sqrt(2), rel=1e-12)
+    assert ind.ac_rms(x) == pytest.approx(A / math.sqrt(2), rel=1e-12)
     # nothing left after removing the mesh harmonics: FM4 undefined, with the reason
     g = ind.gear_indicators(x, FS, F_M, F_SH, unit="m/s^2")
     assert g.FM4 is None and "rounding level" in dict(g.undefined)["FM4"]
@@ -84,7 +84,7 @@ def test_constant_signal_is_undefined_not_nan():
     assert set(why) == {"kurtosis", "crest_factor", "FM0", "FM4", "sideband_ratio_dB"}
     text = json.dumps(g.to_dict(), allow_nan=False)          # strict JSON
     assert '"unit": "N"' in text and g.to_dict()["undefined"]["kurtosis"].startswith("the signal is constant")
-    assert g.mean == pytest.approx(3.7) and g.rms_ac < 1e-12 and ind.kurtosis(np.zeros(8)) is None
+    assert g.mean == pytest.approx(3.7) and g.ac_rms < 1e-12 and ind.kurtosis(np.zeros(8)) is None
 
 
 def test_bad_arguments_name_themselves():

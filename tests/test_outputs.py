@@ -85,7 +85,9 @@ def test_simulate_twice_same_bytes(tmp_path):
     files = twice(tmp_path, "simulate", *SHORT)
     import numpy as np
     with np.load(tmp_path / "a" / "signals.npz") as z:  # the fixed-date NPZ reads like np.savez's
-        assert set(z.files) >= {"t_s", "F_m"} and z["t_s"].shape == z["F_m"].shape
+        assert set(z.files) >= {"t_s", "F_m_N"} and z["t_s"].shape == z["F_m_N"].shape
+        # every array carries its SI unit in its name (issue 24: SI values under bare keys)
+        assert all(k.rsplit("_", 1)[-1] in ("s", "m", "N") for k in z.files), z.files
     assert "compile_s" not in json.loads(files["summary.json"])
 
 

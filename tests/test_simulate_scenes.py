@@ -78,7 +78,8 @@ def test_simulate_cli_json_and_files(tmp_path):
             "--out", str(tmp_path))
     assert r.returncode == 0, r.stderr
     s = json.loads(r.stdout)
-    for key in ("fm_Hz", "harmonics", "rms", "separation_fraction", "backside_fraction", "steps", "wall_s"):
+    for key in ("fm_Hz", "harmonics", "mean", "ac_rms", "peak_to_peak", "separation_fraction", "backside_fraction",
+                "steps", "wall_s"):
         assert key in s
     assert s["fm_Hz"] == pytest.approx(600.0)
     for sig in ("F_m_N", "delta_um", "y_p_um"):
@@ -111,3 +112,22 @@ def test_sweep_grid_and_outputs(tmp_path):
     rows = (tmp_path / "sweep.csv").read_text().splitlines()
     assert len(rows) == 3 and rows[0].startswith("effects.bearing_clearance.clearance_um,separation_fraction")
     assert (tmp_path / "harmonics_F_m_N.png").exists()
+
+
+def test_summary_statistics_of_a_known_signal():
+    """Regression class: ``rms`` included the mean (y_p: rms 7.05 um, peak-to-peak 0.62 um). On
+    c + A sin(2 pi k t / T) sampled over whole periods: mean c, AC RMS A / sqrt(2), p-p 2 A
+    (sampled at the peaks)."""
+    import math
+
+    import numpy as np
+
+    from gearwear.dynamics.simulate import signal_stats
+
+    t = np.arange(400) / 400.0
+    x = 7.05 + 0.31 * np.sin(2 * math.pi * 4 * t)
+    s = signal_stats(x)
+    assert s["mean"] == pytest.approx(7.05, rel=1e-12)
+    assert s["ac_rms"] == pytest.approx(0.31 / math.sqrt(2), rel=1e-12)
+    assert s["p2p"] == pytest.approx(0.62, rel=1e-12)
+    assert set(s) == {"mean", "ac_rms", "p2p"}
