@@ -147,19 +147,19 @@ def load_map(scene: Scene, curves: list[stiffness_job.Curve], settings: Settings
     from gearwear.analytic.tvms import mesh_stiffness
 
     T = scene.operating.torque_Nm
+    flank = "nominal" if scene.flank is None else scene.flank.label()
     hm = stiffness_job.harris(curves, scene.pair, scene.flank)
     if hm is not None:
-        return {"method": "ishikawa", "torque_Nm": hm.torque_Nm.tolist(), "loads": len(hm.torque_Nm),
-                "scene_torque_Nm": T,
-                "ste_peak_to_peak_um": {"nominal flank": (hm.nominal_ste_pp_m * 1e6).tolist(),
-                                        f"modified flank ({scene.flank.label()})":
-                                            (hm.modified_ste_pp_m * 1e6).tolist()}}
-    torques = [f * T for f in settings.load_fractions]
-    pp = [float(np.ptp(mesh_stiffness(scene.pair, "ishikawa", settings.points, t, scene.clearance_m, scene.wear,
-                                      flank=scene.flank).ste_m)) * 1e6 for t in torques]
-    name = "nominal flank" if scene.flank is None else f"scene's flank ({scene.flank.label()})"
+        torques = hm.torque_Nm.tolist()
+        pp = {"nominal flank": (hm.nominal_ste_pp_m * 1e6).tolist(),
+              f"modified flank ({flank})": (hm.modified_ste_pp_m * 1e6).tolist()}
+    else:
+        torques = [f * T for f in settings.load_fractions]
+        pp = {"nominal flank" if scene.flank is None else f"scene's flank ({flank})":
+              [float(np.ptp(mesh_stiffness(scene.pair, "ishikawa", settings.points, t, scene.clearance_m, scene.wear,
+                                           flank=scene.flank).ste_m)) * 1e6 for t in torques]}
     return {"method": "ishikawa", "torque_Nm": torques, "loads": len(torques), "scene_torque_Nm": T,
-            "ste_peak_to_peak_um": {name: pp}}
+            "ste_peak_to_peak_um": pp}
 
 
 def compute(prep: Prepared, executor, step: Callable[[str], None] = lambda msg: None,
@@ -382,9 +382,15 @@ def markdown(doc: dict[str, Any]) -> str:
 
 # -- the figures -------------------------------------------------------------------------
 
-def _legend_outside(ax) -> None:
-    """The legend below the axes, off the data."""
+def _finish(fig, ax, xlabel: str, ylabel: str, title: str):
+    """Labels, a grid and the legend below the axes (off the data)."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title, fontsize=10)
+    ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2, frameon=False)
+    fig.tight_layout()
+    return fig
 
 
 def stiffness_figure(doc: dict[str, Any]):
@@ -398,13 +404,8 @@ def stiffness_figure(doc: dict[str, Any]):
         ax.plot(r["angle_deg"], np.asarray(r["k_N_per_m"]) / 1e8, color=col, ls=ls, marker=mk, ms=4,
                 lw=2.0 if r["method"] == "iso6336" else 1.3, zorder=3 if mk else 2,
                 label=f"{r['label']}, mean {r['mean_N_per_m']:.3e} N/m")
-    ax.set_xlabel("pinion angle from the entry of a tooth pair (deg), one mesh period")
-    ax.set_ylabel("mesh stiffness k_h (1e8 N/m)")
-    ax.set_title(f"Mesh stiffness at {doc['operating']['torque_Nm']:g} N m", fontsize=10)
-    ax.grid(alpha=0.3)
-    _legend_outside(ax)
-    fig.tight_layout()
-    return fig
+    return _finish(fig, ax, "pinion angle from the entry of a tooth pair (deg), one mesh period",
+                   "mesh stiffness k_h (1e8 N/m)", f"Mesh stiffness at {doc['operating']['torque_Nm']:g} N m")
 
 
 def load_figure(doc: dict[str, Any]):
@@ -415,14 +416,9 @@ def load_figure(doc: dict[str, Any]):
     for (name, pp), mk in zip(lm["ste_peak_to_peak_um"].items(), "os^"):
         ax.plot(lm["torque_Nm"], pp, marker=mk, ms=4, label=name)
     ax.axvline(lm["scene_torque_Nm"], color="grey", ls=":", label=f"scene torque {lm['scene_torque_Nm']:g} N m")
-    ax.set_xlabel("pinion torque (N m)")
-    ax.set_ylabel("loaded static TE peak-to-peak (um)")
-    ax.set_title("Loaded transmission error against load (Harris map, Ishikawa)", fontsize=10)
     ax.set_ylim(bottom=0)
-    ax.grid(alpha=0.3)
-    _legend_outside(ax)
-    fig.tight_layout()
-    return fig
+    return _finish(fig, ax, "pinion torque (N m)", "loaded static TE peak-to-peak (um)",
+                   "Loaded transmission error against load (Harris map, Ishikawa)")
 
 
 def kv_figure(doc: dict[str, Any]):
@@ -435,13 +431,8 @@ def kv_figure(doc: dict[str, Any]):
     ax.plot(ru["speeds_rpm"], iso["K_v"], ":", color="C3", lw=2.0, label="ISO 6336-1 method B")
     n = iso["n_E1_driver_rpm"]
     ax.axvline(n, color="C3", lw=0.8, ls="-.", label=f"ISO resonance n_E1 = {n:.0f} rpm (driver)")
-    ax.set_xlabel("driver (pinion) speed (rpm)")
-    ax.set_ylabel("dynamic factor K_v = max F_m / static F")
-    ax.set_title("Run-up: dynamic factor against speed", fontsize=10)
-    ax.grid(alpha=0.3)
-    _legend_outside(ax)
-    fig.tight_layout()
-    return fig
+    return _finish(fig, ax, "driver (pinion) speed (rpm)", "dynamic factor K_v = max F_m / static F",
+                   "Run-up: dynamic factor against speed")
 
 
 FIGURES = {"stiffness.png": stiffness_figure, "ste_load.png": load_figure, "kv.png": kv_figure}
