@@ -633,8 +633,7 @@ def _cmd_report_pair(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     settings = report_pair.SETTINGS
     prep = report_pair.prepare(scene, settings)
-    steps = ["geometry", *(report_pair.METHOD_LABELS[m].split(" (")[0] for m in report_pair.stiffness_job.METHODS),
-             "STE against load", "run-up", "figures"]
+    steps = [*report_pair.PARTS, "figures"]
     with tqdm(total=len(steps), desc="report pair", unit="part", file=sys.stderr) as bar, \
             sweep_job.make_executor(1) as executor:
         def step(name: str) -> None:

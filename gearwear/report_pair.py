@@ -40,6 +40,9 @@ from .sweep_job import Axis
 METHOD_LABELS = {"ishikawa": "Ishikawa (analytic)", "energy": "potential energy (analytic, Sainsot foundation)",
                  "iso6336": "ISO 6336-1 method B (one constant)", "fem": "pair FE (resolved contact of both bodies)"}
 REFERENCE = "fem"
+#: the parts :func:`compute` announces through its ``step`` callback, in order
+PARTS = ("geometry", *(METHOD_LABELS[m].split(" (")[0] for m in stiffness_job.METHODS), "STE against load",
+         "run-up")
 
 
 @dataclass(frozen=True)
@@ -132,7 +135,7 @@ def stiffness(scene: Scene, settings: Settings,
     torque, wear, clearance and flank; ISO 6336 is one constant of the nominal flank."""
     curves = []
     for method in stiffness_job.METHODS:
-        step(METHOD_LABELS[method].split(" (")[0])
+        step(PARTS[1 + stiffness_job.METHODS.index(method)])
         fem = method == "fem"
         curves += stiffness_job.compute(scene.pair, method, [scene.wear], [scene.clearance_m],
                                         scene.operating.torque_Nm, settings.fe_positions if fem else settings.points,
