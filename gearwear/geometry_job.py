@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from gearwear.geometry.flank import hpstc_diameters_m
+from gearwear.geometry.flank import hpstc_diameters_m, lpstc_diameters_m
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.operating import OperatingGeometry, centre_distance, operating_geometry
 from gearwear.geometry.profile import REGION_NAMES, ToothProfile, gear_outline
@@ -42,7 +42,9 @@ class GeometryResult:
         pair = self.scene.pair
         nominal = MeshGeometry(pair, pair.centre_distance_m)
         per_gear = []
-        hpstc = hpstc_diameters_m(og.mesh) if og.mesh.contact_ratio >= 1 else (math.nan, math.nan)
+        single = og.mesh.contact_ratio >= 1
+        hpstc = hpstc_diameters_m(og.mesh) if single else (math.nan, math.nan)
+        lpstc = lpstc_diameters_m(og.mesh) if single else (math.nan, math.nan)
         for i, g in enumerate(pair.gears):
             prof = self.nominal[i]
             # the reference circle may lie below the root (large shifts): then the ISO value
@@ -56,6 +58,7 @@ class GeometryResult:
                 "form_radius_mm": prof.form_radius_m * 1e3,
                 "start_of_active_profile_mm": og.mesh.start_of_active_profile_m[i] * 1e3,
                 "hpstc_diameter_mm": None if math.isnan(hpstc[i]) else hpstc[i] * 1e3,
+                "lpstc_diameter_mm": None if math.isnan(lpstc[i]) else lpstc[i] * 1e3,
                 "pitch_thickness_mm": s_pitch * 1e3,
                 "undercut": prof.undercut,
                 "max_wear_depth_um": float(self.worn[i].depth.max()) * 1e6,
@@ -70,6 +73,7 @@ class GeometryResult:
             "tip_radius_mm": p0["tip_radius_mm"], "root_radius_mm": p0["root_radius_mm"],
             "centre_distance_mm": og.centre_distance_m * 1e3,
             "nominal_centre_distance_mm": pair.centre_distance_m * 1e3,
+            "zero_backlash_centre_distance_mm": pair.zero_backlash_centre_distance_m * 1e3,
             "operating_pressure_angle_deg": math.degrees(og.pressure_angle_rad),
             "backlash_um": og.backlash_m * 1e6,
             "contact_line_length_mm": og.contact_line_length_m * 1e3,

@@ -53,6 +53,7 @@ OUTPUT_NAMES: dict[str, tuple[str, ...]] = {
     "sweep": ("sweep.csv", "sweep.csv.json", "harmonics_*.png"),
     "runup": ("runup.csv", "runup.csv.json", "runup_summary.json", "kv.png", "campbell_*.png"),
     "report paper": ("README.md", "fig[0-9][0-9]_*.png", "trends.json"),
+    "report pair": ("README.md", "report.json", "stiffness.png", "ste_load.png", "kv.png"),
     "diagnose": ("diagnosis.json", "features.csv", "features.csv.json", "corner.png", "features.png"),
     "diagnose plan": ("plan.json", "plan.csv", "plan.csv.json"),
 }

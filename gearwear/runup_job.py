@@ -31,6 +31,7 @@ m_red and the mesh stiffness do not depend on the order.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from concurrent.futures import FIRST_COMPLETED, Executor, wait
 from dataclasses import dataclass, field
@@ -80,6 +81,30 @@ class Point:
     iso: dict[str, Any]           # ISO 6336 K_v at ``speeds`` and its inputs
     eigenfrequencies_Hz: list[float]
     speeds: tuple                 # rpm, ascending
+    mean_stiffness_N_per_m: float = math.nan   # of the scene's mesh stiffness: ISO's c_gamma
+
+    def at_speeds(self, speeds_rpm) -> "Point":
+        """The same point (model, modes) at other driver speeds (rpm, ascending): only the
+        ISO 6336 curve depends on them."""
+        speeds = tuple(float(v) for v in speeds_rpm)
+        return dataclasses.replace(self, speeds=speeds, iso=iso_curve(self.scene, self.mean_stiffness_N_per_m,
+                                                                      self.model.m_e, speeds))
+
+
+def build_point(values: dict[str, Any], scene: Scene, speeds_rpm) -> Point:
+    """A parameter point: the scene's mesh stiffness and dynamic model (built once), its
+    linear modes and the ISO 6336 curve at the driver speeds ``speeds_rpm``."""
+    from gearwear.dynamics.model import linear_eigenfrequencies
+
+    from .simulate_job import build_model, stiffness_input
+
+    stiff = stiffness_input(scene)
+    model = build_model(scene, stiff)
+    solver: dict[str, Any] = {k: scene.solver[k] for k in ("method", "steps_per_mesh_period", "rtol", "atol")
+                              if k in scene.solver}
+    speeds = tuple(float(v) for v in speeds_rpm)
+    return Point(values, scene, model, solver, iso_curve(scene, stiff.mean_N_per_m, model.m_e, speeds),
+                 [float(f) for f in linear_eigenfrequencies(model)], speeds, stiff.mean_N_per_m)
 
 
 def split_speed_axis(axes: list[Axis]) -> tuple[Axis, list[Axis]]:
@@ -142,10 +167,6 @@ def plan(raw: dict[str, Any], name: str, speed: Axis, others: list[Axis], fixed:
          direction: str) -> tuple[list[Point], list[Chain]]:
     """Validate every (point, speed) scene before any work, build each point's stiffness
     and model once, and lay out the chains."""
-    from gearwear.dynamics.model import linear_eigenfrequencies
-
-    from .simulate_job import build_model, stiffness_input
-
     if direction not in DIRECTIONS:
         raise InputError(f"--direction = {direction!r}: must be one of {', '.join(DIRECTIONS)}")
     scenes = []
@@ -158,14 +179,7 @@ def plan(raw: dict[str, Any], name: str, speed: Axis, others: list[Axis], fixed:
         if not scene.operating.torque_Nm > 0:
             raise InputError("operating.torque_Nm = 0 N m: a run-up needs a load (K_v = max F_m / static F)")
         scenes.append((values, scene))
-    points: list[Point] = []
-    for values, scene in scenes:
-        stiff = stiffness_input(scene)
-        model = build_model(scene, stiff)
-        solver: dict[str, Any] = {k: scene.solver[k] for k in ("method", "steps_per_mesh_period", "rtol", "atol")
-                                  if k in scene.solver}
-        points.append(Point(values, scene, model, solver, iso_curve(scene, stiff.mean_N_per_m, model.m_e, speed.values),
-                            [float(f) for f in linear_eigenfrequencies(model)], speed.values))
+    points = [build_point(values, scene, speed.values) for values, scene in scenes]
     dirs = ("up", "down") if direction == "both" else (direction,)
     chains = [Chain(i, d, list(speed.values) if d == "up" else list(speed.values[::-1]))
               for i in range(len(points)) for d in dirs]

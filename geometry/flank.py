@@ -239,11 +239,18 @@ def hpstc_diameters_m(mesh: MeshGeometry) -> tuple[float, float]:
     return 2.0 * float(mesh.pinion_radius_at(dD)), 2.0 * float(mesh.gear_radius_at(dB))
 
 
+def lpstc_diameters_m(mesh: MeshGeometry) -> tuple[float, float]:
+    """Diameters (m) of the lowest point of single tooth contact (LPSTC) of the pinion
+    (at d_B = d_E - p_b) and of the gear (at d_D = d_A + p_b), contact ratio >= 1."""
+    dB, dD = mesh.single_contact_limits_m
+    return 2.0 * float(mesh.pinion_radius_at(dB)), 2.0 * float(mesh.gear_radius_at(dD))
+
+
 def is_nominal(flank: FlankSpec | None) -> bool:
     return flank is None or flank.is_nominal
 
 
 __all__ = ["Relief", "Deviation", "FlankSpec", "SHAPES", "MAX_RELIEF_M", "roll_length_m", "relief_depth_m",
            "deviation_depth_m", "modification_depth_m", "modification_on_line_of_action", "check_flank",
-           "flank_warnings", "hpstc_diameters_m", "is_nominal", "sap_radius_m"]
+           "flank_warnings", "hpstc_diameters_m", "lpstc_diameters_m", "is_nominal", "sap_radius_m"]
 
