@@ -27,6 +27,9 @@ from .schema import (DEFAULT_BEARING_DAMPING_RATIO, DEFAULT_MESH_DAMPING_RATIO, 
                      SceneDoc, WearDoc, resolved_method, validate_document)
 
 TABLE_MIN_ROWS = 8
+#: the other columns of the stiffness tables the tool writes (stiffness_job.curve_csv,
+#: tables.HEADER): accepted in a user table and not used
+TOOL_TABLE_COLUMNS = r"pairs_in_contact|ste_um|load_pair_\d+_N"
 
 
 @dataclass(frozen=True)
@@ -399,11 +402,12 @@ def scene_from_dict(data: Mapping[str, Any], name: str = "scene") -> Scene:
 
 
 def _read_csv(path: str | Path, key: str, required: tuple[str, ...], optional: tuple[str, ...] = (),
-              min_rows: int = 2, what: str = "table"):
+              min_rows: int = 2, what: str = "table", also: str | None = None):
     """(header, rows as a float array) of a small numeric CSV a scene refers to: the header
-    starts with the ``required`` columns, may add ``optional`` ones, '#' lines are
-    comments; at least ``min_rows`` complete rows of finite numbers. Problems are one-line
-    InputErrors under ``key``."""
+    starts with the ``required`` columns, may add ``optional`` ones and columns whose names
+    match the regular expression ``also`` (read, not used: the other columns of a file the
+    tool wrote itself), '#' lines are comments; at least ``min_rows`` complete rows of
+    finite numbers. Problems are one-line InputErrors under ``key``."""
     import csv
 
     import numpy as np
@@ -420,7 +424,9 @@ def _read_csv(path: str | Path, key: str, required: tuple[str, ...], optional: t
         raise fail(key, repr(str(p)), "", f"empty file; expected a header {want}")
     head = [c.strip() for c in rows[0]]
     allowed = required + optional
-    if head[:len(required)] != list(required) or any(c not in allowed for c in head) or len(set(head)) != len(head):
+    other = re.compile(also) if also else None
+    known = [c in allowed or (other is not None and other.fullmatch(c) is not None) for c in head]
+    if head[:len(required)] != list(required) or not all(known) or len(set(head)) != len(head):
         extra = f" with an optional {', '.join(optional)} column" if optional else ""
         raise fail(key, repr(str(p)), "", f"header {','.join(head)!r}: must be {','.join(required)}{extra}")
     try:
@@ -448,8 +454,9 @@ def read_stiffness_table(path: str | Path, z_pinion: int):
 
     key = "effects.mesh_stiffness.path"
     p = Path(path)
+    # the tool's own stiffness CSVs (gearwear stiffness, calibrate) read back as they are
     head, data = _read_csv(p, key, ("angle_deg", "k_N_per_m"), ("excitation_um",), TABLE_MIN_ROWS,
-                           "stiffness table")
+                           "stiffness table", also=TOOL_TABLE_COLUMNS)
     period = 360.0 / z_pinion
     ang, k = data[:, 0], data[:, 1]
     if ang[0] < 0 or ang[-1] >= period:
@@ -467,7 +474,7 @@ def read_stiffness_table(path: str | Path, z_pinion: int):
     if wrap > np.max(np.diff(ang)) * (1 + 1e-9):
         raise fail(key, repr(str(p)), "", f"the rows do not cover one mesh period ({period:g} deg): "
                    f"{ang[0]:g} to {ang[-1]:g} deg leaves a {wrap:g} deg gap")
-    e = data[:, 2] * 1e-6 if "excitation_um" in head else None
+    e = data[:, head.index("excitation_um")] * 1e-6 if "excitation_um" in head else None
     return np.radians(ang), k, e
 
 

@@ -552,10 +552,6 @@ def _given(model: BaseModel | None, key: str) -> bool:
     return model is not None and key in model.model_fields_set
 
 
-def wear_is_zero(w: WearDoc) -> bool:
-    return (w.phase == "unworn") or (w.max_depth_um == 0.0) or (w.hours == 0.0)
-
-
 def cross_check(doc: SceneDoc) -> None:
     """Every option that would be silently ignored, or that contradicts another, is an error."""
     e, b, s = doc.effects, doc.bodies, doc.solver
@@ -583,12 +579,8 @@ def cross_check(doc: SceneDoc) -> None:
         if src == "constant" and ms is not None and ms.value_N_per_m is not None and e.transmission_error is None:
             raise InputError("effects.wear: ignored with a constant mesh_stiffness.value_N_per_m and no "
                              "transmission_error (the wear would change nothing); drop one of them")
-    if e.transmission_error is not None and src != "table":
-        deviated = doc.flank is not None or (doc.faults is not None and doc.faults.spall is not None)
-        if (w is None or wear_is_zero(w)) and not deviated:
-            raise InputError("effects.transmission_error: there is no excitation on a nominal flank (it is the "
-                             "material removed along the path of contact: wear, [flank] modifications or a "
-                             "spall); add one of them or drop the effect")
+    # transmission_error on a nominal flank is accepted: a wear study needs its unworn baseline,
+    # and the nominal flank's excitation is not zero (the tip-corner contact outside the path)
     if e.centre_distance is not None and e.centre_distance.coupling == "static" and e.bearing_clearance is None:
         raise InputError('effects.centre_distance: coupling = "static" moves the centre distance by the bearing '
                          "clearance only; without [effects] bearing_clearance it is the nominal one. Add the "
@@ -708,7 +700,8 @@ CROSS_CHECKS = (
     "`wear`: exactly one of `phase`, `max_depth_um`, `hours`; `archard_k_m2_per_N` / `wear_intensity` "
     "only with `hours` and their model",
     '`wear` not with a user table, nor with a constant `value_N_per_m` and no `transmission_error`',
-    "`transmission_error` needs an excitation: wear with a depth > 0, or a table with `excitation_um`",
+    "`transmission_error` with a user table needs its `excitation_um` column (a nominal flank is "
+    "accepted: the unworn baseline of a wear study, whose excitation is the tip-corner contact)",
     '`centre_distance` with `coupling = "static"` needs `bearing_clearance`',
     "a damper is given as a ratio or as a coefficient, not both",
     "`material.density_kg_per_m3` not with both `bodies.mass_kg` and `bodies.inertia_kg_m2` (it would change "

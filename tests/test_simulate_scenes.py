@@ -131,3 +131,16 @@ def test_summary_statistics_of_a_known_signal():
     assert s["ac_rms"] == pytest.approx(0.31 / math.sqrt(2), rel=1e-12)
     assert s["p2p"] == pytest.approx(0.62, rel=1e-12)
     assert set(s) == {"mean", "ac_rms", "p2p"}
+
+
+def test_a_wear_study_includes_its_unworn_baseline():
+    """Round trip (issue 24): transmission_error with zero wear was refused ("no excitation on a
+    nominal flank"), so a wear study could not include its own baseline. It is accepted: zero
+    wear equals no wear effect bit for bit, and the nominal flank's excitation is not zero but
+    the tip-corner contact outside the path (analytic.tvms corner gaps), which the refusal hid."""
+    base = builtin_scene_dict("paper-default")
+    short = ["solver.duration_s=0.03", "solver.discard_s=0.02", "effects.transmission_error={}"]
+    zero = run(scene_from_dict(apply_overrides(base, short + ["effects.wear={max_depth_um=0}"])))
+    none = run(scene_from_dict(apply_overrides(base, short)))
+    assert np.array_equal(zero.result.signals["F_m"], none.result.signals["F_m"])
+    assert zero.model.te_excitation and np.any(zero.stiffness.e > 0)
