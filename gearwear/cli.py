@@ -184,32 +184,41 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
 
     from . import stiffness_job
 
-    if args.method not in stiffness_job.METHODS:
-        raise InputError(f"--method = {args.method!r}: must be one of {', '.join(stiffness_job.METHODS)}")
+    methods = list(dict.fromkeys(_split_multi(args.method)))  # several methods: overlaid
+    for m in methods:
+        if m not in stiffness_job.METHODS:
+            raise InputError(f"--method = {m!r}: must be one or more of {', '.join(stiffness_job.METHODS)}")
     scene, wears, clearances = _variants(args)
-    uses = "stiffness-fem" if args.method == "fem" else "stiffness"
+    uses = "stiffness-fem" if "fem" in methods else "stiffness"
     assumed = _assumed(scene, uses)
     torque = scene.operating.torque_Nm
-    if args.points is None:
-        args.points = "24" if args.method == "fem" else "360"  # FE: 24 positions take ~10 s
-    points = _int_arg("--points", args.points, 8, 1_000_000)
+    # default angles per method: the FE's 24 positions take ~10 s, the analytic 360 take ms
+    points = {m: _int_arg("--points", args.points if args.points is not None else "24" if m == "fem" else "360",
+                          8, 1_000_000) for m in methods}
     out = _check_out(args.out, "stiffness")
-    # with a fault the FE curve spans one revolution of the faulty gear
-    rows = points * revolution_periods(scene.pair, scene.faults) if args.method == "fem" else points
-    fields = [_int_arg("--fields", f, 0, rows - 1) for f in _split_multi(args.fields)]
-    if fields and (args.method != "fem" or not args.out):
-        raise InputError(f"--fields = {','.join(map(str, fields))}: needs --method fem and --out")
-    with tqdm(desc="pair FE positions", unit="position", disable=args.json or args.method != "fem" or None,
+    fields = []
+    if args.fields:
+        if methods != ["fem"] or not args.out:
+            raise InputError(f"--fields = {','.join(_split_multi(args.fields))}: needs --method fem (alone) and --out")
+        # with a fault the FE curve spans one revolution of the faulty gear
+        rows = points["fem"] * revolution_periods(scene.pair, scene.faults)
+        fields = [_int_arg("--fields", f, 0, rows - 1) for f in _split_multi(args.fields)]
+    for m in methods:
+        stiffness_job.check_method(m, scene.flank, scene.faults)  # every method refused before any work
+    curves = []
+    with tqdm(desc="pair FE positions", unit="position", disable=args.json or "fem" not in methods or None,
               file=sys.stderr) as bar:
         def progress(done: int, total: int) -> None:  # only the pair FE reports progress
             bar.total = total
             bar.n = done
             bar.refresh()
-        curves = stiffness_job.compute(scene.pair, args.method, wears, clearances, torque, points, scene.flank,
-                                       scene.faults, progress=progress)
+        for m in methods:
+            curves += stiffness_job.compute(scene.pair, m, wears, clearances, torque, points[m], scene.flank,
+                                            scene.faults, **({"progress": progress} if m == "fem" else {}))
     harris = stiffness_job.harris(curves, scene.pair, scene.flank)
-    inputs = {**io.scene_inputs(scene), "pair": _pair_inputs(scene), "method": args.method, "torque_Nm": torque,
-              "points": points}
+    inputs = {**io.scene_inputs(scene), "pair": _pair_inputs(scene),
+              "method": methods[0] if len(methods) == 1 else methods, "torque_Nm": torque,
+              "points": points[methods[0]] if len(methods) == 1 else points}
 
     def write_stiffness(folder: Path) -> list[Path]:
         written = stiffness_job.write(curves, folder, inputs, io.scene_labels(scene), harris, assumed)
@@ -761,7 +770,8 @@ SCHEDULER_HELP = ("run on Dask instead of local processes: local[:N] starts a Lo
                   "scheduler; needs the optional extra gearwear[dask]")
 
 SET_HELP = ("override a scene key by its dotted path, e.g. --set operating.speed_rpm=6000 "
-            "--set effects.backlash.initial_um=50 (repeatable; validated like the file; see gearwear scene --schema)")
+            "--set effects.backlash.initial_um=50; KEY=none removes a key or an effect, e.g. "
+            "--set effects.backlash=none (repeatable; validated like the file; see gearwear scene --schema)")
 
 
 def _scene_options(sp: argparse.ArgumentParser, default: str, multi: bool = False,
@@ -820,10 +830,10 @@ def build_parser() -> argparse.ArgumentParser:
                                     "Several --wear or --clearance-um values overlay the curves (paper Figs. 6, "
                                     "16, 17).")
     _scene_options(st, "paper-default", multi=True)
-    st.add_argument("--method", default="ishikawa", help="ishikawa (paper Eqs. 2-6, default) | energy "
-                                                         "(potential energy + Sainsot foundation) | iso6336 | fem "
-                                                         "(resolved FE contact of both gear bodies, ~10 s)")
-    st.add_argument("--points", help="angles per mesh period (>= 8; default 360, 24 for fem)")
+    st.add_argument("--method", nargs="+", default=["ishikawa"],
+                    help="one or more (overlaid): ishikawa (paper Eqs. 2-6, default) | energy (potential energy + "
+                         "Sainsot foundation) | iso6336 | fem (resolved FE contact of both gear bodies, ~10 s)")
+    st.add_argument("--points", help="angles per mesh period for every method (>= 8; default 360, 24 for fem)")
     st.add_argument("--out", help="output folder for CSV, JSON sidecars and PNGs")
     st.add_argument("--fields", nargs="+", help="with --method fem: position indices (0 .. points-1, over the "
                                                 "revolution with a fault) whose displacement and stress fields "

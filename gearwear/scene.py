@@ -522,16 +522,36 @@ def apply_overrides(data: dict[str, Any], overrides: list[str]) -> dict[str, Any
     """Apply ``--set key.path=value`` overrides to a raw scene document (a copy).
 
     The value is read as a TOML value (numbers, strings in quotes, arrays, booleans,
-    inline tables); a bare word is taken as a string. The result is validated like a
-    file, so a bad override gets the same one-line error."""
+    inline tables); a bare word is taken as a string. The bare word ``none`` removes the key
+    (``--set effects.backlash=none`` drops the effect; a removed key takes its default). The
+    result is validated like a file, so a bad override gets the same one-line error."""
     import copy
     out = copy.deepcopy(data)
     for item in overrides or []:
         if "=" not in item:
             raise InputError(f"--set {item!r}: must be KEY=VALUE with a dotted key, e.g. operating.speed_rpm=6000")
         key, text = item.split("=", 1)
-        set_key(out, key.strip(), parse_value(text.strip()))
+        if text.strip() == REMOVE:
+            remove_key(out, key.strip())
+        else:
+            set_key(out, key.strip(), parse_value(text.strip()))
     return out
+
+
+#: the --set value that removes a key
+REMOVE = "none"
+
+
+def remove_key(data: dict[str, Any], key: str) -> None:
+    """Remove a dotted key from a raw document (absent already: nothing to do, it is absent)."""
+    *path, last = key.split(".")
+    node: Any = data
+    for part in path:
+        node = node.get(part) if isinstance(node, dict) else None
+        if node is None:
+            return
+    if isinstance(node, dict):
+        node.pop(last, None)
 
 
 def set_key(data: dict[str, Any], key: str, value: Any) -> None:

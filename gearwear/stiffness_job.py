@@ -214,12 +214,17 @@ def figures(curves: list[Curve]):
     from .plotting import subplots
 
     figs = {}
+    methods = list(dict.fromkeys(c.method for c in curves))
+
+    def name(c: Curve) -> str:  # the method too when several are overlaid
+        return c.label if len(methods) == 1 else f"{c.method}: {c.label}"
+
     fig, (ax, ax2) = subplots(2, 1, figsize=(9, 7), sharex=True)
     for c in curves:
         r = c.result
         ang = np.degrees(r.angle_rad)
-        ax.plot(ang, r.k_N_per_m / 1e8, label=c.label)
-        ax2.plot(ang, r.ste_m * 1e6, label=c.label)
+        ax.plot(ang, r.k_N_per_m / 1e8, label=name(c))
+        ax2.plot(ang, r.ste_m * 1e6, label=name(c))
     ax.set_ylabel("mesh stiffness k_h (1e8 N/m)")
     ax2.set_ylabel("loaded static TE (um)")
     ax2.set_xlabel("pinion angle from entry of a pair at A (deg), one mesh period")
@@ -235,7 +240,7 @@ def figures(curves: list[Curve]):
                 for a in (ax, ax2):
                     a.axvspan(ang[i0], ang[i1 - 1], color="red", alpha=0.12,
                               label="faulty tooth in contact" if k == 0 and a is ax else None)
-    ax.set_title(f"Time-varying mesh stiffness ({curves[0].method}), T = {m0.torque_Nm:g} N m, "
+    ax.set_title(f"Time-varying mesh stiffness ({', '.join(methods)}), T = {m0.torque_Nm:g} N m, "
                  f"b = {m0.pair.face_width_m * 1e3:g} mm")
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
@@ -245,8 +250,12 @@ def figures(curves: list[Curve]):
     clearances = sorted({c.clearance_m for c in curves})
     if len(clearances) > 1:
         fig2, axs = subplots(1, 3, figsize=(13, 4))
-        for wl in sorted({c.wear.label if c.wear else "unworn" for c in curves}):
-            sel = [c for c in curves if (c.wear.label if c.wear else "unworn") == wl]
+        def group(c: Curve) -> str:
+            w = c.wear.label if c.wear else "unworn"
+            return w if len(methods) == 1 else f"{c.method}, {w}"
+
+        for wl in sorted({group(c) for c in curves}):
+            sel = [c for c in curves if group(c) == wl]
             sel.sort(key=lambda c: c.clearance_m)
             x = [c.clearance_m * 1e6 for c in sel]
             zs = [c.result.zone_means() for c in sel]

@@ -138,3 +138,28 @@ def test_every_command_takes_a_built_in_name_and_set(command):
     r = cli(command, "paper-wear-mild", "--set", "operating.speed_rpm=-1")
     assert r.returncode == 2
     assert r.stderr.strip() == "gearwear: error: operating.speed_rpm = -1 rpm: must be in (0, 1e+06] rpm"
+
+
+def test_set_none_removes_an_effect_or_a_key():
+    """Round trip (issue 24): there was no way to remove an effect with --set."""
+    from gearwear.scene import apply_overrides
+
+    base = builtin_scene_dict("paper-wear-severe")
+    sc = scene_from_dict(apply_overrides(base, ["effects.backlash=none", "effects.bearing_clearance=none",
+                                                "effects.centre_distance=none"]))
+    assert set(sc.effects) == {"mesh_stiffness", "wear"}
+    sc = scene_from_dict(apply_overrides(base, ["bodies.inertia_kg_m2=none"]))
+    assert sc.bodies.inertia_from == "blank radius of gyration"   # the key took its default
+    assert scene_from_dict(apply_overrides(base, ["effects.no_such_effect=none"])).effects == \
+        scene_from_dict(base).effects                               # removing what is absent changes nothing
+    r = cli("scene", "paper-wear-severe", "--set", "effects.backlash=none", "--json")
+    assert r.returncode == 0 and "backlash" not in json.loads(r.stdout)["effects"]
+
+
+def test_stiffness_overlays_several_methods(tmp_path):
+    r = cli("stiffness", "paper-default", "--method", "ishikawa", "energy", "iso6336", "--points", "32", "--json")
+    assert r.returncode == 0, r.stderr
+    doc = json.loads(r.stdout)
+    assert [c["method"] for c in doc["curves"]] == ["ishikawa", "energy", "iso6336"]
+    r = cli("stiffness", "paper-default", "--method", "ishikawa,nope")
+    assert r.returncode == 2 and "--method = 'nope'" in r.stderr
