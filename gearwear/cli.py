@@ -96,13 +96,15 @@ def _cmd_geometry(args: argparse.Namespace) -> int:
     torque, clearance_um, wear = scene.operating.torque_Nm, round(scene.clearance_m * 1e6, 9), scene.wear
     mesh_size = _bounded_float("--mesh-size-mm", args.mesh_size_mm, "mm", *MESH_SIZE_RANGE_MM)
     out = _check_out(args.out, "geometry")
-    res = geometry_job.compute(scene, wear, clearance_um * 1e-6, torque, build_mesh=not args.no_mesh,
+    # the mesh is a file (pinion_mesh.vtu): built only when the folder is written, not for the table
+    build_mesh = out is not None and not args.no_mesh
+    res = geometry_job.compute(scene, wear, clearance_um * 1e-6, torque, build_mesh=build_mesh,
                                mesh_size_mm=mesh_size)
     inputs = {**io.scene_inputs(scene), "pair": _pair_inputs(scene), "wear": wear.label if wear else "unworn",
               "wear_spec": _wear_dict(wear), "clearance_um": clearance_um, "torque_Nm": torque,
               "bearing_stiffness_N_per_m": scene.bodies.bearing_stiffness_N_per_m,
               "bodies": {"mass_kg": list(scene.bodies.mass_kg), "inertia_kg_m2": list(scene.bodies.inertia_kg_m2)},
-              "initial_backlash_um": scene.initial_backlash_m * 1e6, "mesh": not args.no_mesh,
+              "initial_backlash_um": scene.initial_backlash_m * 1e6, "mesh": build_mesh,
               "mesh_size_mm": mesh_size}
     files = _write(out, "geometry", scene, inputs,
                    lambda d: geometry_job.write(res, d, inputs, io.scene_labels(scene)),
@@ -819,7 +821,8 @@ def build_parser() -> argparse.ArgumentParser:
     _scene_options(g, "paper-default")
     g.add_argument("--mesh-size-mm", default="2.5", help="global element size of the pinion mesh, in [0.25, 10] mm "
                    "(default 2.5); fillets 0.4 mm, load point 0.2 mm")
-    g.add_argument("--no-mesh", action="store_true", help="skip the Gmsh mesh")
+    g.add_argument("--no-mesh", action="store_true", help="with --out: skip the Gmsh mesh (without --out none is "
+                                                          "built: the table needs none)")
     g.add_argument("--out", help="output folder for profile.csv, tooth.png, pinion_mesh.vtu, summary.json")
     g.add_argument("--json", action="store_true", help="print one JSON object instead of the table")
     g.set_defaults(func=_cmd_geometry)

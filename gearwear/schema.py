@@ -688,6 +688,11 @@ def reference_markdown() -> str:
                 lines += _key_table(emodel) if emodel.model_fields else ["No options: `" + ename + " = {}`.", ""]
             continue
         lines += _key_table(model)
+        for sname, sinfo in model.model_fields.items():  # sub-tables: [flank.tip_relief], [faults.crack], ...
+            smodel = _model_in(sinfo.annotation)
+            if smodel is not None:
+                lines += [f"### [{name}.{sname}]", "", inspect.cleandoc(smodel.__doc__ or ""), ""]
+                lines += _key_table(smodel)
     lines += ["## Checks across keys", "", (cross_check.__doc__ or "").strip() + " The checks:", ""]
     lines += [f"- {c}" for c in CROSS_CHECKS] + [""]
     return "\n".join(lines)
@@ -716,13 +721,22 @@ def _key_table(model: type[BaseModel]) -> list[str]:
     for key, info in model.model_fields.items():
         extra = info.json_schema_extra if isinstance(info.json_schema_extra, dict) else {}
         names = _literal_names(info.annotation)
+        sub = _model_in(info.annotation)
         kind = ("one of " + ", ".join(f"`{n}`" for n in names) if names
-                else "per gear" if extra.get("per_gear") else _type_name(info.annotation))
+                else "per gear" if extra.get("per_gear")
+                else f"table, see [{model_table_name(model, key)}] below" if sub is not None
+                else _type_name(info.annotation))
         default = info.get_default(call_default_factory=True)
         shown = "absent" if default is None else f"`{to_toml({'v': default}).split(' = ', 1)[1].strip()}`"
         rows.append(f"| `{key}` | {kind} | {extra.get('unit', '') or ''} | {extra.get('range', '')} | {shown} | "
                     f"{(info.description or '').replace('|', '/')} |")
     return rows + [""]
+
+
+def model_table_name(model: type[BaseModel], key: str) -> str:
+    """The dotted name of sub-table ``key`` of ``model`` as a scene writes it (flank.tip_relief)."""
+    parent = next((n for n, i in SceneDoc.model_fields.items() if _model_in(i.annotation) is model), "")
+    return f"{parent}.{key}" if parent else key
 
 
 def _type_name(annotation: Any) -> str:

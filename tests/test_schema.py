@@ -163,3 +163,12 @@ def test_stiffness_overlays_several_methods(tmp_path):
     assert [c["method"] for c in doc["curves"]] == ["ishikawa", "energy", "iso6336"]
     r = cli("stiffness", "paper-default", "--method", "ishikawa,nope")
     assert r.returncode == 2 and "--method = 'nope'" in r.stderr
+
+
+def test_the_reference_names_keys_not_python_classes():
+    """Regression (issue 24): the [flank] and [faults] sub-tables showed as
+    `gearwear.schema.ReliefDoc | None`. Every sub-table is a section of its own keys."""
+    text = reference_markdown()
+    assert "gearwear.schema" not in text and "Doc |" not in text and "Doc " not in text
+    for table in ("flank.tip_relief", "flank.root_relief", "faults.crack", "faults.spall", "blank.pinion"):
+        assert f"### [{table}]" in text
