@@ -211,6 +211,29 @@ def _periodic_with(x: np.ndarray, S: int, M: int, max_p: int = 8, tol: float = 1
     return 0
 
 
+def periodicity_mismatch(x: np.ndarray, S: int, max_p: int = 8, table_periods: int = 1) -> tuple[int, float]:
+    """(p, m): the period p in L, 2L, ..., max_p L mesh periods (L = ``table_periods``) that
+    repeats best over the end of the window, and its mismatch m = max |x(t + p T_m) - x(t)| /
+    range(x) over the last max(p, 2) mesh periods (0: exactly periodic; about 1: no period).
+    (0, inf) when the window is shorter than 2 L + 2 mesh periods. ``S``: samples per mesh
+    period."""
+    L = int(table_periods)
+    rng = float(np.ptp(x)) if x.size else 0.0
+    if rng == 0.0:
+        return L, 0.0
+    found: list[tuple[int, float]] = []
+    for p in range(L, L * max_p + 1, L):
+        span = max(p, 2) * S
+        if (p + max(p, 2)) * S > x.size:
+            break
+        found.append((p, float(np.max(np.abs(x[-span:] - x[-span - p * S:-p * S]))) / rng))
+    if not found:
+        return 0, math.inf
+    # the smallest period that repeats as well as the best one (multiples of it repeat too)
+    m_min = min(m for _, m in found)
+    return next((p, m) for p, m in found if m <= max(2.0 * m_min, 1e-12))
+
+
 def round_to_table_periods(model: GearDynamics, duration_s: float, discard_s: float = 0.0,
                            min_table_periods: int = 1) -> float:
     """A duration for which ``simulate(model, duration, discard_s)`` keeps a whole number

@@ -134,7 +134,8 @@ def print_summary(s: dict[str, Any]) -> None:
     if a is not None:
         def num(v, fmt):
             return "n/a" if v is None else format(v, fmt)
-        print(f"indicators (a_delta, {ci['revolutions']} revolutions at f_shaft = {ci['shaft_frequency_Hz']:.4g} Hz): "
+        print(f"indicators (a_delta, {ci['revolutions']} revolutions at f_shaft = {ci['shaft_frequency_Hz']:.4g} Hz, "
+              f"{'periodic' if ci.get('periodic') else 'NOT periodic: see the warning'}): "
               f"rms {num(a['ac_rms'], '.4g')} m/s^2, kurtosis {num(a['kurtosis'], '.3f')}, crest "
               f"{num(a['crest_factor'], '.3f')}, FM0 {num(a['FM0'], '.3f')}, FM4 {num(a['FM4'], '.3f')}, "
               f"sidebands {num(a['sideband_ratio_dB'], '.1f')} dB")

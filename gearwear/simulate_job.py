@@ -195,6 +195,9 @@ class SimulationRun:
             mean[key] = st["mean"] * scale
             ac_rms[key] = st["ac_rms"] * scale
             p2p[key] = st["p2p"] * scale
+        ci = condition_indicators(self.scene, r)
+        # the indicators assume a periodic response: say so where it is not
+        ci_warn = [f"condition indicators: {ci['periodicity']}"] if ci.get("periodic") is False else []
         return {"scene": self.scene.name, "fm_Hz": r.fm_Hz, "harmonics": harm, "mean": mean, "ac_rms": ac_rms,
                 "peak_to_peak": p2p,
                 "separation_fraction": r.separation_fraction, "backside_fraction": r.backside_fraction,
@@ -209,12 +212,12 @@ class SimulationRun:
                 "mean_mesh_stiffness_N_per_m": self.stiffness.mean_N_per_m,
                 "effects": sorted(self.scene.effects), "duration_s": self.solver["duration_s"],
                 "stiffness_table_mesh_periods": self.stiffness.periods,
-                "condition_indicators": condition_indicators(self.scene, r),
+                "condition_indicators": ci,
                 **({"flank": self.scene.flank.label()} if self.scene.flank is not None else {}),
                 **({"faults": self.scene.faults.label()} if self.scene.faults is not None else {}),
                 **contact_notes(self.scene, r),
                 "assumptions": as_dicts(for_command(self.scene, "simulate")),
-                **operating_notes(self.scene, contact_warnings(self.scene, r))}
+                **operating_notes(self.scene, contact_warnings(self.scene, r) + ci_warn)}
 
 
 #: why a model without a backlash dead zone reports no separation fraction
@@ -293,10 +296,34 @@ def condition_indicators(scene: Scene, result) -> dict[str, Any]:
                             f"({z} mesh periods); lengthen solver.duration_s"}
     n = revs * z * S
     acc = acceleration_signals(result)
-    out: dict[str, Any] = {"shaft_frequency_Hz": f_shaft, "revolutions": revs}
+    out: dict[str, Any] = {"shaft_frequency_Hz": f_shaft, "revolutions": revs, **periodicity_verdict(result)}
     for name, key in INDICATOR_SIGNALS.items():
         out[key] = gear_indicators(acc[name][-n:], result.fs_Hz, result.fm_Hz, f_shaft, unit="m/s^2").to_dict()
     return out
+
+
+#: the largest period-to-period mismatch (relative to the range of delta) for which the response
+#: counts as periodic: the indicators are stated to 3 digits
+PERIODIC_MISMATCH = 1e-3
+
+
+def periodicity_verdict(result) -> dict[str, Any]:
+    """Whether the kept window is a periodic steady response, which the condition indicators
+    assume: a tooth fault shows as a change from revolution to revolution of a periodic
+    response, while a quasi-periodic or chaotic healthy pair has kurtosis, crest factor and
+    sidebands of its own (dynamics.simulate.periodicity_mismatch on delta)."""
+    from gearwear.dynamics.simulate import periodicity_mismatch
+
+    S = int(round(result.fs_Hz / result.fm_Hz))
+    p, m = periodicity_mismatch(result.signals["delta"], S, table_periods=result.table_periods)
+    periodic = m <= PERIODIC_MISMATCH
+    verdict = (f"periodic with {p} mesh period{'s' if p > 1 else ''} (period-to-period mismatch "
+               f"{m:.1e} of the range)" if periodic else
+               f"not periodic over the kept window (best period {p} mesh periods repeats to only {m:.2g} of the "
+               "range): kurtosis, crest factor, FM4 and the sidebands measure the quasi-periodic or chaotic "
+               "response itself, not a tooth fault; check the steady state (gearwear runup) or lengthen "
+               "solver.duration_s")
+    return {"periodic": periodic, "periodic_mismatch": m if math.isfinite(m) else None, "periodicity": verdict}
 
 
 def run(scene: Scene, on_compile=None) -> SimulationRun:

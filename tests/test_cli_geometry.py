@@ -115,3 +115,12 @@ def test_same_inputs_give_the_same_bytes(tmp_path):
     for name in ("stiffness_ishikawa_mild_clearance0um.csv", "stiffness_ishikawa_mild_clearance0um.csv.json",
                  "stiffness.png"):
         assert (tmp_path / "r1" / name).read_bytes() == (tmp_path / "r2" / name).read_bytes(), name
+
+
+def test_the_table_builds_no_mesh():
+    """Issue 24: `gearwear geometry` built a 47k-triangle mesh (3.3 s) just to print its table; the
+    mesh is a file, built only when --out writes the folder."""
+    import json as _json
+
+    r = run("geometry", "--json")
+    assert r.returncode == 0 and "mesh" not in _json.loads(r.stdout)
