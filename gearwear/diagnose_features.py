@@ -122,18 +122,20 @@ def _number(path: Path, row: int, col: str, text: str) -> float:
     return v
 
 
+#: the largest measurement file read (bytes): 1e6 samples of five signals is ~60 MB
+MEASUREMENT_LIMIT_BYTES = 256 << 20
+
+
 def read_measurement(path: str | Path, fm_Hz: float, harmonics: int) -> Measurement:
     """Read a time-series or harmonic-table CSV (see the module docstring) into features.
     ``harmonics``: the largest harmonic the diagnosis uses (the scene's output.harmonics)."""
+    from gearwear.core.inputs import read_input_text
+
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise _bad(p, None, None, "no such file") from None
-    except IsADirectoryError:
-        raise _bad(p, None, None, "is a folder, not a CSV file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise _bad(p, None, None, f"cannot be read ({type(exc).__name__})") from None
+    try:  # once, bounded, a regular file only (a FIFO or /dev/zero is refused, not waited on)
+        text = read_input_text(p, "--measured", "file", MEASUREMENT_LIMIT_BYTES)
+    except InputError as exc:
+        raise _bad(p, None, None, str(exc).split(": ", 1)[1]) from None
     rows = list(csv.reader(line for line in text.splitlines() if line.strip() and not line.startswith("#")))
     if not rows:
         raise _bad(p, None, None, "is empty; give a time series (time_s, " + ", ".join(SIGNALS)

@@ -135,6 +135,13 @@ def input_hash(inputs: Any) -> str:
 
 
 def file_sha256(path: str | Path) -> str:
+    """SHA-256 of an input file: of the bytes it was parsed from when it was read through
+    core.inputs.read_input (one read: what is hashed is what was used), else of the file."""
+    from gearwear.core.inputs import recorded_sha256
+
+    known = recorded_sha256(path)
+    if known is not None:
+        return known
     h = hashlib.sha256()
     with open(path, "rb") as fh:
         for block in iter(lambda: fh.read(1 << 20), b""):

@@ -9,6 +9,7 @@ overrides) and resolves a validated document into the SI specs the layers below 
 from __future__ import annotations
 
 import math
+import os
 import re
 import tomllib
 from dataclasses import dataclass, field, replace
@@ -412,12 +413,10 @@ def _read_csv(path: str | Path, key: str, required: tuple[str, ...], optional: t
 
     import numpy as np
 
+    from gearwear.core.inputs import read_input_text
+
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        why = exc.strerror if isinstance(exc, OSError) and exc.strerror else type(exc).__name__
-        raise fail(key, repr(str(p)), "", f"cannot read the {what} ({why})") from None
+    text = read_input_text(p, key, what, TABLE_LIMIT_BYTES)
     rows = [r for r in csv.reader(text.splitlines()) if r and not r[0].lstrip().startswith("#")]
     want = ",".join(required) + "".join(f"[,{c}]" for c in optional)
     if not rows:
@@ -566,19 +565,26 @@ def set_key(data: dict[str, Any], key: str, value: Any) -> None:
     node[parts[-1]] = value
 
 
+#: the largest scene file read (bytes): a scene is a few kB; more is not a scene
+SCENE_LIMIT_BYTES = 1 << 20
+#: the largest CSV a scene refers to (bytes): a 1e6-row stiffness table is ~40 MB
+TABLE_LIMIT_BYTES = 64 << 20
+
+
 def load_toml(path: str | Path) -> dict[str, Any]:
-    """Read a TOML file, turning I/O and syntax problems into one-line InputErrors."""
+    """Read a TOML file (once, bounded, a regular file only: core.inputs.read_input),
+    turning I/O and syntax problems into one-line InputErrors."""
+    from gearwear.core.inputs import read_input
+
     p = Path(path)
-    try:
-        with p.open("rb") as fh:
-            return tomllib.load(fh)
-    except FileNotFoundError:
+    if not os.path.lexists(p):
         raise InputError(f"{p}: no such scene file, and not a built-in scene "
-                         f"(built-in: {', '.join(builtin_scene_names())})") from None
-    except IsADirectoryError:
-        raise InputError(f"{p}: is a folder, not a scene file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"{p}: cannot read ({type(exc).__name__})") from None
+                         f"(built-in: {', '.join(builtin_scene_names())})")
+    data = read_input(p, "scene", "scene file", SCENE_LIMIT_BYTES)
+    try:
+        return tomllib.loads(data.decode("utf-8"))
+    except UnicodeDecodeError as exc:
+        raise InputError(f"{p}: cannot read (not UTF-8 text: {type(exc).__name__})") from None
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{p}: not valid TOML ({exc})") from None
 
