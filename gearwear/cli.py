@@ -35,14 +35,15 @@ def _bounded_float(name: str, text: str, unit: str, lo: float, hi: float) -> flo
     return v
 
 
-def _alias_sets(args: argparse.Namespace) -> list[str]:
-    """The single-valued short flags as the --set overrides they stand for."""
+def _alias_sets(args: argparse.Namespace, skip: tuple[str, ...] = ()) -> list[str]:
+    """The single-valued short flags as the --set overrides they stand for (``skip``: flags
+    whose value the caller sets itself, one variant at a time)."""
     sets = []
     if getattr(args, "torque_Nm", None) is not None:
         sets.append(f"operating.torque_Nm={args.torque_Nm}")
     for flag, make in (("wear", wear_override), ("clearance_um", _clearance_set)):
         values = _split_multi(getattr(args, flag, None))
-        if len(values) == 1:
+        if len(values) == 1 and flag not in skip:
             sets.append(make(values[0]))
     return sets + list(args.set or [])
 
@@ -57,7 +58,7 @@ ALIAS_KEYS = {"torque_Nm": ("operating.torque_Nm", "--torque-Nm"),
 
 
 def _load(args: argparse.Namespace, default: str = "paper-default", extra: list[str] | None = None,
-          loaded: bool = True) -> "Scene":
+          loaded: bool = True, skip: tuple[str, ...] = ()) -> "Scene":
     """The command's scene: file or built-in name, short-flag aliases, then --set. A bad
     value given through a short flag is reported under the flag's name. ``loaded``: the
     command computes load sharing, so the torque must be > 0."""
@@ -65,7 +66,7 @@ def _load(args: argparse.Namespace, default: str = "paper-default", extra: list[
 
     data, name = load_scene_dict(args.scene, default=default)
     try:
-        scene = scene_from_dict(apply_overrides(data, _alias_sets(args) + list(extra or [])), name=name)
+        scene = scene_from_dict(apply_overrides(data, _alias_sets(args, skip) + list(extra or [])), name=name)
         if loaded and not scene.operating.torque_Nm > 0:
             raise fail("operating.torque_Nm", scene.operating.torque_Nm, "N m",
                        "must be in (0, 1e+07] N m: the load sharing of the mesh stiffness needs a load")
@@ -82,9 +83,9 @@ def _variants(args: argparse.Namespace) -> "tuple[Scene, list, list[float]]":
     """(scene, wear specs, clearances in m) for commands that overlay several --wear and
     --clearance-um values: each value is the scene with that alias applied."""
     scene = _load(args)
-    wears = [_load(args, extra=[wear_override(w)]).wear for w in _split_multi(getattr(args, "wear", None))] \
-        or [scene.wear]
-    clear = [_load(args, extra=[_clearance_set(c)]).clearance_m
+    wears = [_load(args, extra=[wear_override(w)], skip=("wear",)).wear
+             for w in _split_multi(getattr(args, "wear", None))] or [scene.wear]
+    clear = [_load(args, extra=[_clearance_set(c)], skip=("clearance_um",)).clearance_m
              for c in _split_multi(getattr(args, "clearance_um", None))]
     return scene, wears, clear or [scene.clearance_m]
 

@@ -526,9 +526,8 @@ def apply_overrides(data: dict[str, Any], overrides: list[str]) -> dict[str, Any
     result is validated like a file, so a bad override gets the same one-line error."""
     import copy
     out = copy.deepcopy(data)
+    check_sets(overrides or [])
     for item in overrides or []:
-        if "=" not in item:
-            raise InputError(f"--set {item!r}: must be KEY=VALUE with a dotted key, e.g. operating.speed_rpm=6000")
         key, text = item.split("=", 1)
         if text.strip() == REMOVE:
             remove_key(out, key.strip())
@@ -539,6 +538,24 @@ def apply_overrides(data: dict[str, Any], overrides: list[str]) -> dict[str, Any
 
 #: the --set value that removes a key
 REMOVE = "none"
+
+
+def check_sets(items: list[str]) -> None:
+    """Each --set is one KEY=VALUE on one line (a newline would let a value inject TOML tables
+    or keys), and each key is set once (which of two values wins would be a guess): one-line
+    InputErrors otherwise. The short flags (--torque-Nm, --wear, ...) count as the keys they set."""
+    seen: dict[str, str] = {}
+    for item in items:
+        if "=" not in item:
+            raise InputError(f"--set {item!r}: must be KEY=VALUE with a dotted key, e.g. operating.speed_rpm=6000")
+        if "\n" in item or "\r" in item:
+            raise InputError(f"--set {item.splitlines()[0]!r}...: a value is one line (a newline could inject TOML "
+                             "tables); give one KEY=VALUE per --set")
+        key, value = (x.strip() for x in item.split("=", 1))
+        if key in seen:
+            raise InputError(f"--set {key}: given twice ({seen[key]!r} and {value!r}); give each key once "
+                             "(a short flag such as --torque-Nm sets its key too)")
+        seen[key] = value
 
 
 def remove_key(data: dict[str, Any], key: str) -> None:

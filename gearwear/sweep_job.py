@@ -57,6 +57,9 @@ def parse_axis(item: str) -> Axis:
 def split_sets(items: list[str]) -> tuple[list[Axis], list[str]]:
     """--set items as swept axes (KEY=START:STOP:N, KEY=a,b,c) and fixed overrides (the rest,
     and any value that is a TOML array, table or string)."""
+    from .scene import check_sets
+
+    check_sets(items)  # one line per --set, each key once (a swept key too)
     axes: list[Axis] = []
     fixed: list[str] = []
     for item in items:

@@ -72,6 +72,14 @@ CASES: list[tuple[str, list[str], str, str | None, dict[str, str]]] = [
     ("set-unknown-key", ["simulate", S, "operating.speed=1200"], "operating.speed", "speed_rpm", {}),
     ("set-bool-as-number", ["geometry", S, "pair.allow_undercut=2"], "pair.allow_undercut", "2", {}),
     ("set-list-length", ["geometry", S, "pair.teeth=[30,30,30]"], "pair.teeth", None, {}),
+    # a newline would inject TOML tables; a key given twice would leave which value wins to a guess
+    ("set-newline-table", ["scene", S, "pair.teeth=[30,30]\n[x]"], "--set", "pair.teeth", {}),
+    ("set-newline-key", ["geometry", S, "operating.speed_rpm=1200\n[operating]\nspeed_rpm=99"], "--set",
+     "operating.speed_rpm", {}),
+    ("set-repeated-sweep-key", ["sweep", S, "operating.speed_rpm=1000,1200", S, "operating.speed_rpm=1300"],
+     "--set operating.speed_rpm", "given twice", {}),
+    ("set-repeated-by-flag", ["simulate", "--torque-Nm", "30", S, "operating.torque_Nm=40"],
+     "--set operating.torque_Nm", "given twice", {}),
     # ---- pair keys, one at a time
     ("teeth-too-few", ["geometry", S, "pair.teeth=[4,30]"], "pair.teeth[0]", "4", {}),
     ("teeth-fraction", ["geometry", S, "pair.teeth=[30.5,30]"], "pair.teeth[0]", "30.5", {}),
