@@ -74,6 +74,46 @@ dense sampling of its slave flank: wear gap, corner clearance); F = k (delta - e
 with e = sum k_k g_k / k. The tangent dF / d delta is a central difference of the
 whole solve at F (1 +- 1e-3).
 
+The blank's torsion
+-------------------
+Each body is held at its bore, so delta (and k) holds the torsion of both blanks
+between bore and teeth: moving the bores of the 23/47 pair (m 3, b 30 mm) from 12.5/25
+to 24/55 mm moves the mean by +46 % while the analytic models have no such term. It is
+reported as its own term. Reference circle of gear i: r_ref = r_f - 2 m, not below the
+bore (pair_body.blank_reference_radius_m: there the tooth-pitch part of a tooth load's
+field has decayed to ~exp(-4), so the circle turns as a rigid ring; with a thinner rim
+r_ref is the bore, there is no blank term and the whole rim stays in the mesh
+stiffness). Its rotation theta_ref,i (counter-clockwise) is the least-squares rigid
+rotation of 16 z points on it, i.e. the mean tangential displacement over r_ref
+(pair_body.blank_reading: a functional a_i of the body's displacement, exact for a
+rigid rotation). By reciprocity theta_ref,i = a_i . K_i^-1 f_i = h_i . f_i with
+h_i = (K_i^-1 a_i) on the condensed flank dofs: one more solve per body with the
+factors of the condensation, nothing per position. Per position
+
+    delta = delta_mesh + r_b1 theta_ref,1 + r_b2 theta_ref,2
+
+(the pinion's contact moment turns its circle back against the drive, the gear's turns
+its circle on with it: both widen the approach), and the mesh-only curve is the secant
+above with delta_mesh: k_mesh = sum F_k / (delta_mesh - g_k); its tangent is
+1 / (1 / k_tangent - (r_b1 theta_1 + r_b2 theta_2) / F). Each blank's torsional
+stiffness is k_blank,i = T_i / theta_ref,i (N m/rad), T_i the contact loads' moment
+about the gear's centre (T_1 = T; T_2 = T z2 / z1 to the off-line-of-action arms). The
+mean (n = 0 Fourier part) of u_theta of a solid annulus held at the bore and loaded
+outside r_ref obeys u'' + u'/r - u/r^2 = 0 with the torque through every circle, so
+k_blank = 4 pi G b / (1 / r_bore^2 - 1 / r_ref^2) exactly (in-plane shear: plane
+stress and plane strain alike), whatever the teeth do; the FE gives it to 1e-4
+(tests/test_blank_torsion.py) and the identity STE / F = STE_mesh / F + r_b1^2 / k_1 +
+r_b2^2 / k_2 with the closed-form k holds to 3e-4. What stays in the mesh-only term is
+everything but the n = 0 part below r_ref: the blank's bending under the net tooth
+force (n = 1, ~ ln(r_ref / r_bore)) and the teeth's foundation, which a bore close
+below the root stiffens (bore study, benchmarks/bench_bore_study.py: the mesh-only mean
+moves +23 % from 12.5/25 to 24/55 mm bores, against +46 % bore-fixed; between the thick
+rims of 8/16 and 12.5/25 mm it moves ~4 %). Which to compare: Ishikawa (tooth clamped at
+the root), the energy method (Sainsot's foundation is the body's local deformation
+below the tooth, bore-dependent through h_fi = r_f / r_bore but without a rigid torsion
+of the blank) and ISO 6336 (c' of solid blanks, no bore in it) with the mesh-only
+curve; a 6-DOF model without shaft or blank torsion of its own with the bore-fixed one.
+
 Faults on one tooth (geometry.faults)
 -------------------------------------
 Numbering as geometry.faults: in mesh period n of a revolution, slot j holds the pair

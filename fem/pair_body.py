@@ -37,6 +37,14 @@ dense triangular inversions. This replaces one sparse solve per flank node (abou
 30 ms each for 117k dofs, i.e. ~25 s for 900 nodes) by ~3 s in total, and gives the
 full 2 x 2 blocks (every force direction) at once.
 
+The blank's reference circle (r_ref = r_f - 2 m, not below the bore;
+:func:`blank_reference_radius_m`) is read as a least-squares rigid motion of 16 z
+points on it (:func:`blank_reading`): rotation = mean tangential displacement / r_ref,
+translation = mean displacement. Its reading on the condensed dofs, h = (K^-1 a)_B,
+costs one more solve with the same factors (reciprocity: a . U = h . f_B), so the pair
+FE reads the circle's rotation under any contact load without a further solve
+(fem.pair, "The blank's torsion").
+
 Reading and loading at arbitrary flank points: on a boundary edge (v0, m, v1) the
 isoparametric map and the trace of a P2 field are the same quadratics in the edge
 parameter t, so the point x(t) has the weights (1 - t)(1 - 2 t), 4 t (1 - t),
