@@ -93,7 +93,8 @@ def main() -> None:
         kf = fe.meta["blank_torsional_stiffness_Nm_per_rad"]
         print(f"{bores[0]:g}/{bores[1]:g} | {r_ref[0] * 1e3:.2f}/{r_ref[1] * 1e3:.2f} | "
               f"{fe.mean_N_per_m / 1e8:.4f} | {fe.meta['mesh_only_mean_N_per_m'] / 1e8:.4f} | "
-              f"{np.mean(k_mt) / 1e8:.4f} | {kf[0] / 1e6:.3f}/{kf[1] / 1e6:.3f} | {kc[0] / 1e6:.3f}/{kc[1] / 1e6:.3f} | "
+              f"{np.mean(k_mt) / 1e8:.4f} | {kf[0] / 1e6:.3f}/{kf[1] / 1e6:.3f} | "
+              f"{kc[0] / 1e6:.3f}/{kc[1] / 1e6:.3f} | "
               f"{ident:.1e} | {ish / 1e8:.4f} | {en / 1e8:.4f} | {iso / 1e8:.4f} | {t_fe:.1f} | {t_an:.2f}",
               flush=True)
         c_fix, c_mesh = 1 / fe.mean_N_per_m, 1 / fe.meta["mesh_only_mean_N_per_m"]

@@ -805,6 +805,16 @@ def _reps_memo(body: GearBody, cands: list, gi: int, cracked_tooth: int | None) 
     return rep
 
 
+def _body_reps(pm: PairModel, cands: list, cracked: tuple):
+    """(gear index, body, rep) per gear: the cracked body where ``cracked[gi]`` names its
+    cracked tooth, else the healthy one, with :func:`_reps_memo` of the candidates on it."""
+    for gi, body in enumerate(pm.bodies):
+        ct = cracked[gi]
+        if ct is not None:
+            body = pm.cracked[gi]
+        yield gi, body, _reps_memo(body, cands, gi, None if ct is None else ct[0])
+
+
 def _flexibility(pm: PairModel, cands: list, cracked: tuple = (None, None)) -> np.ndarray:
     """C (n, n) of all candidates: sum over both bodies of a_i^T G a_j. On a healthy body
     the read is on tooth t_i - t_j relative to the load (rotational periodicity); on a
@@ -813,11 +823,7 @@ def _flexibility(pm: PairModel, cands: list, cracked: tuple = (None, None)) -> n
     sizes = [len(c["R"]) for c in cands]
     off = np.concatenate([[0], np.cumsum(sizes)])
     C = np.zeros((off[-1], off[-1]))
-    for gi, body in enumerate(pm.bodies):
-        ct = cracked[gi]
-        if ct is not None:
-            body = pm.cracked[gi]
-        rep = _reps_memo(body, cands, gi, None if ct is None else ct[0])
+    for gi, body, rep in _body_reps(pm, cands, cracked):
         for a, ca in enumerate(cands):
             for b, cb in enumerate(cands):
                 ia, wa = rep(a, ca["teeth"][gi] - cb["teeth"][gi])
@@ -852,11 +858,7 @@ def blank_rotations(pm: PairModel, cands: list, cracked: tuple = (None, None)) -
     circle's reading being the same in every tooth pitch; on a cracked body each on its
     own tooth)."""
     theta, torque = [0.0, 0.0], [0.0, 0.0]
-    for gi, body in enumerate(pm.bodies):
-        ct = cracked[gi]
-        if ct is not None:
-            body = pm.cracked[gi]
-        rep = _reps_memo(body, cands, gi, None if ct is None else ct[0])
+    for gi, body, rep in _body_reps(pm, cands, cracked):
         for k, c in enumerate(cands):
             f = c["force_N"]
             X = involute_point(body.gear, c["R"] if gi == c["slave"] else c["rF"])
