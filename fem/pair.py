@@ -283,10 +283,10 @@ class PairFE(CurveStats):
     def without_blank_torsion(self) -> "PairFE":
         """The same result with the blanks' torsion below r_ref taken out: k, k_tangent,
         STE and e are the mesh-only ones (module docstring, "The blank's torsion")."""
-        if self.mesh_k_N_per_m is None:
+        k, kt, ste, e = self.mesh_k_N_per_m, self.mesh_k_tangent_N_per_m, self.mesh_ste_m, self.mesh_excitation_m
+        if k is None or kt is None or ste is None or e is None:
             raise ValueError("this result carries no mesh-only curve")
-        return replace(self, k_N_per_m=self.mesh_k_N_per_m, k_tangent_N_per_m=self.mesh_k_tangent_N_per_m,
-                       ste_m=self.mesh_ste_m, excitation_m=self.mesh_excitation_m)
+        return replace(self, k_N_per_m=k, k_tangent_N_per_m=kt, ste_m=ste, excitation_m=e)
 
 
 # ---------------------------------------------------------------------------

@@ -165,6 +165,16 @@ def test_thin_rim_has_no_blank_term():
     rb2 = by_hand(pair.gear(1))[0]
     assert np.allclose(fe.ste_m - fe.mesh_ste_m, rb2 * fe.blank_rotation_rad[:, 1], rtol=1e-12, atol=0)
     assert fe.meta["blank_torsional_stiffness_Nm_per_rad"][1] == pytest.approx(annulus_k(pair.gear(1)), rel=1e-2)
+    # what the FE-based sources hand on: the mesh-only curve with "excluded", reported beside the bore-fixed one
+    from gearwear.stiffness_job import Curve, fem_curve
+
+    r = fem_curve(pair, POSITIONS, TORQUE, 0.0, None, blank_torsion="excluded", contact_scale=CONTACT_SCALE,
+                  mesh_scale=MESH_SCALE, extended=False)
+    assert np.array_equal(r.k_N_per_m, fe.mesh_k_N_per_m) and np.array_equal(r.ste_m, fe.mesh_ste_m)
+    s = Curve("excluded", "fem", None, 0.0, r).summary()
+    assert s["mean_N_per_m"] == s["mesh_only_mean_N_per_m"] and s["bore_fixed_mean_N_per_m"] == fe.mean_N_per_m
+    assert s["blank_torsional_stiffness_Nm_per_rad"][0] is None  # no blank term: null in JSON, not inf
+    assert s["blank_reference_radius_mm"] == pytest.approx([26.0, by_hand(pair.gear(1))[2] * 1e3], rel=1e-12)
 
 
 # -- what the scenes give the dynamics -----------------------------------------------------
