@@ -74,6 +74,46 @@ dense sampling of its slave flank: wear gap, corner clearance); F = k (delta - e
 with e = sum k_k g_k / k. The tangent dF / d delta is a central difference of the
 whole solve at F (1 +- 1e-3).
 
+The blank's torsion
+-------------------
+Each body is held at its bore, so delta (and k) holds the torsion of both blanks
+between bore and teeth: moving the bores of the 23/47 pair (m 3, b 30 mm) from 12.5/25
+to 24/55 mm moves the mean by +46 % while the analytic models have no such term. It is
+reported as its own term. Reference circle of gear i: r_ref = r_f - 2 m, not below the
+bore (pair_body.blank_reference_radius_m: there the tooth-pitch part of a tooth load's
+field has decayed to ~exp(-4), so the circle turns as a rigid ring; with a thinner rim
+r_ref is the bore, there is no blank term and the whole rim stays in the mesh
+stiffness). Its rotation theta_ref,i (counter-clockwise) is the least-squares rigid
+rotation of 16 z points on it, i.e. the mean tangential displacement over r_ref
+(pair_body.blank_reading: a functional a_i of the body's displacement, exact for a
+rigid rotation). By reciprocity theta_ref,i = a_i . K_i^-1 f_i = h_i . f_i with
+h_i = (K_i^-1 a_i) on the condensed flank dofs: one more solve per body with the
+factors of the condensation, nothing per position. Per position
+
+    delta = delta_mesh + r_b1 theta_ref,1 + r_b2 theta_ref,2
+
+(the pinion's contact moment turns its circle back against the drive, the gear's turns
+its circle on with it: both widen the approach), and the mesh-only curve is the secant
+above with delta_mesh: k_mesh = sum F_k / (delta_mesh - g_k); its tangent is
+1 / (1 / k_tangent - (r_b1 theta_1 + r_b2 theta_2) / F). Each blank's torsional
+stiffness is k_blank,i = T_i / theta_ref,i (N m/rad), T_i the contact loads' moment
+about the gear's centre (T_1 = T; T_2 = T z2 / z1 to the off-line-of-action arms). The
+mean (n = 0 Fourier part) of u_theta of a solid annulus held at the bore and loaded
+outside r_ref obeys u'' + u'/r - u/r^2 = 0 with the torque through every circle, so
+k_blank = 4 pi G b / (1 / r_bore^2 - 1 / r_ref^2) exactly (in-plane shear: plane
+stress and plane strain alike), whatever the teeth do; the FE gives it to 1e-4
+(tests/test_blank_torsion.py) and the identity STE / F = STE_mesh / F + r_b1^2 / k_1 +
+r_b2^2 / k_2 with the closed-form k holds to 3e-4. What stays in the mesh-only term is
+everything but the n = 0 part below r_ref: the blank's bending under the net tooth
+force (n = 1, ~ ln(r_ref / r_bore)) and the teeth's foundation, which a bore close
+below the root stiffens (bore study, benchmarks/bench_bore_study.py: the mesh-only mean
+moves +23 % from 12.5/25 to 24/55 mm bores, against +46 % bore-fixed; between the thick
+rims of 8/16 and 12.5/25 mm it moves ~4 %). Which to compare: Ishikawa (tooth clamped at
+the root), the energy method (Sainsot's foundation is the body's local deformation
+below the tooth, bore-dependent through h_fi = r_f / r_bore but without a rigid torsion
+of the blank) and ISO 6336 (c' of solid blanks, no bore in it) with the mesh-only
+curve; a 6-DOF model without shaft or blank torsion of its own with the bore-fixed one.
+
 Faults on one tooth (geometry.faults)
 -------------------------------------
 Numbering as geometry.faults: in mesh period n of a revolution, slot j holds the pair
@@ -166,10 +206,11 @@ from gearwear.geometry.flank import FlankSpec, is_nominal, modification_depth_m
 from gearwear.geometry.wear import WearSpec, flank_depth, hertz_half_width, key_roll_angles
 
 from .contact import solve_contact
-from .pair_body import BodySizes, GearBody, build_body, build_cracked_body, involute_point, rot
+from .pair_body import (BodySizes, GearBody, blank_reference_radius_m, build_body, build_cracked_body, involute_point,
+                        rot)
 
 __all__ = ["PairFE", "PairModel", "pair_contact", "pair_model", "solve_position", "weber_approach_m",
-           "body_sizes", "extended_contact_widths", "consistency", "write_fields"]
+           "blank_rotations", "body_sizes", "extended_contact_widths", "consistency", "write_fields"]
 
 ELEMENTS_PER_HALF_WIDTH = 2.5   # h_c = a_ref / 2.5 at contact_scale 1
 WINDOW_HALF_WIDTHS = 3.0        # candidate window: +-3 a_ref of arc length (+ 2 h_c)
@@ -204,6 +245,14 @@ class PairFE(CurveStats):
     faults             the one-tooth faults (None: healthy); the curve then spans
                        ``periods`` mesh periods, one revolution of the faulty gear
     faulty_pair        (n, p) True where a candidate slot holds a faulty tooth (None: no fault)
+    mesh_k_N_per_m, mesh_k_tangent_N_per_m, mesh_ste_m, mesh_excitation_m
+                       (n,) the same with the blanks' torsion below r_ref taken out:
+                       STE_mesh = STE - r_b1 theta_ref,1 - r_b2 theta_ref,2
+    blank_rotation_rad (n, 2) rotation of each blank's reference circle (counter-clockwise)
+    blank_torque_Nm    (n, 2) moment of the contact loads about each gear's centre
+    meta also holds blank_reference_radius_m [2], blank_torsional_stiffness_Nm_per_rad [2]
+    (sum T / sum theta over the positions; inf where r_ref is the bore) and
+    mesh_only_mean_N_per_m.
     """
 
     pair: PairSpec
@@ -224,6 +273,20 @@ class PairFE(CurveStats):
     faults: FaultSpec | None = None
     periods: int = 1
     faulty_pair: np.ndarray | None = None
+    mesh_k_N_per_m: np.ndarray | None = None
+    mesh_k_tangent_N_per_m: np.ndarray | None = None
+    mesh_ste_m: np.ndarray | None = None
+    mesh_excitation_m: np.ndarray | None = None
+    blank_rotation_rad: np.ndarray | None = None
+    blank_torque_Nm: np.ndarray | None = None
+
+    def without_blank_torsion(self) -> "PairFE":
+        """The same result with the blanks' torsion below r_ref taken out: k, k_tangent,
+        STE and e are the mesh-only ones (module docstring, "The blank's torsion")."""
+        k, kt, ste, e = self.mesh_k_N_per_m, self.mesh_k_tangent_N_per_m, self.mesh_ste_m, self.mesh_excitation_m
+        if k is None or kt is None or ste is None or e is None:
+            raise ValueError("this result carries no mesh-only curve")
+        return replace(self, k_N_per_m=k, k_tangent_N_per_m=kt, ste_m=ste, excitation_m=e)
 
 
 # ---------------------------------------------------------------------------
@@ -576,7 +639,9 @@ class PositionSolution:
     ste_m, gaps_m per slot (rigid gap g_k), cand (per slot one dict, two with a spall's
     edges: slave, node radii, foot radii, forces, reps), half_width_m per slot;
     cracked per gear (body tooth, LOA position) of the cracked tooth when the cracked
-    body served, else None."""
+    body served, else None; per gear the rotation theta_ref (rad) of the blank's
+    reference circle and the contact loads' moment T about the gear's centre (N m), both
+    counter-clockwise (:func:`blank_rotations`)."""
 
     theta_rad: float
     d_m: np.ndarray
@@ -590,6 +655,8 @@ class PositionSolution:
     g: np.ndarray
     w: np.ndarray
     cracked: tuple = (None, None)
+    blank_rotation_rad: tuple = (0.0, 0.0)
+    blank_torque_Nm: tuple = (0.0, 0.0)
 
 
 def _lever_arms(pm: PairModel, slave: int, R: np.ndarray, d: float, spalled: tuple = NO_SPALL):
@@ -738,6 +805,16 @@ def _reps_memo(body: GearBody, cands: list, gi: int, cracked_tooth: int | None) 
     return rep
 
 
+def _body_reps(pm: PairModel, cands: list, cracked: tuple):
+    """(gear index, body, rep) per gear: the cracked body where ``cracked[gi]`` names its
+    cracked tooth, else the healthy one, with :func:`_reps_memo` of the candidates on it."""
+    for gi, body in enumerate(pm.bodies):
+        ct = cracked[gi]
+        if ct is not None:
+            body = pm.cracked[gi]
+        yield gi, body, _reps_memo(body, cands, gi, None if ct is None else ct[0])
+
+
 def _flexibility(pm: PairModel, cands: list, cracked: tuple = (None, None)) -> np.ndarray:
     """C (n, n) of all candidates: sum over both bodies of a_i^T G a_j. On a healthy body
     the read is on tooth t_i - t_j relative to the load (rotational periodicity); on a
@@ -746,11 +823,7 @@ def _flexibility(pm: PairModel, cands: list, cracked: tuple = (None, None)) -> n
     sizes = [len(c["R"]) for c in cands]
     off = np.concatenate([[0], np.cumsum(sizes)])
     C = np.zeros((off[-1], off[-1]))
-    for gi, body in enumerate(pm.bodies):
-        ct = cracked[gi]
-        if ct is not None:
-            body = pm.cracked[gi]
-        rep = _reps_memo(body, cands, gi, None if ct is None else ct[0])
+    for gi, body, rep in _body_reps(pm, cands, cracked):
         for a, ca in enumerate(cands):
             for b, cb in enumerate(cands):
                 ia, wa = rep(a, ca["teeth"][gi] - cb["teeth"][gi])
@@ -771,6 +844,30 @@ def _slot_faults(pm: PairModel, period: int | None, j: int) -> tuple[tuple, bool
     sp, cr = f.spall, f.crack
     spalled = tuple(sp is not None and sp.gear_index == gi and holds_fault(pm.pair, sp, period, j) for gi in (0, 1))
     return spalled, cr is not None and holds_fault(pm.pair, cr, period, j)
+
+
+def blank_rotations(pm: PairModel, cands: list, cracked: tuple = (None, None)) -> tuple[tuple, tuple]:
+    """((theta_ref,1, theta_ref,2), (T_1, T_2)) under the solved candidate forces: per gear
+    the rotation (rad) of the blank's reference circle, theta_ref = sum h . f over the
+    loads on that body (h = GearBody.blank_h[0], the circle's reading by reciprocity), and
+    the loads' moment T (N m) about the gear's centre, from each force at its exact
+    involute point; both counter-clockwise in the body's frame, the same sense in the
+    fixed frame (and both > 0 under a driving load: the pinion's contact moment opposes
+    its clockwise drive, the gear's drives it counter-clockwise). Loads are taken as in
+    :func:`_flexibility` (tooth 0 of a healthy body by rotational periodicity, the
+    circle's reading being the same in every tooth pitch; on a cracked body each on its
+    own tooth)."""
+    theta, torque = [0.0, 0.0], [0.0, 0.0]
+    for gi, body, rep in _body_reps(pm, cands, cracked):
+        for k, c in enumerate(cands):
+            f = c["force_N"]
+            X = involute_point(body.gear, c["R"] if gi == c["slave"] else c["rF"])
+            fv = f[:, None] * c["dirs"][gi]
+            torque[gi] += float(np.sum(X[:, 0] * fv[:, 1] - X[:, 1] * fv[:, 0]))
+            if body.blank_h is not None:
+                idx, coef = rep(k, 0)
+                theta[gi] += float(np.sum(body.blank_h[0][idx] * coef * f[:, None]))
+    return (theta[0], theta[1]), (torque[0], torque[1])
 
 
 def _candidate_slots(mesh: MeshGeometry, d: np.ndarray) -> np.ndarray:
@@ -823,8 +920,9 @@ def solve_position(pm: PairModel, theta: float, total_N: float, period: int | No
             hw[k] = 0.5 * (s[on].max() - s[on].min() + ds)
             c["window_hit"] = bool(on[0] == 0 and s[0] > s.min() - 1) and (on[0] == 0 or on[-1] == n - 1)
         off += n
+    rot_ref, torque = blank_rotations(pm, cands, tuple(cracked))
     return PositionSolution(float(theta), d, np.asarray(slots), loads, float(sol.approach_m), gaps, hw, cands,
-                            C, g, w, tuple(cracked))
+                            C, g, w, tuple(cracked), rot_ref, torque)
 
 
 # ---------------------------------------------------------------------------
@@ -834,7 +932,8 @@ def solve_position(pm: PairModel, theta: float, total_N: float, period: int | No
 
 def _position_row(pm: PairModel, theta: float, total_N: float, period: int | None) -> tuple:
     """One position of the cycle: (slot loads, slot gaps, slot half-widths, STE, tangent
-    stiffness, candidates, window hits, geometry wall s, tangent LCP wall s)."""
+    stiffness, candidates, window hits, geometry wall s, tangent LCP wall s, blank
+    rotations (2,), blank moments (2,))."""
     ta = time.perf_counter()
     ps = solve_position(pm, theta, total_N, period)
     tb = time.perf_counter()
@@ -845,7 +944,7 @@ def _position_row(pm: PairModel, theta: float, total_N: float, period: int | Non
     ktan = 2 * eps * total_N / (dp - dm)
     hits = sum(bool(c.get("window_hit")) for c in ps.cand)
     return (ps.loads_N, ps.gaps_m, ps.half_width_m, ps.ste_m, ktan, len(ps.g), hits, tb - ta,
-            time.perf_counter() - tb)
+            time.perf_counter() - tb, np.array(ps.blank_rotation_rad), np.array(ps.blank_torque_Nm))
 
 
 def _solve_chunk(spec: dict, items: list, total_N: float) -> list:
@@ -943,17 +1042,24 @@ def pair_contact(pair: PairSpec, wear: WearSpec | None = None, positions: int = 
         body_tim = {k: v for k, v in worker_tim.items() if k != "model_s"}
     t_end = time.perf_counter()
     # the healthy period, then (with faults) the revolution with its faulty rows replaced
-    cols = [np.array([r[i] for r in rows[:positions]]) for i in range(5)]
-    loads, gaps, hw, ste, ktan = (np.tile(c, (periods, 1)) if c.ndim == 2 else np.tile(c, periods) for c in cols)
+    columns = (0, 1, 2, 3, 4, 9, 10)
+    cols = [np.array([r[i] for r in rows[:positions]]) for i in columns]
+    loads, gaps, hw, ste, ktan, rot_ref, torque = (np.tile(c, (periods, 1)) if c.ndim == 2 else np.tile(c, periods)
+                                                   for c in cols)
     for r, row in zip(redo, rows[positions:]):
-        loads[r], gaps[r], hw[r], ste[r], ktan[r] = row[:5]
+        loads[r], gaps[r], hw[r], ste[r], ktan[r], rot_ref[r], torque[r] = (row[i] for i in columns)
     n_cand = [r[5] for r in rows]
-    on = loads > 0
-    with np.errstate(divide="ignore", invalid="ignore"):
-        g_on = np.where(on, gaps, 0.0)
-        k_pair = np.where(on, loads / np.maximum(ste[:, None] - g_on, 1e-300), 0.0)
-    k = k_pair.sum(axis=1)
-    exc = np.where(k > 0, (k_pair * g_on).sum(axis=1) / k, 0.0)
+    k, exc = _secant(loads, gaps, ste)
+    # the blanks' torsion below r_ref taken out: delta_mesh = delta - r_b1 theta_1 - r_b2 theta_2
+    rb = np.array([g.base_radius_m for g in pair.gears])
+    blank_ste = rot_ref @ rb
+    ste_mesh = ste - blank_ste
+    k_mesh, exc_mesh = _secant(loads, gaps, ste_mesh)
+    # theta_i is linear in the load (linear elasticity, n = 0 part: theta_i = T_i / k_blank,i), so
+    # the blanks are a constant compliance in series also for the tangent dF / d delta
+    ktan_mesh = 1.0 / (1.0 / ktan - blank_ste / F)
+    k_blank = [float(torque[:, i].sum() / rot_ref[:, i].sum()) if np.any(rot_ref[:, i] != 0) else math.inf
+               for i in (0, 1)]
     theta = np.arange(positions * periods) * (mesh.mesh_angle_rad / positions)
     timings = {**body_tim, "model_s": t_model - t_start, "positions_s": t_cycle - t_model,
                "positions_geometry_s": float(sum(r[7] for r in rows)), "positions_lcp_s": float(sum(r[8] for r in rows)),
@@ -965,10 +1071,29 @@ def pair_contact(pair: PairSpec, wear: WearSpec | None = None, positions: int = 
             "window_hits": int(sum(r[6] for r in rows)), "corner_contact": True, "local_contact": "resolved",
             "pair_gap_m": gaps, "extended_contact_deg": widths, "mesh_periods": periods,
             "positions_solved": len(items), "positions_total": positions * periods,
-            "faults": None if faults is None else faults.label()}
+            "faults": None if faults is None else faults.label(),
+            "blank_reference_radius_m": [float(bd_r) for bd_r in _reference_radii(pair)],
+            "blank_torsional_stiffness_Nm_per_rad": k_blank,
+            "mesh_only_mean_N_per_m": float(np.mean(k_mesh))}
     return PairFE(pair, mesh, torque_Nm, wear, theta, k, ktan, ste, exc, loads, np.tile(d0, (periods, 1)),
                   np.tile(mesh.in_path(d0), (periods, 1)), hw, timings, meta, faults, periods,
-                  faulty if faults is not None else None)
+                  faulty if faults is not None else None, k_mesh, ktan_mesh, ste_mesh, exc_mesh, rot_ref, torque)
+
+
+def _secant(loads: np.ndarray, gaps: np.ndarray, ste: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(k, e) per position, as analytic.tvms: k = sum over loaded pairs F_k / (ste - g_k)
+    and e = sum k_k g_k / k, so F = k (ste - e) (N/m, m)."""
+    on = loads > 0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        g_on = np.where(on, gaps, 0.0)
+        k_pair = np.where(on, loads / np.maximum(ste[:, None] - g_on, 1e-300), 0.0)
+    k = k_pair.sum(axis=1)
+    return k, np.where(k > 0, (k_pair * g_on).sum(axis=1) / k, 0.0)
+
+
+def _reference_radii(pair: PairSpec) -> tuple[float, float]:
+    """r_ref (m) of both blanks (pair_body.blank_reference_radius_m)."""
+    return blank_reference_radius_m(pair.gear(0)), blank_reference_radius_m(pair.gear(1))
 
 
 def extended_contact_widths(pm: PairModel, total_N: float, tol_deg: float = 1e-4) -> dict:

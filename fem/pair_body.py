@@ -37,6 +37,14 @@ dense triangular inversions. This replaces one sparse solve per flank node (abou
 30 ms each for 117k dofs, i.e. ~25 s for 900 nodes) by ~3 s in total, and gives the
 full 2 x 2 blocks (every force direction) at once.
 
+The blank's reference circle (r_ref = r_f - 2 m, not below the bore;
+:func:`blank_reference_radius_m`) is read as a least-squares rigid motion of 16 z
+points on it (:func:`blank_reading`): rotation = mean tangential displacement / r_ref,
+translation = mean displacement. Its reading on the condensed dofs, h = (K^-1 a)_B,
+costs one more solve with the same factors (reciprocity: a . U = h . f_B), so the pair
+FE reads the circle's rotation under any contact load without a further solve
+(fem.pair, "The blank's torsion").
+
 Reading and loading at arbitrary flank points: on a boundary edge (v0, m, v1) the
 isoparametric map and the trace of a P2 field are the same quadratics in the edge
 parameter t, so the point x(t) has the weights (1 - t)(1 - 2 t), 4 t (1 - t),
@@ -65,9 +73,12 @@ from gearwear.geometry.spec import GearSpec, Material
 
 from .elasticity import ElasticModel, assemble
 
-__all__ = ["BodySizes", "GearBody", "CrackedBody", "build_body", "build_cracked_body", "involute_point", "rot"]
+__all__ = ["BodySizes", "GearBody", "CrackedBody", "build_body", "build_cracked_body", "involute_point", "rot",
+           "blank_reference_radius_m", "blank_reading"]
 
 GROWTH = 0.25          # size gradient of every refinement zone (m of size per m of distance)
+BLANK_REFERENCE_MODULES = 2.0    # the blank's reference circle: r_ref = r_f - 2 m (not below the bore)
+BLANK_READ_POINTS_PER_TOOTH = 16  # points of the reference circle read per tooth pitch
 
 
 @dataclass(frozen=True)
@@ -163,6 +174,11 @@ class GearBody:
     flank_edges[t]  (e, 3) positions in flank_r[t] of each edge's (v0, mid, v1)
     flank_b[t]   (n_t,) position of each node's x dof in G (y dof = +1)
     G            (2 m, 2 m) flexibility of the condensed dofs (m/N)
+    blank_reference_radius_m  r_ref of the blank's reference circle (:func:`blank_reference_radius_m`)
+    blank_h      (3, 2 m) rigid motion of that circle per N on each condensed dof, rows
+                 rotation (rad, counter-clockwise), translation x, y (m; body frame):
+                 (theta_ref, v_x, v_y) = blank_h f_B (reciprocity, :func:`blank_reading`);
+                 None when r_ref is the bore (no blank term)
     """
 
     gear: GearSpec
@@ -179,6 +195,8 @@ class GearBody:
     dofs: np.ndarray           # (2 m,) global dof of each row of G
     n_elements: int
     timings: dict = field(default_factory=dict)
+    blank_reference_radius_m: float = 0.0
+    blank_h: np.ndarray | None = None
 
     @property
     def ndofs(self) -> int:
@@ -356,21 +374,62 @@ def _mesh_body(gear: GearSpec, material: Material, face_width_m: float, nominal:
     return gm, model, flanks, crack_xy, {"mesh_s": t1 - t0, "assemble_s": t2 - t1}
 
 
+def blank_reference_radius_m(gear: GearSpec) -> float:
+    """Radius r_ref (m) of the blank's reference circle: BLANK_REFERENCE_MODULES modules
+    below the root circle, r_ref = r_f - 2 m, but not below the bore.
+
+    Why there: a tooth load's field about the mean (n = 0) rotation varies around the
+    circle with the tooth pitch; its n-th Fourier mode decays inwards like (r / r_f)^n,
+    and at r_f - 2 m the tooth-pitch mode (n = z) is down to (1 - 2 m / r_f)^z
+    ~ exp(-2 z m / r_f) = exp(-4) ~ 2 % (r_f ~ m z / 2): the circle turns nearly as a rigid
+    ring, so its rotation does not depend on how it is read. Where the rim is thinner
+    (r_f - 2 m <= bore), r_ref is the bore: no blank term, the whole rim stays in the mesh
+    stiffness."""
+    return max(gear.root_radius_m - BLANK_REFERENCE_MODULES * gear.module_m, gear.hub_radius_m)
+
+
+def blank_reading(model: ElasticModel, gear: GearSpec) -> tuple[float, np.ndarray | None]:
+    """(r_ref, A): the reading functionals of the reference circle's least-squares rigid
+    motion, (theta_ref, v_x, v_y) = A U (rad counter-clockwise, m, m; body frame): over
+    n = BLANK_READ_POINTS_PER_TOOTH z points x_k = r_ref (cos phi_k, sin phi_k),
+    phi_k = pi / 2 + 2 pi (k + 1/2) / n (the same number, mirror-symmetric, in every tooth
+    pitch), with t_k = (-sin phi_k, cos phi_k),
+
+        theta_ref = 1 / (n r_ref) sum_k t_k . u(x_k),   v = 1 / n sum_k u(x_k)
+
+    (on a uniformly sampled circle the rotation and the translation of the least-squares
+    fit decouple). u(x_k) by the P2 basis of the element holding x_k
+    (fem.mesh.CurvedMeshTri2). theta_ref is exact for a rigid rotation and reads only the
+    axisymmetric (n = 0) part of u_theta; v only the n = 1 part. A (3, ndofs) is None when
+    r_ref is the bore."""
+    r_ref = blank_reference_radius_m(gear)
+    if r_ref <= gear.hub_radius_m:
+        return r_ref, None
+    n = BLANK_READ_POINTS_PER_TOOTH * gear.teeth
+    phi = 0.5 * math.pi + 2.0 * math.pi * (np.arange(n) + 0.5) / n
+    P = model.probe(r_ref * np.column_stack([np.cos(phi), np.sin(phi)]))
+    Px, Py = P[0::2].T, P[1::2].T
+    rows = [(Px @ -np.sin(phi) + Py @ np.cos(phi)) / r_ref, Px @ np.ones(n), Py @ np.ones(n)]
+    return r_ref, np.vstack([np.asarray(r).ravel() for r in rows]) / n
+
+
 def _condensed(cls, gear: GearSpec, sizes: BodySizes, r_lo: float, gm, model: ElasticModel, flank_sets: tuple,
                centre_y: tuple[float, float], timings: dict, **extra):
     """The body ``cls`` with G over the flank node sets (radii, coordinates, x dofs,
-    edges per tooth) and the nodes of the elements crossing tooth 0's centre line."""
+    edges per tooth) and the nodes of the elements crossing tooth 0's centre line, and
+    the blank's reading h = (K^-1 a)_B (:func:`blank_reading`) from the same factorization."""
     flank_r, flank_xy, flank_dofs, flank_edges = flank_sets
     centre = _centre_line_nodes(model.mesh, model.basis, *centre_y)
     # B: x dofs of all condensed nodes (y dof = x dof + 1 in skfem's vector P2 numbering)
     xd = np.unique(np.concatenate([*flank_dofs.values(), centre]))
-    G, tim = _condensed_flexibility(model, xd)
+    r_ref, a = blank_reading(model, gear)
+    G, h, tim = _condensed_flexibility(model, xd, a)
     where = {int(d): i for i, d in enumerate(xd)}
     flank_b = {t: 2 * np.array([where[int(d)] for d in flank_dofs[t]]) for t in flank_dofs}
     return cls(gear=gear, flank_r=flank_r, flank_xy=flank_xy, flank_edges=flank_edges, flank_b=flank_b,
                dofs=np.column_stack([xd, xd + 1]).ravel(), sizes=sizes, r_lo=r_lo, model=model, G=G,
                centre_b=2 * np.array([where[int(d)] for d in centre]), centre_dofs=centre, n_elements=gm.n_elements,
-               timings={**timings, **tim}, **extra)
+               timings={**timings, **tim}, blank_reference_radius_m=r_ref, blank_h=h, **extra)
 
 
 def build_body(gear: GearSpec, material: Material, face_width_m: float, nominal: ToothProfile,
@@ -404,8 +463,13 @@ def build_cracked_body(gear: GearSpec, material: Material, face_width_m: float, 
                       crack_xy=crack_xy, crack_tip_size_m=crack_tip_size_m, refined=refined)
 
 
-def _condensed_flexibility(model, xdofs: np.ndarray) -> tuple[np.ndarray, dict]:
-    """G = (K^-1)_BB for B = the x and y dofs of ``xdofs`` (order x0, y0, x1, y1, ...)."""
+def _condensed_flexibility(model, xdofs: np.ndarray, reading: np.ndarray | None = None
+                           ) -> tuple[np.ndarray, np.ndarray | None, dict]:
+    """(G, h, timings): G = (K^-1)_BB for B = the x and y dofs of ``xdofs`` (order x0, y0,
+    x1, y1, ...) and the rows h = (K^-1 a)_B for the reading functionals a = ``reading``
+    (rows over all dofs; None: h is None). By reciprocity (K symmetric)
+    a . U = a . K^-1 f = h . f_B for any load f on B: one more solve per functional with
+    the factors, none per load."""
     t0 = time.perf_counter()
     B = np.column_stack([xdofs, xdofs + 1]).ravel()
     pos = np.full(model.ndofs, -1)
@@ -434,6 +498,10 @@ def _condensed_flexibility(model, xdofs: np.ndarray) -> tuple[np.ndarray, dict]:
     G = sla.solve_triangular(Ubb, sla.solve_triangular(Lbb, np.eye(m), lower=True, unit_diagonal=True,
                                                        check_finite=False), check_finite=False)
     G = 0.5 * (G + G.T)  # Maxwell-Betti; removes round-off asymmetry (~1e-12)
+    h = None
+    if reading is not None:
+        # the permuted system solves P K P^T (P x) = P a; B is the trailing block
+        h = lu.solve(np.ascontiguousarray(reading[:, model.free][:, order].T))[n - m:].T
     t3 = time.perf_counter()
-    return G, {"ordering_s": t1 - t0, "factorize_s": t2 - t1, "flexibility_s": t3 - t2, "condensed_dofs": m,
-               "factor_nnz": int(lu.L.nnz + lu.U.nnz)}
+    return G, h, {"ordering_s": t1 - t0, "factorize_s": t2 - t1, "flexibility_s": t3 - t2, "condensed_dofs": m,
+                  "factor_nnz": int(lu.L.nnz + lu.U.nnz)}

@@ -239,6 +239,10 @@ class PairCorrection:
     #: per contact zone ("single", "double"; None where the pair has no such zone), over all
     #: positions ("max"), and the rms
     table_error: dict = dataclasses.field(default_factory=dict)
+    #: both blanks' torsional compliance below their reference circles along the line of
+    #: action, r_b1^2 / k_blank,1 + r_b2^2 / k_blank,2 (m/N), and the pair FE's mean without it
+    blank_compliance_m_per_N: float = 0.0
+    fe_mesh_only_mean_N_per_m: float = float("nan")
 
 
 def pair_correction(pair: PairSpec, wear: WearSpec | None, clearance_m: float, torque_Nm: float,
@@ -266,10 +270,12 @@ def pair_correction(pair: PairSpec, wear: WearSpec | None, clearance_m: float, t
     table_error = {"max": float(res.max()), "rms": float(np.sqrt(np.mean(res ** 2))),
                    **{name: float(res[zone].max()) if zone.any() else None
                       for name, zone in (("single", ~dbl), ("double", dbl))}}
+    rb = [g.base_radius_m for g in pair.gears]
+    blank = sum(r * r / k for r, k in zip(rb, fe.meta["blank_torsional_stiffness_Nm_per_rad"]))
     return PairCorrection(factors["double"], factors["single"], float(res[~even].max()),
                           float(np.sqrt(np.mean(res[~even] ** 2))), float(res[even].max()),
                           fe.mean_N_per_m, st1.mean_N_per_m, float(fe.timings.get("total_s", float("nan"))),
-                          table_error)
+                          table_error, float(blank), fe.meta["mesh_only_mean_N_per_m"])
 
 
 def run_fe(pair: PairSpec, wear: WearSpec | None, positions: int = 21, estimate_error: bool = True,
@@ -357,6 +363,19 @@ def table_inputs(pair: PairSpec, wear: WearSpec | None, clearance_m: float, torq
                         "zone_factors": "median"}}
 
 
+def without_blank_torsion(tab: tables.StiffnessTable) -> tables.StiffnessTable:
+    """The calibrated table with both blanks' torsion taken out. The table follows the
+    pair FE with the bodies held at their bores, so it holds the blanks' compliance
+    c_b = r_b1^2 / k_blank,1 + r_b2^2 / k_blank,2 (fem.pair, stored with the table) in
+    series; with F = k (STE - e) and STE_mesh = STE - F c_b:
+
+        1 / k_mesh = 1 / k - c_b,   STE_mesh = STE - F c_b,   e unchanged."""
+    c_b = float(tab.meta["blank_compliance_m_per_N"])
+    k = 1.0 / (1.0 / tab.k_N_per_m - c_b)
+    F = tab.k_N_per_m * (tab.ste_m - tab.excitation_m)
+    return dataclasses.replace(tab, k_N_per_m=k, ste_m=tab.ste_m - F * c_b)
+
+
 def table_label(wear: WearSpec | None, clearance_m: float) -> str:
     """How a table is named in messages: ``unworn, 0 um``, ``severe, 10 um``."""
     return f"{'unworn' if wear is None or wear.is_unworn else wear.label}, {clearance_m * 1e6:g} um"
@@ -440,6 +459,9 @@ def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float =
         **({} if cc is None else {"crack_correction_ratio_range": [float(cc.ratio.min()), float(cc.ratio.max())],
                                   "crack_check_residual": cc.check_residual}),
         "fe_pair_mean_N_per_m": pc.fe_mean_N_per_m,
+        # the blanks' torsion (fem.pair) the table holds in series, for without_blank_torsion
+        "blank_compliance_m_per_N": pc.blank_compliance_m_per_N,
+        "fe_pair_mesh_only_mean_N_per_m": pc.fe_mesh_only_mean_N_per_m,
         "uncorrected_mean_N_per_m": mesh_stiffness(pair, points=points, torque_Nm=torque_Nm,
                                                    clearance_m=clearance_m, wear=wear, flank=flank,
                                                    faults=faults).mean_N_per_m,

@@ -245,6 +245,13 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
                   f"{s['min_N_per_m']:>12.4e}{s['max_N_per_m']:>12.4e}{s['contact_ratio']:>8.4f}"
                   f"{_num_or_dash(s['double_zone_mean_N_per_m'])}{_num_or_dash(s['single_zone_mean_N_per_m'])}"
                   f"{s['wall_s'] * 1e3:>9.1f}")
+        for s in summaries:
+            if "mesh_only_mean_N_per_m" in s:  # the pair FE: what the bores add (compare analytic: mesh only)
+                kb = ", ".join("-" if k is None else f"{k:.4e}" for k in s["blank_torsional_stiffness_Nm_per_rad"])
+                rr = ", ".join(f"{r:.2f}" for r in s["blank_reference_radius_mm"])
+                print(f"fem {s['wear']}, {s['clearance_um']:g} um: bore-fixed mean {s['bore_fixed_mean_N_per_m']:.4e} "
+                      f"N/m, mesh only {s['mesh_only_mean_N_per_m']:.4e} N/m (blanks' torsion below r_ref = {rr} mm "
+                      f"taken out; compare analytic methods with this); blank torsional stiffness {kb} N m/rad")
         print_assumed(assumed)
         for w in dict.fromkeys(w for s in summaries for w in s.get("warnings", [])):
             print(f"warning: {w}")

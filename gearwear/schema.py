@@ -197,6 +197,13 @@ class MeshStiffnessDoc(_Table):
                                                  "[, excitation_um]; relative to the scene file.")
     interpolation: Literal["linear", "cubic"] = PField(
         "linear", description="Table interpolation: linear (positivity preserving) or cubic (periodic spline).")
+    blank_torsion: Literal["in_series", "excluded"] | None = PField(
+        None, description='With source = "fem" or "calibrated" (default "in_series"): the FE holds each gear at its '
+                          "bore, so its k_h carries both blanks' torsion between bore and teeth in series with the "
+                          'mesh, which is physical here (the 6-DOF model has no shaft or blank torsion of its own). '
+                          '"excluded": the mesh alone, the blanks\' torsion below r_ref = r_f - 2 m (not below the '
+                          "bore) taken out (for a model that carries the blank torsion itself). Not with the other "
+                          "sources: they have no blank term.")
 
 
 class WearDoc(_Table):
@@ -570,6 +577,10 @@ def cross_check(doc: SceneDoc) -> None:
         if ms.path is not None and src != "table":
             raise fail("effects.mesh_stiffness.path", repr(ms.path), "",
                        f'only used with source = "table" (source is {src!r})')
+        if ms.blank_torsion is not None and src not in ("fem", "calibrated"):
+            raise fail("effects.mesh_stiffness.blank_torsion", repr(ms.blank_torsion), "",
+                       f'only used with source = "fem" or "calibrated" (source is {src!r}, which has no blank '
+                       "torsion term)")
     w = e.wear
     if w is not None:
         check_wear_table(w)
@@ -702,6 +713,7 @@ def reference_markdown() -> str:
 CROSS_CHECKS = (
     '`mesh_stiffness.value_N_per_m` only with `source = "constant"`; `interpolation` not with it',
     '`mesh_stiffness.path` needed by, and only used with, `source = "table"`',
+    '`mesh_stiffness.blank_torsion` only with `source = "fem"` or `"calibrated"` (the others have no blank term)',
     "`wear`: exactly one of `phase`, `max_depth_um`, `hours`; `archard_k_m2_per_N` / `wear_intensity` "
     "only with `hours` and their model",
     '`wear` not with a user table, nor with a constant `value_N_per_m` and no `transmission_error`',

@@ -5,7 +5,10 @@ Only what the scene's ``[effects]`` names is modelled:
 * ``mesh_stiffness``: time-varying k_h(phi) from ``source`` = analytic (Ishikawa, load
   sharing at the scene torque), calibrated (FE-corrected, cached tables), fem (FE pair
   contact) or constant (``value_N_per_m``, else the analytic mean). Absent: a constant
-  spring of the analytic mean stiffness.
+  spring of the analytic mean stiffness. With fem and calibrated, ``blank_torsion``
+  says whether both blanks' torsion between bore and teeth is in series with the mesh
+  ("in_series", the default: the FE holds the gears at their bores; see
+  :func:`blank_torsion`) or taken out ("excluded").
 * ``wear``: changes the stiffness table (thinner teeth, wear gaps in the load sharing).
 * ``transmission_error``: the wear excitation e(phi) enters the mesh force
   F = k_h f(delta - e). Absent: e = 0.
@@ -82,6 +85,17 @@ def operating_centre_distance(scene: Scene) -> float:
     return pair.centre_distance_m
 
 
+def blank_torsion(ms: dict | None) -> str:
+    """What the FE-based sources give the dynamics of the gear blanks
+    (effects.mesh_stiffness.blank_torsion): "in_series" unless the scene says "excluded".
+    The default because the FE holds each gear at its bore, so its k_h carries both blanks'
+    torsion between bore and teeth in series with the mesh, and the 6-DOF model has no
+    shaft or blank torsion of its own (the torque acts on the gear body directly): the
+    blank compliance is physical there, and counted once. "excluded" is for a model that
+    carries the blanks' torsion itself (it would count it twice)."""
+    return (ms or {}).get("blank_torsion") or "in_series"
+
+
 def stiffness_input(scene: Scene, points: int = 360) -> StiffnessInput:
     """The k_h(phi), e(phi) tables the scene asks for (arrays over one mesh period)."""
     from gearwear.analytic.tvms import mesh_stiffness
@@ -106,12 +120,14 @@ def stiffness_input(scene: Scene, points: int = 360) -> StiffnessInput:
         phi, k = ms["angle_rad"], ms["k_N_per_m"]
         e = ms["excitation_m"] if ms["excitation_m"] is not None else np.zeros_like(k)
     elif source == "calibrated":
-        from .calibrate import calibrated_table
+        from .calibrate import calibrated_table, without_blank_torsion
         tab = calibrated_table(pair, wear, clearance_geo, T, points, flank=flank, faults=faults)
+        if blank_torsion(ms) == "excluded":
+            tab = without_blank_torsion(tab)
         phi, k, e = tab.angle_rad, tab.k_N_per_m, tab.excitation_m
     elif source == "fem":
         from .stiffness_job import fem_curve
-        r = fem_curve(pair, 24, T, clearance_geo, wear, flank, faults)
+        r = fem_curve(pair, 24, T, clearance_geo, wear, flank, faults, blank_torsion=blank_torsion(ms))
         phi, k, e = r.angle_rad, r.k_N_per_m, r.excitation_m
     else:
         r = mesh_stiffness(pair, points=points, torque_Nm=T, clearance_m=clearance_geo, wear=wear, flank=flank,

@@ -50,7 +50,12 @@ class Curve:
         (``zone_means_N_per_m``: "1", "2", "3", ...; null where that count never occurs,
         e.g. no single-contact zone above a contact ratio of 2); the double/single keys
         are the "2" and "1" entries. ``warnings``: one-line notes (contact ratio below 1,
-        wear beyond the severe phase)."""
+        wear beyond the severe phase). The pair FE adds ``bore_fixed_mean_N_per_m`` (the
+        bodies held at their bores: ``mean_N_per_m`` unless ``blank_torsion`` is
+        "excluded"), ``mesh_only_mean_N_per_m`` (the blanks' torsion below their reference
+        circles taken out: the one to compare with ishikawa, energy and iso6336, which have
+        no blank torsion), ``blank_torsional_stiffness_Nm_per_rad`` [pinion, gear] (null
+        where the reference circle is the bore) and ``blank_reference_radius_mm``."""
         from gearwear.geometry.wear import wear_warnings
 
         r = self.result
@@ -59,6 +64,14 @@ class Curve:
             extra["flank"] = r.flank.label()
         if r.faults is not None:
             extra["faults"] = r.faults.label()
+        if "fe" in r.meta:  # the pair FE: both blanks' torsion, and the mesh without it
+            fe = r.meta["fe"]
+            extra["blank_torsion"] = fe["blank_torsion"]
+            extra["bore_fixed_mean_N_per_m"] = fe["bore_fixed_mean_N_per_m"]
+            extra["mesh_only_mean_N_per_m"] = fe["mesh_only_mean_N_per_m"]
+            extra["blank_torsional_stiffness_Nm_per_rad"] = [None if math.isinf(k) else k
+                                                             for k in fe["blank_torsional_stiffness_Nm_per_rad"]]
+            extra["blank_reference_radius_mm"] = [r_m * 1e3 for r_m in fe["blank_reference_radius_m"]]
         if r.periods > 1:
             extra["mesh_periods"] = r.periods
             if "fe" in r.meta:  # the pair FE solves only the positions with the faulty tooth again
@@ -103,17 +116,30 @@ def iso_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float)
                          meta={"iso": dataclasses.asdict(iso)})
 
 
+#: what the FE-based stiffness holds of the gear blanks (effects.mesh_stiffness.blank_torsion)
+BLANK_TORSION = ("in_series", "excluded")
+
+
 def fem_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float,
               wear: WearSpec | None, flank: FlankSpec | None = None, faults: FaultSpec | None = None,
-              **fe_options) -> MeshStiffness:
+              blank_torsion: str = "in_series", **fe_options) -> MeshStiffness:
     """Resolved FE contact of both gear bodies (fem.pair) as a MeshStiffness curve, over
     one revolution of the faulty gear with ``faults`` (``fe_options``: pair_contact's
-    mesh_scale, contact_scale, extended, executor, progress)."""
+    mesh_scale, contact_scale, extended, executor, progress). ``blank_torsion``:
+    "in_series" (the bodies held at their bores: both blanks' torsion in series with the
+    mesh) or "excluded" (the mesh only: the blanks' torsion below their reference
+    circles taken out, fem.pair "The blank's torsion"); meta["fe"] holds both means and
+    the blanks' torsional stiffnesses either way."""
     from gearwear.fem.pair import pair_contact
 
+    if blank_torsion not in BLANK_TORSION:
+        raise fail("blank_torsion", repr(blank_torsion), "", f"must be one of {', '.join(BLANK_TORSION)}")
     fe = pair_contact(pair, wear=wear, positions=points, torque_Nm=torque_Nm, clearance_m=clearance_m,
                       flank=flank, faults=faults, **fe_options)
-    meta = {k: v for k, v in fe.meta.items() if k != "pair_gap_m"}
+    meta = {**{k: v for k, v in fe.meta.items() if k != "pair_gap_m"}, "blank_torsion": blank_torsion,
+            "bore_fixed_mean_N_per_m": fe.mean_N_per_m}
+    if blank_torsion == "excluded":
+        fe = fe.without_blank_torsion()
     return MeshStiffness("fem", pair, fe.mesh, torque_Nm, wear, fe.angle_rad, fe.k_N_per_m, fe.ste_m,
                          fe.excitation_m, fe.pair_load_N, fe.pair_d_m, fe.pair_in_path,
                          float(fe.timings.get("total_s", float("nan"))), meta={"fe": meta}, flank=flank,
