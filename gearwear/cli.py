@@ -228,7 +228,12 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
         return written + (stiffness_job.write_fields(curves, folder, fields) if fields else [])
     files = _write(out, "stiffness", scene, {**inputs, "fields": fields}, write_stiffness,
                    {"curves": {c.slug: c.result.wall_s for c in curves}}, uses=uses)
+    from .plausibility import pair_warnings
+
+    absurd = pair_warnings(scene)  # legal but no gear's: said, not refused
     summaries = [{**c.summary(), "assumptions": assumed} for c in curves]
+    for s in summaries:
+        s["warnings"] = list(s.get("warnings", [])) + absurd
     if args.json:
         doc = dict(summaries[0])
         doc["curves"] = summaries

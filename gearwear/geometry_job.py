@@ -22,6 +22,7 @@ from gearwear.geometry.wear import WearSpec, key_roll_angles, wear_warnings, wor
 
 from . import io
 from .assumptions import as_dicts, for_command
+from .plausibility import body_warnings, pair_warnings
 from .scene import Scene
 
 
@@ -89,7 +90,8 @@ class GeometryResult:
             "face_width_mm": pair.face_width_m * 1e3,
             "gears": per_gear,
             "assumptions": as_dicts(for_command(self.scene, "geometry")),
-            "warnings": og.mesh.contact_ratio_warnings() + wear_warnings(og.mesh, self.wear),
+            "warnings": og.mesh.contact_ratio_warnings() + wear_warnings(og.mesh, self.wear)
+            + pair_warnings(self.scene) + body_warnings(self.scene),
             "wall_s": self.wall_s,
         }
         if self.mesh is not None:

@@ -50,6 +50,7 @@ from gearwear.geometry.spec import PairSpec
 from gearwear.core.validation import InputError, renamed
 
 from .assumptions import as_dicts, for_command
+from .plausibility import body_warnings, pair_warnings, response_warnings, stiffness_warnings
 from .scene import Scene, require_dynamics
 
 #: SI unit of each signal of the dynamics layer (dynamics.simulate computes them in SI)
@@ -233,7 +234,10 @@ class SimulationRun:
                 **({"faults": self.scene.faults.label()} if self.scene.faults is not None else {}),
                 **contact_notes(self.scene, r),
                 "assumptions": as_dicts(for_command(self.scene, "simulate")),
-                **operating_notes(self.scene, contact_warnings(self.scene, r) + ci_warn)}
+                **operating_notes(self.scene, contact_warnings(self.scene, r) + ci_warn
+                                  + pair_warnings(self.scene) + body_warnings(self.scene)
+                                  + stiffness_warnings(self.scene, self.stiffness.mean_N_per_m)
+                                  + response_warnings(r))}
 
 
 #: why a model without a backlash dead zone reports no separation fraction

@@ -36,12 +36,14 @@ the compliance is 1e-3 relative; the pair FE documents the same choice).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from .kinematics import MeshGeometry
 from .spec import PairSpec
+from .wear import MAX_DEPTH_FRACTION
 from gearwear.core.validation import Field, fail, fail_range
 
 SHAPES = ("linear", "parabolic")
@@ -156,6 +158,15 @@ def modification_on_line_of_action(flank: FlankSpec | None, mesh: MeshGeometry, 
 
 # -- checks --------------------------------------------------------------------------
 
+def half_thickness_m(g, radius_m: float) -> float:
+    """Half the nominal arc tooth thickness (m) at a radius on the involute (ISO 21771):
+    r (s / (2 r_p) + inv(alpha) - inv(alpha_r)), cos(alpha_r) = r_b / r."""
+    from .spec import inv
+
+    a_r = math.acos(min(1.0, g.base_radius_m / radius_m))
+    return radius_m * (g.pitch_thickness_m / (2.0 * g.pitch_radius_m) + inv(g.pressure_angle_rad) - inv(a_r))
+
+
 def check_flank(pair: PairSpec, flank: FlankSpec) -> None:
     """Refuse modifications that do not fit the flank, naming this layer's keys
     (``tip_relief.start_diameter_m[i]``, ``root_relief.start_diameter_m[i]``,
@@ -181,6 +192,16 @@ def check_flank(pair: PairSpec, flank: FlankSpec) -> None:
             if not (d_sap < rel.start_diameter_m < d_tip):
                 raise fail_range(f"{name}.start_diameter_m[{i}]", rel.start_diameter_m, active,
                                  f"the active flank of the {g.name} from its SAP to its tip")
+            # the relief is largest at the tip (tip relief) or the SAP (root relief): it may take
+            # at most the share of the half tooth thickness there that wear may (geometry.wear)
+            r_end = g.tip_radius_m if name == "tip_relief" else 0.5 * d_sap
+            limit = MAX_DEPTH_FRACTION * half_thickness_m(g, r_end)
+            if rel.amount_m > limit:
+                raise fail_range(f"{name}.amount_m[{i}]", rel.amount_m, Field("m", 0.0, limit),
+                                 f"at most {MAX_DEPTH_FRACTION:.3g} of the {g.name}'s half tooth thickness "
+                                 f"({half_thickness_m(g, r_end) * 1e3:.4g} mm) at the "
+                                 f"{'tip' if name == 'tip_relief' else 'start of active profile'}, where the "
+                                 "relief is largest (more would cut through the tooth)")
         if tip is not None and root is not None and not root.start_diameter_m < tip.start_diameter_m:
             raise fail_range(f"root_relief.start_diameter_m[{i}]", root.start_diameter_m,
                              Field("m", d_sap, tip.start_diameter_m, True, True),

@@ -180,6 +180,10 @@ CASES: list[tuple[str, list[str], str, str | None, dict[str, str]]] = [
     # ---- flank modifications and faults (issue 13)
     ("relief-start-above-tip", ["stiffness", S, "flank.tip_relief={amount_um=5, start_diameter_mm=170}", "--out", "o"],
      "flank.tip_relief.start_diameter_mm[0]", "170", {}),
+    # a 1 mm relief on a module-1 tooth, thicker than the tooth's tip, was accepted
+    ("relief-thicker-than-the-tip", ["stiffness", S, "pair.module_mm=1", S, "pair.hub_radius_mm=5", S,
+                                     "flank.tip_relief={amount_um=1000, start_diameter_mm=31.5}"],
+     "flank.tip_relief.amount_um[0]", "1000", {}),
     ("relief-shape", ["stiffness", S, 'flank.tip_relief={amount_um=5, start_diameter_mm=152, shape="cubic"}'],
      "flank.tip_relief.shape", "'cubic'", {}),
     ("deviation-missing-file", ["stiffness", S, 'flank.deviation_csv=["nope.csv", ""]'],
