@@ -382,7 +382,11 @@ def _fe_executor(args: argparse.Namespace):
 
 
 def _workers(args: argparse.Namespace) -> int | None:
-    """--workers N (1..1024), or None: the executor's default (all cores)."""
+    """--workers N (1..1024), or None: the executor's default (all cores). With --scheduler the
+    workers are the cluster's (local:N or the running one's): --workers would be ignored."""
+    if args.workers and getattr(args, "scheduler", None):
+        raise InputError(f"--workers = {args.workers}: not used with --scheduler {args.scheduler} (the cluster's "
+                         "workers run the tasks; give their number as --scheduler local:N)")
     return _int_arg("--workers", args.workers, 1, 1024) if args.workers else None
 
 
@@ -604,6 +608,11 @@ def _cmd_scene(args: argparse.Namespace) -> int:
     from .schema import json_schema, reference_markdown, resolved_dict, to_toml
     from .scene import builtin_scene_names
 
+    if (args.reference or args.schema or args.list) and (args.scene or args.set or args.json):
+        given = [f for f, v in (("SCENE", args.scene), ("--set", args.set), ("--json", args.json)) if v]
+        which = "--reference" if args.reference else "--schema" if args.schema else "--list"
+        raise InputError(f"{', '.join(given)}: not used with {which} (it prints the same for every scene); drop "
+                         f"{'it' if len(given) == 1 else 'them'}")
     if args.reference:
         print(reference_markdown(), end="")
         return 0

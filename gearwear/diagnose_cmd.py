@@ -63,7 +63,14 @@ def check_sets(sets: list[str], unknowns: list[ds.Unknown]) -> None:
 
 def prior_ranges(raw: dict[str, Any], unknowns: list[ds.Unknown],
                  given: dict[str, str | None]) -> tuple[tuple[float, ...], tuple[float, ...]]:
-    """(lo, hi) per unknown: LO:HI from its flag, else the documented default."""
+    """(lo, hi) per unknown: LO:HI from its flag, else the documented default. A range flag of
+    a quantity that is not an unknown would be ignored: an error."""
+    shorts = {u.short for u in unknowns}
+    for short, text in given.items():
+        if text is not None and short not in shorts:
+            flag = next(u.flag for u in ds.UNKNOWNS.values() if u.short == short)
+            raise InputError(f"{flag} = {text}: not used, {short} is not an unknown (--unknowns "
+                             f"{','.join(u.short for u in unknowns)}); add it to --unknowns or drop the flag")
     lo, hi = [], []
     for u in unknowns:
         text = given.get(u.short)

@@ -142,8 +142,15 @@ def read_measurement(path: str | Path, fm_Hz: float, harmonics: int) -> Measurem
                    + ") or a harmonic table (signal,harmonic,amplitude)")
     header = [h.strip() for h in rows[0]]
     if header == ["signal", "harmonic", "amplitude"]:
-        return _harmonic_table(p, rows[1:], harmonics)
-    return _time_series(p, header, rows[1:], fm_Hz, harmonics)
+        meas = _harmonic_table(p, rows[1:], harmonics)
+    else:
+        meas = _time_series(p, header, rows[1:], fm_Hz, harmonics)
+    if not any(v != 0.0 for (_, k), v in meas.values.items() if k >= 1):
+        # a running gear pair always shows mesh harmonics: all zero is a dead sensor or an
+        # empty export, and fitting it would report a confident estimate of nothing
+        raise _bad(p, None, None, "every harmonic amplitude is 0: a running gear pair always has mesh "
+                                  "harmonics (was the sensor connected, the record exported?)")
+    return meas
 
 
 def _harmonic_table(p: Path, rows: list[list[str]], harmonics: int) -> Measurement:

@@ -53,6 +53,8 @@ def _setup(tmp: Path) -> None:
     (tmp / "foreign_out").mkdir()
     (tmp / "foreign_out" / "my_notes.txt").write_text("keep me\n")
     (tmp / "cache_is_a_file").write_text("x\n")
+    (tmp / "all_zero.csv").write_text("signal,harmonic,amplitude\nF_m_N,1,0\nF_m_N,2,0\n")
+    (tmp / "diag.toml").write_text((Path(__file__).parents[1] / "examples" / "diagnose" / "scene.toml").read_text())
 
 
 S = "--set"
@@ -201,6 +203,16 @@ CASES: list[tuple[str, list[str], str, str | None, dict[str, str]]] = [
     ("out-under-file", ["stiffness", "--out", "a_file.txt/sub"], "--out", "a_file.txt/sub", {}),
     ("out-foreign-folder", ["geometry", "--no-mesh", "--out", "foreign_out"], "--out", "foreign_out", {}),
     ("report-out-is-file", ["report", "paper", "--out", "a_file.txt"], "--out", "a_file.txt", {}),
+    # ---- options that would do nothing, and a measurement with nothing in it (issue 25)
+    ("scene-schema-with-set", ["scene", "--schema", S, "operating.speed_rpm=1"], "--set", None, {}),
+    ("workers-with-scheduler", ["sweep", S, "operating.speed_rpm=1000,1200", "--workers", "2", "--scheduler",
+                                "local:1"], "--workers", "2", {}),
+    ("diagnose-torque-range-not-unknown", ["diagnose", "diag.toml", "--measured", "all_zero.csv",
+                                           "--torque-range-Nm", "10:20"], "--torque-range-Nm", "10:20", {}),
+    ("diagnose-wear-range-not-unknown", ["diagnose", "diag.toml", "--unknowns", "clearance", "--measured",
+                                         "all_zero.csv", "--wear-range-um", "0:20"], "--wear-range-um", "0:20", {}),
+    ("diagnose-all-zero-measurement", ["diagnose", "diag.toml", "--measured", "all_zero.csv"], "--measured",
+     "every harmonic amplitude is 0", {}),
     # ---- argparse-level mistakes keep the one-line form too
     ("unknown-command", ["simulte"], "simulte", None, {}),
     ("unknown-flag", ["simulate", "--speed", "1200"], "--speed", None, {}),
