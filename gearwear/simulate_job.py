@@ -48,6 +48,7 @@ from gearwear.core.validation import InputError, renamed
 
 from .assumptions import as_dicts, for_command
 from .scene import Scene, require_dynamics
+from .schema import dynamics_fem_plane
 
 SIGNAL_UNITS = {"y_p": ("um", 1e6), "x_p": ("um", 1e6), "y_g": ("um", 1e6), "x_g": ("um", 1e6),
                 "q": ("um", 1e6), "delta": ("um", 1e6), "F_m": ("N", 1.0)}
@@ -99,17 +100,18 @@ def stiffness_input(scene: Scene, points: int = 360) -> StiffnessInput:
                          'which cannot show it; set effects.mesh_stiffness.source = "analytic", "calibrated" or '
                          '"fem" (or add [effects] transmission_error to a constant stiffness)')
     periods = revolution_periods(pair, faults)
+    plane = dynamics_fem_plane(scene.doc) if scene.doc is not None else "stress"
     if source == "table":
         assert ms is not None
         phi, k = ms["angle_rad"], ms["k_N_per_m"]
         e = ms["excitation_m"] if ms["excitation_m"] is not None else np.zeros_like(k)
     elif source == "calibrated":
         from .calibrate import calibrated_table
-        tab = calibrated_table(pair, wear, clearance_geo, T, points, flank=flank, faults=faults)
+        tab = calibrated_table(pair, wear, clearance_geo, T, points, flank=flank, faults=faults, plane=plane)
         phi, k, e = tab.angle_rad, tab.k_N_per_m, tab.excitation_m
     elif source == "fem":
         from .stiffness_job import fem_curve
-        r = fem_curve(pair, 24, T, clearance_geo, wear, flank, faults)
+        r = fem_curve(pair, 24, T, clearance_geo, wear, flank, faults, plane=plane)
         phi, k, e = r.angle_rad, r.k_N_per_m, r.excitation_m
     else:
         r = mesh_stiffness(pair, points=points, torque_Nm=T, clearance_m=clearance_geo, wear=wear, flank=flank,

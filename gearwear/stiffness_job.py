@@ -108,7 +108,7 @@ def fem_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float,
               **fe_options) -> MeshStiffness:
     """Resolved FE contact of both gear bodies (fem.pair) as a MeshStiffness curve, over
     one revolution of the faulty gear with ``faults`` (``fe_options``: pair_contact's
-    mesh_scale, contact_scale, extended, executor, progress)."""
+    mesh_scale, contact_scale, plane, extended, executor, progress)."""
     from gearwear.fem.pair import pair_contact
 
     fe = pair_contact(pair, wear=wear, positions=points, torque_Nm=torque_Nm, clearance_m=clearance_m,
