@@ -182,7 +182,7 @@ def sector_solid(pair: PairSpec, gear_index: int, face_width_m: float, radii_m: 
     return solid, chain, int(inv[0]), int(inv[-1])
 
 
-def _z_rule(planes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def z_rule(planes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Gauss-Legendre points z and weights (sum = depth) over the element layers."""
     t, w = np.polynomial.legendre.leggauss(Z_POINTS)
     lo, hi = planes[:-1, None], planes[1:, None]
@@ -287,7 +287,7 @@ def _solve_solid(solid: SolidMesh, material, pts: np.ndarray, forces: np.ndarray
     fixed = np.union1d((3 * held[:, None] + np.arange(3)).ravel(), 3 * sym + 2)
     free = np.setdiff1d(np.arange(K.shape[0]), fixed)
     depth = solid.depth_m
-    zq, wq = _z_rule(solid.planes_z_m)
+    zq, wq = z_rule(solid.planes_z_m)
     n, k = pts.shape[:2]
     F = np.zeros((K.shape[0], n))
     for i in range(n):
