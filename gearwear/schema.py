@@ -351,9 +351,10 @@ class FemDoc(_Table):
     plane: Literal["stress", "strain"] = PField(
         "stress", description="2D idealisation of the FE models: stress (sigma_zz = 0, the thin-face limit) or "
                               "strain (eps_zz = 0, the wide-face limit). The 3D FE check (reports/plane, "
-                              "fem.solid3d) puts the face-averaged compliance of a tooth with b/m = 1 within "
-                              "2 % of plane stress and with b/m >= 10 within 1 % of plane strain; at b/m = 4 "
-                              "(the paper pair) it lies between them.")
+                              "fem.solid3d) puts the face-averaged tooth compliance within 1.6 % of plane stress "
+                              "up to b/m = 1 and within 2.3 % of plane strain from b/m = 10 on; at b/m = 4 (the "
+                              "paper pair) it lies in the middle, so stress stays the default and strain is the "
+                              "closer choice for wider faces.")
 
 
 SIGNALS = ("y_p", "x_p", "y_g", "x_g", "q", "delta", "F_m")
