@@ -639,10 +639,13 @@ def cross_check(doc: SceneDoc) -> None:
 FE_SOURCES = ("fem", "calibrated")
 
 
-def fem_plane(doc: SceneDoc, runs_fem: bool, what: str) -> str:
-    """The 2D idealisation (fem.plane) of the FE models a command runs. ``runs_fem``: whether
-    ``what`` (the command and its options, for the message) runs an FE model at all; a
-    fem.plane the scene gives is refused when it does not (an ignored option is an error)."""
+def fem_plane(doc: SceneDoc | None, runs_fem: bool, what: str) -> str:
+    """The 2D idealisation (fem.plane) of the FE models a command runs (the default for a
+    scene without a document). ``runs_fem``: whether ``what`` (the command and its options,
+    for the message) runs an FE model at all; a fem.plane the scene gives is refused when
+    it does not (an ignored option is an error)."""
+    if doc is None:
+        return str(FemDoc.model_fields["plane"].default)
     if not runs_fem and _given(doc.fem, "plane"):
         raise fail("fem.plane", repr(doc.fem.plane), "", f"not used: {what} runs no finite-element model "
                    f"(only gearwear stiffness --method fem, verify, calibrate and the dynamics with "
