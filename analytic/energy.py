@@ -67,6 +67,12 @@ S_f the reference model leaves intact.
 Hertz contact (linear, Yang & Lin 1987), identical materials:
 
     1/k_h = 4 (1 - nu^2) / (pi E b)                                            [m/N]
+
+Plane state by derivation: the beam terms (E, G) are plane stress; the Hertz term is
+plane strain (line contact of long cylinders), which is right at every face width since
+the contact zone (a ~ 64 um) is far narrower than any face; Sainsot's foundation is a fit
+to 2D results at one Poisson ratio with only E in it, so its state cannot be switched.
+None of them reads the scene key fem.plane (README, "Plane stress or plane strain").
 """
 
 from __future__ import annotations

@@ -30,6 +30,14 @@ b in m, delta in m):
 
 A pair's compliance (Eq. 6) is (delta_1 + delta_2)_pinion + delta_3 + (delta_1 + delta_2)_gear.
 
+Plane state by derivation: delta_1 is a beam with free sides (E, G = E / (2 (1 + nu))):
+plane stress; Weber's delta_2 is a half-plane foundation ((1 - nu^2) / E): plane strain;
+delta_3 is Palmgren's empirical law for real (3D) line contacts. The scene key fem.plane
+does not switch them (the FE's key; README, "Plane stress or plane strain": the 3D check
+puts a tooth of b/m = 4 midway between the states, and switching would change the paper's
+model). A consistent state would take E / (1 - nu^2) in delta_1's bending and axial terms
+for plane strain, or E (1 + 2 nu) / (1 + nu)^2, nu / (1 + nu) in delta_2 for plane stress.
+
 Root crack (``crack=``, ``geometry.crack``): the reduced-section model of Chen & Shao
 (Engineering Failure Analysis 18(8):2149-2164, 2011) after Tian (MSc thesis, Univ. of
 Alberta, 2004). With h_q the distance of the crack tip from the centre line and h_x(y)

@@ -568,7 +568,8 @@ def _circle_nodes_floor(r_hub: float, exact_area: float) -> int:
     return int(max(16, math.ceil(n)))
 
 
-def _run_gmsh(build, sizes, fillet_pts, load_pts, order, n_circle, crack: dict | None = None) -> dict:
+def _run_gmsh(build, sizes, fillet_pts, load_pts, order, n_circle, crack: dict | None = None,
+              extrude: tuple[float, np.ndarray] | None = None) -> dict:
     """Build geometry via ``build()`` (returns {group: [curve tags]}), mesh, extract.
 
     Every curve not listed under a group other than "outer" is "outer".
@@ -597,6 +598,13 @@ def _run_gmsh(build, sizes, fillet_pts, load_pts, order, n_circle, crack: dict |
                 "load": [geo.addPoint(float(x), float(y), 0.0, g) for x, y in load_pts],
             }
             geo.synchronize()  # once: it is slow for thousands of curves
+            surface = None
+            if extrude is not None:
+                surface = gmsh.model.getEntities(2)[0][1]
+                depth, fractions = extrude
+                geo.extrude([(2, surface)], 0.0, 0.0, float(depth), numElements=[1] * len(fractions),
+                            heights=[float(f) for f in fractions], recombine=False)
+                geo.synchronize()
             if crack is None:
                 _add_size_fields(sizes, point_tags, [c for v in groups.values() for c in v])
             else:
@@ -604,13 +612,16 @@ def _run_gmsh(build, sizes, fillet_pts, load_pts, order, n_circle, crack: dict |
                                  crack_tip=(crack["tip"], crack["tip_size_m"]))
                 surface = gmsh.model.getEntities(2)[0][1]
                 gmsh.model.mesh.embed(1, [crack["line"]], 2, surface)
-            gmsh.model.mesh.generate(2)
+            gmsh.model.mesh.generate(2 if extrude is None else 3)
             if order == 2:
                 gmsh.model.mesh.setOrder(2)
                 _untangle_curved()
             if crack is not None:
                 groups["crack"] = _split_crack(crack["line"], crack["mouth"])
-            return _extract(groups, order)
+            raw = _extract(groups, order, surface)
+            if extrude is not None:
+                raw["solid"] = _extract_tets()
+            return raw
     except MeshError:
         raise
     except Exception as exc:  # gmsh raises plain Exception; keep one line
@@ -655,10 +666,12 @@ def _split_crack(line: int, mouth: int) -> list[int]:
     return [line] + new
 
 
-def _extract(groups: dict[str, list[int]], order: int) -> dict:
+def _extract(groups: dict[str, list[int]], order: int, surface: int | None = None) -> dict:
+    """Triangles and boundary-group edges of the meshed surface (``surface``: only that
+    surface and the edges of the group curves, as in a swept model)."""
     etype = 9 if order == 2 else 2  # 6-node / 3-node triangle
     nper = 6 if order == 2 else 3
-    types, _, node_tags = gmsh.model.mesh.getElements(dim=2)
+    types, _, node_tags = gmsh.model.mesh.getElements(dim=2, tag=-1 if surface is None else surface)
     conn = []
     for ty, nt in zip(types, node_tags):
         if ty != etype:
@@ -673,7 +686,12 @@ def _extract(groups: dict[str, list[int]], order: int) -> dict:
     # one query for all boundary edges, then per-curve queries only for the
     # few non-polygon curves; "outer" is the remainder (thousands of curves)
     nl = 3 if order == 2 else 2
-    _, ltags, lnt = gmsh.model.mesh.getElements(dim=1)
+    if surface is None:
+        _, ltags, lnt = gmsh.model.mesh.getElements(dim=1)
+    else:
+        per = [gmsh.model.mesh.getElements(dim=1, tag=c) for v in groups.values() for c in v]
+        ltags = [x for _, et, _ in per for x in et]
+        lnt = [x for _, _, nt in per for x in nt]
     all_tags = np.zeros(0, np.int64)
     all_nodes = np.zeros((0, nl), np.int64)
     if len(ltags):
@@ -694,6 +712,17 @@ def _extract(groups: dict[str, list[int]], order: int) -> dict:
     rest = ~np.isin(all_tags, np.concatenate(claimed)) if claimed else np.ones(all_tags.size, bool)
     lines["outer"] = all_nodes[rest, :2]
     return {"conn": conn_all, "tags": tags, "xyz": xyz, "lines": lines}
+
+
+def _extract_tets() -> dict:
+    """4-node tetrahedra of the meshed volume and all node coordinates."""
+    types, _, node_tags = gmsh.model.mesh.getElements(dim=3)
+    if any(int(ty) != 4 for ty in types) or not len(types):
+        raise MeshError(f"gmsh produced 3D element types {[int(t) for t in types]}, expected tetrahedra (4)")
+    conn = np.vstack([np.asarray(nt, dtype=np.int64).reshape(-1, 4) for nt in node_tags])
+    tags, coords, _ = gmsh.model.mesh.getNodes()
+    return {"conn": conn, "tags": np.asarray(tags, dtype=np.int64),
+            "xyz": np.asarray(coords, dtype=np.float64).reshape(-1, 3)}
 
 
 # ---------------------------------------------------------------------------
@@ -1177,35 +1206,11 @@ def _check_crack(crack_xy, tip_size, poly, curve, r_hub, sizes, scale) -> dict |
     return {"mouth_index": i, "tip_xy": c[1].copy(), "tip_size_m": float(h)}
 
 
-def mesh_sector(
-    outline_xy: np.ndarray,
-    hub_radius_m: float,
-    angle_from_rad: float,
-    angle_to_rad: float,
-    sizes: MeshSizes,
-    refine_points_xy: np.ndarray | None = None,
-    fillet_points_xy: np.ndarray | None = None,
-    order: int = 2,
-    ray_tol_rad: float = 1e-8,
-    outline_mid_xy: np.ndarray | None = None,
-) -> GearMesh:
-    """Mesh a gear sector bounded by a toothed polyline, two cuts and the hub arc.
-
-    outline_xy      (N,2) m open polyline along the toothed boundary,
-                    counter-clockwise (increasing polar angle) from the ray at
-                    ``angle_from_rad`` to the ray at ``angle_to_rad`` (first /
-                    last point on those rays within ``ray_tol_rad``).
-    angle_*_rad     0 < angle_to - angle_from < 2 pi.
-    outline_mid_xy  (N-1,2) m, optional: curved edges, as in :func:`mesh_full_gear`.
-    Other arguments as in :func:`mesh_full_gear`.
-
-    The cuts are straight lines from the polyline end points to the hub
-    circle points at the two angles.  Boundary groups: "outer", "hub_arc",
-    "cut_right" (at angle_from) and "cut_left" (at angle_to).  Exact area by
-    Green's theorem with the true hub arc (see module docstring).
-    """
-    t0 = time.perf_counter()
-    order = _check_order(order)
+def _sector(outline_xy, hub_radius_m, angle_from_rad, angle_to_rad, sizes, refine_points_xy,
+            fillet_points_xy, order, ray_tol_rad, outline_mid_xy):
+    """Validated sector geometry: (build, exact area, hub radius, scale, fillet points,
+    load points, hub nodes floor, curved) for :func:`mesh_sector` and
+    :func:`mesh_sector_solid`."""
     poly = _as_points(outline_xy, "outline_xy", 2)
     try:
         a0, a1 = float(angle_from_rad), float(angle_to_rad)
@@ -1265,8 +1270,166 @@ def mesh_sector(
         geo.addPlaneSurface([loop])
         return {"outer": outer, "hub_arc": hub, "cut_left": [cut_left], "cut_right": [cut_right]}
 
+    return build, exact, r, scale, fillet_pts, load_pts, n_circle, mids is not None
+
+
+def mesh_sector(
+    outline_xy: np.ndarray,
+    hub_radius_m: float,
+    angle_from_rad: float,
+    angle_to_rad: float,
+    sizes: MeshSizes,
+    refine_points_xy: np.ndarray | None = None,
+    fillet_points_xy: np.ndarray | None = None,
+    order: int = 2,
+    ray_tol_rad: float = 1e-8,
+    outline_mid_xy: np.ndarray | None = None,
+) -> GearMesh:
+    """Mesh a gear sector bounded by a toothed polyline, two cuts and the hub arc.
+
+    outline_xy      (N,2) m open polyline along the toothed boundary,
+                    counter-clockwise (increasing polar angle) from the ray at
+                    ``angle_from_rad`` to the ray at ``angle_to_rad`` (first /
+                    last point on those rays within ``ray_tol_rad``).
+    angle_*_rad     0 < angle_to - angle_from < 2 pi.
+    outline_mid_xy  (N-1,2) m, optional: curved edges, as in :func:`mesh_full_gear`.
+    Other arguments as in :func:`mesh_full_gear`.
+
+    The cuts are straight lines from the polyline end points to the hub
+    circle points at the two angles.  Boundary groups: "outer", "hub_arc",
+    "cut_right" (at angle_from) and "cut_left" (at angle_to).  Exact area by
+    Green's theorem with the true hub arc (see module docstring).
+    """
+    t0 = time.perf_counter()
+    order = _check_order(order)
+    build, exact, r, scale, fillet_pts, load_pts, n_circle, curved = _sector(
+        outline_xy, hub_radius_m, angle_from_rad, angle_to_rad, sizes, refine_points_xy, fillet_points_xy,
+        order, ray_tol_rad, outline_mid_xy)
     raw = _run_gmsh(build, sizes, fillet_pts, load_pts, order, n_circle)
-    return _finish(raw, order, scale, exact, r, "hub_arc", t0, curved=mids is not None)
+    return _finish(raw, order, scale, exact, r, "hub_arc", t0, curved=curved)
+
+
+@dataclass(frozen=True, eq=False)
+class SolidMesh:
+    """A gear sector extruded along z (straight 4-node tetrahedra, metres).
+
+    mesh        skfem.MeshTet over the sector x [0, depth_m]; the element layers
+                end on the planes ``planes_z_m`` (0 first, depth_m last).
+    section     GearMesh of the z = 0 face: Gmsh's surface mesh that the
+                extrusion swept, i.e. exactly the triangles of every layer plane
+                (order 1, groups as :func:`mesh_sector`).
+    boundaries  facet groups of ``mesh`` (indices into mesh.facets): "hub_arc",
+                "cut_right", "cut_left" (the swept section groups), "bottom"
+                (z = 0), "top" (z = depth_m), "outer" (the swept toothed outline).
+    """
+
+    mesh: skfem.MeshTet
+    section: GearMesh
+    boundaries: dict[str, np.ndarray]
+    planes_z_m: np.ndarray
+    build_time_s: float = field(default=0.0)
+
+    @property
+    def depth_m(self) -> float:
+        return float(self.planes_z_m[-1])
+
+    @property
+    def n_elements(self) -> int:
+        return int(self.mesh.t.shape[1])
+
+
+def mesh_sector_solid(
+    outline_xy: np.ndarray,
+    hub_radius_m: float,
+    angle_from_rad: float,
+    angle_to_rad: float,
+    sizes: MeshSizes,
+    planes_z_m,
+    refine_points_xy: np.ndarray | None = None,
+    fillet_points_xy: np.ndarray | None = None,
+    ray_tol_rad: float = 1e-8,
+) -> SolidMesh:
+    """The sector of :func:`mesh_sector` (order 1, straight edges) swept along +z by
+    Gmsh's structured extrusion: one element layer between consecutive ``planes_z_m``
+    (increasing, from 0), each triangular prism split into three tetrahedra
+    (``recombine`` off), so every layer plane carries the section's own triangles.
+
+    The section is meshed by the same Gmsh options and size fields as the 2D meshes
+    (one thread, fixed algorithm and seed: deterministic); boundary groups of the solid
+    are found from the section groups they sweep and from the planes z = 0 / z = depth.
+    """
+    t0 = time.perf_counter()
+    planes = np.asarray(planes_z_m, dtype=float)
+    if planes.ndim != 1 or len(planes) < 2 or planes[0] != 0.0 or np.any(np.diff(planes) <= 0) \
+            or not np.all(np.isfinite(planes)):
+        raise MeshError("planes_z_m must increase strictly from 0 (at least two planes)")
+    build, exact, r, scale, fillet_pts, load_pts, n_circle, _ = _sector(
+        outline_xy, hub_radius_m, angle_from_rad, angle_to_rad, sizes, refine_points_xy, fillet_points_xy,
+        1, ray_tol_rad, None)
+    depth = float(planes[-1])
+    raw = _run_gmsh(build, sizes, fillet_pts, load_pts, 1, n_circle, extrude=(depth, planes[1:] / depth))
+    section = _finish(raw, 1, scale, exact, r, "hub_arc", t0)
+    mesh = _tet_mesh(raw["solid"], scale)
+    sec = section.mesh
+    # a solid facet belongs to the swept section group whose edge its (x, y) corners lie on
+    boundaries = _solid_boundaries(mesh, sec, section.boundaries, depth, scale)
+    return SolidMesh(mesh, section, boundaries, planes, time.perf_counter() - t0)
+
+
+def _tet_mesh(raw: dict, scale: float) -> skfem.MeshTet:
+    """skfem.MeshTet of Gmsh's 4-node tetrahedra (nodes in Gmsh tag order), each
+    element positively oriented."""
+    conn = raw["conn"]
+    used = np.unique(conn)
+    new = np.full(int(used.max()) + 1, -1, dtype=np.int64)
+    new[used] = np.arange(used.size)
+    t = new[conn]
+    tag2row = np.full(int(raw["tags"].max()) + 1, -1, dtype=np.int64)
+    tag2row[raw["tags"]] = np.arange(raw["tags"].size)
+    p = raw["xyz"][tag2row[used]]
+    v = p[t]
+    vol = np.einsum("ij,ij->i", np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]), v[:, 3] - v[:, 0])
+    t[vol < 0] = t[vol < 0][:, [0, 2, 1, 3]]
+    if np.any(np.abs(vol) <= 1e-15 * scale ** 3):
+        raise MeshError(f"solid mesh has {int(np.sum(np.abs(vol) <= 1e-15 * scale ** 3))} degenerate tetrahedra")
+    return skfem.MeshTet(np.ascontiguousarray(p.T), np.ascontiguousarray(t.T), sort_t=False)
+
+
+def _solid_boundaries(mesh: skfem.MeshTet, sec, sec_groups: dict, depth: float, scale: float) -> dict:
+    """Facet groups of the swept solid: "bottom", "top" by their z, and each section
+    group by the section edge under the facet (its corners' (x, y) on one edge)."""
+    bf = mesh.boundary_facets()
+    xyz = mesh.p[:, mesh.facets[:, bf]]  # (3, 3 corners, n)
+    z = xyz[2]
+    tol = 1e-9 * scale
+    out = {"bottom": bf[np.all(np.abs(z) <= tol, axis=0)], "top": bf[np.all(np.abs(z - depth) <= tol, axis=0)]}
+    side = bf[~(np.all(np.abs(z) <= tol, axis=0) | np.all(np.abs(z - depth) <= tol, axis=0))]
+    # section vertex of each corner (the solid's nodes lie on the section's vertices in x, y)
+    from scipy.spatial import cKDTree
+    tree = cKDTree(sec.p.T)
+    corners = mesh.facets[:, side]
+    d, iv = tree.query(mesh.p[:2, corners.ravel()].T)
+    if np.any(d > tol):
+        raise MeshError("the solid's nodes do not lie over the section's vertices")
+    iv = iv.reshape(corners.shape)
+    nv = sec.p.shape[1]
+    edge_of = {}
+    for name, facets in sec_groups.items():
+        e = np.sort(sec.facets[:, facets], axis=0)
+        for a, b in e.T:
+            edge_of[int(a) * nv + int(b)] = name
+    names = []
+    for col in iv.T:
+        u = np.unique(col)
+        if len(u) != 2:
+            raise MeshError("a side facet of the solid is not over one section edge")
+        names.append(edge_of.get(int(u[0]) * nv + int(u[1])))
+    names_a = np.array(names, dtype=object)
+    for name in sec_groups:
+        out[name] = side[names_a == name]
+    if sum(len(v) for v in out.values()) != len(bf):
+        raise MeshError("the solid's boundary groups do not cover its boundary")
+    return {k: np.asarray(v, dtype=np.int64) for k, v in out.items()}
 
 
 def triangle_quality(mesh) -> np.ndarray:

@@ -352,6 +352,19 @@ def hertz_patch_forces(flank: np.ndarray, v_lo: int, v_hi: int, radius_m: np.nda
     return pts, mag[..., None] * force_dir[:, None, :]
 
 
+def patch_load(model, pts: np.ndarray, forces: np.ndarray) -> np.ndarray:
+    """Consistent nodal forces (N, n) of the point forces ``forces`` (n, k, 2) at
+    ``pts`` (n, k, 2) of :func:`hertz_patch_forces`, one column per position, on the 2D
+    ``model`` (``fem.elasticity.ElasticModel``)."""
+    n, k = pts.shape[:2]
+    P = model.probe(pts.reshape(-1, 2))  # rows 2 j, 2 j + 1: x, y at point j
+    G = np.zeros((2 * n * k, n))
+    col = np.repeat(np.arange(n), k)
+    G[0::2][np.arange(n * k), col] = forces.reshape(-1, 2)[:, 0]
+    G[1::2][np.arange(n * k), col] = forces.reshape(-1, 2)[:, 1]
+    return np.asarray(P.T @ G)
+
+
 def _patch_nodes(n: int) -> tuple[np.ndarray, np.ndarray]:
     """Gauss-Chebyshev (2nd kind): int_-1^1 sqrt(1 - t^2) f(t) dt ~ sum_k w_k f(t_k)."""
     k = np.arange(1, n + 1)
@@ -615,12 +628,7 @@ def single_tooth_compliance(pair: PairSpec, gear_index: int = 0, wear: WearSpec 
     flank, v_lo, v_hi = tm.flank_curve()
     pts, forces = hertz_patch_forces(flank, v_lo, v_hi, R, a, e_F, load_N)
     n, k = pts.shape[:2]
-    P = model.probe(pts.reshape(-1, 2))  # rows 2 j, 2 j + 1: x, y at point j
-    G = np.zeros((2 * n * k, n))
-    col = np.repeat(np.arange(n), k)
-    G[0::2][np.arange(n * k), col] = forces.reshape(-1, 2)[:, 0]
-    G[1::2][np.arange(n * k), col] = forces.reshape(-1, 2)[:, 1]
-    F = np.asarray(P.T @ G)  # consistent nodal forces, one column per position
+    F = patch_load(model, pts, forces)
     U = model.solve(F)
     yq = lp.y_axis_m if read_at == "load_line" else R
     Q = model.probe(np.column_stack([np.zeros_like(R), yq]))

@@ -16,6 +16,8 @@ What a command uses decides what it lists (``uses``):
 * ``dynamics``  damping ratios and the mesh-stiffness model of a scene without one
 * ``wear``      the depth of a named wear phase, the wear model's coefficients
 * ``iso``       the ISO 6336 K_v inputs a run-up draws next to its own
+* ``fem``       the 2D idealisation of the FE models (fem.plane); a dynamic command uses it
+                with an FE mesh-stiffness source ("fem", "calibrated") only
 """
 
 from __future__ import annotations
@@ -25,15 +27,15 @@ from typing import Any, Iterable
 
 from gearwear.geometry.wear import PHASE_DEPTHS_M, WearSpec
 
-from .schema import DEFAULT_BEARING_DAMPING_RATIO, DEFAULT_MESH_DAMPING_RATIO, Iso6336Doc, SceneDoc
+from .schema import DEFAULT_BEARING_DAMPING_RATIO, DEFAULT_MESH_DAMPING_RATIO, FE_SOURCES, Iso6336Doc, SceneDoc
 
 #: what each command's results use (see the module docstring)
 USES = {
     "geometry": frozenset({"geometry", "wear", "bore", "bodies"}),
     "stiffness": frozenset({"geometry", "elastic", "wear"}),
-    "stiffness-fem": frozenset({"geometry", "elastic", "wear", "bore"}),
-    "verify": frozenset({"geometry", "elastic", "wear", "bore"}),
-    "calibrate": frozenset({"geometry", "elastic", "wear", "bore"}),
+    "stiffness-fem": frozenset({"geometry", "elastic", "wear", "bore", "fem"}),
+    "verify": frozenset({"geometry", "elastic", "wear", "bore", "fem"}),
+    "calibrate": frozenset({"geometry", "elastic", "wear", "bore", "fem"}),
     "simulate": frozenset({"geometry", "elastic", "wear", "bore", "bodies", "dynamics"}),
     "runup": frozenset({"geometry", "elastic", "wear", "bore", "bodies", "dynamics", "iso"}),
     "report pair": frozenset({"geometry", "elastic", "wear", "bore", "bodies", "dynamics", "iso"}),
@@ -154,6 +156,9 @@ def scene_assumptions(scene) -> list[Assumption]:
                     "(assumed; the paper gives none)", "wear")
         if not _given(w, "taper_mm") and not (w.phase == "unworn"):
             add("effects.wear.taper_mm", w.taper_mm, "mm", "run-out of the depth beyond the active profile", "wear")
+    if not _given(doc.fem, "plane"):
+        add("fem.plane", doc.fem.plane, "", "plane stress, the thin-face limit of the 2D FE models; the 3D check "
+            "(reports/plane) puts a tooth between plane stress and plane strain by its b/m", "fem")
     iso = doc.iso6336 or Iso6336Doc()
     for key, why in (("accuracy_grade", "ISO 1328-1 grade of the deviations not given"),
                      ("application_factor", "K_A = 1, a uniform drive")):
@@ -165,6 +170,9 @@ def scene_assumptions(scene) -> list[Assumption]:
 def for_command(scene, command: str, extra: Iterable[str] = ()) -> list[Assumption]:
     """The assumptions a command's results rest on (``USES[command]`` plus ``extra``)."""
     uses = USES[command] | frozenset(extra)
+    ms = scene.doc.effects.mesh_stiffness if scene.doc is not None else None
+    if "dynamics" in uses and ms is not None and ms.source in FE_SOURCES:
+        uses |= {"fem"}
     return [a for a in scene_assumptions(scene) if a.use in uses]
 
 

@@ -246,14 +246,15 @@ class PairCorrection:
 
 
 def pair_correction(pair: PairSpec, wear: WearSpec | None, clearance_m: float, torque_Nm: float,
-                    corr: tuple, positions: int = 24, executor: Executor | None = None) -> PairCorrection:
+                    corr: tuple, positions: int = 24, executor: Executor | None = None,
+                    plane: str = "stress") -> PairCorrection:
     """Fit the per-zone pair factor on the even FE positions, check on the odd ones
     (``executor``: where the FE positions are solved, fem.pair.pair_contact; the same
     result to the bit)."""
     from gearwear.fem.pair import pair_contact
 
     fe = pair_contact(pair, wear=wear, positions=positions, torque_Nm=torque_Nm, clearance_m=clearance_m,
-                      executor=executor)
+                      executor=executor, plane=plane)
     st1 = pair_vs_analytic(fe, correction=corr)["analytic"]
     ratio = fe.k_N_per_m / st1.k_N_per_m
     # two or more loaded pairs: only there can the rim couple them
@@ -279,14 +280,15 @@ def pair_correction(pair: PairSpec, wear: WearSpec | None, clearance_m: float, t
 
 
 def run_fe(pair: PairSpec, wear: WearSpec | None, positions: int = 21, estimate_error: bool = True,
-           executor: Executor | None = None) -> Calibration:
+           executor: Executor | None = None, plane: str = "stress") -> Calibration:
     """FE single-tooth compliance of both gears and the fitted corrections.
 
     Identical gears (same spec apart from the name) carry identical worn flanks, so
     the pinion's FE run serves both. The discretisation error is estimated from a
     second run with all mesh sizes x sqrt(2): |c_h - c_2h| / (sqrt(2)^p - 1), p = 2.
     ``executor`` (any concurrent.futures.Executor): the independent single-tooth FE runs
-    go to it as separate tasks; the result is the same to the bit."""
+    go to it as separate tasks; the result is the same to the bit. ``plane``: the 2D
+    idealisation of the FE (the scene's fem.plane)."""
     from gearwear.fem.tooth import single_tooth_compliance
 
     t0 = time.perf_counter()
@@ -294,9 +296,10 @@ def run_fe(pair: PairSpec, wear: WearSpec | None, positions: int = 21, estimate_
     runs = [{"gear_index": 0}] + ([] if same else [{"gear_index": 1}]) \
         + ([{"gear_index": 0, "mesh_scale": math.sqrt(2)}] if estimate_error else [])
     if executor is None:
-        done = [single_tooth_compliance(pair, wear=wear, positions=positions, **kw) for kw in runs]
+        done = [single_tooth_compliance(pair, wear=wear, positions=positions, plane=plane, **kw) for kw in runs]
     else:
-        futures = [executor.submit(single_tooth_compliance, pair, wear=wear, positions=positions, **kw) for kw in runs]
+        futures = [executor.submit(single_tooth_compliance, pair, wear=wear, positions=positions, plane=plane, **kw)
+                   for kw in runs]
         done = [f.result() for f in futures]
     fe0 = done[0]
     fe1 = fe0 if same else done[1]
@@ -310,7 +313,7 @@ def run_fe(pair: PairSpec, wear: WearSpec | None, positions: int = 21, estimate_
     return Calibration(pair, wear, (fe0, fe1), corr, err, time.perf_counter() - t0)
 
 
-def crack_correction(pair: PairSpec, faults: FaultSpec, positions: int = 21) -> Correction:
+def crack_correction(pair: PairSpec, faults: FaultSpec, positions: int = 21, plane: str = "stress") -> Correction:
     """FE / reduced-section ratio of the cracked tooth (fem.tooth with ``crack``: the crack
     as a cut in the mesh), fitted like the healthy corrections. The FE crack model takes a
     nominal flank, so the ratio is that of the unworn cracked tooth (wear changes a tooth's
@@ -320,7 +323,7 @@ def crack_correction(pair: PairSpec, faults: FaultSpec, positions: int = 21) -> 
 
     assert faults.crack is not None
     fe = single_tooth_compliance(pair, gear_index=faults.crack.gear_index, positions=positions,
-                                 crack=faults.crack.crack)
+                                 crack=faults.crack.crack, plane=plane)
     return fit_correction(fe.radius_m, fe.fem_compliance_um_per_N_per_mm, tooth_vs_analytic(fe).ishikawa_um_per_N_per_mm)
 
 
@@ -341,7 +344,8 @@ def library_versions() -> dict[str, str]:
 
 
 def table_inputs(pair: PairSpec, wear: WearSpec | None, clearance_m: float, torque_Nm: float, points: int,
-                 positions: int, flank: FlankSpec | None = None, faults: FaultSpec | None = None) -> dict[str, Any]:
+                 positions: int, flank: FlankSpec | None = None, faults: FaultSpec | None = None,
+                 plane: str = "stress") -> dict[str, Any]:
     from gearwear.fem import pair as fe_pair
     from gearwear.fem import tooth
 
@@ -353,11 +357,11 @@ def table_inputs(pair: PairSpec, wear: WearSpec | None, clearance_m: float, torq
         extra["rows"] = points * periods
     return {**extra, "kind": "calibrated mesh stiffness", "pair": dataclasses.asdict(pair), "wear": _wear_inputs(wear),
             "clearance_m": clearance_m, "torque_Nm": torque_Nm, "points": points,
-            "fe": {"positions": positions, "order": 2, "plane": "stress", "mesh_scale": 1.0,
+            "fe": {"positions": positions, "order": 2, "plane": plane, "mesh_scale": 1.0,
                    "sizes": dataclasses.asdict(tooth.mesh_sizes(1.0)), "fit_degree": FIT_DEGREE},
             "calibration_version": CALIBRATION_VERSION, "code_sha256": code_fingerprint(),
             "libraries": library_versions(),
-            "fe_pair": {"positions": PAIR_POSITIONS, "order": 2, "plane": "stress", "local_contact": "resolved",
+            "fe_pair": {"positions": PAIR_POSITIONS, "order": 2, "plane": plane, "local_contact": "resolved",
                         "contact_elements_per_half_width": fe_pair.ELEMENTS_PER_HALF_WIDTH,
                         "candidate_half_widths": fe_pair.WINDOW_HALF_WIDTHS, "corner_contact": True,
                         "zone_factors": "median"}}
@@ -398,7 +402,7 @@ def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float =
                      calibration: Calibration | Callable[[], Calibration] | None = None,
                      refresh: bool = False, notify: tables.Notify | None = tables.to_stderr,
                      flank: FlankSpec | None = None, faults: FaultSpec | None = None,
-                     executor: Executor | None = None) -> tables.StiffnessTable:
+                     executor: Executor | None = None, plane: str = "stress") -> tables.StiffnessTable:
     """The calibrated k_h table, from the cache when these exact inputs were run before.
 
     ``flank`` (modifications, measured deviations) and ``faults`` enter the load sharing of
@@ -413,13 +417,15 @@ def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float =
     ``executor`` (any concurrent.futures.Executor, e.g. a Dask ``Client.get_executor()``):
     the FE runs of a cache miss (run_fe's single-tooth runs, the pair FE positions) are
     solved there; the table is the same to the bit, so it is not part of the key.
+    ``plane``: the 2D idealisation of both FE stages (the scene's fem.plane; part of the
+    key); a given ``calibration`` must have been run with it.
     ``notify``: gets one line when a cache entry exists but fails its checks and is
     recomputed (default: printed to stderr; None: silent). The returned table's
     ``from_cache`` tells whether it came from the cache. A bad $GEARWEAR_CACHE raises
     InputError before anything is computed.
     """
     folder = tables.cache_dir()
-    inputs = table_inputs(pair, wear, clearance_m, torque_Nm, points, positions, flank, faults)
+    inputs = table_inputs(pair, wear, clearance_m, torque_Nm, points, positions, flank, faults, plane)
     if not refresh:
         hit = tables.cached(inputs, folder, notify, table_label(wear, clearance_m))
         if hit is not None:
@@ -427,13 +433,15 @@ def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float =
     require_overlap(pair, clearance_m)  # before the FE runs, which cannot model a gap
     if callable(calibration):
         calibration = calibration()
-    cal = calibration or run_fe(pair, wear, positions, executor=executor)
+    cal = calibration or run_fe(pair, wear, positions, executor=executor, plane=plane)
+    if cal.fe[0].plane != plane:
+        raise ValueError(f"calibration run in plane {cal.fe[0].plane}, table asked for plane {plane}")
     corr = tuple(c.grid() for c in cal.corrections)
-    cc = crack_correction(pair, faults, positions) if faults is not None and faults.crack is not None else None
+    cc = crack_correction(pair, faults, positions, plane) if faults is not None and faults.crack is not None else None
     r = mesh_stiffness(pair, method="ishikawa", points=points, torque_Nm=torque_Nm, clearance_m=clearance_m,
                        wear=wear, correction=corr, flank=flank, faults=faults,
                        crack_correction=None if cc is None else cc.grid())
-    pc = pair_correction(pair, wear, clearance_m, torque_Nm, corr, PAIR_POSITIONS, executor)
+    pc = pair_correction(pair, wear, clearance_m, torque_Nm, corr, PAIR_POSITIONS, executor, plane)
     s = np.where(r.pairs_in_contact >= 2, pc.double, pc.single)
     k = r.k_N_per_m * s
     F = torque_Nm / pair.gear(0).base_radius_m

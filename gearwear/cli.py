@@ -18,6 +18,7 @@ from gearwear.core.validation import InputError, fail, renamed
 
 from . import __version__, io
 from .scene import Scene, wear_override
+from .schema import fem_plane
 
 
 #: --mesh-size-mm: the global element size of the whole-gear mesh; on the paper gear 0.25 mm
@@ -94,6 +95,7 @@ def _cmd_geometry(args: argparse.Namespace) -> int:
     from . import geometry_job
 
     scene = _load(args, loaded=False)
+    fem_plane(scene.doc, False, "gearwear geometry")
     torque, clearance_um, wear = scene.operating.torque_Nm, round(scene.clearance_m * 1e6, 9), scene.wear
     mesh_size = _bounded_float("--mesh-size-mm", args.mesh_size_mm, "mm", *MESH_SIZE_RANGE_MM)
     out = _check_out(args.out, "geometry")
@@ -193,6 +195,7 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
             raise InputError(f"--method = {m!r}: must be one or more of {', '.join(stiffness_job.METHODS)}")
     scene, wears, clearances = _variants(args)
     uses = "stiffness-fem" if "fem" in methods else "stiffness"
+    plane = fem_plane(scene.doc, "fem" in methods, f"gearwear stiffness --method {' '.join(methods)}")
     assumed = _assumed(scene, uses)
     torque = scene.operating.torque_Nm
     # default angles per method: the FE's 24 positions take ~10 s, the analytic 360 take ms
@@ -217,7 +220,8 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
             bar.refresh()
         for m in methods:
             curves += stiffness_job.compute(scene.pair, m, wears, clearances, torque, points[m], scene.flank,
-                                            scene.faults, **({"progress": progress} if m == "fem" else {}))
+                                            scene.faults, **({"progress": progress, "plane": plane} if m == "fem"
+                                                             else {}))
     harris = stiffness_job.harris(curves, scene.pair, scene.flank)
     inputs = {**io.scene_inputs(scene), "pair": _pair_inputs(scene),
               "method": methods[0] if len(methods) == 1 else methods, "torque_Nm": torque,
@@ -293,7 +297,8 @@ def _cmd_verify(args: argparse.Namespace) -> int:
         def progress(msg):
             bar.set_postfix_str(msg)
             bar.update(1)
-        v = verify_job.run(scene.pair, wears, positions, convergence=not args.no_convergence, progress=progress)
+        v = verify_job.run(scene.pair, wears, positions, convergence=not args.no_convergence, progress=progress,
+                           plane=fem_plane(scene.doc, True, "gearwear verify"))
     inputs = {**io.scene_inputs(scene), "pair": _pair_inputs(scene),
               "wear": [w.label if w else "unworn" for w in wears], "wear_spec": [_wear_dict(w) for w in wears],
               "positions": positions, "convergence": not args.no_convergence}
@@ -394,6 +399,7 @@ def _calibrate_tables(args, scene, wears, clearances, torque, points, out, folde
     """(rows, files to copy into --out, FE wall times) of every (wear, clearance) table."""
     from . import calibrate
 
+    plane = fem_plane(scene.doc, True, "gearwear calibrate")
     rows: list[dict] = []
     copies: dict[str, bytes] = {}  # the cached tables, copied into --out as a whole at the end
     fe_s: dict[str, float] = {}
@@ -402,12 +408,12 @@ def _calibrate_tables(args, scene, wears, clearances, torque, points, out, folde
 
         def calibration(w=w, fe=fe):  # one FE run per wear, and only on a cache miss
             if not fe:
-                fe.append(calibrate.run_fe(scene.pair, w, executor=executor))
+                fe.append(calibrate.run_fe(scene.pair, w, executor=executor, plane=plane))
             return fe[0]
 
         for c in clearances:
             tab = calibrate.calibrated_table(scene.pair, w, c, torque, points, calibration=calibration,
-                                             refresh=args.refresh, executor=executor)  # a damaged entry: recomputed
+                                             refresh=args.refresh, executor=executor, plane=plane)  # a damaged entry: recomputed
             hit = tab.from_cache
             label = f"{w.label if w else 'unworn'}_clearance{c * 1e6:g}um"
             if out:

@@ -25,7 +25,7 @@ from gearwear.geometry.flank import Deviation, FlankSpec, Relief, check_flank
 from gearwear.geometry.wear import PHASE_DEPTHS_M, WearSpec, check_wear
 
 from .schema import (DEFAULT_BEARING_DAMPING_RATIO, DEFAULT_MESH_DAMPING_RATIO, FaultsDoc, FlankDoc, OperatingDoc,
-                     SceneDoc, WearDoc, resolved_method, validate_document)
+                     SceneDoc, WearDoc, dynamics_fem_plane, resolved_method, validate_document)
 
 TABLE_MIN_ROWS = 8
 #: the other columns of the stiffness tables the tool writes (stiffness_job.curve_csv,
@@ -84,6 +84,8 @@ def require_dynamics(scene: "Scene") -> None:
         raise InputError("bodies.bearing_stiffness_N_per_m: missing; the 6-DOF dynamics need the radial bearing "
                          "stiffness (it sets the lateral modes the mesh excites and spans orders of magnitude, "
                          "about 1e7 to 1e10 N/m, between designs, so no default would be right for your pair)")
+    if scene.doc is not None:
+        dynamics_fem_plane(scene.doc)  # a given fem.plane only with an FE mesh-stiffness source
 
 
 @dataclass(frozen=True)

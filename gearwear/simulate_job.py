@@ -52,6 +52,7 @@ from gearwear.core.validation import InputError, renamed
 from .assumptions import as_dicts, for_command
 from .plausibility import body_warnings, pair_warnings, response_warnings, stiffness_warnings
 from .scene import Scene, require_dynamics
+from .schema import dynamics_fem_plane
 
 #: SI unit of each signal of the dynamics layer (dynamics.simulate computes them in SI)
 SI_UNITS = {"y_p": "m", "x_p": "m", "y_g": "m", "x_g": "m", "q": "m", "delta": "m", "F_m": "N"}
@@ -116,19 +117,20 @@ def stiffness_input(scene: Scene, points: int = 360) -> StiffnessInput:
                          'which cannot show it; set effects.mesh_stiffness.source = "analytic", "calibrated" or '
                          '"fem" (or add [effects] transmission_error to a constant stiffness)')
     periods = revolution_periods(pair, faults)
+    plane = dynamics_fem_plane(scene.doc) if scene.doc is not None else "stress"
     if source == "table":
         assert ms is not None
         phi, k = ms["angle_rad"], ms["k_N_per_m"]
         e = ms["excitation_m"] if ms["excitation_m"] is not None else np.zeros_like(k)
     elif source == "calibrated":
         from .calibrate import calibrated_table, without_blank_torsion
-        tab = calibrated_table(pair, wear, clearance_geo, T, points, flank=flank, faults=faults)
+        tab = calibrated_table(pair, wear, clearance_geo, T, points, flank=flank, faults=faults, plane=plane)
         if blank_torsion(ms) == "excluded":
             tab = without_blank_torsion(tab)
         phi, k, e = tab.angle_rad, tab.k_N_per_m, tab.excitation_m
     elif source == "fem":
         from .stiffness_job import fem_curve
-        r = fem_curve(pair, 24, T, clearance_geo, wear, flank, faults, blank_torsion=blank_torsion(ms))
+        r = fem_curve(pair, 24, T, clearance_geo, wear, flank, faults, blank_torsion=blank_torsion(ms), plane=plane)
         phi, k, e = r.angle_rad, r.k_N_per_m, r.excitation_m
     else:
         r = mesh_stiffness(pair, points=points, torque_Nm=T, clearance_m=clearance_geo, wear=wear, flank=flank,

@@ -125,7 +125,7 @@ def fem_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float,
               blank_torsion: str = "in_series", **fe_options) -> MeshStiffness:
     """Resolved FE contact of both gear bodies (fem.pair) as a MeshStiffness curve, over
     one revolution of the faulty gear with ``faults`` (``fe_options``: pair_contact's
-    mesh_scale, contact_scale, extended, executor, progress). ``blank_torsion``:
+    mesh_scale, contact_scale, plane, extended, executor, progress). ``blank_torsion``:
     "in_series" (the bodies held at their bores: both blanks' torsion in series with the
     mesh) or "excluded" (the mesh only: the blanks' torsion below their reference
     circles taken out, fem.pair "The blank's torsion"); meta["fe"] holds both means and

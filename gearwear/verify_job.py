@@ -63,10 +63,10 @@ class Verification:
     meta: dict = field(default_factory=dict)
 
 
-def run_phase(pair: PairSpec, wear: WearSpec | None, positions: int = 21) -> PhaseResult:
+def run_phase(pair: PairSpec, wear: WearSpec | None, positions: int = 21, plane: str = "stress") -> PhaseResult:
     from gearwear.fem.tooth import single_tooth_compliance
 
-    fe = single_tooth_compliance(pair, gear_index=0, wear=wear, positions=positions)
+    fe = single_tooth_compliance(pair, gear_index=0, wear=wear, positions=positions, plane=plane)
     cmp = tooth_vs_analytic(fe)
     return PhaseResult(wear.label if wear else "unworn", fe.radius_mm, fe.roll_angle_deg,
                        fe.fem_compliance_um_per_N_per_mm, cmp.ishikawa_um_per_N_per_mm,
@@ -75,24 +75,28 @@ def run_phase(pair: PairSpec, wear: WearSpec | None, positions: int = 21) -> Pha
 
 
 def run(pair: PairSpec, wears: list[WearSpec | None], positions: int = 21, convergence: bool = True,
-        progress=None) -> Verification:
+        progress=None, plane: str = "stress") -> Verification:
+    """The FE (2D idealisation ``plane``, the scene's fem.plane) against the analytic
+    models for every wear state, and with ``convergence`` the h/p convergence and the pair
+    consistency check."""
     t0 = time.perf_counter()
     phases = []
     for w in wears:
-        phases.append(run_phase(pair, w, positions))
+        phases.append(run_phase(pair, w, positions, plane))
         if progress:
             progress(f"FE compliance, wear {phases[-1].label}")
     conv = acc = None
     if convergence:
         from gearwear.fem.convergence import acceptance, convergence_table
-        conv = convergence_table(pair, None, positions=positions,
+        conv = convergence_table(pair, None, positions=positions, plane=plane,
                                  progress=(lambda row: progress(f"convergence P{row['order']} scale "
                                                                 f"{row['mesh_scale']:.3f}")) if progress else None)
         acc = acceptance(conv)
         from gearwear.fem.pair import consistency
-        cons = consistency(pair)  # ~8 s: the pair model and two single-tooth runs
-        return Verification(pair, phases, conv, acc, time.perf_counter() - t0, pair_consistency=cons)
-    return Verification(pair, phases, conv, acc, time.perf_counter() - t0)
+        cons = consistency(pair, plane=plane)  # ~8 s: the pair model and two single-tooth runs
+        return Verification(pair, phases, conv, acc, time.perf_counter() - t0, pair_consistency=cons,
+                            meta={"plane": plane})
+    return Verification(pair, phases, conv, acc, time.perf_counter() - t0, meta={"plane": plane})
 
 
 def figures(v: Verification):
@@ -147,7 +151,8 @@ def markdown(v: Verification, files: dict[str, str]) -> str:
              f"{np.degrees(p.pressure_angle_rad):g} deg, b = {p.face_width_m * 1e3:g} mm, E = "
              f"{_per_gear(m.youngs_modulus_Pa / 1e9 for m in p.materials)} GPa, nu = "
              f"{_per_gear(m.poisson_ratio for m in p.materials)}, bore radius "
-             f"{p.hub_radius_m[0] * 1e3:g} mm. FE: full gear (all teeth), bore fixed, plane stress, P2 "
+             f"{p.hub_radius_m[0] * 1e3:g} mm. FE: full gear (all teeth), bore fixed, "
+             f"plane {v.meta.get('plane', 'stress')}, P2 "
              "triangles, load along the line of action as a Hertzian pressure patch; the deflection is the "
              "displacement of the tooth centre line at the load radius projected on the load direction. "
              "Compliance = deflection per load per unit face width (um per N/mm). Analytic: Ishikawa/Weber "

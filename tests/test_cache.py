@@ -37,7 +37,7 @@ def fe_runs(monkeypatch):
     corr = calibrate.fit_correction(np.linspace(0.040, 0.050, 9), np.linspace(1.25, 1.10, 9), np.ones(9))
     fe = SimpleNamespace(ndofs=1, n_elements=1, order=2, plane="stress")
 
-    def run_fe(pair, wear, positions=21, estimate_error=True, executor=None):
+    def run_fe(pair, wear, positions=21, estimate_error=True, executor=None, plane="stress"):
         runs.append(wear)
         return calibrate.Calibration(pair, wear, (fe, fe), (corr, corr), 0.0, 0.0)
 

@@ -1,0 +1,93 @@
+"""The scene key fem.plane: validated, honoured by every FE path, refused where no FE runs,
+listed as assumed where an FE result uses its default."""
+
+import pytest
+
+from gearwear.assumptions import for_command
+from gearwear.cli import main
+from gearwear.core.validation import InputError
+from gearwear.scene import scene_from_dict
+from gearwear.schema import dynamics_fem_plane, fem_plane, resolved_dict
+
+from scenes import with_paper
+
+BEARING = {"bodies": {"bearing_stiffness_N_per_m": 1e9}}
+
+
+def scene(**tables):
+    return scene_from_dict(with_paper({**BEARING, **tables}))
+
+
+def test_default_and_given():
+    assert resolved_dict(scene().doc)["fem"] == {"plane": "stress"}
+    s = scene(fem={"plane": "strain"})
+    assert fem_plane(s.doc, True, "gearwear verify") == "strain"
+    assert fem_plane(None, True, "x") == "stress"
+
+
+def test_bad_value_is_one_line_naming_key_and_choices():
+    with pytest.raises(InputError) as e:
+        scene(fem={"plane": "plain"})
+    msg = str(e.value)
+    assert "\n" not in msg and msg.startswith("fem.plane") and "stress" in msg and "strain" in msg
+    with pytest.raises(InputError, match="fem.plan"):
+        scene(fem={"plan": "strain"})
+
+
+def test_refused_where_no_fe_model_runs():
+    s = scene(fem={"plane": "strain"})
+    with pytest.raises(InputError, match="fem.plane = 'strain': not used: gearwear geometry"):
+        fem_plane(s.doc, False, "gearwear geometry")
+    # the dynamics use it only with an FE mesh-stiffness source
+    with pytest.raises(InputError, match="not used"):
+        dynamics_fem_plane(s.doc)
+    assert dynamics_fem_plane(scene(fem={"plane": "strain"},
+                                    effects={"mesh_stiffness": {"source": "fem"}}).doc) == "strain"
+    assert dynamics_fem_plane(scene(effects={"mesh_stiffness": {"source": "calibrated"}}).doc) == "stress"
+    # absent, nothing to refuse
+    assert dynamics_fem_plane(scene().doc) == "stress"
+
+
+def test_cli_refuses_it_without_fe(capsys):
+    assert main(["geometry", "--no-mesh", "--set", "fem.plane=strain"]) != 0
+    assert "fem.plane = 'strain': not used: gearwear geometry" in capsys.readouterr().err
+    assert main(["stiffness", "--method", "ishikawa", "--set", "fem.plane=strain"]) != 0
+    assert "gearwear stiffness --method ishikawa" in capsys.readouterr().err
+
+
+def test_the_dynamics_pass_it_to_the_pair_fe(monkeypatch):
+    import gearwear.fem.pair as fp
+    from gearwear import simulate_job
+
+    seen = {}
+
+    class Stop(Exception):
+        pass
+
+    def fake(*a, **k):
+        seen.update(k)
+        raise Stop
+
+    monkeypatch.setattr(fp, "pair_contact", fake)
+    with pytest.raises(Stop):
+        simulate_job.stiffness_input(scene(fem={"plane": "strain"}, effects={"mesh_stiffness": {"source": "fem"}}))
+    assert seen["plane"] == "strain"
+
+
+def test_calibrated_tables_are_keyed_by_it():
+    from gearwear.calibrate import table_inputs
+
+    p = scene().pair
+    a, b = (table_inputs(p, None, 0.0, 40.0, 360, 21, plane=x) for x in ("stress", "strain"))
+    assert a["fe"]["plane"] == a["fe_pair"]["plane"] == "stress"
+    assert b["fe"]["plane"] == b["fe_pair"]["plane"] == "strain"
+
+
+def test_assumed_where_an_fe_result_uses_the_default():
+    keys = lambda s, cmd: [a.key for a in for_command(s, cmd)]  # noqa: E731
+    assert "fem.plane" in keys(scene(), "verify")
+    assert "fem.plane" in keys(scene(), "stiffness-fem")
+    assert "fem.plane" not in keys(scene(), "stiffness")
+    assert "fem.plane" not in keys(scene(fem={"plane": "stress"}), "verify")
+    assert "fem.plane" not in keys(scene(), "simulate")
+    assert "fem.plane" in keys(scene(effects={"mesh_stiffness": {"source": "calibrated"}}), "simulate")
