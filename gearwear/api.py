@@ -71,10 +71,15 @@ def mesh_stiffness(pair: PairSpec | None = None, method: str = "ishikawa", wear:
         if pair is not None:
             raise InputError("torque_Nm: missing; the load sharing needs the pinion torque of your pair (N m)")
         torque_Nm = 40.0  # the paper's operating point, with the paper's pair
+    from .schema import resolved_plane
+
     n = points if points is not None else (24 if method == "fem" else 360)
     p = pair or default_pair()
+    # the FE's 2D state as a scene's default fem.plane = "auto" picks it (stress below b/m =
+    # PLANE_STRAIN_FROM_B_OVER_M, strain from there on)
+    fe = {"plane": resolved_plane("auto", p.face_width_m, p.module_m)} if method == "fem" else {}
     curves = stiffness_job.compute(p, method, [wear_spec(wear, torque_Nm)], [clearance_um * 1e-6],
-                                   torque_Nm, n)
+                                   torque_Nm, n, **fe)
     return curves[0].result
 
 

@@ -27,6 +27,7 @@ from typing import Any, Iterable
 
 from gearwear.geometry.wear import PHASE_DEPTHS_M, WearSpec
 
+from .schema import PLANE_STRAIN_FROM_B_OVER_M, resolved_plane
 from .schema import DEFAULT_BEARING_DAMPING_RATIO, DEFAULT_MESH_DAMPING_RATIO, FE_SOURCES, Iso6336Doc, SceneDoc
 
 #: what each command's results use (see the module docstring)
@@ -157,8 +158,11 @@ def scene_assumptions(scene) -> list[Assumption]:
         if not _given(w, "taper_mm") and not (w.phase == "unworn"):
             add("effects.wear.taper_mm", w.taper_mm, "mm", "run-out of the depth beyond the active profile", "wear")
     if not _given(doc.fem, "plane"):
-        add("fem.plane", doc.fem.plane, "", "plane stress, the thin-face limit of the 2D FE models; the 3D check "
-            "(reports/plane) puts a tooth between plane stress and plane strain by its b/m", "fem")
+        b_m = doc.pair.face_width_mm / doc.pair.module_mm
+        state = resolved_plane("auto", doc.pair.face_width_mm, doc.pair.module_mm)
+        add("fem.plane", state, "", f"auto: b/m = {b_m:.3g} is {'at or above' if state == 'strain' else 'below'} "
+            f"{PLANE_STRAIN_FROM_B_OVER_M:g}, where the 3D check (reports/plane) finds plane {state} the closer 2D "
+            "state of a tooth's compliance", "fem")
     iso = doc.iso6336 or Iso6336Doc()
     for key, why in (("accuracy_grade", "ISO 1328-1 grade of the deviations not given"),
                      ("application_factor", "K_A = 1, a uniform drive")):

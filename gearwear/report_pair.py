@@ -133,13 +133,17 @@ def stiffness(scene: Scene, settings: Settings,
               step: Callable[[str], None] = lambda msg: None) -> list[stiffness_job.Curve]:
     """k_h over one mesh period by every method (stiffness_job.METHODS) at the scene's
     torque, wear, clearance and flank; ISO 6336 is one constant of the nominal flank."""
+    from .schema import fem_plane
+
     curves = []
+    plane = fem_plane(scene.doc, True, "gearwear report pair")  # the scene's fem.plane (auto: by b/m)
     for method in stiffness_job.METHODS:
         step(PARTS[1 + stiffness_job.METHODS.index(method)])
         fem = method == "fem"
         curves += stiffness_job.compute(scene.pair, method, [scene.wear], [scene.clearance_m],
                                         scene.operating.torque_Nm, settings.fe_positions if fem else settings.points,
-                                        None if method == "iso6336" else scene.flank, progress=fe_progress)
+                                        None if method == "iso6336" else scene.flank,
+                                        **({"progress": fe_progress, "plane": plane} if fem else {}))
     return curves
 
 
