@@ -27,7 +27,7 @@ from gearwear.fem.solid3d import plane_check
 from gearwear.geometry.spec import default_pair
 
 SCALES = (2.0, math.sqrt(2.0), 1.0)
-WIDTHS = (0.1, 1.0, 4.0, 10.0, 20.0)
+WIDTHS = (0.1, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0, 20.0)  # 2-8: where the default switches
 WHERE = ("SAP", "pitch", "top")
 KEYS = ("stress", "strain", "average_3d", "mid_3d")
 
