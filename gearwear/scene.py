@@ -312,6 +312,14 @@ def scene_from_doc(doc: SceneDoc) -> Scene:
         effects["backlash"] = {"initial_m": e.backlash.initial_um * 1e-6, "form": e.backlash.form,
                                "damping_in_gap": e.backlash.damping_in_gap}
     if e.bearing_clearance is not None:
+        from gearwear.geometry.operating import max_clearance_m
+
+        bc_max = max_clearance_m(pair)
+        if not e.bearing_clearance.clearance_um * 1e-6 < bc_max:
+            raise fail_range("effects.bearing_clearance.clearance_um", e.bearing_clearance.clearance_um,
+                             Field("um", 0.0, math.floor(bc_max * 1e7) / 10, hi_open=True),
+                             "below the clearance that moves the centres apart until the tip circles no longer "
+                             "overlap on the line of action (out of mesh)")
         effects["bearing_clearance"] = {"clearance_m": e.bearing_clearance.clearance_um * 1e-6}
     if e.centre_distance is not None:
         effects["centre_distance"] = {"coupling": e.centre_distance.coupling}

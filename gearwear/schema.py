@@ -624,6 +624,10 @@ def cross_check(doc: SceneDoc) -> None:
             v = getattr(b, coeff)
             raise fail(f"bodies.{coeff}", list(v) if isinstance(v, tuple) else v, "N s/m",
                        f"give either bodies.{ratio} or bodies.{coeff}, not both")
+    sig = doc.output.signals
+    if not sig or len(set(sig)) != len(sig):
+        raise fail("output.signals", repr(list(sig)), "", f"must name at least one signal, each once (of "
+                   f"{', '.join(SIGNALS)})")
     if s.discard_s >= s.duration_s:
         raise fail("solver.discard_s", s.discard_s, "s", f"must be below solver.duration_s = {s.duration_s:g} s")
     method = resolved_method(doc)

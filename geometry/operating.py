@@ -100,6 +100,18 @@ def centre_distance(pair: PairSpec, clearance_m: float = 0.0, torque_Nm: float =
     return Cp
 
 
+def max_clearance_m(pair: PairSpec) -> float:
+    """The bearing clearance BC (m) at which the unloaded centre distance of Eq. 11,
+    C' = sqrt((C + BC)^2 + BC^2), reaches a_max, where the tip circles stop overlapping on the
+    line of action (sqrt(a_max^2 - (r_b1 + r_b2)^2) = sqrt(r_a1^2 - r_b1^2) + sqrt(r_a2^2 -
+    r_b2^2)): BC = (sqrt(2 a_max^2 - C^2) - C) / 2. A larger clearance puts the gears out of mesh."""
+    gears = pair.gears
+    reach = sum(math.sqrt(max(g.tip_radius_m ** 2 - g.base_radius_m ** 2, 0.0)) for g in gears)
+    a_max = math.hypot(reach, sum(g.base_radius_m for g in gears))
+    C = pair.centre_distance_m
+    return 0.5 * (math.sqrt(2.0 * a_max ** 2 - C ** 2) - C)
+
+
 def backlash(pair: PairSpec, centre_distance_m: float, initial_backlash_m: float = 0.0,
              form: str = "consistent") -> float:
     """Total normal backlash (m) at centre distance C' (paper Eqs. 13-15, see module doc)."""

@@ -213,6 +213,11 @@ CASES: list[tuple[str, list[str], str, str | None, dict[str, str]]] = [
                                          "all_zero.csv", "--wear-range-um", "0:20"], "--wear-range-um", "0:20", {}),
     ("diagnose-all-zero-measurement", ["diagnose", "diag.toml", "--measured", "all_zero.csv"], "--measured",
      "every harmonic amplitude is 0", {}),
+    # ---- found by a fuzz of every key's edges: our bug (exit 1) or a message naming no key
+    ("signals-empty", ["simulate", S, "output.signals=[]"], "output.signals", "[]", {}),
+    ("signals-twice", ["simulate", S, 'output.signals=["F_m","F_m"]'], "output.signals", "F_m", {}),
+    ("clearance-out-of-mesh", ["simulate", S, "effects.bearing_clearance.clearance_um=1e4"],
+     "effects.bearing_clearance.clearance_um", "10000", {}),
     # ---- argparse-level mistakes keep the one-line form too
     ("unknown-command", ["simulte"], "simulte", None, {}),
     ("unknown-flag", ["simulate", "--speed", "1200"], "--speed", None, {}),
