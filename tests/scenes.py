@@ -32,3 +32,13 @@ def paper_pair_from(doc: dict[str, Any]):
     from gearwear.scene import pair_from_dict
 
     return pair_from_dict(with_paper(doc))
+
+
+def published_text() -> str:
+    """What the project publishes, whitespace-normalised: README.md and every docs/*.md
+    (the numbers moved from the README to the documents it links)."""
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    files = [root / "README.md"] + sorted((root / "docs").glob("*.md"))
+    return " ".join(" ".join(f.read_text().split()) for f in files)

@@ -20,7 +20,9 @@ import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-README = " ".join((ROOT / "README.md").read_text().split())
+from scenes import published_text  # noqa: E402
+
+README = published_text()  # README.md and docs/*.md: the published text
 TRUTH = {"wear_max_depth_um": 18.0, "clearance_um": 24.0, "torque_Nm": 40.0}
 
 

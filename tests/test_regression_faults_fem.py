@@ -26,7 +26,9 @@ from gearwear.analytic.tvms import mesh_stiffness
 from gearwear.scene import load_scene_dict, scene_from_dict
 
 ROOT = Path(__file__).resolve().parents[1]
-README = " ".join((ROOT / "README.md").read_text().split())
+from scenes import published_text  # noqa: E402
+
+README = published_text()  # README.md and docs/*.md: the published text
 REPORTS = ROOT / "reports"
 EXAMPLES = ("spall", "root_crack")
 

@@ -32,7 +32,9 @@ from gearwear.geometry.spec import default_pair
 from gearwear.geometry.wear import WearSpec
 
 ROOT = Path(__file__).resolve().parents[1]
-README = " ".join((ROOT / "README.md").read_text().split())
+from scenes import published_text  # noqa: E402
+
+README = published_text()  # README.md and docs/*.md: the published text
 PHASES = ("unworn", "mild", "severe")
 
 

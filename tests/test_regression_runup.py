@@ -18,7 +18,9 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-README = " ".join((ROOT / "README.md").read_text().split())
+from scenes import published_text  # noqa: E402
+
+README = published_text()  # README.md and docs/*.md: the published text
 RUNS = {"backlash_50rpm": ("examples/runup_backlash.toml", "1000:3000:41"),
         "backlash_25rpm": ("examples/runup_backlash.toml", "1000:3000:81"),
         "paper_default": ("paper-default", "1000:12000:111")}
