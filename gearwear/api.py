@@ -16,6 +16,7 @@ from __future__ import annotations
 
 from typing import Any, Mapping, Sequence
 
+from gearwear.analytic import TABLE_POINTS_PER_MESH_PERIOD
 from gearwear.core.validation import InputError
 from gearwear.geometry.spec import PairSpec, default_pair
 from gearwear.geometry.wear import WearSpec
@@ -71,7 +72,7 @@ def mesh_stiffness(pair: PairSpec | None = None, method: str = "ishikawa", wear:
         if pair is not None:
             raise InputError("torque_Nm: missing; the load sharing needs the pinion torque of your pair (N m)")
         torque_Nm = 40.0  # the paper's operating point, with the paper's pair
-    n = points if points is not None else (24 if method == "fem" else 360)
+    n = points if points is not None else (24 if method == "fem" else TABLE_POINTS_PER_MESH_PERIOD)
     p = pair or default_pair()
     curves = stiffness_job.compute(p, method, [wear_spec(wear, torque_Nm)], [clearance_um * 1e-6],
                                    torque_Nm, n)

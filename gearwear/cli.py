@@ -14,6 +14,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from gearwear.analytic import TABLE_POINTS_PER_MESH_PERIOD as TABLE_POINTS
 from gearwear.core.validation import InputError, fail, renamed
 
 from . import __version__, io
@@ -191,7 +192,7 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
     assumed = _assumed(scene, uses)
     torque = scene.operating.torque_Nm
     if args.points is None:
-        args.points = "24" if args.method == "fem" else "360"  # FE: 24 positions take ~10 s
+        args.points = "24" if args.method == "fem" else str(TABLE_POINTS)  # FE: 24 positions take ~10 s
     points = _int_arg("--points", args.points, 8, 1_000_000)
     out = _check_out(args.out, "stiffness")
     # with a fault the FE curve spans one revolution of the faulty gear
@@ -752,7 +753,8 @@ def build_parser() -> argparse.ArgumentParser:
     st.add_argument("--method", default="ishikawa", help="ishikawa (paper Eqs. 2-6, default) | energy "
                                                          "(potential energy + Sainsot foundation) | iso6336 | fem "
                                                          "(resolved FE contact of both gear bodies, ~10 s)")
-    st.add_argument("--points", help="angles per mesh period (>= 8; default 360, 24 for fem)")
+    st.add_argument("--points", help=f"uniform angles per mesh period (>= 8; default {TABLE_POINTS}, 24 for fem; "
+                                     "the analytic methods add the breakpoints of the load sharing as nodes)")
     st.add_argument("--out", help="output folder for CSV, JSON sidecars and PNGs")
     st.add_argument("--fields", nargs="+", help="with --method fem: position indices (0 .. points-1, over the "
                                                 "revolution with a fault) whose displacement and stress fields "
@@ -779,7 +781,8 @@ def build_parser() -> argparse.ArgumentParser:
                                    "~/.cache/gearwear/tables); these are what scenes with "
                                    "mesh_stiffness.source = \"calibrated\" use.")
     _scene_options(c, "paper-default", multi=True)
-    c.add_argument("--points", default="360", help="angles per mesh period (default 360)")
+    c.add_argument("--points", default=str(TABLE_POINTS), help=f"uniform angles per mesh period (default "
+                                                                 f"{TABLE_POINTS}; the breakpoints come on top)")
     c.add_argument("--refresh", action="store_true", help="recompute even if a cached table exists")
     c.add_argument("--workers", help="solve the FE runs and pair positions on N local worker processes (default: "
                                      "in this process, where every gear body is built once for all wear states)")
