@@ -224,3 +224,16 @@ def test_the_dynamics_mean_of_a_breakpoint_table_is_the_curves():
     assert np.ptp(np.diff(r.angle_rad)) > 0.5 * P / 360                # not uniform
     assert np.all(np.diff(r.angle_rad) > 1e-12 * P) and r.angle_rad[-1] < P
     assert table_mean(r.angle_rad, r.k_N_per_m, P) == pytest.approx(r.mean_N_per_m, rel=1e-13)
+
+
+def test_the_table_length_is_a_scene_key():
+    from gearwear.core.validation import InputError
+
+    sc = scene_from_dict(with_paper({"effects": {"mesh_stiffness": {"points_per_mesh_period": 90}}}))
+    st = stiffness_input(sc)
+    P = 2 * math.pi / 30
+    uniform = np.arange(90) * (P / 90)
+    assert len(st.phi) > 90 and np.all(np.min(np.abs(st.phi[None, :] - uniform[:, None]), axis=1) < 1e-15)
+    assert np.all(np.diff(st.phi) > 0) and st.phi[-1] < P
+    with pytest.raises(InputError, match=r"^effects\.mesh_stiffness\.points_per_mesh_period = 90: only used with"):
+        scene_from_dict(with_paper({"effects": {"mesh_stiffness": {"source": "fem", "points_per_mesh_period": 90}}}))
