@@ -379,7 +379,7 @@ def _state(s: _Contact, theta_rad: np.ndarray, period: np.ndarray):
     if np.any(exit_):
         gap[exit_] += corner_gap_m(mesh, d[exit_], "exit")
     faulty = None
-    if s.periods > 1:
+    if s.faults is not None and s.periods > 1:
         # one revolution of the faulty gear: the faulty tooth's pair changed where it
         # sits (geometry.faults numbering: slot j of period n holds tooth (n - j) mod z)
         n = np.asarray(period)[:, None]
