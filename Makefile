@@ -60,6 +60,8 @@ report: $(STAMP)
 	$(VENV)/bin/gearwear runup examples/runup_backlash.toml --set operating.speed_rpm=1000:3000:41 --out reports/runup/backlash_50rpm
 	$(VENV)/bin/gearwear runup examples/runup_backlash.toml --set operating.speed_rpm=1000:3000:81 --out reports/runup/backlash_25rpm
 	$(VENV)/bin/gearwear runup paper-default --set operating.speed_rpm=1000:12000:111 --out reports/runup/paper_default
+	$(VENV)/bin/gearwear sweep paper-clearance --set effects.bearing_clearance.clearance_um=20:40:41 --out reports/breakpoints/clearance_sweep
+	$(PY) benchmarks/clearance_sweep_report.py
 	GEARWEAR_CACHE=$(CURDIR)/.gearwear-cache $(VENV)/bin/gearwear diagnose examples/diagnose/scene.toml --measured examples/diagnose/measured_timeseries.csv --out reports/diagnose/timeseries
 	GEARWEAR_CACHE=$(CURDIR)/.gearwear-cache $(VENV)/bin/gearwear diagnose examples/diagnose/scene.toml --measured examples/diagnose/measured_harmonics.csv --out reports/diagnose/harmonics
 	GEARWEAR_CACHE=$(CURDIR)/.gearwear-cache $(VENV)/bin/gearwear diagnose examples/diagnose/scene.toml --measured examples/diagnose/measured_timeseries.csv --unknowns wear,clearance,torque --out reports/diagnose/torque

@@ -20,7 +20,7 @@ from gearwear.geometry.flank import FlankSpec
 from gearwear.geometry.spec import PairSpec
 from gearwear.geometry.wear import WearSpec
 
-from .tvms import mesh_stiffness
+from .tvms import DEFAULT_POINTS, mesh_stiffness
 
 
 @dataclass(frozen=True)
@@ -35,7 +35,7 @@ class HarrisMap:
                 for t, a, b in zip(self.torque_Nm, self.nominal_ste_pp_m, self.modified_ste_pp_m)]
 
 
-def harris_map(pair: PairSpec, flank: FlankSpec, torques_Nm, method: str = "ishikawa", points: int = 360,
+def harris_map(pair: PairSpec, flank: FlankSpec, torques_Nm, method: str = "ishikawa", points: int = DEFAULT_POINTS,
                wear: WearSpec | None = None, clearance_m: float = 0.0) -> HarrisMap:
     """TE peak-to-peak (m) over one mesh period at each torque, without and with ``flank``."""
     T = np.asarray(torques_Nm, dtype=float)

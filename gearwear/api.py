@@ -16,6 +16,7 @@ from __future__ import annotations
 
 from typing import Any, Mapping, Sequence
 
+from gearwear.analytic import TABLE_POINTS_PER_MESH_PERIOD
 from gearwear.core.validation import InputError
 from gearwear.geometry.spec import PairSpec, default_pair
 from gearwear.geometry.wear import WearSpec
@@ -73,7 +74,7 @@ def mesh_stiffness(pair: PairSpec | None = None, method: str = "ishikawa", wear:
         torque_Nm = 40.0  # the paper's operating point, with the paper's pair
     from .schema import resolved_plane
 
-    n = points if points is not None else (24 if method == "fem" else 360)
+    n = points if points is not None else (24 if method == "fem" else TABLE_POINTS_PER_MESH_PERIOD)
     p = pair or default_pair()
     # the FE's 2D state as a scene's default fem.plane = "auto" picks it (stress below b/m =
     # PLANE_STRAIN_FROM_B_OVER_M, strain from there on)

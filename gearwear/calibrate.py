@@ -56,8 +56,8 @@ from typing import Any, Callable, Iterable
 
 import numpy as np
 
-from gearwear.analytic.tvms import mesh_stiffness
-from gearwear.geometry.faults import FaultSpec, revolution_periods
+from gearwear.analytic.tvms import DEFAULT_POINTS, mesh_stiffness
+from gearwear.geometry.faults import FaultSpec
 from gearwear.geometry.flank import FlankSpec
 from gearwear.geometry.spec import PairSpec
 from gearwear.geometry.wear import WearSpec
@@ -352,9 +352,6 @@ def table_inputs(pair: PairSpec, wear: WearSpec | None, clearance_m: float, torq
     # flank and faults enter the key only when present, so the keys of plain tables stay valid
     extra: dict[str, Any] = {k: dataclasses.asdict(v) for k, v in (("flank", flank), ("faults", faults))
                              if v is not None}
-    periods = revolution_periods(pair, faults)
-    if periods > 1:
-        extra["rows"] = points * periods
     return {**extra, "kind": "calibrated mesh stiffness", "pair": dataclasses.asdict(pair), "wear": _wear_inputs(wear),
             "clearance_m": clearance_m, "torque_Nm": torque_Nm, "points": points,
             "fe": {"positions": positions, "order": 2, "plane": plane, "mesh_scale": 1.0,
@@ -398,7 +395,7 @@ def require_overlap(pair: PairSpec, clearance_m: float) -> None:
 
 
 def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float = 0.0, torque_Nm: float = 40.0,
-                     points: int = 360, positions: int = 21,
+                     points: int = DEFAULT_POINTS, positions: int = 21,
                      calibration: Calibration | Callable[[], Calibration] | None = None,
                      refresh: bool = False, notify: tables.Notify | None = tables.to_stderr,
                      flank: FlankSpec | None = None, faults: FaultSpec | None = None,
@@ -447,7 +444,7 @@ def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float =
     F = torque_Nm / pair.gear(0).base_radius_m
     # F = k (ste - e): keep the wear excitation, rescale the elastic part
     ste = r.excitation_m + F / k
-    tab = tables.StiffnessTable(r.angle_rad, k, r.excitation_m, ste, r.pairs_in_contact, {})
+    tab = tables.StiffnessTable(r.angle_rad, k, r.excitation_m, ste, r.pairs_in_contact, {}, span_rad=r.span_rad)
     fe0 = cal.fe[0]
     method = "ishikawa slices corrected to FE single-tooth compliance (fem.tooth)"
     tables.store(tab, inputs, method, folder, extra={

@@ -14,6 +14,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from gearwear.analytic import TABLE_POINTS_PER_MESH_PERIOD as TABLE_POINTS
 from gearwear.core.validation import InputError, fail, renamed
 
 from . import __version__, io
@@ -198,9 +199,9 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
     plane = fem_plane(scene.doc, "fem" in methods, f"gearwear stiffness --method {' '.join(methods)}")
     assumed = _assumed(scene, uses)
     torque = scene.operating.torque_Nm
-    # default angles per method: the FE's 24 positions take ~10 s, the analytic 360 take ms
-    points = {m: _int_arg("--points", args.points if args.points is not None else "24" if m == "fem" else "360",
-                          8, 1_000_000) for m in methods}
+    # default angles per method: the FE's 24 positions take ~10 s, the analytic tables take ms
+    points = {m: _int_arg("--points", args.points if args.points is not None else "24" if m == "fem"
+                          else str(TABLE_POINTS), 8, 1_000_000) for m in methods}
     out = _check_out(args.out, "stiffness")
     fields = []
     if args.fields:
@@ -864,7 +865,9 @@ def build_parser() -> argparse.ArgumentParser:
     st.add_argument("--method", nargs="+", default=["ishikawa"],
                     help="one or more (overlaid): ishikawa (paper Eqs. 2-6, default) | energy (potential energy + "
                          "Sainsot foundation) | iso6336 | fem (resolved FE contact of both gear bodies, ~10 s)")
-    st.add_argument("--points", help="angles per mesh period for every method (>= 8; default 360, 24 for fem)")
+    st.add_argument("--points", help=f"uniform angles per mesh period for every method (>= 8; default {TABLE_POINTS}, "
+                                     "24 for fem; the analytic methods add the breakpoints of the load sharing as "
+                                     "nodes)")
     st.add_argument("--out", help="output folder for CSV, JSON sidecars and PNGs")
     st.add_argument("--fields", nargs="+", help="with --method fem: position indices (0 .. points-1, over the "
                                                 "revolution with a fault) whose displacement and stress fields "
@@ -891,7 +894,8 @@ def build_parser() -> argparse.ArgumentParser:
                                    "~/.cache/gearwear/tables); these are what scenes with "
                                    "mesh_stiffness.source = \"calibrated\" use.")
     _scene_options(c, "paper-default", multi=True)
-    c.add_argument("--points", default="360", help="angles per mesh period (default 360)")
+    c.add_argument("--points", default=str(TABLE_POINTS), help=f"uniform angles per mesh period (default "
+                                                                 f"{TABLE_POINTS}; the breakpoints come on top)")
     c.add_argument("--refresh", action="store_true", help="recompute even if a cached table exists")
     c.add_argument("--workers", help="solve the FE runs and pair positions on N local worker processes (default: "
                                      "in this process, where every gear body is built once for all wear states)")

@@ -28,6 +28,7 @@ from pydantic import Field as PField
 from pydantic.json_schema import JsonDict
 from pydantic_core import PydanticCustomError
 
+from gearwear.analytic import TABLE_POINTS_PER_MESH_PERIOD as TABLE_POINTS
 from gearwear.core.validation import Field, InputError, fail
 
 # -- field helpers -------------------------------------------------------------------
@@ -204,6 +205,14 @@ class MeshStiffnessDoc(_Table):
                           '"excluded": the mesh alone, the blanks\' torsion below r_ref = r_f - 2 m (not below the '
                           "bore) taken out (for a model that carries the blank torsion itself). Not with the other "
                           "sources: they have no blank term.")
+    points_per_mesh_period: _num(  # type: ignore[valid-type]
+        "", 8, 100000, integer=True,
+        doc='With source = "analytic", "calibrated" or "constant" (its analytic mean): uniform nodes per mesh '
+            "period of the k_h(phi), e(phi) tables. The breakpoints of the load sharing come on top as exact "
+            "nodes (where a pair enters or leaves the path of contact or starts or stops carrying load, with "
+            "graded nodes beside them), so the table is not uniform and its harmonics vary continuously with "
+            "clearance, wear and load. The default keeps the F_m harmonics 1-10 within 0.1 % of a 16x finer "
+            "table on the paper pair and an unequal pair (benchmarks/bench_table_points.py).") = TABLE_POINTS
 
 
 class WearDoc(_Table):
@@ -591,6 +600,12 @@ def cross_check(doc: SceneDoc) -> None:
         if src == "table" and not ms.path:
             raise InputError('effects.mesh_stiffness.path: missing (a CSV file with columns angle_deg, '
                              'k_N_per_m and optionally excitation_um, needed by source = "table")')
+        if _given(ms, "points_per_mesh_period") and (src in ("fem", "table") or ms.value_N_per_m is not None):
+            why = (f"source is {src!r}" if src in ("fem", "table")
+                   else "the constant is value_N_per_m, not an analytic mean")
+            raise fail("effects.mesh_stiffness.points_per_mesh_period", ms.points_per_mesh_period, "",
+                       f'only used with an analytic table (source "analytic", "calibrated" or a "constant" '
+                       f"without value_N_per_m; {why})")
         if ms.path is not None and src != "table":
             raise fail("effects.mesh_stiffness.path", repr(ms.path), "",
                        f'only used with source = "table" (source is {src!r})')
@@ -717,6 +732,9 @@ def resolved_dict(doc: SceneDoc) -> dict[str, Any]:
         b.setdefault("bearing_damping_ratio", DEFAULT_BEARING_DAMPING_RATIO)
     if "mesh_damping_N_s_per_m" not in b:
         b.setdefault("mesh_damping_ratio", DEFAULT_MESH_DAMPING_RATIO)
+    ms = out.get("effects", {}).get("mesh_stiffness")
+    if ms is not None and (ms.get("source") in ("fem", "table") or "value_N_per_m" in ms):
+        ms.pop("points_per_mesh_period", None)  # no analytic table (cross_check)
     if resolved_method(doc) == "rk4":
         out["solver"].pop("rtol", None)
     else:
@@ -774,6 +792,8 @@ CROSS_CHECKS = (
     '`mesh_stiffness.value_N_per_m` only with `source = "constant"`; `interpolation` not with it',
     '`mesh_stiffness.path` needed by, and only used with, `source = "table"`',
     '`mesh_stiffness.blank_torsion` only with `source = "fem"` or `"calibrated"` (the others have no blank term)',
+    '`mesh_stiffness.points_per_mesh_period` only with an analytic table (`source` analytic, calibrated, or '
+    'constant without `value_N_per_m`)',
     "`wear`: exactly one of `phase`, `max_depth_um`, `hours`; `archard_k_m2_per_N` / `wear_intensity` "
     "only with `hours` and their model",
     '`wear` not with a user table, nor with a constant `value_N_per_m` and no `transmission_error`',

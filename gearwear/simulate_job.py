@@ -98,9 +98,14 @@ def blank_torsion(ms: dict | None) -> str:
     return (ms or {}).get("blank_torsion") or "in_series"
 
 
-def stiffness_input(scene: Scene, points: int = 360) -> StiffnessInput:
-    """The k_h(phi), e(phi) tables the scene asks for (arrays over one mesh period)."""
-    from gearwear.analytic.tvms import mesh_stiffness
+def stiffness_input(scene: Scene, breakpoints: bool = True) -> StiffnessInput:
+    """The k_h(phi), e(phi) tables the scene asks for (arrays over the table's mesh
+    periods; the analytic and calibrated tables have
+    ``effects.mesh_stiffness.points_per_mesh_period`` uniform nodes per mesh period and
+    the breakpoints of the load sharing on top, analytic.tvms.mesh_stiffness).
+    ``breakpoints = False``: the analytic table on the uniform nodes only (for the
+    convergence study, benchmarks/bench_table_points.py)."""
+    from gearwear.analytic.tvms import DEFAULT_POINTS, mesh_stiffness
 
     t0 = time.perf_counter()
     pair, T = scene.pair, scene.operating.torque_Nm
@@ -108,6 +113,7 @@ def stiffness_input(scene: Scene, points: int = 360) -> StiffnessInput:
     clearance_geo = scene.clearance_m if Cp != pair.centre_distance_m else 0.0
     ms = scene.effects.get("mesh_stiffness")
     source = ms["source"] if ms else "constant"
+    points = (ms or {}).get("points_per_mesh_period", DEFAULT_POINTS)
     wear, flank, faults = scene.wear, scene.flank, scene.faults
     ignored = source == "table" or (source == "constant" and "transmission_error" not in scene.effects)
     if (flank is not None or faults is not None) and ignored:
@@ -134,7 +140,7 @@ def stiffness_input(scene: Scene, points: int = 360) -> StiffnessInput:
         phi, k, e = r.angle_rad, r.k_N_per_m, r.excitation_m
     else:
         r = mesh_stiffness(pair, points=points, torque_Nm=T, clearance_m=clearance_geo, wear=wear, flank=flank,
-                           faults=faults)
+                           faults=faults, breakpoints=breakpoints)
         phi, k, e = r.angle_rad, r.k_N_per_m, r.excitation_m
         if source == "constant":
             value = (ms or {}).get("value_N_per_m", r.mean_N_per_m)
@@ -348,16 +354,17 @@ def periodicity_verdict(result) -> dict[str, Any]:
     return {"periodic": periodic, "periodic_mismatch": m if math.isfinite(m) else None, "periodicity": verdict}
 
 
-def run(scene: Scene, on_compile=None) -> SimulationRun:
+def run(scene: Scene, on_compile=None, stiffness: StiffnessInput | None = None) -> SimulationRun:
     """Simulate a scene. ``on_compile(message)`` is called once when the solver kernels
     for this effect set must be compiled (first run only). With a tooth fault the
     duration is rounded up so that the kept window is whole revolutions of the faulty
-    gear (dynamics.simulate.round_to_table_periods): its shaft orders fall on exact bins."""
+    gear (dynamics.simulate.round_to_table_periods): its shaft orders fall on exact bins.
+    ``stiffness``: the tables to use (default: :func:`stiffness_input` of the scene)."""
     from gearwear.dynamics.simulate import round_to_table_periods
 
     t0 = time.perf_counter()
     solver, output = dict(scene.solver), dict(scene.output)
-    stiff = stiffness_input(scene)
+    stiff = stiffness_input(scene) if stiffness is None else stiffness
     try:
         model = build_model(scene, stiff)
         if model.table_periods > 1:

@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from gearwear.analytic.tvms import MeshStiffness, mesh_stiffness
+from gearwear.analytic.tvms import DEFAULT_POINTS, MeshStiffness, mesh_stiffness
 from gearwear.core.validation import fail
 from gearwear.geometry.faults import FaultSpec
 from gearwear.geometry.flank import FlankSpec, flank_warnings
@@ -49,13 +49,16 @@ class Curve:
         """Curve statistics. Zone means by the number of pairs on the path
         (``zone_means_N_per_m``: "1", "2", "3", ...; null where that count never occurs,
         e.g. no single-contact zone above a contact ratio of 2); the double/single keys
-        are the "2" and "1" entries. ``warnings``: one-line notes (contact ratio below 1,
-        wear beyond the severe phase). The pair FE adds ``bore_fixed_mean_N_per_m`` (the
-        bodies held at their bores: ``mean_N_per_m`` unless ``blank_torsion`` is
-        "excluded"), ``mesh_only_mean_N_per_m`` (the blanks' torsion below their reference
-        circles taken out: the one to compare with ishikawa, energy and iso6336, which have
-        no blank torsion), ``blank_torsional_stiffness_Nm_per_rad`` [pinion, gear] (null
-        where the reference circle is the bore) and ``blank_reference_radius_mm``."""
+        are the "2" and "1" entries; means are integrals of the piecewise-linear curve
+        (geometry.curves). ``points``: the table's nodes (the analytic tables add the
+        breakpoints, ``breakpoints_deg``, to the uniform ones). ``warnings``: one-line
+        notes (contact ratio below 1, wear beyond the severe phase). The pair FE adds
+        ``bore_fixed_mean_N_per_m`` (the bodies held at their bores: ``mean_N_per_m`` unless
+        ``blank_torsion`` is "excluded"), ``mesh_only_mean_N_per_m`` (the blanks' torsion below
+        their reference circles taken out: the one to compare with ishikawa, energy and
+        iso6336, which have no blank torsion), ``blank_torsional_stiffness_Nm_per_rad``
+        [pinion, gear] (null where the reference circle is the bore) and
+        ``blank_reference_radius_mm``."""
         from gearwear.geometry.wear import wear_warnings
 
         r = self.result
@@ -85,12 +88,13 @@ class Curve:
         return {"method": self.method, "wear": self.wear.label if self.wear else "unworn",
                 "clearance_um": self.clearance_m * 1e6, "torque_Nm": r.torque_Nm,
                 "mean_N_per_m": r.mean_N_per_m, "min_N_per_m": r.min_N_per_m, "max_N_per_m": r.max_N_per_m,
-                "contact_ratio": r.contact_ratio, "points": int(len(r.angle_rad)), "wall_s": r.wall_s,
+                "contact_ratio": r.contact_ratio, "points": int(len(r.angle_rad)),
+                "breakpoints_deg": [math.degrees(x) for x in r.breakpoints_rad], "wall_s": r.wall_s,
                 "double_zone_mean_N_per_m": null(z["double"]), "single_zone_mean_N_per_m": null(z["single"]),
                 "double_zone_length_deg": z["double_deg"], "single_zone_length_deg": z["single_deg"],
                 "zone_means_N_per_m": {str(n): v for n, v in z["by_count"].items()},
                 "zone_lengths_deg": {str(n): v for n, v in z["deg_by_count"].items()},
-                "ste_mean_um": float(np.mean(r.ste_m)) * 1e6,
+                "ste_mean_um": r.mean_of(r.ste_m) * 1e6,
                 "ste_peak_to_peak_um": float(np.ptp(r.ste_m)) * 1e6,
                 "centre_distance_mm": r.mesh.centre_distance_m * 1e3,
                 "operating_pressure_angle_deg": math.degrees(r.mesh.pressure_angle_rad),
@@ -203,7 +207,8 @@ def harris(curves: list[Curve], pair: PairSpec, flank: FlankSpec | None):
     c = next((c for c in curves if c.method in ("ishikawa", "energy")), None)
     if c is None:
         return None
-    return harris_map(pair, flank, HARRIS_LOADS * c.result.torque_Nm, c.method, 360, c.wear, c.clearance_m)
+    return harris_map(pair, flank, HARRIS_LOADS * c.result.torque_Nm, c.method, c.result.meta.get(
+        "points_per_mesh_period", DEFAULT_POINTS), c.wear, c.clearance_m)
 
 
 def harris_figure(hm, torque_Nm: float):

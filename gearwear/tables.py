@@ -1,6 +1,9 @@
 """Mesh-stiffness tables: CSV + JSON sidecar, cached by the hash of their inputs.
 
-A table is k_h and the wear excitation over one mesh period. Its sidecar records
+A table is k_h and the wear excitation over one mesh period (over a revolution of the
+faulty gear with a fault), at nodes that need not be uniform (the breakpoints of the
+load sharing are nodes, analytic.tvms); its span is recorded (``span_rad``) so that its
+mean is the integral of the piecewise-linear table. Its sidecar records
 the inputs, their SHA-256 (inputs + software version), the SHA-256 of the CSV bytes
 (``csv_sha256``), the method, the FE mesh size, the estimated error and the version.
 The cache key is the input hash. For calibrated tables the inputs include the
@@ -11,7 +14,7 @@ sidecar, so an interrupted run leaves no half-written table.
 
 Reading an entry checks it (:func:`lookup`, a pure function that returns the table or
 the reason it is not used): the sidecar belongs to these inputs, the CSV parses with
-the expected header, it has exactly ``points`` rows, every value is finite, angles
+the expected header, it has exactly the rows its sidecar records, every value is finite, angles
 increase, k > 0 wherever a pair is in contact (k = 0 only where none is), and the
 CSV bytes match ``csv_sha256``. A bad entry is not used; the caller recomputes it
 and reports the reason through its ``notify`` callback (:func:`to_stderr` by default
@@ -39,6 +42,7 @@ from typing import Any, Callable
 import numpy as np
 
 from gearwear.core.validation import fail
+from gearwear.geometry.curves import curve_mean
 
 from . import io
 
@@ -81,7 +85,8 @@ class StiffnessTable:
     """k_h(phi) and e(phi) over one mesh period, with provenance.
 
     ``from_cache`` is True when the table was read from an existing cache entry (not
-    stored; only for the caller to report a cache hit)."""
+    stored; only for the caller to report a cache hit). ``span_rad``: the pinion rotation
+    the table spans (its period)."""
 
     angle_rad: np.ndarray
     k_N_per_m: np.ndarray
@@ -90,10 +95,12 @@ class StiffnessTable:
     pairs_in_contact: np.ndarray
     meta: dict[str, Any]
     from_cache: bool = False
+    span_rad: float = math.nan
 
     @property
     def mean_N_per_m(self) -> float:
-        return float(np.mean(self.k_N_per_m))
+        """Mean of the piecewise-linear k_h over the span (geometry.curves.curve_mean)."""
+        return curve_mean(self.angle_rad, self.k_N_per_m, self.span_rad)
 
     def to_csv(self) -> str:
         rows = [HEADER]
@@ -172,8 +179,8 @@ def _parse(text: str, points: int | None) -> tuple[np.ndarray | None, str | None
 def read(csv_path: Path, meta: dict[str, Any], points: int | None = None) -> tuple[StiffnessTable | None, str | None]:
     """Check and read one table CSV against its sidecar ``meta``: (table, None) or (None, reason).
 
-    ``points``: the expected number of rows (default: ``meta["inputs"]["points"]`` if
-    there is one)."""
+    ``points``: the expected number of rows (default: ``meta["rows"]``, written by
+    :func:`store`)."""
     try:
         raw = Path(csv_path).read_bytes()
     except OSError as exc:
@@ -184,9 +191,8 @@ def read(csv_path: Path, meta: dict[str, Any], points: int | None = None) -> tup
 def check(raw: bytes, meta: dict[str, Any], points: int | None = None) -> tuple[StiffnessTable | None, str | None]:
     """:func:`read` on the bytes of a table CSV."""
     if points is None:
-        inp = meta.get("inputs")
-        # a table over a revolution (a fault) has points per mesh period x its periods rows
-        points = inp.get("rows", inp.get("points")) if isinstance(inp, dict) else None
+        # the breakpoints of the load sharing add nodes: the sidecar records the rows written
+        points = meta.get("rows")
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError:
@@ -199,8 +205,11 @@ def check(raw: bytes, meta: dict[str, Any], points: int | None = None) -> tuple[
         return None, "has no csv_sha256 in its sidecar"
     if hashlib.sha256(raw).hexdigest() != want:
         return None, "does not match the csv_sha256 of its sidecar (changed after it was stored)"
+    span = meta.get("span_rad")
+    if not isinstance(span, (int, float)) or not span > data[-1, 0] * math.pi / 180:
+        return None, "has no valid span_rad in its sidecar (the table's period, beyond its last angle)"
     tab = StiffnessTable(np.radians(data[:, 0]), data[:, 1], data[:, 3] * 1e-6, data[:, 2] * 1e-6,
-                         data[:, 4].astype(int), meta, from_cache=True)
+                         data[:, 4].astype(int), meta, from_cache=True, span_rad=float(span))
     return tab, None
 
 
@@ -267,6 +276,7 @@ def store(table: StiffnessTable, inputs: dict[str, Any], method: str, folder: Pa
     # sidecar first would let a reader see metadata without data; write data first
     io.write_bytes(csv, data)
     io.sidecar(csv, inputs, method, {**(extra or {}), "mean_N_per_m": table.mean_N_per_m,
+                                     "rows": int(len(table.angle_rad)), "span_rad": table.span_rad,
                                      "csv_sha256": hashlib.sha256(data).hexdigest()})
     meta = json.loads(Path(str(csv) + ".json").read_text())
     # from the bytes written, not from the file: a concurrent writer of the same key cannot interfere

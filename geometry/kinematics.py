@@ -147,6 +147,15 @@ class MeshGeometry:
         return (d_m >= self.path_start_m - tol) & (d_m <= self.path_end_m + tol)
 
     @property
+    def exit_angle_rad(self) -> float:
+        """theta_E in [0, 2 pi / z1): the pinion angle of a mesh period at which a pair
+        leaves the path at E. Slot j is at d_A + r_b1 theta + j p_b (theta = 0: a pair
+        at A), so d_E is reached at theta_E = ((d_E - d_A) mod p_b) / r_b1; below it
+        floor(epsilon) + 1 pairs are on the path, above it floor(epsilon)
+        (:meth:`pairs_on_path`)."""
+        return math.fmod(self.path_end_m - self.path_start_m, self.base_pitch_m) / self.pair.gear(0).base_radius_m
+
+    @property
     def double_contact_share(self) -> float:
         """Fraction of a mesh period with two pairs on the path, epsilon - 1 clipped to [0, 1]."""
         return min(max(self.contact_ratio - 1.0, 0.0), 1.0)

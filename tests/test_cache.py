@@ -61,7 +61,9 @@ def test_cold_then_hit(cache, fe_runs, capsys):
     b = table()
     assert fe_runs == [None] and not a.from_cache and b.from_cache
     assert np.array_equal(a.k_N_per_m, b.k_N_per_m) and a.meta == b.meta
-    assert len(a.k_N_per_m) == POINTS and np.all(a.k_N_per_m > 0)
+    # the uniform nodes and the breakpoints of the load sharing (analytic.tvms) on top
+    assert len(a.k_N_per_m) == a.meta["rows"] > POINTS and np.all(a.k_N_per_m > 0)
+    assert np.all(np.isin(np.round(np.arange(POINTS) * (a.span_rad / POINTS), 12), np.round(a.angle_rad, 12)))
     key, csv = entry(cache)
     meta = json.loads((cache / f"{key}.csv.json").read_text())
     assert meta["inputs"]["code_sha256"] == calibrate.code_fingerprint()
@@ -89,19 +91,20 @@ def _damage(csv, edit):
 
 
 @pytest.mark.parametrize("edit, reason", [
-    (lambda ls: "\n".join(ls[:41]) + "\n", "is truncated (40 of 120 rows)"),
-    (lambda ls: "\n".join(ls[:41]) + "\n" + ls[41][:9], "is truncated (40 of 120 rows, the last one cut)"),
+    (lambda ls: "\n".join(ls[:41]) + "\n", "is truncated (40 of {rows} rows)"),
+    (lambda ls: "\n".join(ls[:41]) + "\n" + ls[41][:9], "is truncated (40 of {rows} rows, the last one cut)"),
     (lambda ls: "\n".join(ls[:9] + ["garbage"] + ls[10:]), "has an unreadable line 10 ('garbage')"),
     (lambda ls: "\n".join(ls[:5] + [ls[5].replace(ls[5].split(",")[1], "nan")] + ls[6:]),
      "has a non-finite k_N_per_m (nan) on line 6"),
     (lambda ls: "\n".join(ls[:5] + [ls[5].replace(ls[5].split(",")[1], "0")] + ls[6:]),
      "has k_N_per_m = 0 on line 6 with"),
-    (lambda ls: "\n".join(ls[:-1] + ls[1:]), "has 240 rows, expected 120"),
+    (lambda ls: "\n".join(ls[:-1] + ls[1:]), "has {twice} rows, expected {rows}"),
     (lambda ls: "\n".join(["angle,k"] + ls[1:]), "has no valid header line"),
 ])
 def test_bad_entry_is_recomputed_with_one_line(cache, fe_runs, capsys, edit, reason):
     good = table()
     key, csv = entry(cache)
+    reason = reason.format(rows=len(good.k_N_per_m), twice=2 * len(good.k_N_per_m))   # the rows its sidecar records
     _damage(csv, edit)
     assert tables.lookup(calibrate.table_inputs(default_pair(), None, 0.0, 40.0, POINTS, 21))[0] is None
     again = table()

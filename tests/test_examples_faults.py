@@ -27,7 +27,8 @@ def test_stiffness_json_reports_the_te_peak_to_peak(name, capsys):
     doc = _json(capsys, ["stiffness", str(EXAMPLES / f"{name}.toml"), "--json", "--points", "120"])
     assert math.isfinite(doc["ste_peak_to_peak_um"]) and doc["ste_peak_to_peak_um"] > 0
     if name in ("root_crack", "spall"):
-        assert doc["mesh_periods"] == 30 and doc["points"] == 30 * 120
+        # 120 uniform nodes per mesh period over the revolution, and the breakpoints on top
+        assert doc["mesh_periods"] == 30 and doc["points"] > 30 * 120
     if name == "tip_relief":
         # the relief is sized for this load: the map's modified TE is below the nominal one there
         row = min(doc["harris_map"], key=lambda r: abs(r["torque_Nm"] - doc["torque_Nm"]))

@@ -89,7 +89,7 @@ def test_constant_measured_deviation_shifts_the_te_and_leaves_the_stiffness():
     c = 7e-6
     dev = Deviation((0.140, 0.162), (c, c))
     base = mesh_stiffness(PAIR, points=180, torque_Nm=40.0)
-    moved = mesh_stiffness(PAIR, points=180, torque_Nm=40.0, flank=FlankSpec(deviation=(dev, None)))
+    moved = mesh_stiffness(PAIR, torque_Nm=40.0, flank=FlankSpec(deviation=(dev, None)), angles_rad=base.angle_rad)
     assert np.max(np.abs(moved.ste_m - base.ste_m - c)) < 1e-13
     assert np.allclose(moved.k_N_per_m, base.k_N_per_m, rtol=1e-10)
 
@@ -140,8 +140,9 @@ def test_spall_in_single_contact_raises_the_te_by_its_bridged_gap_once_per_revol
     length = 0.5e-3
     ua = math.sqrt(2 * (0.5 * rb * (d0 / rb) ** 2 - 0.5 * length) / rb)
     spall = Spall(0, 0, 2 * rb * math.hypot(1, ua), length, 30e-6)
-    r = mesh_stiffness(PAIR, points=240, torque_Nm=LIGHT_NM, faults=FaultSpec(spall=spall))
-    healthy = mesh_stiffness(PAIR, points=240, torque_Nm=LIGHT_NM)
+    # uniform tables (no breakpoint nodes): the same angles in every mesh period
+    r = mesh_stiffness(PAIR, points=240, torque_Nm=LIGHT_NM, faults=FaultSpec(spall=spall), breakpoints=False)
+    healthy = mesh_stiffness(PAIR, points=240, torque_Nm=LIGHT_NM, breakpoints=False)
     assert r.periods == 30 and r.ste_m.shape == (30 * 240,)
     L = MESH.line_of_action_m
     expect = (0.5 * length) ** 2 / (2 * d0 * (L - d0) / L)
@@ -157,7 +158,7 @@ def test_fault_on_the_gear_spans_the_gear_revolution():
     rb = pair.gear(1).base_radius_m
     sap = mesh.start_of_active_profile_m[1]
     spall = Spall(1, 5, 2 * sap * 1.01, 1e-3, 20e-6)
-    r = mesh_stiffness(pair, points=64, torque_Nm=40.0, faults=FaultSpec(spall=spall))
+    r = mesh_stiffness(pair, points=64, torque_Nm=40.0, faults=FaultSpec(spall=spall), breakpoints=False)
     assert r.periods == 31 and len(r.angle_rad) == 31 * 64
     assert np.all(np.isfinite(r.k_N_per_m)) and rb > 0
     # the faulty pair is the one of gear tooth 5: first in contact 5 mesh periods in
@@ -196,10 +197,11 @@ def test_root_crack_softens_only_its_tooth_pair_and_grows_with_depth():
     softer, more so for a deeper crack, and a vanishing crack gives the healthy curve."""
     from gearwear.geometry.faults import CrackFault
 
-    healthy = mesh_stiffness(PAIR, points=90, torque_Nm=40.0)
+    # uniform tables (no breakpoint nodes): the same angles in every mesh period
+    healthy = mesh_stiffness(PAIR, points=90, torque_Nm=40.0, breakpoints=False)
     k_min = []
     for depth in (1e-6, 0.5e-3, 1e-3, 2e-3):
-        r = mesh_stiffness(PAIR, points=90, torque_Nm=40.0,
+        r = mesh_stiffness(PAIR, points=90, torque_Nm=40.0, breakpoints=False,
                            faults=FaultSpec(crack=CrackFault(0, 0, depth, math.radians(45))))
         k = r.k_N_per_m.reshape(30, 90)
         # tooth 0 enters at period 0 and leaves within period 1 (contact ratio 1.65); tip-corner

@@ -157,25 +157,38 @@ def test_pairs_on_path_and_zone_shares_above_a_contact_ratio_of_two():
     assert np.mean(mesh.contacts(theta).count != pairs) < 1e-3
 
 
-def test_zone_means_by_number_of_pairs_never_nan():
-    from gearwear.geometry.curves import CurveStats, zone_means_by_count
-
-    pair = paper_pair_from({"pair": HIGH_CONTACT_RATIO})
-    mesh = MeshGeometry(pair, pair.centre_distance_m)
+def _step_curve(mesh, per_pair):
+    """k = per_pair x (pairs on the path) as a piecewise-linear table that is that step
+    function: 360 uniform nodes plus nodes on both sides of the zone edges, where a pair
+    leaves at E: d_A + r_b1 theta + j p_b = d_E, theta_E = ((d_E - d_A) mod p_b) / r_b1,
+    and where one enters at A (theta = 0, the period's end)."""
+    from gearwear.geometry.curves import CurveStats
 
     class Curve(CurveStats):
         def __init__(self, theta, k):
             self.mesh, self.angle_rad, self.k_N_per_m = mesh, theta, k
 
-    theta = np.arange(360) * (mesh.mesh_angle_rad / 360)
-    k = 1e8 * mesh.pairs_on_path(theta)          # 1e8 N/m per pair on the path
-    z = Curve(theta, k).zone_means()
-    assert z["by_count"] == {1: None, 2: 2e8, 3: 3e8}
-    assert math.isnan(z["single"]) and z["double"] == 2e8
+    P = mesh.mesh_angle_rad
+    th_E = math.fmod(mesh.path_end_m - mesh.path_start_m, mesh.base_pitch_m) / mesh.pair.gear(0).base_radius_m
+    theta = np.union1d(np.arange(360) * (P / 360), [th_E, th_E + 1e-12 * P, P * (1 - 1e-12)])
+    return Curve(theta, per_pair * mesh.pairs_on_path(theta))
+
+
+def test_zone_means_by_number_of_pairs_never_nan():
+    pair = paper_pair_from({"pair": HIGH_CONTACT_RATIO})
+    mesh = MeshGeometry(pair, pair.centre_distance_m)
+    z = _step_curve(mesh, 1e8).zone_means()      # 1e8 N/m per pair on the path
+    assert z["by_count"][1] is None and set(z["by_count"]) == {1, 2, 3}
+    assert z["by_count"][2] == pytest.approx(2e8, rel=1e-9) and z["by_count"][3] == pytest.approx(3e8, rel=1e-9)
+    assert math.isnan(z["single"]) and z["double"] == z["by_count"][2]
     assert z["deg_by_count"][3] == pytest.approx((mesh.contact_ratio - 2) * 6.0, rel=1e-12)
     assert z["single_deg"] == 0.0
     # a contact ratio below 1: the gap is the zone of 0 pairs
-    assert zone_means_by_count([0.0, 5.0, 5.0], np.array([0, 1, 1])) == {0: 0.0, 1: 5.0, 2: None, 3: None}
+    low = MeshGeometry(default_pair(), default_pair().centre_distance_m + 5e-3)
+    assert low.contact_ratio < 1
+    z = _step_curve(low, 5.0).zone_means()["by_count"]
+    assert set(z) == {0, 1, 2, 3} and z[2] is None and z[3] is None
+    assert z[0] == pytest.approx(0.0, abs=1e-9) and z[1] == pytest.approx(5.0, rel=1e-9)
 
 
 def test_contact_ratio_below_one_is_stated():

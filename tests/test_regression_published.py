@@ -415,7 +415,7 @@ def test_report_claims_and_modes(report_unworn):
             assert row["ours"] == "largest: " + ", ".join(f"{k} x fm" for k in np.argsort(-r.harmonics("F_m", 10))[:3] + 1)
         if row["where"] == "3.1, Fig. 14" and "x fm of F_m" in row["paper"]:
             k = int(row["paper"].split(" x fm")[0])
-            assert row["ours"].split(": ")[1].split(" -> ")[0] == f"{r.harmonics('F_m', 4)[k - 1]:.4g}"
+            assert row["ours"].split(": ")[1].split(" -> ")[0] == f"{r.harmonics('F_m', 4)[k - 1]:.5g}"
 
 
 # -- dynamics ---------------------------------------------------------------------------

@@ -100,8 +100,11 @@ def test_backlash_jump_table_and_text():
     ks = [k for *_, k in chaotic]
     say(f"are chaotic (0-1 test K = {min(ks):.2f}-{max(ks):.2f})")
     sub = [r for r in rows if r["label"] == "periodic" and r["period_mesh_periods"] != "1"]
-    assert {r["period_mesh_periods"] for r in sub} == {"2"}
-    say(f"and {len(sub)} speeds are period-2 subharmonics")
+    assert {r["period_mesh_periods"] for r in sub} == {"2", "3"}
+    p3 = [(r["direction"], r["speed_rpm"]) for r in sub if r["period_mesh_periods"] == "3"]
+    assert p3 == [("up", "1350")]
+    say(f"{sum(r['period_mesh_periods'] == '2' for r in sub)} speeds are period-2 subharmonics")
+    say(f"and {p3[0][1]} rpm ({p3[0][0]}), next to the chaotic 1300 rpm, is period 3")
     _, fine = report("backlash_25rpm")
     p4 = [r["speed_rpm"] for r in fine if r["label"] == "periodic" and r["period_mesh_periods"] == "4"]
     assert all(r["direction"] == "down" for r in fine if r["period_mesh_periods"] == "4")

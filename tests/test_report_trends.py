@@ -127,7 +127,7 @@ def _fake_res(seed: int, flip: bool):
         out = {}
         for i, key in enumerate(keys):
             k = mean[i] * (1 + 0.2 * np.cos(2 * np.pi * phi) + 0.05 * rng.standard_normal(360))
-            out[key] = SimpleNamespace(k_N_per_m=k, mean_N_per_m=float(k.mean()),
+            out[key] = SimpleNamespace(k_N_per_m=k, mean_N_per_m=float(k.mean()), angle_rad=phi, span_rad=1.0,
                                        pairs_in_contact=np.where(phi < 0.6, 2, 1))
         return out
 

@@ -100,14 +100,16 @@ class _Curve(CurveStats):
 
 
 def test_zone_means_and_lengths(mesh):
-    """k = 3 on the double zones and 1 on the single zone: the means are 3 and 1, the
-    lengths (eps - 1) and (2 - eps) of the 12 deg period."""
+    """k = 3 on the double zones and 1 on the single zone (a table with nodes on both
+    sides of the zone edges, so its piecewise-linear interpolant is that step): the means
+    are 3 and 1, the lengths (eps - 1) and (2 - eps) of the 12 deg period."""
     _, _, eps = hand_path(C)
-    theta = np.arange(360) * (PERIOD / 360)
-    double = R_B * theta <= (eps - 1) * math.pi * M * math.cos(ALPHA)
+    edge = (eps - 1) * math.pi * M * math.cos(ALPHA) / R_B
+    theta = np.union1d(np.arange(360) * (PERIOD / 360), [edge, edge + 1e-12 * PERIOD, PERIOD * (1 - 1e-12)])
+    double = R_B * theta <= (eps - 1) * math.pi * M * math.cos(ALPHA) * (1 + 1e-14)
     k = np.where(double, 3.0, 1.0)
     zm = _Curve(mesh, theta, k).zone_means()
-    assert zm["double"] == 3.0 and zm["single"] == 1.0
+    assert zm["double"] == pytest.approx(3.0, rel=1e-9) and zm["single"] == pytest.approx(1.0, rel=1e-9)
     assert zm["double_deg"] == pytest.approx((eps - 1) * 12.0, rel=1e-12)
     assert zm["single_deg"] == pytest.approx((2 - eps) * 12.0, rel=1e-12)
     empty = {"A": np.zeros(3, bool), "B": np.ones(3, bool), "C": np.zeros(3, bool)}
