@@ -932,7 +932,7 @@ def build_parser() -> argparse.ArgumentParser:
                                     "independent run-ups). Steady state is detected (Poincare-section residual) and "
                                     "labelled periodic, quasi-periodic or chaotic. Writes runup.csv (K_v, DTE, "
                                     "contact loss, harmonics 1-10 per speed), runup_summary.json (jump bands, ISO "
-                                    "6336-1 n_E1) and the K_v and Campbell plots.")
+                                    "6336-1 n_E1), the K_v plot, the order maps and the Campbell diagrams.")
     _scene_options(ru, "paper-default")
     ru.add_argument("--direction", default="both", choices=runup_directions(),
                     help="sweep up, down or both (default both: the jump band is where they differ)")

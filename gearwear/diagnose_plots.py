@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from .diagnose_job import Fit, feature_rows
-from .plotting import subplots
+from .plotting import legend_outside, subplots
 
 
 def _hpd_levels(p: np.ndarray, masses=(0.95, 0.68)) -> list[float]:
@@ -19,9 +19,13 @@ def _hpd_levels(p: np.ndarray, masses=(0.95, 0.68)) -> list[float]:
 def corner(ft: Fit):
     """Marginals on the diagonal (95 % interval shaded, median dashed), joint densities
     below it (68 and 95 % highest-density contours), on the final grid of the posterior."""
+    from .schema import key_label, key_words
+
     names = ft.names
     d = len(names)
     units = [u.unit for u in ft.sur.unknowns]
+    words = [key_words(u.scene_key)[0] for u in ft.sur.unknowns]
+    labels = [key_label(u.scene_key) for u in ft.sur.unknowns]
     fig, axs = subplots(d, d, figsize=(3.2 * d, 3.0 * d), squeeze=False)
     post = ft.post
     for i in range(d):
@@ -40,9 +44,10 @@ def corner(ft: Fit):
                 ax.fill_between(x[band], dens[band], color="tab:blue", alpha=0.3, label="95 % interval")
                 ax.axvline(e["value"], color="tab:blue", ls="--", lw=1.0, label="median")
                 ax.set_yticks([])
-                ax.set_title(f"{names[i]} = {e['value']:.3g} [{e['lo95']:.3g}, {e['hi95']:.3g}] {units[i]}", fontsize=8)
+                ax.set_title(f"{words[i]} = {e['value']:.3g} [{e['lo95']:.3g}, {e['hi95']:.3g}] {units[i]}",
+                             fontsize=8)
                 if i == 0:
-                    ax.legend(fontsize=7)
+                    legend_outside(ax, fontsize=7)
             else:
                 p = post.joint(j, i)   # axes (j, i): x = unknown j, y = unknown i
                 X, Y = np.meshgrid(post.axes[j], post.axes[i], indexing="ij")
@@ -51,9 +56,9 @@ def corner(ft: Fit):
                                 alpha=0.6)
                 ax.plot(*[ft.summary["estimates"][names[k]]["value"] for k in (j, i)], "w+", ms=8)
             if i == d - 1:
-                ax.set_xlabel(f"{names[j]} ({units[j]})", fontsize=8)
+                ax.set_xlabel(labels[j], fontsize=8)
             if j == 0 and i > 0:
-                ax.set_ylabel(f"{names[i]} ({units[i]})", fontsize=8)
+                ax.set_ylabel(labels[i], fontsize=8)
             ax.tick_params(labelsize=7)
     fig.suptitle("Posterior (uniform prior; zoomed grid box shown)", fontsize=9)
     fig.tight_layout()
@@ -63,6 +68,8 @@ def corner(ft: Fit):
 def features(ft: Fit):
     """Per signal: measured harmonic amplitudes with their total 95 % band (noise and
     surrogate error) and the surrogate at the estimate; the means in the titles."""
+    from .simulate_job import SIGNAL_UNITS, SIGNAL_WORDS, signal_name
+
     rows = feature_rows(ft)
     sigs = list(dict.fromkeys(r["signal"] for r in rows))
     fig, axs = subplots(len(sigs), 1, figsize=(7.5, 2.4 * len(sigs)), squeeze=False)
@@ -77,13 +84,13 @@ def features(ft: Fit):
             ax.plot(k + 0.08, [r["fitted"] for r in h], "s", ms=4, mfc="none", label="surrogate at the estimate")
             ax.set_yscale("log")
             ax.set_xticks(k)
-        title = s + ("; mean measured " + ", ".join(f"{r['measured']:.4g}" for r in m) + ", fitted "
-                     + ", ".join(f"{r['fitted']:.4g}" for r in m) if m else "")
+        title = SIGNAL_WORDS[signal_name(s)] + ("; mean measured " + ", ".join(f"{r['measured']:.4g}" for r in m)
+                                                + ", fitted " + ", ".join(f"{r['fitted']:.4g}" for r in m) if m else "")
         ax.set_title(title, fontsize=8)
-        ax.set_ylabel("amplitude", fontsize=8)
+        ax.set_ylabel(f"harmonic amplitude ({SIGNAL_UNITS[signal_name(s)][0]})", fontsize=8)
         ax.grid(alpha=0.3, which="both")
         ax.tick_params(labelsize=7, which="both")
-    axs[0, 0].legend(fontsize=7)
-    axs[-1, 0].set_xlabel("mesh harmonic k", fontsize=8)
+    legend_outside(axs[0, 0], fontsize=7)
+    axs[-1, 0].set_xlabel("mesh harmonic order k (dimensionless)", fontsize=8)
     fig.tight_layout()
     return fig

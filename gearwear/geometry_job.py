@@ -172,45 +172,97 @@ def profile_table(res: GeometryResult) -> str:
     return "\n".join(lines) + "\n"
 
 
-def tooth_figure(res: GeometryResult):
+def key_radii_mm(res: GeometryResult, i: int) -> dict[str, float]:
+    """The points of gear ``i``'s active flank at the operating centre distance (mm):
+    SAP, LPSTC, operating pitch circle, HPSTC (the single-contact limits only with a
+    contact ratio of at least 1)."""
+    mesh = res.operating.mesh
+    out = {"SAP": mesh.start_of_active_profile_m[i] * 1e3}
+    if mesh.contact_ratio >= 1:
+        out["LPSTC"] = lpstc_diameters_m(mesh)[i] * 0.5e3
+    out["pitch"] = mesh.operating_pitch_radii_m[i] * 1e3
+    if mesh.contact_ratio >= 1:
+        out["HPSTC"] = hpstc_diameters_m(mesh)[i] * 0.5e3
+    return out
+
+
+def _outline_panel(ax, res: GeometryResult, i: int) -> None:
+    """One gear's tooth: nominal, worn and the wear depth x50, with its base, form and
+    pitch circles named at alternate ends (close radii never share an end)."""
     from gearwear.geometry.profile import tooth_outline
 
-    from .plotting import subplots
+    from .plotting import legend_outside, stagger_levels
 
-    fig, (ax, ax2) = subplots(1, 2, figsize=(11, 5.2))
-    nom, worn = res.nominal[0], res.worn[0]
+    nom, worn = res.nominal[i], res.worn[i]
+    g = res.scene.pair.gear(i)
     o = tooth_outline(nom)
-    ax.plot(o[:, 0] * 1e3, o[:, 1] * 1e3, "k-", lw=1.2, label="nominal")
+    name = f"worn ({res.wear.label if res.wear else 'unworn'})"
+    depth_um = float(np.max(worn.depth)) * 1e6 if worn.is_worn else 0.0
+    # a wear depth below 1/200 of the tooth height is within a line width: one outline, said so
+    same = worn.is_worn and depth_um * 1e-6 < 0.005 * float(np.ptp(o[:, 1]))
+    ax.plot(o[:, 0] * 1e3, o[:, 1] * 1e3, "k-", lw=1.2,
+            label=f"nominal = {name} at this scale (depth <= {depth_um:.3g} um)" if same else "nominal")
     if worn.is_worn:
-        w = tooth_outline(worn, nom)
-        ax.plot(w[:, 0] * 1e3, w[:, 1] * 1e3, "r-", lw=1.0, label=f"worn ({res.wear.label if res.wear else 'unworn'})")
+        if not same:
+            w = tooth_outline(worn, nom)
+            ax.plot(w[:, 0] * 1e3, w[:, 1] * 1e3, "r-", lw=1.0, label=name)
         exaggeration = 50.0
         ex = nom.xy - exaggeration * worn.depth[:, None] * nom.normal
         ax.plot(ex[:, 0] * 1e3, ex[:, 1] * 1e3, "r--", lw=0.8, label=f"worn, depth x{exaggeration:g}")
-    g = res.scene.pair.gear(0)
     th = np.linspace(-math.pi / g.teeth, math.pi / g.teeth, 200)
-    for rad, lab in [(g.base_radius_m, "base"), (g.pitch_radius_m, "pitch"), (nom.form_radius_m, "form")]:
+    circles = [(g.base_radius_m, "base"), (g.pitch_radius_m, "pitch"), (nom.form_radius_m, "form")]
+    levels = stagger_levels([r for r, _ in circles], 0.06 * float(np.ptp(o[:, 1])))  # m, as the radii
+    for (rad, lab), level in zip(circles, levels):
         ax.plot(rad * np.sin(th) * 1e3, rad * np.cos(th) * 1e3, ":", lw=0.7)
-        ax.annotate(lab, (rad * math.sin(th[0]) * 1e3, rad * math.cos(th[0]) * 1e3), fontsize=7)
+        end = th[0] if level % 2 == 0 else th[-1]  # inward from the left or the right end, above the circle
+        ax.annotate(lab, (rad * math.sin(end) * 1e3, rad * math.cos(end) * 1e3), xytext=(0, 2),
+                    textcoords="offset points", fontsize=7, ha="left" if level % 2 == 0 else "right", va="bottom")
     ax.set_aspect("equal")
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
-    ax.set_title(f"Pinion tooth: z = {g.teeth}, m = {g.module_m * 1e3:g} mm, x = {g.profile_shift:g}")
-    ax.legend(fontsize=8, loc="lower center")
-    for i, (nm, wp) in enumerate(zip(res.nominal, res.worn)):
-        mask = np.isfinite(nm.roll)
-        ax2.plot(nm.radius[mask] * 1e3, wp.depth[mask] * 1e6, ("C0-", "C1--")[i], label=("pinion", "gear")[i])
-    mesh = res.operating.mesh
-    for d, lab in [(mesh.path_start_m, "SAP"), (mesh.single_contact_limits_m[0], "LPSTC"),
-                   (mesh.pitch_point_m, "pitch"), (mesh.single_contact_limits_m[1], "HPSTC")]:
-        r = float(mesh.pinion_radius_at(d)) * 1e3
-        ax2.axvline(r, color="0.6", lw=0.6, ls="--")
-        ax2.annotate(lab, (r, 0), fontsize=7, rotation=90, va="bottom")
-    ax2.set_xlabel("radius on the flank (mm)")
-    ax2.set_ylabel("wear depth along the normal (um)")
-    ax2.set_title(f"Wear depth ({res.wear.label if res.wear else 'unworn'}, {res.wear.model if res.wear else '-'})")
-    ax2.legend(fontsize=8)
-    ax2.grid(alpha=0.3)
+    ax.set_title(f"{('Pinion', 'Gear')[i]} tooth: z = {g.teeth}, m = {g.module_m * 1e3:g} mm, "
+                 f"x = {g.profile_shift:g}", fontsize=10)
+    legend_outside(ax, "below", ncol=2)
+
+
+def _wear_panel(ax, res: GeometryResult, i: int) -> None:
+    """One gear's wear depth against its own flank radius, its SAP, LPSTC, pitch and HPSTC
+    marked by dashed lines and named above the axes (staggered: no overprint); an
+    unworn flank says so instead of drawing a zero line."""
+    from .plotting import labels_above, title_pad
+
+    nm, wp = res.nominal[i], res.worn[i]
+    mask = np.isfinite(nm.roll)
+    if wp.is_worn:
+        ax.plot(nm.radius[mask] * 1e3, wp.depth[mask] * 1e6, ("C0-", "C1-")[i])
+        ax.set_ylim(bottom=0)
+    else:
+        ax.set_xlim(nm.radius[mask].min() * 1e3, nm.radius[mask].max() * 1e3)
+        ax.set_ylim(0, 1)
+        ax.set_yticks([0])
+        ax.text(0.5, 0.5, "unworn: no wear", transform=ax.transAxes, ha="center", va="center", fontsize=11,
+                color="0.3", bbox={"fc": "w", "ec": "none"})
+    marks = key_radii_mm(res, i)
+    for r in marks.values():
+        ax.axvline(r, color="0.5", lw=0.7, ls="--")
+    lo, hi = ax.get_xlim()
+    rows = labels_above(ax, list(marks.values()), list(marks), 0.12 * (hi - lo))
+    ax.set_xlabel(f"radius on the {('pinion', 'gear')[i]} flank (mm)")
+    ax.set_ylabel("wear depth along the normal (um)")
+    ax.set_title(f"{('Pinion', 'Gear')[i]} wear depth ({res.wear.label if res.wear else 'unworn'}"
+                 f"{', ' + res.wear.model if res.wear and wp.is_worn else ''})", fontsize=10, pad=title_pad(rows))
+    ax.grid(alpha=0.3)
+
+
+def tooth_figure(res: GeometryResult):
+    """tooth.png: per gear (columns: pinion, gear) its tooth outline and its wear depth,
+    each on its own axes and scale."""
+    from .plotting import subplots
+
+    fig, axs = subplots(2, 2, figsize=(12, 10.5), gridspec_kw={"height_ratios": [1.25, 1]})
+    for i in range(2):
+        _outline_panel(axs[0][i], res, i)
+        _wear_panel(axs[1][i], res, i)
     fig.tight_layout()
     return fig
 

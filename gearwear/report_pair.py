@@ -395,11 +395,13 @@ def markdown(doc: dict[str, Any]) -> str:
 
 def _finish(fig, ax, xlabel: str, ylabel: str, title: str):
     """Labels, a grid and the legend below the axes (off the data)."""
+    from .plotting import legend_outside
+
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     ax.set_title(title, fontsize=10)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2, frameon=False)
+    legend_outside(ax, "below", ncol=2, frameon=False)
     fig.tight_layout()
     return fig
 
@@ -442,7 +444,7 @@ def kv_figure(doc: dict[str, Any]):
     ax.plot(ru["speeds_rpm"], iso["K_v"], ":", color="C3", lw=2.0, label="ISO 6336-1 method B")
     n = iso["n_E1_driver_rpm"]
     ax.axvline(n, color="C3", lw=0.8, ls="-.", label=f"ISO resonance n_E1 = {n:.0f} rpm (driver)")
-    return _finish(fig, ax, "driver (pinion) speed (rpm)", "dynamic factor K_v = max F_m / static F",
+    return _finish(fig, ax, "driver (pinion) speed (rpm)", "dynamic factor K_v = max F_m / static F (ratio)",
                    "Run-up: dynamic factor against speed")
 
 

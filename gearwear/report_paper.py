@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import math
+import textwrap
 import sys
 import time
 from pathlib import Path
@@ -24,7 +25,8 @@ from gearwear.geometry.spec import default_pair
 from gearwear.geometry.wear import PHASE_DEPTHS_M, WearSpec
 
 from . import io
-from .plotting import subplots
+from .plotting import from_zero, legend_outside, range_text, subplots
+from .simulate_job import signal_label
 
 PHASES = ("unworn", "mild", "severe")
 CLEARANCES_UM = (0.0, 20.0, 40.0, 60.0, 80.0, 100.0)
@@ -148,7 +150,7 @@ def _stiffness_fig(tabs: dict, labeler, title: str, zoom: bool = False):
     ax.set_ylabel("mesh stiffness k_h (1e8 N/m)")
     ax.set_title(title)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
+    legend_outside(ax)
     fig.tight_layout()
     return fig
 
@@ -163,12 +165,13 @@ def _response_fig(sims: dict, name: str, unit: str, scale: float, labeler, title
         keep = (f >= 0.5 * r.fm_Hz) & (f <= 10.5 * r.fm_Hz)
         ax2.plot(f[keep], A[keep] * scale, lw=0.8, label=labeler(key))
     ax.set_xlabel("time (ms), three mesh periods")
-    ax.set_ylabel(f"{name} ({unit})")
+    ax.set_ylabel(signal_label(name))
     ax2.set_xlabel("frequency (Hz), mean removed")
-    ax2.set_ylabel(f"amplitude ({unit})")
+    ax2.set_ylabel(f"amplitude of {name} ({unit})")
+    ax2.set_ylim(bottom=0)
     for a in (ax, ax2):
         a.grid(alpha=0.3)
-        a.legend(fontsize=8)
+    legend_outside(ax2)
     fig.suptitle(title)
     fig.tight_layout()
     return fig
@@ -179,13 +182,14 @@ def _harmonics_fig(x, xlabel, H: np.ndarray, unit: str, name: str, title: str, x
     nh = H.shape[1]
     ncol = 5 if nh > 4 else 4
     nrow = math.ceil(nh / ncol)
-    fig, axs = subplots(nrow, ncol, figsize=(3.1 * ncol, 2.7 * nrow), squeeze=False)
+    fig, axs = subplots(nrow, ncol, figsize=(3.1 * ncol, 3.0 * nrow), squeeze=False)
     for k in range(nh):
         a = axs[k // ncol][k % ncol]
         a.plot(x, H[:, k], "o-", ms=4)
-        a.set_title(f"{k + 1} x fm at 40 N m", fontsize=9)
+        from_zero(a, H[:, k])
+        a.set_title(f"k = {k + 1} at 40 N m: {range_text(H[:, k])}", fontsize=8)
         a.set_xlabel(xlabel, fontsize=8)
-        a.set_ylabel(f"{name} ({unit})", fontsize=8)
+        a.set_ylabel(textwrap.fill(signal_label(name, "harmonic k"), 32), fontsize=8)
         if xticklabels is not None:
             a.set_xticks(x)
             a.set_xticklabels(xticklabels, fontsize=8)
@@ -207,7 +211,7 @@ def figures(res: dict[str, Any]) -> dict[str, Any]:
             res["sims_wear"], name, unit, scale, lambda p: p, f"Fig. {f1}: {desc} per wear phase")
         H = np.array([res["sims_wear"][p].result.harmonics(name, 4) * scale for p in PHASES])
         figs[f"fig{f2:02d}_{name}_harmonics_wear.png"] = _harmonics_fig(
-            xw, "wear phase", H, unit, name, f"Fig. {f2}: harmonics of {desc} versus wear phase",
+            xw, "wear phase (category)", H, unit, name, f"Fig. {f2}: harmonics of {desc} versus wear phase",
             xticklabels=list(PHASES))
     # Fig. 15: operating geometry versus clearance
     geo, c = res["geo"], res["cl_fine"]
@@ -215,7 +219,7 @@ def figures(res: dict[str, Any]) -> dict[str, Any]:
     data = [("centre distance (mm)", [g.centre_distance_m * 1e3 for g in geo]),
             ("operating pressure angle (deg)", [math.degrees(g.pressure_angle_rad) for g in geo]),
             ("contact line length (mm)", [g.contact_line_length_m * 1e3 for g in geo]),
-            ("contact ratio", [g.contact_ratio for g in geo])]
+            ("contact ratio (dimensionless)", [g.contact_ratio for g in geo])]
     for a, (lab, y) in zip(axs, data):
         a.plot(c, y, "o-", ms=3)
         a.set_xlabel("bearing clearance (um)")

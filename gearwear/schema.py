@@ -246,7 +246,7 @@ class BacklashDoc(_Table):
 
 class BearingClearanceDoc(_Table):
     """Radial bearing clearance dead zones (paper Eqs. 7-10)."""
-    clearance_um: _num("um", 0, 1e4, doc="Radial clearance BC.") = 0.0  # type: ignore[valid-type]
+    clearance_um: _num("um", 0, 1e4, doc="Radial bearing clearance BC.") = 0.0  # type: ignore[valid-type]
 
 
 class CentreDistanceDoc(_Table):
@@ -383,7 +383,7 @@ class SolverDoc(_Table):
     duration_s: _num("s", 0, 100, lo_open=True, doc="Simulated time.") = 0.5  # type: ignore[valid-type]
     discard_s: _num("s", 0, 100, doc="Start-up transient left out of the statistics.") = 0.3  # type: ignore[valid-type]
     rtol: _num("", 1e-14, 1e-2, doc="dopri5 relative tolerance.") = 1e-8  # type: ignore[valid-type]
-    atol: _num("", 0, 1, lo_open=True, doc="dopri5 absolute displacement tolerance (m).") = None  # type: ignore[valid-type]
+    atol: _num("m", 0, 1, lo_open=True, doc="dopri5 absolute displacement tolerance.") = None  # type: ignore[valid-type]
 
 
 class OutputDoc(_Table):
@@ -825,6 +825,73 @@ def _key_table(model: type[BaseModel]) -> list[str]:
         rows.append(f"| `{key}` | {kind} | {extra.get('unit', '') or ''} | {extra.get('range', '')} | {shown} | "
                     f"{(info.description or '').replace('|', '/')} |")
     return rows + [""]
+
+
+def key_words(key: str) -> tuple[str, str]:
+    """(what a scene key is, in words; its unit) from this schema, so any key has them:
+    the first phrase of the key's description, after the name of its sub-table when the
+    phrase does not say it, and the unit ("dimensionless" without one, "category" for a
+    named choice): ``operating.speed_rpm`` -> ("pinion speed", "rpm"),
+    ``effects.bearing_clearance.clearance_um`` -> ("radial bearing clearance BC", "um"),
+    ``flank.tip_relief.amount_um`` -> ("tip relief: relief amount", "um"). A key outside
+    the schema: its last part in words, no unit."""
+    parts = key.split(".")
+    model: Any = SceneDoc
+    info = None
+    for part in parts:
+        fields = getattr(model, "model_fields", None)
+        if fields is None or part not in fields:
+            return parts[-1].replace("_", " "), ""
+        info = fields[part]
+        model = _model_in(info.annotation)
+    extra = info.json_schema_extra if info is not None and isinstance(info.json_schema_extra, dict) else {}
+    unit = str(extra.get("unit", "") or "")
+    phrase = _first_phrase(info.description or "") if info is not None else ""
+    choices = _literal_names(info.annotation) if info is not None else []
+    named = _reads_as_words(phrase) and phrase not in choices  # "analytic (Ishikawa), ...": a choice, not a name
+    if not named:
+        phrase = _name_words(parts[-1], unit)
+    # the sub-table ("tip relief"); a top-level key named by its key name gets its table ("solver: method")
+    context = " ".join(parts[1:-1] if len(parts) > 2 or named else parts[:-1]).replace("_", " ")
+    if context and not set(context.lower().split()) <= set(phrase.lower().split()):
+        phrase = f"{context}: {phrase}"
+    return phrase, unit or ("category" if choices else "dimensionless")
+
+
+def key_label(key: str) -> str:
+    """An axis label for a scene key: its :func:`key_words` and the unit in parentheses,
+    "pinion speed (rpm)"."""
+    phrase, unit = key_words(key)
+    return f"{phrase} ({unit})" if unit else phrase
+
+
+def _first_phrase(description: str) -> str:
+    """The description up to its first sentence end, semicolon, colon, bracket or comma,
+    with a lower-case first letter (an acronym and a name's possessive stay)."""
+    text = description.split(". ")[0].rstrip(".")
+    for sep in (";", ": ", " (", ","):
+        text = text.split(sep)[0]
+    text = text.strip()
+    first = text.split(" ")[0]
+    return text[:1].lower() + text[1:] if text[1:2].islower() and not first.endswith("'s") else text
+
+
+def _reads_as_words(phrase: str) -> bool:
+    """A phrase of words ("pinion speed"), not a symbol ("zeta_b"), a condition ("With
+    source = ...") or a code list ("0 pinion")."""
+    words = phrase.split()
+    return bool(words) and phrase[:1].isalpha() and words[0].lower() != "with" and \
+        any(len(w) >= 3 and w.isalpha() for w in words)
+
+
+def _name_words(name: str, unit: str) -> str:
+    """A key's name without its unit suffix, in words: bearing_damping_N_s_per_m ->
+    "bearing damping"."""
+    for suffix in (unit.replace("^", "").replace("/", "_per_").replace(" ", "_"), unit.replace(" ", "")):
+        if suffix and name.endswith("_" + suffix):
+            name = name[: -len(suffix) - 1]
+            break
+    return name.replace("_", " ")
 
 
 def model_table_name(model: type[BaseModel], key: str) -> str:

@@ -4,6 +4,7 @@ of paper Figs. 7, 9, 11, 13 (time trace and spectrum), summary JSON."""
 from __future__ import annotations
 
 import io as _io
+import textwrap
 from pathlib import Path
 from typing import Any
 
@@ -11,7 +12,7 @@ import numpy as np
 
 from . import io
 from .assumptions import line_of
-from .simulate_job import SIGNAL_UNITS, SimulationRun
+from .simulate_job import SIGNAL_UNITS, SimulationRun, signal_label
 
 
 def signals_csv(run: SimulationRun) -> str:
@@ -25,27 +26,33 @@ def signals_csv(run: SimulationRun) -> str:
 
 
 def figure(run: SimulationRun):
-    from .plotting import subplots
+    """Per signal: five mesh periods of the time trace and the amplitude spectrum of the
+    kept window up to (K + 0.5) f_m, K = the harmonics the run reports."""
+    from .plotting import spectrum_band_Hz, subplots
 
     r = run.result
     names = run.output["signals"]
+    K = int(run.output["harmonics"])
     fig, axes = subplots(len(names), 2, figsize=(12, 2.4 * len(names)), squeeze=False)
     n_show = max(1, int(round(5 * r.fs_Hz / r.fm_Hz)))  # five mesh periods
+    f_hi = spectrum_band_Hz(r.fm_Hz, K)
     for i, n in enumerate(names):
         unit, scale = SIGNAL_UNITS[n]
         ax, ax2 = axes[i]
         ax.plot(r.t[:n_show] * 1e3, r.signals[n][:n_show] * scale, lw=0.9)
-        ax.set_ylabel(f"{n} ({unit})")
+        ax.set_ylabel(textwrap.fill(signal_label(n), 30), fontsize=8)
         ax.grid(alpha=0.3)
         f, A = r.spectrum(n)
-        keep = (f >= 0.5 * r.fm_Hz) & (f <= 12 * r.fm_Hz)  # the mean (DC) would dwarf the harmonics
+        keep = (f >= 0.5 * r.fm_Hz) & (f <= f_hi)  # the mean (DC) would dwarf the harmonics
         ax2.plot(f[keep], A[keep] * scale, lw=0.8)
-        for k in range(1, 11):
+        for k in range(1, K + 1):
             ax2.axvline(k * r.fm_Hz, color="0.85", lw=0.5, zorder=0)
-        ax2.set_ylabel(f"|{n}| ({unit})")
+        ax2.set_xlim(0.5 * r.fm_Hz, f_hi)
+        ax2.set_ylim(bottom=0)
+        ax2.set_ylabel(f"amplitude of {n} ({unit})", fontsize=8)
         ax2.grid(alpha=0.3)
     axes[-1][0].set_xlabel("time (ms), five mesh periods after the discarded transient")
-    axes[-1][1].set_xlabel("frequency (Hz), mean removed; grey lines: k f_m")
+    axes[-1][1].set_xlabel(f"frequency (Hz), mean removed; grey lines: k f_m, k = 1..{K}")
     sc = run.scene
     fig.suptitle(f"{sc.name}: {sc.operating.speed_rpm:g} rpm, {sc.operating.torque_Nm:g} N m, f_m = "
                  f"{r.fm_Hz:g} Hz, effects: {', '.join(sorted(sc.effects)) or 'none'}", fontsize=10)
@@ -56,12 +63,15 @@ def figure(run: SimulationRun):
 def spectrum_figure(run: SimulationRun):
     """Amplitude spectrum (log scale) of the relative acceleration along the line of action
     over the last whole revolutions of the kept window (rectangular window: shaft orders on
-    exact bins), with the first three mesh harmonics (solid) and their sidebands k f_m +- n
-    f_shaft, n = 1..3 (dashed). None when the window is shorter than one revolution."""
+    exact bins) up to (K + 0.5) f_m (K: the harmonics the run reports), the axis ending
+    FLOOR_DB below the largest line (below it the solver's rounding noise, ~1e-12), with the
+    mesh harmonics (solid) and the sidebands k f_m +- n f_shaft, n = 1..3, of the first three
+    (dashed: the lines the sideband ratio sums). None when the window is shorter than one
+    revolution."""
     from gearwear.dynamics.analysis import acceleration_signals, spectrum
     from gearwear.dynamics.indicators import sideband_lines
 
-    from .plotting import subplots
+    from .plotting import FLOOR_DB, legend_outside, log_floor, spectrum_band_Hz, subplots
     from .simulate_job import shaft_frequency_Hz
 
     r = run.result
@@ -70,27 +80,35 @@ def spectrum_figure(run: SimulationRun):
     if revs < 1:
         return None
     S = int(round(r.fs_Hz / r.fm_Hz))
+    K = int(run.output["harmonics"])
     x = acceleration_signals(r)["a_delta"][-revs * z * S:]
     f, A = spectrum(x - np.mean(x), r.fs_Hz)
     lines = sideband_lines(r.fm_Hz, f_shaft)
+    f_hi = spectrum_band_Hz(r.fm_Hz, K)
+    keep = (f > 0) & (f <= f_hi)
+    floor = log_floor(A[keep])
     fig, ax = subplots(1, 1, figsize=(10, 4.5))
-    keep = (f > 0) & (f <= 3.5 * r.fm_Hz)
-    floor = max(float(np.max(A[keep])) * 1e-16, 1e-300)
-    ax.semilogy(f[keep], np.maximum(A[keep], floor), lw=0.8, color="k")
-    for k, fk in enumerate(lines.mesh_Hz):
-        ax.axvline(fk, color="tab:blue", lw=1.0, alpha=0.6, label="mesh harmonics k f_m" if k == 0 else None)
-        for j, fs in enumerate(lines.sideband_Hz[k]):
-            ax.axvline(fs, color="tab:red", lw=0.8, ls="--", alpha=0.5,
-                       label=f"sidebands k f_m +- n f_shaft (f_shaft = {f_shaft:.4g} Hz)" if k == j == 0 else None)
+    ax.semilogy(f[keep], A[keep], lw=0.8, color="k")
+    for k in range(1, K + 1):
+        ax.axvline(k * r.fm_Hz, color="tab:blue", lw=1.0, alpha=0.6, zorder=1,
+                   label=f"mesh harmonics k f_m, k = 1..{K}" if k == 1 else None)
+    for k, sides in enumerate(lines.sideband_Hz):
+        for j, fs in enumerate(sides):
+            ax.axvline(fs, color="tab:red", lw=0.8, ls="--", alpha=0.5, zorder=1,
+                       label=f"sidebands k f_m +- n f_shaft, k <= {len(lines.mesh_Hz)}, n <= {len(sides) // 2} "
+                             f"(f_shaft = {f_shaft:.4g} Hz)" if k == j == 0 else None)
     ci = run.summary()["condition_indicators"].get("a_delta_m_per_s2", {})
     ratio = ci.get("sideband_ratio_dB")
-    ax.set_xlabel("frequency (Hz)")
-    ax.set_ylabel("|a_delta| (m/s^2)")
+    ax.set_xlim(0, f_hi)
+    peak = float(np.max(A[keep]))
+    ax.set_ylim(floor, 3 * peak if peak > 0 else 1.0)
+    ax.set_xlabel(f"frequency (Hz), mean removed; f_m = {r.fm_Hz:g} Hz")
+    ax.set_ylabel("acceleration a_delta, line of action (m/s^2)")
     ax.set_title(f"{run.scene.name}: relative acceleration on the line of action, {revs} whole revolutions, "
-                 f"rectangular window; sideband/mesh energy "
+                 f"rectangular window; axis floor {FLOOR_DB:g} dB below the largest line; sideband/mesh energy "
                  f"{'n/a' if ratio is None else f'{ratio:.1f} dB'}", fontsize=9)
     ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=8, loc="lower right")
+    legend_outside(ax, "below", ncol=2)
     fig.tight_layout()
     return fig
 

@@ -58,6 +58,31 @@ from .schema import dynamics_fem_plane
 SI_UNITS = {"y_p": "m", "x_p": "m", "y_g": "m", "x_g": "m", "q": "m", "delta": "m", "F_m": "N"}
 SIGNAL_UNITS = {"y_p": ("um", 1e6), "x_p": ("um", 1e6), "y_g": ("um", 1e6), "x_g": ("um", 1e6),
                 "q": ("um", 1e6), "delta": ("um", 1e6), "F_m": ("N", 1.0)}
+#: what each signal is, in words (figure labels); dynamics.model: y along the line of action
+#: (the common tangent of the base circles), x along the centre line
+SIGNAL_WORDS = {"y_p": "pinion bearing displacement y_p, line of action",
+                "x_p": "pinion bearing displacement x_p, centre line",
+                "y_g": "gear bearing displacement y_g, line of action",
+                "x_g": "gear bearing displacement x_g, centre line",
+                "q": "relative torsional displacement q", "delta": "dynamic transmission error delta",
+                "F_m": "mesh force F_m"}
+
+
+def signal_name(key: str) -> str:
+    """The signal of a summary key: "F_m_N" -> "F_m", "delta_um" -> "delta", "delta" -> "delta"."""
+    for name, (unit, _) in SIGNAL_UNITS.items():
+        if key in (name, f"{name}_{unit}"):
+            return name
+    raise KeyError(key)
+
+
+def signal_label(key: str, what: str = "") -> str:
+    """An axis label in words with the unit: "mesh force F_m (N)"; ``what`` goes before the
+    unit ("mesh force F_m, harmonic k (N)")."""
+    name = signal_name(key)
+    return f"{SIGNAL_WORDS[name]}{', ' + what if what else ''} ({SIGNAL_UNITS[name][0]})"
+
+
 @dataclass
 class StiffnessInput:
     phi: np.ndarray

@@ -211,18 +211,42 @@ def harris(curves: list[Curve], pair: PairSpec, flank: FlankSpec | None):
         "points_per_mesh_period", DEFAULT_POINTS), c.wear, c.clearance_m)
 
 
-def harris_figure(hm, torque_Nm: float):
-    from .plotting import subplots
+def _relief(symbol: str, r) -> str:
+    return f"{symbol} = {r.amount_m * 1e6:g} um, {r.shape}, from d = {r.start_diameter_m * 1e3:g} mm"
 
-    fig, ax = subplots(1, 1, figsize=(7, 4.5))
+
+def relief_text(flank: FlankSpec | None) -> str:
+    """The tip and root reliefs of a flank in words, per gear (one clause when both gears
+    have the same): "tip relief on both gears: C_a = 8.5 um, linear, from d = 151.83 mm"."""
+    if flank is None:
+        return "no relief"
+    parts = []
+    for kind, symbol, rel in (("tip", "C_a", flank.tip_relief), ("root", "C_f", flank.root_relief)):
+        if rel[0] is not None and rel[0] == rel[1]:
+            parts.append(f"{kind} relief on both gears: {_relief(symbol, rel[0])}")
+        else:
+            parts += [f"{kind} relief on the {who}: {_relief(symbol, r)}" for who, r in zip(("pinion", "gear"), rel)
+                      if r is not None]
+    return "; ".join(parts) or "no relief"
+
+
+def harris_figure(hm, torque_Nm: float, flank: FlankSpec | None = None):
+    """Harris map: loaded TE peak-to-peak against torque, nominal and modified flank; the
+    title states the relief the modified flank has."""
+    import textwrap
+
+    from .plotting import legend_outside, subplots
+
+    fig, ax = subplots(1, 1, figsize=(8, 4.8))
     ax.plot(hm.torque_Nm, hm.nominal_ste_pp_m * 1e6, "o-", label="nominal flank")
-    ax.plot(hm.torque_Nm, hm.modified_ste_pp_m * 1e6, "s-", label="modified flank")
+    ax.plot(hm.torque_Nm, hm.modified_ste_pp_m * 1e6, "s-", label="modified flank (title)")
     ax.axvline(torque_Nm, color="grey", ls=":", label=f"scene torque {torque_Nm:g} N m")
     ax.set_xlabel("pinion torque (N m)")
     ax.set_ylabel("loaded static TE peak-to-peak (um)")
-    ax.set_title("Harris map")
+    ax.set_ylim(bottom=0)
+    ax.set_title(textwrap.fill(f"Harris map; {relief_text(flank)}", 90), fontsize=9)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
+    legend_outside(ax, "below", ncol=3)
     fig.tight_layout()
     return fig
 
@@ -242,7 +266,9 @@ def curve_csv(c: Curve) -> str:
 
 
 def figures(curves: list[Curve]):
-    from .plotting import subplots
+    """stiffness.png (k_h and the loaded TE of every curve, the faulty tooth's contact
+    shaded) and, for several clearances, mean_vs_clearance.png; legends off the data."""
+    from .plotting import legend_outside, plot_merged, subplots
 
     figs = {}
     methods = list(dict.fromkeys(c.method for c in curves))
@@ -273,7 +299,7 @@ def figures(curves: list[Curve]):
                               label="faulty tooth in contact" if k == 0 and a is ax else None)
     ax.set_title(f"Time-varying mesh stiffness ({', '.join(methods)}), T = {m0.torque_Nm:g} N m, "
                  f"b = {m0.pair.face_width_m * 1e3:g} mm")
-    ax.legend(fontsize=8)
+    legend_outside(ax)
     ax.grid(alpha=0.3)
     ax2.grid(alpha=0.3)
     fig.tight_layout()
@@ -285,22 +311,27 @@ def figures(curves: list[Curve]):
             w = c.wear.label if c.wear else "unworn"
             return w if len(methods) == 1 else f"{c.method}, {w}"
 
-        for wl in sorted({group(c) for c in curves}):
-            sel = [c for c in curves if group(c) == wl]
-            sel.sort(key=lambda c: c.clearance_m)
-            x = [c.clearance_m * 1e6 for c in sel]
+        panels: list[list] = [[], [], []]  # (label, x, y, style) per panel; equal curves are drawn once
+        for i, wl in enumerate(sorted({group(c) for c in curves})):
+            sel = sorted((c for c in curves if group(c) == wl), key=lambda c: c.clearance_m)
+            x = np.array([c.clearance_m * 1e6 for c in sel])
             zs = [c.result.zone_means() for c in sel]
-            axs[0].plot(x, [c.result.mean_N_per_m / 1e8 for c in sel], "o-", label=wl)
-            axs[1].plot(x, [z["double_deg"] for z in zs], "o-", label=f"double ({wl})")
-            axs[1].plot(x, [z["single_deg"] for z in zs], "s--", label=f"single ({wl})")
-            axs[2].plot(x, [c.result.contact_ratio for c in sel], "o-", label=wl)
+            style = {"color": f"C{i}", "ms": 4}
+            panels[0].append((wl, x, np.array([c.result.mean_N_per_m / 1e8 for c in sel]), {"marker": "o", **style}))
+            panels[1].append((f"double: {wl}", x, np.array([z["double_deg"] for z in zs]), {"marker": "o", **style}))
+            panels[1].append((f"single: {wl}", x, np.array([z["single_deg"] for z in zs]),
+                              {"marker": "s", "ls": "--", **style}))
+            panels[2].append((wl, x, np.array([c.result.contact_ratio for c in sel]), {"marker": "o", **style}))
+        for a, curves_of in zip(axs, panels):
+            span = float(np.ptp(np.concatenate([c[2] for c in curves_of])))
+            plot_merged(a, curves_of, 0.01 * span, note=lambda y0, ys: f" (within {max(np.max(abs(y - y0)) for y in ys):.2g})")
         axs[0].set_ylabel("mean mesh stiffness (1e8 N/m)")
         axs[1].set_ylabel("zone length per mesh period (deg)")
-        axs[2].set_ylabel("contact ratio")
+        axs[2].set_ylabel("contact ratio (dimensionless)")
         for a in axs:
             a.set_xlabel("bearing clearance (um)")
             a.grid(alpha=0.3)
-            a.legend(fontsize=7)
+            legend_outside(a, "below", fontsize=7)
         fig2.suptitle("Mesh stiffness versus bearing clearance (paper Fig. 16)")
         fig2.tight_layout()
         figs["mean_vs_clearance.png"] = fig2
@@ -324,7 +355,8 @@ def write(curves: list[Curve], out: Path, inputs: dict[str, Any], labels: dict[s
     for name, fig in figures(curves).items():
         files.append(io.write_figure(fig, out / name))
     if harris_map is not None:
-        files.append(io.write_figure(harris_figure(harris_map, curves[0].result.torque_Nm), out / "harris_map.png"))
+        r0 = curves[0].result
+        files.append(io.write_figure(harris_figure(harris_map, r0.torque_Nm, r0.flank), out / "harris_map.png"))
         rows = harris_map.rows()
         text = ",".join(rows[0]) + "\n" + "".join(",".join(f"{v:.9g}" for v in r.values()) + "\n" for r in rows)
         files.append(io.write_text(out / "harris_map.csv", text))

@@ -14,6 +14,7 @@ import itertools
 import json
 import math
 import os
+import textwrap
 from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
@@ -86,9 +87,16 @@ def csv_cell(v) -> str:
 
 
 def point_label(axes: list[Axis], values) -> str:
-    """``name=value, ...`` of a point's values on ``axes`` (the key's last part); empty
-    without axes."""
-    return ", ".join(f"{a.key.split('.')[-1]}={v}" for a, v in zip(axes, values))
+    """A point's values on ``axes`` in words, "pinion torque = 10 N m, ..." (the schema's
+    words and units, :func:`gearwear.schema.key_words`); empty without axes."""
+    from .schema import key_words
+
+    def one(a: Axis, v) -> str:
+        words, unit = key_words(a.key)
+        shown = unit if unit not in ("", "dimensionless", "category") else ""
+        return f"{words} = {v}{' ' + shown if shown else ''}"
+
+    return ", ".join(one(a, v) for a, v in zip(axes, values))
 
 
 def point_sets(point: dict[str, Any], fixed: list[str]) -> list[str]:
@@ -255,18 +263,24 @@ def table_csv(axes: list[Axis], results: list[dict[str, Any]]) -> str:
 
 def figures(axes: list[Axis], results: list[dict[str, Any]]):
     """Harmonic amplitudes versus the first swept parameter, one figure per signal
-    (paper Figs. 8, 10, 12, 14, 19, 21, 23: k = 1..4; Fig. 25: F_m, k = 1..10)."""
-    from .plotting import subplots
+    (paper Figs. 8, 10, 12, 14, 19, 21, 23: k = 1..4; Fig. 25: F_m, k = 1..10). Labels
+    in words with units from the schema (any swept key) and the signal table; every
+    y axis starts at 0 and each panel's title gives the range in % of its mean, so a
+    5 % change looks like 5 %."""
+    from .plotting import from_zero, legend_outside, range_text, subplots
+    from .schema import key_label
+    from .simulate_job import SIGNAL_WORDS, signal_label, signal_name
 
     ax0 = axes[0]
     others = axes[1:]
     figs = {}
     sig_keys = list(results[0]["harmonics"])
+    xlabel = key_label(ax0.key)
     for key in sig_keys:
-        nh = 10 if key.startswith("F_m") else 4
-        ncol = 5 if nh == 10 else 4
+        nh = min(10 if key.startswith("F_m") else 4, len(results[0]["harmonics"][key]))
+        ncol = 5 if nh > 4 else max(nh, 1)
         nrow = math.ceil(nh / ncol)
-        fig, axs = subplots(nrow, ncol, figsize=(3.2 * ncol, 2.8 * nrow), squeeze=False)
+        fig, axs = subplots(nrow, ncol, figsize=(3.2 * ncol, 2.9 * nrow), squeeze=False)
         groups: dict[tuple, list[dict]] = {}
         for r in results:
             groups.setdefault(tuple(r["point"][a.key] for a in others), []).append(r)
@@ -277,18 +291,23 @@ def figures(axes: list[Axis], results: list[dict[str, Any]]):
             for k in range(nh):
                 a = axs[k // ncol][k % ncol]
                 a.plot(x, [r["harmonics"][key][k] for r in rs], "o-", ms=4, label=label)
-                a.set_title(f"{k + 1} x fm", fontsize=9)
                 if xs_str:
                     a.set_xticks(range(len(rs)))
                     a.set_xticklabels([str(r["point"][ax0.key]) for r in rs], fontsize=8)
-                a.grid(alpha=0.3)
         for k in range(nh):
             a = axs[k // ncol][k % ncol]
-            a.set_xlabel(ax0.key.split(".")[-1], fontsize=8)
-            a.set_ylabel(key, fontsize=8)
+            y = np.array([r["harmonics"][key][k] for r in results], float)
+            from_zero(a, y)
+            a.set_title(f"k = {k + 1}: {range_text(y)}", fontsize=8)
+            a.set_xlabel(xlabel, fontsize=8)
+            a.set_ylabel(textwrap.fill(signal_label(key, "harmonic k"), 32), fontsize=8)
+            a.grid(alpha=0.3)
+        for k in range(nh, nrow * ncol):
+            axs[k // ncol][k % ncol].set_visible(False)
         if others:
-            axs[0][0].legend(fontsize=7)
-        fig.suptitle(f"Harmonics of {key} versus {ax0.key}", fontsize=10)
+            legend_outside(axs[0][ncol - 1], fontsize=7)
+        fig.suptitle(f"Mesh harmonics k f_m of the {SIGNAL_WORDS[signal_name(key)]} versus the "
+                     f"{xlabel}; y axes from 0", fontsize=10)
         fig.tight_layout()
         figs[f"harmonics_{key}.png"] = fig
     return figs

@@ -99,37 +99,59 @@ def run(pair: PairSpec, wears: list[WearSpec | None], positions: int = 21, conve
     return Verification(pair, phases, conv, acc, time.perf_counter() - t0, meta={"plane": plane})
 
 
+#: curves closer than this fraction of their panel's range are drawn once ("unworn = mild")
+COINCIDE = 0.01
+METHOD_STYLES = (("FE", "fem", {"marker": "o", "ms": 4, "ls": "-"}), ("Ishikawa", "ishikawa", {"ls": "--"}),
+                 ("energy", "energy", {"ls": ":"}))
+
+
+def _panel(ax, curves, note) -> None:
+    """Draw (label, x, y, style) curves, coinciding ones once (:data:`COINCIDE` of the
+    range; ``note`` says by how much they differ), with the legend right of the axes."""
+    from .plotting import legend_outside, plot_merged
+
+    if not curves:
+        return
+    span = float(np.ptp(np.concatenate([np.ravel(c[2]) for c in curves])))
+    plot_merged(ax, curves, COINCIDE * span, note=note)
+    legend_outside(ax, fontsize=7)
+
+
+def _relative(y0: np.ndarray, others: list[np.ndarray]) -> str:
+    return f" (within {max(float(np.max(np.abs(o / y0 - 1))) for o in others) * 100:.2g} %)"
+
+
+def _points(y0: np.ndarray, others: list[np.ndarray]) -> str:
+    return f" (within {max(float(np.max(np.abs(o - y0))) for o in others):.2g} % points)"
+
+
 def figures(v: Verification):
+    """compliance.png: FE and analytic compliance per wear phase, their differences, and
+    the change by wear. Wear changes the compliance by far less than the methods differ,
+    so the phases of one method coincide in the top panels: each is drawn once, its label
+    naming every phase it stands for ("FE: unworn = mild = severe")."""
     from .plotting import subplots
 
     figs = {}
-    fig, (ax, ax2, ax3) = subplots(3, 1, figsize=(9, 11), sharex=True)
-    for i, ph in enumerate(v.phases):
-        col = f"C{i}"
-        ax.plot(ph.radius_mm, ph.fem, "o-", color=col, ms=4, label=f"FE ({ph.label})")
-        ax.plot(ph.radius_mm, ph.ishikawa, "--", color=col, label=f"Ishikawa ({ph.label})")
-        ax.plot(ph.radius_mm, ph.energy, ":", color=col, label=f"energy ({ph.label})")
-        ax2.plot(ph.radius_mm, 100 * (ph.ishikawa / ph.fem - 1), "--", color=col, label=f"Ishikawa ({ph.label})")
-        ax2.plot(ph.radius_mm, 100 * (ph.energy / ph.fem - 1), ":", color=col, label=f"energy ({ph.label})")
+    fig, (ax, ax2, ax3) = subplots(3, 1, figsize=(11, 11), sharex=True)
+    colours = {ph.label: f"C{i}" for i, ph in enumerate(v.phases)}
+
+    def curves(y_of, phases, methods=METHOD_STYLES):
+        return [(f"{name}: {ph.label}", ph.radius_mm, y_of(ph, attr), {"color": colours[ph.label], **style})
+                for name, attr, style in methods for ph in phases]
+
+    _panel(ax, curves(lambda ph, a: getattr(ph, a), v.phases), _relative)
+    _panel(ax2, curves(lambda ph, a: 100 * (getattr(ph, a) / ph.fem - 1), v.phases, METHOD_STYLES[1:]), _points)
+    base = next((ph for ph in v.phases if ph.label == "unworn"), None)
+    if base is not None:
+        _panel(ax3, curves(lambda ph, a: 100 * (getattr(ph, a) / getattr(base, a) - 1),
+                           [ph for ph in v.phases if ph is not base]), _points)
     ax.set_ylabel("tooth compliance (um per N/mm)")
     ax.set_title("Single-tooth compliance: FE (full gear, bore fixed) vs analytic bending+shear+foundation")
-    ax.legend(fontsize=7, ncol=3)
     ax.grid(alpha=0.3)
     ax2.axhline(0, color="k", lw=0.6)
     ax2.set_ylabel("analytic - FE (% of FE)")
-    ax2.legend(fontsize=7, ncol=2)
     ax2.grid(alpha=0.3)
-    base = next((ph for ph in v.phases if ph.label == "unworn"), None)
-    if base is not None:
-        for i, ph in enumerate(v.phases):
-            if ph is base:
-                continue
-            col = f"C{i}"
-            ax3.plot(ph.radius_mm, 100 * (ph.fem / base.fem - 1), "o-", ms=3, color=col, label=f"FE ({ph.label})")
-            ax3.plot(ph.radius_mm, 100 * (ph.ishikawa / base.ishikawa - 1), "--", color=col,
-                     label=f"Ishikawa ({ph.label})")
-            ax3.plot(ph.radius_mm, 100 * (ph.energy / base.energy - 1), ":", color=col, label=f"energy ({ph.label})")
-        ax3.legend(fontsize=7, ncol=3)
     ax3.set_ylabel("compliance change by wear (% of unworn)")
     ax3.set_xlabel("load radius (mm), start of active profile to tip")
     ax3.grid(alpha=0.3)

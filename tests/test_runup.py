@@ -33,8 +33,8 @@ def test_runup_writes_its_files_the_same_bytes_twice(tmp_path, capsys):
     for k in ("a", "b"):
         assert main(["runup", "paper-default", *SPEEDS, *FAST, "--workers", "1", "--out", str(tmp_path / k)]) == 0
     a, b = snapshot(tmp_path / "a"), snapshot(tmp_path / "b")
-    assert set(a) == {"runup.csv", "runup.csv.json", "runup_summary.json", "kv.png", "campbell_up.png",
-                      "campbell_down.png", "manifest.json"}
+    assert set(a) == {"runup.csv", "runup.csv.json", "runup_summary.json", "kv.png", "order_map_up.png",
+                      "order_map_down.png", "campbell_up.png", "campbell_down.png", "manifest.json"}
     assert a == b
     m = json.loads(a["manifest.json"])
     for name, entry in m["files"].items():
