@@ -65,14 +65,15 @@ def fourier_amplitudes(x, tq, wq, f0: float, n: int, span: float) -> np.ndarray:
     return 2.0 * np.abs(_phasors(tq, f0, n) @ (np.asarray(wq) * np.asarray(x))) / span
 
 
-def _phasors(tq, f0: float, n: int) -> np.ndarray:
-    """e^{-i 2 pi k f0 t} for k = 1..n (rows) by repeated products: one complex exp per point."""
+def _phasors(tq, f0: float, n: int, k0: int = 1) -> np.ndarray:
+    """e^{-i 2 pi k f0 t} for k = k0..n (rows; k0 = 0 adds the row of ones that integrates the
+    mean) by repeated products: one complex exp per point."""
     tq = np.asarray(tq, float)
     ph = np.empty((n, tq.size), complex)
     ph[0] = np.exp(-2j * np.pi * f0 * tq)
     for j in range(1, n):
         np.multiply(ph[j - 1], ph[0], out=ph[j])
-    return ph
+    return np.vstack([np.ones((1, tq.size), complex), ph]) if k0 == 0 else ph
 
 
 def window_harmonics(result, names, n: int = 10, chunk: int = 200_000) -> dict:
@@ -81,6 +82,11 @@ def window_harmonics(result, names, n: int = 10, chunk: int = 200_000) -> dict:
 
 
 def window_fourier(result, names, n: int = 10, chunk: int = 200_000, fold: bool = True) -> dict:
+    """Complex mesh-harmonic coefficients c_k, k = 1..n (:func:`window_integrals`)."""
+    return window_integrals(result, names, n, chunk, fold)[0]
+
+
+def window_integrals(result, names, n: int = 10, chunk: int = 200_000, fold: bool = True) -> tuple[dict, dict]:
     """Complex mesh-harmonic coefficients c_k = (2 / T) int x(t) e^{-i 2 pi k f_m t} dt,
     k = 1..n, of signals over the whole sampled window (length T, whole mesh periods, so
     the phase is referred to the mesh angle phi = 0 at t = 0), as exact Fourier
@@ -115,7 +121,8 @@ def window_fourier(result, names, n: int = 10, chunk: int = 200_000, fold: bool 
     Both folds leave out the pieces that hold events (zero weight; in the affine sums
     piece q counts the c_q periods where it is whole: s(t_q, sum z) + (c_q - 1) s(t_q, 0))
     and add those pieces' sub-pieces one by one. ``fold=False`` evaluates every piece
-    (the reference the tests compare with)."""
+    (the reference the tests compare with). Returns (coefficients, means): the means are the
+    exact window means (1 / T) int x dt, the k = 0 row of the same pass."""
     from .simulate import compute_signals
 
     model = result.model
@@ -126,13 +133,14 @@ def window_fourier(result, names, n: int = 10, chunk: int = 200_000, fold: bool 
     span = t[-1] - t[0]
     L = model.table_periods
     R = result.n_periods // L if result.n_periods % L == 0 else 0
-    acc = {name: np.zeros(n, complex) for name in names}
+    # row 0 is k = 0 (the mean), rows 1..n the harmonics: one pass integrates both
+    acc = {name: np.zeros(n + 1, complex) for name in names}
     if sub is not None:
-        _add_pieces(acc, model, *sub, names, n, result.fm_Hz, chunk, compute_signals)
+        _add_pieces(acc, model, *sub, names, n, result.fm_Hz, chunk, compute_signals, k0=0)
     Pt = _period_pattern(t, R) if fold and R >= 2 and not has_flank_law(model) else 0
     P = _period_pattern(t, result.n_periods) if fold and not Pt else 0
     if Pt:
-        _affine_fold(acc, model, t, Z, F, broken, R, Pt, names, n, result.fm_Hz, compute_signals)
+        _affine_fold(acc, model, t, Z, F, broken, R, Pt, names, n, result.fm_Hz, compute_signals, k0=0)
     elif P:
         # the sample times repeat every mesh period (uniform grid + table nodes), so
         # e^{-i k w t} does too (k w T_m = 2 pi k): sum the weighted signal over the periods
@@ -145,20 +153,22 @@ def window_fourier(result, names, n: int = 10, chunk: int = 200_000, fold: bool 
             if sub is not None:
                 wq = wq * np.repeat(~broken[sel], 3)
             if ph is None:
-                ph = _phasors(tq[:3 * P], result.fm_Hz, n)
+                ph = _phasors(tq[:3 * P], result.fm_Hz, n, k0=0)
             for name in names:
                 acc[name] += ph @ (wq * sig[name]).reshape(-1, 3 * P).sum(axis=0)
     else:
         _add_pieces(acc, model, t, Z, F, np.nonzero(~broken)[0], names, n, result.fm_Hz, chunk,
-                    compute_signals)
-    return {name: 2.0 * v / span for name, v in acc.items()}
+                    compute_signals, k0=0)
+    return ({name: 2.0 * v[1:] / span for name, v in acc.items()},
+            {name: float(v[0].real) / span for name, v in acc.items()})
 
 
-def _add_pieces(acc, model, t, Z, F, pieces, names, n: int, fm_Hz: float, chunk: int, compute_signals):
-    """acc[name] += int x e^{-i k w t} dt over the pieces [t_j, t_j+1] listed (in chunks)."""
+def _add_pieces(acc, model, t, Z, F, pieces, names, n: int, fm_Hz: float, chunk: int, compute_signals,
+                k0: int = 1):
+    """acc[name] += int x e^{-i k w t} dt, k = k0..n, over the pieces [t_j, t_j+1] listed (in chunks)."""
     for c0 in range(0, pieces.size, chunk):
         tq, wq, sig = _signals_at_quadrature(model, t, Z, F, pieces[c0:c0 + chunk], names, compute_signals)
-        ph = _phasors(tq, fm_Hz, n)
+        ph = _phasors(tq, fm_Hz, n, k0)
         for name in names:
             acc[name] += ph @ (wq * sig[name])
 
@@ -259,7 +269,8 @@ def event_pieces(result, F) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray, n
     return broken, (ts, Zs, Fs, pieces)
 
 
-def _affine_fold(acc, model, t, Z, F, broken, R: int, Pt: int, names, n: int, fm_Hz: float, compute_signals):
+def _affine_fold(acc, model, t, Z, F, broken, R: int, Pt: int, names, n: int, fm_Hz: float, compute_signals,
+                 k0: int = 1):
     """acc[name] += the window integral over the whole pieces for signals affine in the
     state (window_fourier): the end values of every piece summed over the R table periods
     (Pt pieces each) with the pieces that hold events left out, the signals on one period."""
@@ -280,7 +291,7 @@ def _affine_fold(acc, model, t, Z, F, broken, R: int, Pt: int, names, n: int, fm
     Zq = _hermite_at_gauss(Zs0, Zs1, Fs0 * dt, Fs1 * dt)
     summed = compute_signals(model, tq, Zq)
     zero = compute_signals(model, tq, np.zeros_like(Zq))
-    ph = _phasors(tq, fm_Hz, n)
+    ph = _phasors(tq, fm_Hz, n, k0)
     c = np.repeat(count - 1.0, 3)
     for name in names:
         acc[name] += ph @ (wq * (summed[name] + c * zero[name]))

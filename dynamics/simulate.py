@@ -90,14 +90,31 @@ class SimResult:
 
     def harmonics_of(self, names, n: int = 10) -> dict:
         """``harmonics`` for several signals in one pass over the window."""
-        from .analysis import harmonics, window_harmonics
+        from .analysis import harmonics
         if self.model is None or self.t_dense is None:
             return {name: harmonics(self.signals[name], self.fs_Hz, self.fm_Hz, n) for name in names}
-        missing = [name for name in names if (name, n) not in self._harmonics_memo]
-        if missing:
-            for name, amp in window_harmonics(self, missing, n).items():
-                self._harmonics_memo[(name, n)] = amp
+        self._window_pass(names, n)
         return {name: self._harmonics_memo[(name, n)].copy() for name in names}
+
+    def means_of(self, names, n: int = 10) -> dict:
+        """Exact window means (1 / T) int x dt of signals: the k = 0 term of the harmonics' pass
+        (sample means of a signal with jumps, such as F_m across a table's contact edges, are
+        off by about a jump over the samples per period); sample means without dense output."""
+        if self.model is None or self.t_dense is None:
+            return {name: float(np.mean(self.signals[name])) for name in names}
+        self._window_pass(names, n)
+        return {name: self._harmonics_memo[(name, "mean")] for name in names}
+
+    def _window_pass(self, names, n: int) -> None:
+        """Harmonics 1..n and the mean of ``names`` from one window integral, memoised."""
+        from .analysis import window_integrals
+        missing = [name for name in names if (name, n) not in self._harmonics_memo
+                   or (name, "mean") not in self._harmonics_memo]
+        if missing:
+            coeffs, means = window_integrals(self, missing, n)
+            for name in missing:
+                self._harmonics_memo[(name, n)] = np.abs(coeffs[name])
+                self._harmonics_memo[(name, "mean")] = means[name]
 
     def spectrum(self, name: str = "F_m"):
         """Single-sided amplitude spectrum (f, A) of signal ``name``."""

@@ -78,9 +78,12 @@ def mesh_stiffness(pair: PairSpec | None = None, method: str = "ishikawa", wear:
     p = pair or default_pair()
     # the FE's 2D state as a scene's default fem.plane = "auto" picks it (stress below b/m =
     # PLANE_STRAIN_FROM_B_OVER_M, strain from there on)
-    fe = {"plane": resolved_plane("auto", p.face_width_m, p.module_m)} if method == "fem" else {}
-    curves = stiffness_job.compute(p, method, [wear_spec(wear, torque_Nm)], [clearance_um * 1e-6],
-                                   torque_Nm, n, **fe)
+    wears, clearances = [wear_spec(wear, torque_Nm)], [clearance_um * 1e-6]
+    if method == "fem":
+        curves = stiffness_job.compute(p, method, wears, clearances, torque_Nm, n,
+                                       plane=resolved_plane("auto", p.face_width_m, p.module_m))
+    else:
+        curves = stiffness_job.compute(p, method, wears, clearances, torque_Nm, n)
     return curves[0].result
 
 

@@ -140,10 +140,10 @@ def stiffness(scene: Scene, settings: Settings,
     for method in stiffness_job.METHODS:
         step(PARTS[1 + stiffness_job.METHODS.index(method)])
         fem = method == "fem"
-        curves += stiffness_job.compute(scene.pair, method, [scene.wear], [scene.clearance_m],
-                                        scene.operating.torque_Nm, settings.fe_positions if fem else settings.points,
-                                        None if method == "iso6336" else scene.flank,
-                                        **({"progress": fe_progress, "plane": plane} if fem else {}))
+        args = (scene.pair, method, [scene.wear], [scene.clearance_m], scene.operating.torque_Nm,
+                settings.fe_positions if fem else settings.points, None if method == "iso6336" else scene.flank)
+        curves += (stiffness_job.compute(*args, progress=fe_progress, plane=plane) if fem
+                   else stiffness_job.compute(*args))
     return curves
 
 

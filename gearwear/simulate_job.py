@@ -237,12 +237,13 @@ class SimulationRun:
         n = self.output["harmonics"]
         harm, mean, ac_rms, p2p = {}, {}, {}, {}
         amps = r.harmonics_of(self.output["signals"], n)
+        means = r.means_of(self.output["signals"], n)  # exact window integrals, like the harmonics
         for name in self.output["signals"]:
             unit, scale = SIGNAL_UNITS[name]
             key = f"{name}_{unit}"
             harm[key] = (amps[name] * scale).tolist()
             st = r.stats[name]
-            mean[key] = st["mean"] * scale
+            mean[key] = means[name] * scale
             ac_rms[key] = st["ac_rms"] * scale
             p2p[key] = st["p2p"] * scale
         ci = condition_indicators(self.scene, r)

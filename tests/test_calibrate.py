@@ -90,7 +90,12 @@ def test_the_table_states_its_own_error_against_the_pair_fe(tmp_path, monkeypatc
     pair = default_pair()
     tab = calibrate.calibrated_table(pair, None, points=72, positions=9, calibration=cal)
     fe = pair_contact(pair, positions=calibrate.PAIR_POSITIONS, torque_Nm=40.0)
-    k_tab = tab.k_N_per_m[::72 // calibrate.PAIR_POSITIONS]
+    # the FE angles are uniform nodes of the table (the breakpoints come on top of them)
+    P = 2 * np.pi / pair.teeth[0]
+    at = [int(np.argmin(np.abs(tab.angle_rad - a))) for a in np.arange(calibrate.PAIR_POSITIONS) * P /
+          calibrate.PAIR_POSITIONS]
+    assert np.allclose(tab.angle_rad[at], fe.angle_rad, rtol=0, atol=1e-12)
+    k_tab = tab.k_N_per_m[at]
     err = np.abs(k_tab / fe.k_N_per_m - 1.0)
     single = fe.pairs_in_contact[:] < 2
     stated = tab.meta["table_vs_pair_fe"]

@@ -19,9 +19,17 @@ def scene(**tables):
 
 
 def test_default_and_given():
-    assert resolved_dict(scene().doc)["fem"] == {"plane": "stress"}
+    """The default is "auto": plane stress below b/m = 4.3 (the paper pair, b/m 4), plane strain
+    from there on (the 3D check's crossover, reports/plane); a given state is taken as given."""
+    from gearwear.schema import PLANE_STRAIN_FROM_B_OVER_M
+
+    assert resolved_dict(scene().doc)["fem"] == {"plane": "auto"}
+    assert fem_plane(scene().doc, True, "gearwear verify") == "stress"            # b/m = 4
+    wide = scene(pair={"face_width_mm": 5.0 * PLANE_STRAIN_FROM_B_OVER_M})       # b/m = 4.3
+    assert fem_plane(wide.doc, True, "gearwear verify") == "strain"
     s = scene(fem={"plane": "strain"})
     assert fem_plane(s.doc, True, "gearwear verify") == "strain"
+    assert fem_plane(scene(fem={"plane": "stress"}, pair={"face_width_mm": 100.0}).doc, True, "x") == "stress"
     assert fem_plane(None, True, "x") == "stress"
 
 
