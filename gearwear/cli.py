@@ -10,14 +10,17 @@ from __future__ import annotations
 import argparse
 import contextlib
 import json
+import math
 import sys
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from gearwear.core.validation import InputError, fail, renamed
 
 from . import __version__, io
-from .scene import Scene, wear_override
+
+if TYPE_CHECKING:
+    from .scene import Scene
 
 
 #: --mesh-size-mm: the global element size of the whole-gear mesh; on the paper gear 0.25 mm
@@ -38,6 +41,8 @@ def _bounded_float(name: str, text: str, unit: str, lo: float, hi: float) -> flo
 def _alias_sets(args: argparse.Namespace, skip: tuple[str, ...] = ()) -> list[str]:
     """The single-valued short flags as the --set overrides they stand for (``skip``: flags
     whose value the caller sets itself, one variant at a time)."""
+    from .scene import wear_override
+
     sets = []
     if getattr(args, "torque_Nm", None) is not None:
         sets.append(f"operating.torque_Nm={args.torque_Nm}")
@@ -82,6 +87,8 @@ def _load(args: argparse.Namespace, default: str = "paper-default", extra: list[
 def _variants(args: argparse.Namespace) -> "tuple[Scene, list, list[float]]":
     """(scene, wear specs, clearances in m) for commands that overlay several --wear and
     --clearance-um values: each value is the scene with that alias applied."""
+    from .scene import wear_override
+
     scene = _load(args)
     wears = [_load(args, extra=[wear_override(w)], skip=("wear",)).wear
              for w in _split_multi(getattr(args, "wear", None))] or [scene.wear]
@@ -446,6 +453,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     require_dynamics(scene_from_dict(apply_overrides(data, fixed), name=name))  # the fixed keys are checked first
     if not axes:
         raise InputError("--set: give at least one swept key, KEY=START:STOP:N or KEY=a,b,c")
+    sweep.check_size(math.prod(len(a.values) for a in axes), "grid points", args.allow_large)
     with sweep.make_executor(_workers(args), args.scheduler) as executor:
         results = sweep.sweep(data, name, axes, fixed, executor=executor, progress=not args.json)
     base = scene_from_dict(apply_overrides(data, fixed), name=name)  # the scene every point starts from
@@ -483,6 +491,9 @@ def _cmd_runup(args: argparse.Namespace) -> int:
     axes, fixed = sweep.split_sets(_alias_sets(args))
     require_dynamics(scene_from_dict(apply_overrides(data, fixed), name=name))  # the fixed keys are checked first
     speed, others = runup_job.split_speed_axis(axes)
+    sweep.check_size(len(speed.values) * math.prod(len(a.values) for a in others) * (2 if args.direction == "both"
+                                                                                     else 1),
+                     "runs (speeds x points x directions)", args.allow_large)
     settings = runup_job.Settings(
         tol=_bounded_float("--tolerance", args.tolerance, "", 1e-12, 1e-2),
         max_periods=_int_arg("--max-periods", args.max_periods, 2, 1_000_000),
@@ -770,7 +781,11 @@ def _print_geometry(s: dict) -> None:
 
 SCHEDULER_HELP = ("run on Dask instead of local processes: local[:N] starts a LocalCluster of N worker processes "
                   "(default: all cores) on 127.0.0.1 for this run, ADDRESS (tcp://host:8786) connects to a running "
-                  "scheduler; needs the optional extra gearwear[dask]")
+                  "scheduler, which must answer and have a worker within 10 s; needs the optional extra "
+                  "gearwear[dask]")
+
+ALLOW_LARGE_HELP = ("run more than 2000 grid points (run-up: speeds x points x directions), refused without it; "
+                    "a run estimated to take over a minute states its estimate on stderr once its first point is done")
 
 SET_HELP = ("override a scene key by its dotted path, e.g. --set operating.speed_rpm=6000 "
             "--set effects.backlash.initial_um=50; KEY=none removes a key or an effect, e.g. "
@@ -891,6 +906,7 @@ def build_parser() -> argparse.ArgumentParser:
     _scene_options(sw, "paper-wear-severe")
     sw.add_argument("--workers", help="local worker processes (default: all cores)")
     sw.add_argument("--scheduler", help=SCHEDULER_HELP)
+    sw.add_argument("--allow-large", action="store_true", help=ALLOW_LARGE_HELP)
     sw.add_argument("--out", help="output folder")
     sw.add_argument("--json", action="store_true", help="print one JSON object")
     sw.set_defaults(func=_cmd_sweep)
@@ -916,6 +932,7 @@ def build_parser() -> argparse.ArgumentParser:
                     "mark a jump band (default 0.01)")
     ru.add_argument("--workers", help="local worker processes (default: all cores)")
     ru.add_argument("--scheduler", help=SCHEDULER_HELP)
+    ru.add_argument("--allow-large", action="store_true", help=ALLOW_LARGE_HELP)
     ru.add_argument("--out", help="output folder")
     ru.add_argument("--json", action="store_true", help="print one JSON object (the summary)")
     ru.set_defaults(func=_cmd_runup)
@@ -993,10 +1010,78 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     """Run one command. Exit status: 0 done, 2 bad input (one line naming the key, value,
     unit and allowed range; nothing written), 1 an internal failure (one line; the
-    traceback only with --debug), 130 interrupted (nothing half-written)."""
-    parser = build_parser()
+    traceback only with --debug), 130 interrupted by SIGINT (Ctrl-C) and 143 by SIGTERM
+    (one line; nothing half-written, worker processes stopped).
+
+    The signal handlers come first (core.interrupts.handled): a signal during the imports
+    of a command is handled like one during its computation."""
+    from gearwear.core import interrupts
+
     argv = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in argv  # accepted anywhere on the line, not only before the command
+    with interrupts.handled():
+        written = len(io.SWAPPED_IN)
+        try:
+            _safe_streams()
+            return _run(argv, debug)
+        except KeyboardInterrupt as exc:  # also one that arrives while another error is reported
+            if debug:
+                raise
+            sig = interrupts.signal_of(exc)
+            done = io.SWAPPED_IN[written:]
+            what = f"after writing {', '.join(map(str, done))}" if done else "nothing was written or replaced"
+            _say(f"gearwear: interrupted by {sig.name}{' (Ctrl-C)' if sig.name == 'SIGINT' else ''}; {what}")
+            return interrupts.EXIT_STATUS[sig]
+        finally:
+            if isinstance(sys.stderr, _LineStart):
+                sys.stderr = sys.stderr._stream
+
+
+def _say(line: str) -> None:
+    """One line on stderr, on a line of its own."""
+    if isinstance(sys.stderr, _LineStart):
+        sys.stderr.say(line)
+    else:
+        print(line, file=sys.stderr, flush=True)
+
+
+class _LineStart:
+    """sys.stderr, remembering whether the last character written ended a line, so that a
+    final message starts on a line of its own even if a progress bar the signal hit was
+    left unfinished (:meth:`say`)."""
+
+    def __init__(self, stream):
+        self._stream = stream
+        self._last = "\n"
+
+    def write(self, text: str) -> int:
+        if text:
+            self._last = text[-1]
+        return self._stream.write(text)
+
+    def say(self, line: str) -> None:
+        self.write(("" if self._last == "\n" else "\n") + line + "\n")
+        self.flush()
+
+    def __getattr__(self, name: str):
+        return getattr(self._stream, name)
+
+
+def _safe_streams() -> None:
+    """Printing never fails on a character the terminal's encoding lacks (an --out named
+    "résultats" under LC_ALL=C or PYTHONIOENCODING=ascii): it is written escaped instead of
+    ending the command after its files were written."""
+    for stream in (sys.stdout, sys.stderr):
+        reconfigure = getattr(stream, "reconfigure", None)
+        if reconfigure is not None and stream.errors in ("strict", None):
+            with contextlib.suppress(ValueError, OSError):
+                reconfigure(errors="backslashreplace")
+    if not isinstance(sys.stderr, _LineStart):
+        sys.stderr = _LineStart(sys.stderr)
+
+
+def _run(argv: list[str], debug: bool) -> int:
+    parser = build_parser()
     args = parser.parse_args([a for a in argv if a != "--debug"])
     args.debug = debug
     try:
@@ -1004,13 +1089,8 @@ def main(argv: list[str] | None = None) -> int:
     except InputError as exc:
         if args.debug:
             raise
-        print(f"gearwear: error: {renamed(exc, FLAG_NAMES)}", file=sys.stderr)
+        _say(f"gearwear: error: {renamed(exc, FLAG_NAMES)}")
         return 2
-    except KeyboardInterrupt:
-        if args.debug:
-            raise
-        print("gearwear: interrupted; no output was written or replaced", file=sys.stderr)
-        return 130
     except BrokenPipeError:  # output piped into head & co.: not an error of ours
         sys.stderr.close()
         return 0
@@ -1024,8 +1104,8 @@ def main(argv: list[str] | None = None) -> int:
             where = where.tb_next
         at = f" at {Path(where.tb_frame.f_code.co_filename).name}:{where.tb_lineno}" if where else ""
         msg = str(exc).splitlines()[0] if str(exc) else ""
-        print(f"gearwear: internal error: {type(exc).__name__}{at}: {msg} (this is a bug; rerun with --debug "
-              "for the traceback and report it)", file=sys.stderr)
+        _say(f"gearwear: internal error: {type(exc).__name__}{at}: {msg} (this is a bug; rerun with --debug "
+             "for the traceback and report it)")
         return 1
 
 
