@@ -329,14 +329,14 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     torque = scene.operating.torque_Nm
     points = _int_arg("--points", args.points, 8, 1_000_000)
     out = _check_out(args.out, "calibrate")
-    folder = tables.cache_dir()  # a bad GEARWEAR_CACHE: exit 2 before any FE run
+    tables.cache_dir()  # a bad GEARWEAR_CACHE: exit 2 before any FE run
     for c in clearances:  # the FE pair contact needs overlap: refuse before any FE run
         try:
             calibrate.require_overlap(scene.pair, c)
         except InputError as exc:
             raise fail("--clearance-um", c * 1e6, "um", "the FE calibration " + str(exc).split(": ", 1)[1]) from None
     with _fe_executor(args) or contextlib.nullcontext() as executor:
-        rows, copies, fe_s = _calibrate_tables(args, scene, wears, clearances, torque, points, out, folder, executor)
+        rows, copies, fe_s = _calibrate_tables(args, scene, wears, clearances, torque, points, out, executor)
     inputs = {**io.scene_inputs(scene), "wear": [w.label if w else "unworn" for w in wears],
               "wear_spec": [_wear_dict(w) for w in wears], "clearance_um": [c * 1e6 for c in clearances],
               "torque_Nm": torque, "points": points}
@@ -381,7 +381,7 @@ def _workers(args: argparse.Namespace) -> int | None:
     return _int_arg("--workers", args.workers, 1, 1024) if args.workers else None
 
 
-def _calibrate_tables(args, scene, wears, clearances, torque, points, out, folder, executor):
+def _calibrate_tables(args, scene, wears, clearances, torque, points, out, executor):
     """(rows, files to copy into --out, FE wall times) of every (wear, clearance) table."""
     from . import calibrate
 
@@ -401,10 +401,9 @@ def _calibrate_tables(args, scene, wears, clearances, torque, points, out, folde
                                              refresh=args.refresh, executor=executor)  # a damaged entry: recomputed
             hit = tab.from_cache
             label = f"{w.label if w else 'unworn'}_clearance{c * 1e6:g}um"
-            if out:
-                src = folder / f"{tab.meta['input_sha256']}.csv"
-                copies[f"calibrated_{label}.csv"] = src.read_bytes()
-                copies[f"calibrated_{label}.csv.json"] = Path(str(src) + ".json").read_bytes()
+            if out:  # the bytes the cache holds, as checked (not read again)
+                copies[f"calibrated_{label}.csv"] = tab.csv_bytes
+                copies[f"calibrated_{label}.csv.json"] = tab.sidecar_bytes
             if not hit and fe:
                 fe_s[label] = fe[0].wall_s
             m = tab.meta
