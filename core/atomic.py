@@ -11,11 +11,11 @@ from __future__ import annotations
 import os
 import secrets
 import shutil
-import signal
-import threading
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Callable, Iterator
+
+from . import interrupts
 
 
 def _create_temp(p: Path) -> str:
@@ -77,54 +77,49 @@ def _new_sibling_dir(p: Path, tag: str) -> Path:
     raise FileExistsError(f"{p}: no free temporary folder name in {p.parent}")
 
 
-@contextmanager
-def _interrupts_deferred() -> Iterator[list[int]]:
-    """While inside, SIGINT (Ctrl-C) is recorded instead of raising KeyboardInterrupt;
-    the list it yields holds the signals received. Only in the main thread (the only one
-    where Python runs signal handlers); elsewhere nothing is deferred."""
-    hits: list[int] = []
-    if threading.current_thread() is not threading.main_thread():
-        yield hits
-        return
-    old = signal.getsignal(signal.SIGINT)
-    signal.signal(signal.SIGINT, lambda signum, frame: hits.append(signum))
-    try:
-        yield hits
-    finally:
-        signal.signal(signal.SIGINT, old)
-
-
-def swap_in(new: Path, target: Path) -> None:
+def swap_in(new: Path, target: Path, may_replace: Callable[[Path], None] | None = None) -> None:
     """Put the folder ``new`` at ``target`` as a whole: rename the old ``target`` aside,
-    rename ``new`` in, delete the old one. A Ctrl-C during the two renames undoes them
-    (the old folder is back, ``new`` is removed) and raises KeyboardInterrupt; after the
-    second rename the swap is done, and a Ctrl-C while the old folder is deleted is
-    ignored (the command has finished)."""
+    rename ``new`` in, delete the old one. SIGINT or SIGTERM during the two renames undoes
+    them (the old folder is back, ``new`` is removed) and is then delivered
+    (core.interrupts.deferred: KeyboardInterrupt under the command line's handlers); one
+    while the old folder is deleted is delivered after it (the swap is done).
+
+    ``may_replace(folder)`` raises if the folder at ``target`` must not be replaced. It is
+    called on ``target`` just before the swap and again on the folder renamed aside, which
+    nothing can add a file to by its old name any more: a file that appeared in ``target``
+    during the run, up to the rename, is never deleted (the swap is undone and the
+    exception raised)."""
     old: Path | None = None
-    with _interrupts_deferred() as hits:
+    undone = False
+    with interrupts.deferred() as hits:
         try:
             if target.exists():
+                if may_replace is not None:
+                    may_replace(target)
                 old = _new_sibling_dir(target, "old")
                 os.rmdir(old)  # only the free name is wanted: rename(dir, dir) needs no target
                 os.rename(target, old)
+                if may_replace is not None:
+                    may_replace(old)
             os.rename(new, target)
         except BaseException:
             if old is not None and old.exists() and not target.exists():
                 os.rename(old, target)
             raise
-        if hits:  # Ctrl-C during the renames: put the old folder back
+        if hits:  # a signal during the renames: put the old folder back (delivered on leaving)
             os.rename(target, new)
             if old is not None:
                 os.rename(old, target)
+            shutil.rmtree(new, ignore_errors=True)
+            undone = True
         elif old is not None:
             shutil.rmtree(old, ignore_errors=True)
-    if hits:
-        shutil.rmtree(new, ignore_errors=True)
-        raise KeyboardInterrupt
+    if undone:  # the signal was delivered on leaving; if its handler did not raise, the caller still must know
+        raise interrupts.exception_for(hits[0])
 
 
 @contextmanager
-def atomic_folder(path: str | os.PathLike) -> Iterator[Path]:
+def atomic_folder(path: str | os.PathLike, may_replace: Callable[[Path], None] | None = None) -> Iterator[Path]:
     """Write a whole folder atomically: yields a fresh, empty temporary folder next to
     ``path``; when the block ends normally, that folder replaces ``path`` as a whole
     (:func:`swap_in`), so ``path`` afterwards holds exactly what the block wrote -- no
@@ -133,7 +128,8 @@ def atomic_folder(path: str | os.PathLike) -> Iterator[Path]:
 
     A symlink at ``path`` is followed: the folder it points to is replaced. The caller
     decides whether ``path`` may be replaced at all (gearwear.io checks that it is
-    empty or written by gearwear)."""
+    empty or written by gearwear, and passes that check as ``may_replace``, see
+    :func:`swap_in`)."""
     p = Path(path)
     if p.is_symlink():
         p = p.resolve()
@@ -141,7 +137,7 @@ def atomic_folder(path: str | os.PathLike) -> Iterator[Path]:
     tmp = _new_sibling_dir(p, "tmp")
     try:
         yield tmp
-        swap_in(tmp, p)
+        swap_in(tmp, p, may_replace)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise

@@ -40,30 +40,30 @@ def _kind(mode: int) -> str:
     return "not a regular file"
 
 
-def read_input(path: str | Path, key: str, what: str, limit_bytes: int) -> bytes:
-    """The bytes of the input file ``path``, or a one-line :class:`InputError` under ``key``
-    ("KEY = 'path': why") if it is missing, not a regular file, unreadable or larger than
-    ``limit_bytes``. The SHA-256 of the bytes is recorded for :func:`recorded_sha256`."""
-    p = Path(path)
+class _Refused(Exception):
+    """Why a file is not read (``stream``: it is not a regular file)."""
 
-    def bad(why: str) -> InputError:
-        return InputError(f"{key} = {str(p)!r}: {why}")
+    def __init__(self, why: str, stream: bool = False):
+        super().__init__(why)
+        self.stream = stream
 
+
+def _read(p: Path, what: str, limit_bytes: int) -> bytes:
     try:
         fd = os.open(p, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
     except FileNotFoundError:
-        raise bad(f"no such {what}") from None
+        raise _Refused(f"no such {what}") from None
     except IsADirectoryError:
-        raise bad(f"is a folder, not a {what}") from None
+        raise _Refused(f"is a folder, not a {what}") from None
     except OSError as exc:
-        raise bad(f"cannot be read ({exc.strerror or type(exc).__name__})") from None
+        raise _Refused(f"cannot be read ({exc.strerror or type(exc).__name__})") from None
     try:
         st = os.fstat(fd)
         if not stat.S_ISREG(st.st_mode):
-            raise bad(f"is {_kind(st.st_mode)}, not a {what}: inputs are read from regular files (save a stream "
-                      "to a file first)")
+            raise _Refused(f"is {_kind(st.st_mode)}, not a {what}", stream=True)
         if st.st_size > limit_bytes:
-            raise bad(f"is {st.st_size} bytes, more than any {what} the tool can use (at most {limit_bytes} bytes)")
+            raise _Refused(f"is {st.st_size} bytes, more than any {what} the tool can use (at most {limit_bytes} "
+                           "bytes)")
         chunks, n = [], 0
         while n <= limit_bytes:
             block = os.read(fd, min(MiB, limit_bytes + 1 - n))
@@ -72,17 +72,39 @@ def read_input(path: str | Path, key: str, what: str, limit_bytes: int) -> bytes
             chunks.append(block)
             n += len(block)
         data = b"".join(chunks)
-    except InputError:
-        raise
     except OSError as exc:
-        raise bad(f"cannot be read ({exc.strerror or type(exc).__name__})") from None
+        raise _Refused(f"cannot be read ({exc.strerror or type(exc).__name__})") from None
     finally:
         os.close(fd)
     if len(data) > limit_bytes:
-        raise bad(f"grew past {limit_bytes} bytes while it was read, more than any {what} the tool can use")
+        raise _Refused(f"grew past {limit_bytes} bytes while it was read, more than any {what} the tool can use")
+    return data
+
+
+def read_input(path: str | Path, key: str, what: str, limit_bytes: int) -> bytes:
+    """The bytes of the input file ``path``, or a one-line :class:`InputError` under ``key``
+    ("KEY = 'path': why") if it is missing, not a regular file, unreadable or larger than
+    ``limit_bytes``. The SHA-256 of the bytes is recorded for :func:`recorded_sha256`."""
+    p = Path(path)
+    try:
+        data = _read(p, what, limit_bytes)
+    except _Refused as exc:
+        hint = ": inputs are read from regular files (save a stream to a file first)" if exc.stream else ""
+        raise InputError(f"{key} = {str(p)!r}: {exc}{hint}") from None
     with _LOCK:
         _DIGESTS[str(p.resolve())] = hashlib.sha256(data).hexdigest()
     return data
+
+
+def read_bounded(path: str | Path, what: str, limit_bytes: int) -> tuple[bytes | None, str | None]:
+    """(bytes, None), or (None, why) for a file that is missing, not a regular file (a
+    folder, a FIFO, a device, a link to one), unreadable or larger than ``limit_bytes``:
+    the same checks as :func:`read_input`, for files the tool reads to check them (cache
+    entries, an old manifest), which are not inputs of a result (nothing is recorded)."""
+    try:
+        return _read(Path(path), what, limit_bytes), None
+    except _Refused as exc:
+        return None, str(exc)
 
 
 def read_input_text(path: str | Path, key: str, what: str, limit_bytes: int) -> str:

@@ -147,14 +147,42 @@ class SolverError(InputError):
     """The integration could not finish; the message says what was happening."""
 
 
-def rk4_stability_number(model: GearDynamics, steps_per_mesh_period: int) -> tuple[float, float]:
+def rk4_stability_number(model: GearDynamics, steps_per_mesh_period: int,
+                         k: float | None = None) -> tuple[float, float]:
     """(h * omega_max, omega_max): omega_max is the largest |eigenvalue| (rad/s) of the
     linearised first-order system at the largest table stiffness (mesh and bearing
-    springs engaged, both dampers on); RK4's stability region reaches about 2.8 on the
-    imaginary axis and 2.8 on the negative real axis, so h omega_max <= 2.5 leaves a margin."""
-    k = float(np.max(model.k_table)) if model.tvms else model.k_mean
+    springs engaged, both dampers on; ``k``: at this mesh stiffness instead); RK4's
+    stability region reaches about 2.8 on the imaginary axis and 2.8 on the negative real
+    axis, so h omega_max <= 2.5 leaves a margin."""
+    if k is None:
+        k = float(np.max(model.k_table)) if model.tvms else model.k_mean
     w = max_linear_rate(model, k)
     return w / (model.mesh_frequency_Hz * steps_per_mesh_period), w
+
+
+def resolve_method(model: GearDynamics, method: str) -> str:
+    """The integrator "auto" stands for: RK4 when there is neither backlash (a flank law)
+    nor bearing clearance, else dopri5."""
+    if method != "auto":
+        return method
+    nonsmooth = has_flank_law(model) or model.bearing_half_clearance_m is not None
+    return "dopri5" if nonsmooth else "rk4"
+
+
+def check_rk4_stable(model: GearDynamics, steps_per_mesh_period: int, k: float | None = None,
+                     bound: bool = False) -> None:
+    """One-line InputError if RK4 is unstable at this step (h omega_max > 2.5,
+    :func:`rk4_stability_number`). ``k``: the mesh stiffness of the linearisation instead of
+    the table's largest; ``bound``: omega_max is a lower bound (a model without its mesh
+    spring), so the step count named is a lower bound too."""
+    hw, w = rk4_stability_number(model, steps_per_mesh_period, k)
+    if hw > 2.5:
+        n_min = int(math.ceil(w / (2.5 * model.mesh_frequency_Hz)))
+        eq = ">=" if bound else "="
+        raise InputError(f"steps_per_mesh_period = {steps_per_mesh_period}: RK4 is unstable "
+                         f"here (h omega_max {eq} {hw:.3g} > 2.5, omega_max {eq} {w:.4g} rad/s of the "
+                         f"linearised model); use >= {n_min} steps per mesh period or "
+                         f"method = dopri5")
 
 
 def _run(method, model, z0, t_end, t_out, steps_per_period, rtol, atol_vec, sw, max_steps, zlim):
@@ -325,9 +353,7 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
                          f"whole number >= 4")
     if not (0 < rtol < 1):
         raise InputError(f"rtol = {rtol}: must be in (0, 1)")
-    nonsmooth = has_flank_law(model) or model.bearing_half_clearance_m is not None
-    if method == "auto":
-        method = "dopri5" if nonsmooth else "rk4"
+    method = resolve_method(model, method)
     fm = model.mesh_frequency_Hz
     Pt = 1.0 / fm
     n_d = int(math.ceil(discard_s * fm - 1e-9))
@@ -358,14 +384,7 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
     uni = np.searchsorted(t_out, t_uni) if nodes.size else np.arange(t_uni.size)
     t_end = float(t_uni[-1])
     if method == "rk4":
-        hw, w = rk4_stability_number(model, steps_per_mesh_period)
-        if hw > 2.5:
-            n_min = int(math.ceil(w / (2.5 * fm)))
-            raise InputError(f"steps_per_mesh_period = {steps_per_mesh_period}: RK4 is unstable "
-                             f"here (h omega_max = {hw:.3g} > 2.5, omega_max = {w:.4g} rad/s of the "
-                             f"linearised model); use >= {n_min} steps per mesh period or "
-                             f"method = dopri5")
-    if method == "rk4":
+        check_rk4_stable(model, steps_per_mesh_period)
         # the schedule holds one table period: table_periods x steps sub-steps plus the
         # table's nodes, 11 float64 each
         sched = 88 * (model.table_periods * steps_per_mesh_period + model.phi_table.size)

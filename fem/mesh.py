@@ -133,6 +133,7 @@ import meshio
 import numpy as np
 import skfem
 
+from gearwear.core import interrupts
 from gearwear.core.atomic import atomic_write
 from gearwear.geometry.polyline import project_to_segments
 
@@ -461,6 +462,7 @@ def _gmsh_session(options: dict[str, float]) -> Iterator[None]:
         prev_model = None
         if owned:
             gmsh.initialize(readConfigFiles=False, interruptible=False)
+            interrupts.rearm()  # Gmsh resets SIGINT and SIGTERM to their default actions
         else:
             try:
                 prev_model = gmsh.model.getCurrent()
@@ -477,6 +479,7 @@ def _gmsh_session(options: dict[str, float]) -> Iterator[None]:
         finally:
             if owned:
                 gmsh.finalize()
+                interrupts.rearm()
             else:
                 try:
                     gmsh.model.setCurrent(name)

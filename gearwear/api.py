@@ -119,11 +119,8 @@ def sweep(scene: Scene | str | None, axes: Mapping[str, Sequence[Any]], workers:
         raise InputError("sweep: give the scene as a built-in name or a file path (a sweep re-reads it per point)")
     data, name = load_scene_dict(scene, default="paper-wear-severe")
     ax = [sw.Axis(k, tuple(v)) for k, v in axes.items()]
-    ex = sw.make_executor(workers)
-    try:
+    with sw.make_executor(workers) as ex:  # an exception or Ctrl-C stops the workers at once
         return sw.sweep(data, name, ax, executor=ex, progress=progress)
-    finally:
-        ex.shutdown()
 
 
 def _scene(scene: Scene | str | None, overrides: Mapping[str, Any]) -> Scene:

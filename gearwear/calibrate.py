@@ -447,7 +447,7 @@ def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float =
     tab = tables.StiffnessTable(r.angle_rad, k, r.excitation_m, ste, r.pairs_in_contact, {}, span_rad=r.span_rad)
     fe0 = cal.fe[0]
     method = "ishikawa slices corrected to FE single-tooth compliance (fem.tooth)"
-    tables.store(tab, inputs, method, folder, extra={
+    tables.store(tab, inputs, method, folder, label=table_label(wear, clearance_m), notify=notify, extra={
         "code_modules": list(code_modules()),
         "fe_mesh": {"dofs": int(fe0.ndofs), "elements": int(fe0.n_elements), "order": fe0.order,
                     "plane": fe0.plane},

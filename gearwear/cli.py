@@ -10,16 +10,18 @@ from __future__ import annotations
 import argparse
 import contextlib
 import json
+import math
 import sys
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from gearwear.analytic import TABLE_POINTS_PER_MESH_PERIOD as TABLE_POINTS
 from gearwear.core.validation import InputError, fail, renamed
 
 from . import __version__, io
-from .scene import Scene, wear_override
-from .schema import fem_plane
+
+if TYPE_CHECKING:
+    from .scene import Scene
 
 
 #: --mesh-size-mm: the global element size of the whole-gear mesh; on the paper gear 0.25 mm
@@ -37,9 +39,19 @@ def _bounded_float(name: str, text: str, unit: str, lo: float, hi: float) -> flo
     return v
 
 
+def _fem_plane(doc: Any, runs_fem: bool, what: str) -> str:
+    """schema.fem_plane, imported when a command runs (the CLI imports nothing heavy
+    before its signal handlers are installed)."""
+    from .schema import fem_plane
+
+    return fem_plane(doc, runs_fem, what)
+
+
 def _alias_sets(args: argparse.Namespace, skip: tuple[str, ...] = ()) -> list[str]:
     """The single-valued short flags as the --set overrides they stand for (``skip``: flags
     whose value the caller sets itself, one variant at a time)."""
+    from .scene import wear_override
+
     sets = []
     if getattr(args, "torque_Nm", None) is not None:
         sets.append(f"operating.torque_Nm={args.torque_Nm}")
@@ -84,6 +96,8 @@ def _load(args: argparse.Namespace, default: str = "paper-default", extra: list[
 def _variants(args: argparse.Namespace) -> "tuple[Scene, list, list[float]]":
     """(scene, wear specs, clearances in m) for commands that overlay several --wear and
     --clearance-um values: each value is the scene with that alias applied."""
+    from .scene import wear_override
+
     scene = _load(args)
     wears = [_load(args, extra=[wear_override(w)], skip=("wear",)).wear
              for w in _split_multi(getattr(args, "wear", None))] or [scene.wear]
@@ -96,7 +110,7 @@ def _cmd_geometry(args: argparse.Namespace) -> int:
     from . import geometry_job
 
     scene = _load(args, loaded=False)
-    fem_plane(scene.doc, False, "gearwear geometry")
+    _fem_plane(scene.doc, False, "gearwear geometry")
     torque, clearance_um, wear = scene.operating.torque_Nm, round(scene.clearance_m * 1e6, 9), scene.wear
     mesh_size = _bounded_float("--mesh-size-mm", args.mesh_size_mm, "mm", *MESH_SIZE_RANGE_MM)
     out = _check_out(args.out, "geometry")
@@ -196,7 +210,7 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
             raise InputError(f"--method = {m!r}: must be one or more of {', '.join(stiffness_job.METHODS)}")
     scene, wears, clearances = _variants(args)
     uses = "stiffness-fem" if "fem" in methods else "stiffness"
-    plane = fem_plane(scene.doc, "fem" in methods, f"gearwear stiffness --method {' '.join(methods)}")
+    plane = _fem_plane(scene.doc, "fem" in methods, f"gearwear stiffness --method {' '.join(methods)}")
     assumed = _assumed(scene, uses)
     torque = scene.operating.torque_Nm
     # default angles per method: the FE's 24 positions take ~10 s, the analytic tables take ms
@@ -299,7 +313,7 @@ def _cmd_verify(args: argparse.Namespace) -> int:
             bar.set_postfix_str(msg)
             bar.update(1)
         v = verify_job.run(scene.pair, wears, positions, convergence=not args.no_convergence, progress=progress,
-                           plane=fem_plane(scene.doc, True, "gearwear verify"))
+                           plane=_fem_plane(scene.doc, True, "gearwear verify"))
     inputs = {**io.scene_inputs(scene), "pair": _pair_inputs(scene),
               "wear": [w.label if w else "unworn" for w in wears], "wear_spec": [_wear_dict(w) for w in wears],
               "positions": positions, "convergence": not args.no_convergence}
@@ -340,14 +354,14 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     torque = scene.operating.torque_Nm
     points = _int_arg("--points", args.points, 8, 1_000_000)
     out = _check_out(args.out, "calibrate")
-    folder = tables.cache_dir()  # a bad GEARWEAR_CACHE: exit 2 before any FE run
+    tables.cache_dir()  # a bad GEARWEAR_CACHE: exit 2 before any FE run
     for c in clearances:  # the FE pair contact needs overlap: refuse before any FE run
         try:
             calibrate.require_overlap(scene.pair, c)
         except InputError as exc:
             raise fail("--clearance-um", c * 1e6, "um", "the FE calibration " + str(exc).split(": ", 1)[1]) from None
     with _fe_executor(args) or contextlib.nullcontext() as executor:
-        rows, copies, fe_s = _calibrate_tables(args, scene, wears, clearances, torque, points, out, folder, executor)
+        rows, copies, fe_s = _calibrate_tables(args, scene, wears, clearances, torque, points, out, executor)
     inputs = {**io.scene_inputs(scene), "wear": [w.label if w else "unworn" for w in wears],
               "wear_spec": [_wear_dict(w) for w in wears], "clearance_um": [c * 1e6 for c in clearances],
               "torque_Nm": torque, "points": points}
@@ -396,11 +410,11 @@ def _workers(args: argparse.Namespace) -> int | None:
     return _int_arg("--workers", args.workers, 1, 1024) if args.workers else None
 
 
-def _calibrate_tables(args, scene, wears, clearances, torque, points, out, folder, executor):
+def _calibrate_tables(args, scene, wears, clearances, torque, points, out, executor):
     """(rows, files to copy into --out, FE wall times) of every (wear, clearance) table."""
     from . import calibrate
 
-    plane = fem_plane(scene.doc, True, "gearwear calibrate")
+    plane = _fem_plane(scene.doc, True, "gearwear calibrate")
     rows: list[dict] = []
     copies: dict[str, bytes] = {}  # the cached tables, copied into --out as a whole at the end
     fe_s: dict[str, float] = {}
@@ -417,10 +431,9 @@ def _calibrate_tables(args, scene, wears, clearances, torque, points, out, folde
                                              refresh=args.refresh, executor=executor, plane=plane)  # a damaged entry: recomputed
             hit = tab.from_cache
             label = f"{w.label if w else 'unworn'}_clearance{c * 1e6:g}um"
-            if out:
-                src = folder / f"{tab.meta['input_sha256']}.csv"
-                copies[f"calibrated_{label}.csv"] = src.read_bytes()
-                copies[f"calibrated_{label}.csv.json"] = Path(str(src) + ".json").read_bytes()
+            if out:  # the bytes the cache holds, as checked (not read again)
+                copies[f"calibrated_{label}.csv"] = tab.csv_bytes
+                copies[f"calibrated_{label}.csv.json"] = tab.sidecar_bytes
             if not hit and fe:
                 fe_s[label] = fe[0].wall_s
             m = tab.meta
@@ -469,6 +482,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     require_dynamics(scene_from_dict(apply_overrides(data, fixed), name=name))  # the fixed keys are checked first
     if not axes:
         raise InputError("--set: give at least one swept key, KEY=START:STOP:N or KEY=a,b,c")
+    sweep.check_size(math.prod(len(a.values) for a in axes), "grid points", args.allow_large)
     with sweep.make_executor(_workers(args), args.scheduler) as executor:
         results = sweep.sweep(data, name, axes, fixed, executor=executor, progress=not args.json)
     base = scene_from_dict(apply_overrides(data, fixed), name=name)  # the scene every point starts from
@@ -506,6 +520,9 @@ def _cmd_runup(args: argparse.Namespace) -> int:
     axes, fixed = sweep.split_sets(_alias_sets(args))
     require_dynamics(scene_from_dict(apply_overrides(data, fixed), name=name))  # the fixed keys are checked first
     speed, others = runup_job.split_speed_axis(axes)
+    sweep.check_size(len(speed.values) * math.prod(len(a.values) for a in others) * (2 if args.direction == "both"
+                                                                                     else 1),
+                     "runs (speeds x points x directions)", args.allow_large)
     settings = runup_job.Settings(
         tol=_bounded_float("--tolerance", args.tolerance, "", 1e-12, 1e-2),
         max_periods=_int_arg("--max-periods", args.max_periods, 2, 1_000_000),
@@ -798,7 +815,11 @@ def _print_geometry(s: dict) -> None:
 
 SCHEDULER_HELP = ("run on Dask instead of local processes: local[:N] starts a LocalCluster of N worker processes "
                   "(default: all cores) on 127.0.0.1 for this run, ADDRESS (tcp://host:8786) connects to a running "
-                  "scheduler; needs the optional extra gearwear[dask]")
+                  "scheduler, which must answer and have a worker within 10 s; needs the optional extra "
+                  "gearwear[dask]")
+
+ALLOW_LARGE_HELP = ("run more than 2000 grid points (run-up: speeds x points x directions), refused without it; "
+                    "a run estimated to take over a minute states its estimate on stderr once its first point is done")
 
 SET_HELP = ("override a scene key by its dotted path, e.g. --set operating.speed_rpm=6000 "
             "--set effects.backlash.initial_um=50; KEY=none removes a key or an effect, e.g. "
@@ -922,6 +943,7 @@ def build_parser() -> argparse.ArgumentParser:
     _scene_options(sw, "paper-wear-severe")
     sw.add_argument("--workers", help="local worker processes (default: all cores)")
     sw.add_argument("--scheduler", help=SCHEDULER_HELP)
+    sw.add_argument("--allow-large", action="store_true", help=ALLOW_LARGE_HELP)
     sw.add_argument("--out", help="output folder")
     sw.add_argument("--json", action="store_true", help="print one JSON object")
     sw.set_defaults(func=_cmd_sweep)
@@ -947,6 +969,7 @@ def build_parser() -> argparse.ArgumentParser:
                     "mark a jump band (default 0.01)")
     ru.add_argument("--workers", help="local worker processes (default: all cores)")
     ru.add_argument("--scheduler", help=SCHEDULER_HELP)
+    ru.add_argument("--allow-large", action="store_true", help=ALLOW_LARGE_HELP)
     ru.add_argument("--out", help="output folder")
     ru.add_argument("--json", action="store_true", help="print one JSON object (the summary)")
     ru.set_defaults(func=_cmd_runup)
@@ -1024,10 +1047,78 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     """Run one command. Exit status: 0 done, 2 bad input (one line naming the key, value,
     unit and allowed range; nothing written), 1 an internal failure (one line; the
-    traceback only with --debug), 130 interrupted (nothing half-written)."""
-    parser = build_parser()
+    traceback only with --debug), 130 interrupted by SIGINT (Ctrl-C) and 143 by SIGTERM
+    (one line; nothing half-written, worker processes stopped).
+
+    The signal handlers come first (core.interrupts.handled): a signal during the imports
+    of a command is handled like one during its computation."""
+    from gearwear.core import interrupts
+
     argv = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in argv  # accepted anywhere on the line, not only before the command
+    with interrupts.handled():
+        written = len(io.SWAPPED_IN)
+        try:
+            _safe_streams()
+            return _run(argv, debug)
+        except KeyboardInterrupt as exc:  # also one that arrives while another error is reported
+            if debug:
+                raise
+            sig = interrupts.signal_of(exc)
+            done = io.SWAPPED_IN[written:]
+            what = f"after writing {', '.join(map(str, done))}" if done else "nothing was written or replaced"
+            _say(f"gearwear: interrupted by {sig.name}{' (Ctrl-C)' if sig.name == 'SIGINT' else ''}; {what}")
+            return interrupts.EXIT_STATUS[sig]
+        finally:
+            if isinstance(sys.stderr, _LineStart):
+                sys.stderr = sys.stderr._stream
+
+
+def _say(line: str) -> None:
+    """One line on stderr, on a line of its own."""
+    if isinstance(sys.stderr, _LineStart):
+        sys.stderr.say(line)
+    else:
+        print(line, file=sys.stderr, flush=True)
+
+
+class _LineStart:
+    """sys.stderr, remembering whether the last character written ended a line, so that a
+    final message starts on a line of its own even if a progress bar the signal hit was
+    left unfinished (:meth:`say`)."""
+
+    def __init__(self, stream):
+        self._stream = stream
+        self._last = "\n"
+
+    def write(self, text: str) -> int:
+        if text:
+            self._last = text[-1]
+        return self._stream.write(text)
+
+    def say(self, line: str) -> None:
+        self.write(("" if self._last == "\n" else "\n") + line + "\n")
+        self.flush()
+
+    def __getattr__(self, name: str):
+        return getattr(self._stream, name)
+
+
+def _safe_streams() -> None:
+    """Printing never fails on a character the terminal's encoding lacks (an --out named
+    "résultats" under LC_ALL=C or PYTHONIOENCODING=ascii): it is written escaped instead of
+    ending the command after its files were written."""
+    for stream in (sys.stdout, sys.stderr):
+        reconfigure = getattr(stream, "reconfigure", None)
+        if reconfigure is not None and stream.errors in ("strict", None):
+            with contextlib.suppress(ValueError, OSError):
+                reconfigure(errors="backslashreplace")
+    if not isinstance(sys.stderr, _LineStart):
+        sys.stderr = _LineStart(sys.stderr)
+
+
+def _run(argv: list[str], debug: bool) -> int:
+    parser = build_parser()
     args = parser.parse_args([a for a in argv if a != "--debug"])
     args.debug = debug
     try:
@@ -1035,13 +1126,8 @@ def main(argv: list[str] | None = None) -> int:
     except InputError as exc:
         if args.debug:
             raise
-        print(f"gearwear: error: {renamed(exc, FLAG_NAMES)}", file=sys.stderr)
+        _say(f"gearwear: error: {renamed(exc, FLAG_NAMES)}")
         return 2
-    except KeyboardInterrupt:
-        if args.debug:
-            raise
-        print("gearwear: interrupted; no output was written or replaced", file=sys.stderr)
-        return 130
     except BrokenPipeError:  # output piped into head & co.: not an error of ours
         sys.stderr.close()
         return 0
@@ -1055,8 +1141,8 @@ def main(argv: list[str] | None = None) -> int:
             where = where.tb_next
         at = f" at {Path(where.tb_frame.f_code.co_filename).name}:{where.tb_lineno}" if where else ""
         msg = str(exc).splitlines()[0] if str(exc) else ""
-        print(f"gearwear: internal error: {type(exc).__name__}{at}: {msg} (this is a bug; rerun with --debug "
-              "for the traceback and report it)", file=sys.stderr)
+        _say(f"gearwear: internal error: {type(exc).__name__}{at}: {msg} (this is a bug; rerun with --debug "
+             "for the traceback and report it)")
         return 1
 
 

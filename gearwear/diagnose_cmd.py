@@ -120,10 +120,15 @@ class LazyExecutor:
             self.executor = make_executor(self.workers)
         return self.executor
 
-    def shutdown(self) -> None:
+    def __enter__(self) -> "LazyExecutor":
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        """Shut the executor down if one was started; on an exception (Ctrl-C included) it
+        stops its workers at once (sweep_job.LocalPool)."""
         if self.executor is not None:
-            self.executor.shutdown()
-            self.executor = None
+            executor, self.executor = self.executor, None
+            executor.__exit__(exc_type, exc, tb)
 
 
 def _bar(total: int, enabled: bool):
@@ -147,12 +152,9 @@ def diagnose(spec: ds.BuildSpec, meas: Measurement, rel: float, floor_frac: floa
     """The diagnosis of ``meas`` (read_measurement of the file, at the scene's mesh
     frequency and ``spec.harmonics``) over the surrogate of ``spec``."""
     t0 = time.perf_counter()
-    ex = LazyExecutor(workers)
-    try:
-        with _bar(spec.design_points + 2 ** len(spec.unknowns) + spec.holdout_points, progress) as bar:
-            sur = ds.build(spec, ex, bar.update, refresh=refresh)
-    finally:
-        ex.shutdown()
+    with LazyExecutor(workers) as ex, \
+            _bar(spec.design_points + 2 ** len(spec.unknowns) + spec.holdout_points, progress) as bar:
+        sur = ds.build(spec, ex, bar.update, refresh=refresh)
     t1 = time.perf_counter()
     ft = dj.fit(sur, meas.values, rel, floor_frac)
     ver = dj.verdict(ft, rel, floor_frac)
@@ -244,12 +246,8 @@ def run_plan(spec: ds.BuildSpec, speeds: list[float], torques: list[float] | Non
     t0 = time.perf_counter()
     total = len(speeds) * len(torques or [None]) * (spec.design_points + 2 ** len(spec.unknowns)
                                                    + spec.holdout_points)
-    ex = LazyExecutor(workers)
-    try:
-        with _bar(total, progress) as bar:
-            doc = diagnose_plan.plan(spec, speeds, torques, rel, floor_frac, ex, bar.update)
-    finally:
-        ex.shutdown()
+    with LazyExecutor(workers) as ex, _bar(total, progress) as bar:
+        doc = diagnose_plan.plan(spec, speeds, torques, rel, floor_frac, ex, bar.update)
     timing = {"total_s": time.perf_counter() - t0, "surrogates": doc.pop("surrogates")}
     return doc, timing
 

@@ -122,6 +122,22 @@ def _number(path: Path, row: int, col: str, text: str) -> float:
     return v
 
 
+#: the largest magnitude a measured value (a sample or an amplitude) may have, per signal, in
+#: its unit: 0.1 m of bearing or mesh displacement, 1e10 N of mesh force. Far beyond any gear
+#: pair (the teeth leave the mesh at a fraction of the module, at most 100 mm), so a larger
+#: value is a wrong unit or a corrupt file; refused when the file is read, before any run.
+MAX_MAGNITUDE = {"y_p_um": 1e5, "x_p_um": 1e5, "delta_um": 1e5, "F_m_N": 1e10}
+
+
+def _plausible(path: Path, row: int, col: str, v: float, signal: str | None = None) -> float:
+    """``v`` (of ``signal``, default the column's) if it is within MAX_MAGNITUDE."""
+    sig = signal or col
+    if abs(v) > MAX_MAGNITUDE[sig]:
+        raise _bad(path, row, col, f"{v:g} is beyond any physical value of {sig} (|value| <= "
+                                   f"{MAX_MAGNITUDE[sig]:g} in its unit); check the unit and the file")
+    return v
+
+
 #: the largest measurement file read (bytes): 1e6 samples of five signals is ~60 MB
 MEASUREMENT_LIMIT_BYTES = 256 << 20
 
@@ -168,6 +184,7 @@ def _harmonic_table(p: Path, rows: list[list[str]], harmonics: int) -> Measureme
         amp = _number(p, i, "amplitude", r[2])
         if amp < 0:
             raise _bad(p, i, "amplitude", f"{amp:g} must be >= 0 (an amplitude)")
+        _plausible(p, i, "amplitude", amp, sig)
         if (sig, int(kf)) in values:
             raise _bad(p, i, None, f"repeats {sig} harmonic {int(kf)}")
         values[(sig, int(kf))] = amp
@@ -194,7 +211,7 @@ def _time_series(p: Path, header: list[str], rows: list[list[str]], fm_Hz: float
         if len(r) != len(header):
             raise _bad(p, i + 2, None, f"has {len(r)} fields, the header {len(header)}")
         for j, h in enumerate(header):
-            data[i, j] = _number(p, i + 2, h, r[j])
+            data[i, j] = _number(p, i + 2, h, r[j]) if h == tcol else _plausible(p, i + 2, h, _number(p, i + 2, h, r[j]))
     t = data[:, header.index(tcol)]
     if t.size < 2:
         raise _bad(p, None, None, "has fewer than two samples")

@@ -61,6 +61,7 @@ from typing import Any, Callable
 
 import numpy as np
 
+from gearwear.core.inputs import read_bounded
 from gearwear.core.validation import InputError
 
 from . import io, tables
@@ -73,6 +74,7 @@ CV_FOLDS = 32
 DESIGN_SEED = 20190415      # fixed: the same inputs give the same design, hence the same bytes
 HOLDOUT_SEED = 7
 FINGERPRINT_ROOT = "gearwear.diagnose_surrogate"
+LABEL = "diagnose surrogate"   # how a cache line names an entry
 
 
 @dataclass(frozen=True)
@@ -429,7 +431,7 @@ def build(spec: BuildSpec, executor: Executor | Callable[[], Executor | None] | 
         if sur is not None:
             return sur
         if reason is not None and notify is not None:
-            notify(tables.entry_message(tables.table_key(inputs), "diagnose surrogate", reason))
+            notify(tables.entry_message(tables.table_key(inputs), LABEL, reason))
     t0 = time.perf_counter()
     X, Xh = design(spec)
     base = spec.base_scene()
@@ -442,22 +444,24 @@ def build(spec: BuildSpec, executor: Executor | Callable[[], Executor | None] | 
             "design_wall_s": t1 - t0, "holdout_wall_s": t2 - t1}
     sur = fit(spec.unknowns, spec.lo, spec.hi, spec.harmonics, X, Y, Xh, Yh, meta)
     sur.meta["fit_wall_s"] = time.perf_counter() - t2
-    store(sur, inputs, folder)
+    store(sur, inputs, folder, notify)
     sur.meta["build_wall_s"] = time.perf_counter() - t0
     return sur
 
 
-def store(sur: Surrogate, inputs: dict[str, Any], folder: Path) -> Path:
-    """Write ``<key>.npz`` then its sidecar (atomic; data first)."""
+def store(sur: Surrogate, inputs: dict[str, Any], folder: Path, notify: tables.Notify | None = tables.to_stderr
+          ) -> Path:
+    """Write ``<key>.npz`` then its sidecar (atomic; data first; if that fails, ``notify``
+    gets one line and the surrogate is used uncached, tables.write_entry)."""
     key = tables.table_key(inputs)
     path = folder / f"{key}.npz"
     data = io.npz_bytes({"X": sur.X, "Y": sur.Y, "cv": sur.cv, "kappa": sur.kappa, "Xh": sur.Xh, "Yh": sur.Yh})
-    io.write_bytes(path, data)
-    io.sidecar(path, inputs, "gearwear diagnose surrogate (RBF thin-plate spline over a Sobol design of "
-                             "dynamics.simulate runs)",
-               {"npz_sha256": hashlib.sha256(data).hexdigest(), "heldout": sur.heldout,
-                "periodicity_residual_max": sur.meta.get("periodicity_residual_max"),
-                "training_runs": sur.meta.get("training_runs")})
+    side = io.sidecar_bytes(path, inputs, "gearwear diagnose surrogate (RBF thin-plate spline over a Sobol design "
+                                          "of dynamics.simulate runs)",
+                            {"npz_sha256": hashlib.sha256(data).hexdigest(), "heldout": sur.heldout,
+                             "periodicity_residual_max": sur.meta.get("periodicity_residual_max"),
+                             "training_runs": sur.meta.get("training_runs")})
+    tables.write_entry(key, LABEL, {path: data, Path(str(path) + ".json"): side}, notify)
     return path
 
 
@@ -468,7 +472,9 @@ def lookup(inputs: dict[str, Any], unknowns: list[Unknown], folder: Path) -> tup
     path, meta, reason = tables.entry(folder, tables.table_key(inputs), ".npz")
     if meta is None:
         return None, reason
-    raw = path.read_bytes()
+    raw, why = read_bounded(path, "file", tables.ENTRY_LIMIT_BYTES)
+    if raw is None:
+        return None, why
     if hashlib.sha256(raw).hexdigest() != meta.get("npz_sha256"):
         return None, "does not match the npz_sha256 of its sidecar (changed after it was stored)"
     try:

@@ -153,11 +153,16 @@ def file_sha256(path: str | Path) -> str:
 def sidecar(path: str | Path, inputs: Any, method: str, extra: dict | None = None) -> Path:
     """Write ``<path>.json`` describing how ``path`` was made. ``inputs`` is hashed;
     ``extra`` (e.g. the scene's name, a summary) is recorded but not hashed."""
+    return write_bytes(str(path) + ".json", sidecar_bytes(path, inputs, method, extra))
+
+
+def sidecar_bytes(path: str | Path, inputs: Any, method: str, extra: dict | None = None) -> bytes:
+    """The bytes :func:`sidecar` writes."""
     meta = {"file": Path(path).name, "software": "gearwear", "version": __version__,
             "method": method, "inputs": inputs, "input_sha256": input_hash(inputs)}
     if extra:
         meta.update(extra)
-    return write_json(str(path) + ".json", meta)
+    return (json_text(meta) + "\n").encode("utf-8")
 
 
 # -- timing ------------------------------------------------------------------------------
@@ -249,26 +254,77 @@ def check_out(out: str | None, command: str) -> Path | None:
     if not parent.is_dir() or not os.access(parent, os.W_OK | os.X_OK):
         raise InputError(f"--out = {out}: {parent} is not a writable folder")
     if p.is_dir():
-        bad = foreign_entry(p, command)
-        if bad is not None and read_manifest(p) is None:
-            raise InputError(f"--out = {out}: exists, is not empty and was not written by gearwear "
-                             f"(no {MANIFEST}; it holds {bad}); give a new or empty folder")
-        if bad is not None:
-            raise InputError(f"--out = {out}: holds {bad}, which gearwear did not write, and the folder is replaced "
-                             "as a whole; move it away or give a new or empty folder")
+        replaceable(out, command)(p)
     return p
 
 
+def replaceable(out: str | Path, command: str, during: bool = False) -> Callable[[Path], None]:
+    """The check that the folder given as ``--out = out`` may be replaced by the output of
+    ``command`` (:func:`check_out` before any work; core.atomic.swap_in again at the swap,
+    ``during=True``, on the folder as it is then): a one-line InputError if it holds an
+    entry gearwear did not write (:func:`foreign_entry`), or a folder whose old content
+    could not be deleted (read-only), so that no file of the user's is ever deleted and no
+    hidden ``.NAME.*.old`` folder is left behind."""
+    def check(folder: Path) -> None:
+        bad = foreign_entry(folder, command)
+        if bad is not None and during:
+            raise InputError(f"--out = {out}: {bad} appeared in it during the run and gearwear did not write it, "
+                             "so the folder was not replaced (this run's results were not kept); move it away "
+                             "and run again")
+        if bad is not None and read_manifest(folder) is None:
+            raise InputError(f"--out = {out}: exists, is not empty and was not written by gearwear "
+                             f"(no {MANIFEST} of gearwear's; it holds {bad}); give a new or empty folder")
+        if bad is not None:
+            raise InputError(f"--out = {out}: holds {bad}, which gearwear did not write, and the folder is replaced "
+                             "as a whole; move it away or give a new or empty folder")
+        locked = read_only_entry(folder)
+        if locked is not None:
+            raise InputError(f"--out = {out}: {locked} is read-only, so its old content could not be deleted when "
+                             "the folder is replaced as a whole; make it writable or give a new folder")
+    return check
+
+
+def read_only_entry(folder: Path) -> str | None:
+    """The first folder in ``folder`` (itself included: ".") whose entries this process may
+    not delete (no write or search permission), or None."""
+    for root, dirs, _ in os.walk(folder):
+        if not os.access(root, os.W_OK | os.X_OK):
+            rel = Path(root).relative_to(folder).as_posix()
+            return "." if rel == "." else rel + "/"
+        dirs[:] = [d for d in dirs if not os.path.islink(os.path.join(root, d))]
+    return None
+
+
+#: the largest manifest read (a manifest lists a folder's files with their hashes)
+MANIFEST_LIMIT_BYTES = 16 << 20
+
+
 def read_manifest(folder: Path) -> dict[str, Any] | None:
+    """The folder's ``manifest.json`` if it is gearwear's, else None: a regular file (read
+    bounded, core.inputs), JSON naming gearwear as the software and one of its commands,
+    with the SHA-256 and size of each file it lists. A file of the user's that happens to
+    be called manifest.json is not gearwear's manifest."""
+    from gearwear.core.inputs import read_bounded
+
+    data, _ = read_bounded(folder / MANIFEST, "manifest", MANIFEST_LIMIT_BYTES)
     try:
-        m = json.loads((folder / MANIFEST).read_text(encoding="utf-8"))
-    except (OSError, ValueError):
+        m = json.loads(data) if data is not None else None
+    except ValueError:
         return None
-    return m if isinstance(m, dict) and m.get("software") == "gearwear" and isinstance(m.get("files"), dict) else None
+    if not (isinstance(m, dict) and m.get("software") == "gearwear" and m.get("command") in OUTPUT_NAMES):
+        return None
+    files = m.get("files")
+    if not isinstance(files, dict) or not all(isinstance(v, dict) and isinstance(v.get("sha256"), str)
+                                              and isinstance(v.get("bytes"), int) for v in files.values()):
+        return None
+    return m
 
 
-def _output_name(name: str, commands) -> bool:
-    return any(fnmatch.fnmatchcase(name, pat) for c in commands for pat in OUTPUT_NAMES[c] + (MANIFEST, TIMING))
+def _output_name(name: str, commands, manifest: bool) -> bool:
+    """``name`` is one ``commands`` write (``manifest``: the folder has gearwear's manifest;
+    without one, a file called manifest.json is not gearwear's)."""
+    own = (MANIFEST, TIMING) if manifest else (TIMING,)
+    return any(fnmatch.fnmatchcase(name, pat) for c in commands for pat in OUTPUT_NAMES[c] + own)
 
 
 def foreign_entry(folder: Path, command: str) -> str | None:
@@ -289,7 +345,7 @@ def foreign_entry(folder: Path, command: str) -> str | None:
     for e in sorted(folder.iterdir()):
         if e.is_symlink() or not (e.is_dir() or e.is_file()):
             return e.name
-        if e.name in listed or _output_name(e.name + ("/" if e.is_dir() else ""), commands):
+        if e.name in listed or _output_name(e.name + ("/" if e.is_dir() else ""), commands, m is not None):
             continue
         if m is not None and e.is_dir() and read_manifest(e) is not None and foreign_entry(e, command) is None:
             continue
@@ -314,8 +370,14 @@ def write_folder(out: Path, command: str, provenance: dict[str, Any],
     """Run ``writer(folder)`` in a fresh temporary folder, add ``timing.json`` and
     ``manifest.json``, and swap the folder in at ``out`` as a whole. Returns the written
     files at their final place. On any error or Ctrl-C nothing at ``out`` changes."""
-    with atomic_folder(out) as tmp:
+    with atomic_folder(out, replaceable(out, command, during=True)) as tmp:
         written = list(writer(tmp))
         written.append(write_json(tmp / TIMING, {"command": command, "wall_s": timing or {}}))
         written.append(write_json(tmp / MANIFEST, manifest(tmp, command, provenance)))
+    SWAPPED_IN.append(out)
     return [out / Path(p).relative_to(tmp) for p in written]
+
+
+#: the --out folders written in this process, in order (an interrupt after one was swapped
+#: in says so, gearwear.cli.main)
+SWAPPED_IN: list[Path] = []

@@ -222,8 +222,13 @@ def run(points: list[Point], chains: list[Chain], settings: Settings, executor: 
 
     from tqdm import tqdm
 
+    from .sweep_job import Estimate, workers_of
+
     total = sum(len(c.speeds) for c in chains)
     futures: dict[Any, tuple[int, int]] = {}
+    parallel = min(workers_of(executor), len(chains))
+    estimate = Estimate(f"run-up of {total} speeds", parallel,
+                        math.ceil(len(chains) / parallel) * max(len(c.speeds) for c in chains))
 
     def submit(ci: int, k: int, y0) -> None:
         c = chains[ci]
@@ -241,6 +246,7 @@ def run(points: list[Point], chains: list[Chain], settings: Settings, executor: 
                     row = f.result()
                     chains[ci].rows.append(row)
                     bar.update(1)
+                    estimate.first_done(bar.write)
                     if k + 1 < len(chains[ci].speeds):
                         submit(ci, k + 1, np.asarray(row["z_end"]))
     finally:

@@ -155,12 +155,14 @@ def stiffness_input(scene: Scene, breakpoints: bool = True) -> StiffnessInput:
         e = ms["excitation_m"] if ms["excitation_m"] is not None else np.zeros_like(k)
     elif source == "calibrated":
         from .calibrate import calibrated_table, without_blank_torsion
+        check_before_stiffness(scene)
         tab = calibrated_table(pair, wear, clearance_geo, T, points, flank=flank, faults=faults, plane=plane)
         if blank_torsion(ms) == "excluded":
             tab = without_blank_torsion(tab)
         phi, k, e = tab.angle_rad, tab.k_N_per_m, tab.excitation_m
     elif source == "fem":
         from .stiffness_job import fem_curve
+        check_before_stiffness(scene)
         r = fem_curve(pair, 24, T, clearance_geo, wear, flank, faults, blank_torsion=blank_torsion(ms), plane=plane)
         phi, k, e = r.angle_rad, r.k_N_per_m, r.excitation_m
     else:
@@ -174,6 +176,28 @@ def stiffness_input(scene: Scene, breakpoints: bool = True) -> StiffnessInput:
                           table_mean(phi, k, periods * 2 * math.pi / pair.teeth[0],
                                      (ms or {}).get("interpolation", "linear")),
                           time.perf_counter() - t0, periods)
+
+
+def check_before_stiffness(scene: Scene) -> None:
+    """The solver's stability check, made before an expensive mesh stiffness (the FE
+    calibration, which also writes the table cache, or the pair FE: minutes), so a run the
+    solver would refuse anyway is refused first, with nothing computed or cached. The
+    stiffness is not known yet: the check runs on the scene's model without its mesh spring
+    and damper (k = 0, c_h = 0). Its fastest mode (the bearings', sqrt(k_b / m)) is a lower
+    bound of the one RK4 must resolve with any mesh stiffness, so what fails here fails
+    later too (e.g. bodies.mass_kg = 1e-9 kg: omega_max >= 5e8 rad/s)."""
+    from gearwear.dynamics.simulate import check_rk4_stable, resolve_method
+
+    require_dynamics(scene)
+    periods = revolution_periods(scene.pair, scene.faults)
+    phi = np.linspace(0.0, periods * 2 * math.pi / scene.pair.teeth[0], 8, endpoint=False)
+    none = StiffnessInput(phi, np.zeros_like(phi), np.zeros_like(phi), "constant", 0.0, 0.0, periods)
+    try:
+        model = build_model(scene, none).with_(c_h=0.0)
+        if resolve_method(model, scene.solver.get("method", "auto")) == "rk4":
+            check_rk4_stable(model, scene.solver.get("steps_per_mesh_period", 256), k=0.0, bound=True)
+    except InputError as exc:
+        raise renamed(exc, SOLVER_KEYS) from None
 
 
 def build_model(scene: Scene, stiff: StiffnessInput) -> GearDynamics:

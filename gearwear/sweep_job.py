@@ -10,11 +10,16 @@ local[:N]``) or an existing Dask cluster (``--scheduler ADDRESS``; optional extr
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 import json
 import math
 import os
+import signal
+import sys
 import textwrap
+import threading
+import time
 from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
@@ -22,6 +27,7 @@ from typing import Any
 
 import numpy as np
 
+from gearwear.core import interrupts
 from gearwear.core.validation import InputError
 
 from . import io
@@ -43,8 +49,11 @@ def parse_axis(item: str) -> Axis:
         a, b, n = spec.split(":")
         try:
             start, stop, count = float(a), float(b), int(n)
+            if not (math.isfinite(start) and math.isfinite(stop)):
+                raise ValueError
         except ValueError:
-            raise InputError(f"--set {key}={spec}: START and STOP must be numbers and N a whole number") from None
+            raise InputError(f"--set {key}={spec}: START and STOP must be finite numbers and N a whole "
+                             "number") from None
         if count < 1 or count > 10000:
             raise InputError(f"--set {key}={spec}: N = {count} must be in [1, 10000]")
         vals = np.linspace(start, stop, count)
@@ -115,11 +124,73 @@ def run_point(raw: dict[str, Any], name: str, point: dict[str, Any], fixed: list
     return summary
 
 
-class DaskExecutor(Executor):
+#: seconds an interrupted pool gets to end its workers before they are killed
+STOP_TIMEOUT_S = 5.0
+#: seconds to wait for a Dask scheduler (--scheduler ADDRESS) to answer, and for it to have a worker
+CONNECT_TIMEOUT_S = 10.0
+
+
+class _StopsOnError:
+    """``with executor:`` that waits for its tasks on a normal exit, but on an exception
+    (KeyboardInterrupt and core.interrupts.Terminated included) calls ``stop``: pending
+    tasks cancelled, workers ended now, within a bounded time."""
+
+    def __exit__(self, exc_type, exc, tb):
+        if exc_type is None:
+            self.shutdown(wait=True)  # type: ignore[attr-defined]
+        else:
+            self.stop()  # type: ignore[attr-defined]
+        return False
+
+
+class LocalPool(_StopsOnError, ProcessPoolExecutor):
+    """Local worker processes that end with the command.
+
+    Each worker ignores SIGINT (a Ctrl-C in the terminal reaches the whole process group;
+    the parent handles it once) and ends on SIGTERM without a word
+    (core.interrupts.worker_init); it is forked with both signals blocked, so neither can
+    reach it before that (:meth:`submit`). Leaving a ``with`` block on an exception,
+    KeyboardInterrupt included, :meth:`stop` cancels what has not started and ends the
+    workers at once instead of waiting for every submitted task."""
+
+    def __init__(self, workers: int):
+        super().__init__(max_workers=workers, initializer=_worker_start, initargs=(workers,))
+
+    def submit(self, fn, /, *args, **kwargs):  # type: ignore[override]
+        # with the fork start method the workers are forked here, inheriting the signal mask
+        with interrupts.deferred(children=True):
+            return super().submit(fn, *args, **kwargs)
+
+    def stop(self, timeout_s: float = STOP_TIMEOUT_S) -> None:
+        """Cancel the pending tasks and end the workers: SIGTERM, then SIGKILL for any still
+        running after ``timeout_s``."""
+        procs = list((getattr(self, "_processes", None) or {}).values())
+        self.shutdown(wait=False, cancel_futures=True)
+        for proc in procs:
+            with contextlib.suppress(OSError, ValueError):
+                proc.terminate()
+        deadline = time.monotonic() + timeout_s
+        for proc in procs:
+            with contextlib.suppress(OSError, ValueError, AssertionError):
+                proc.join(max(0.0, deadline - time.monotonic()))
+                if proc.is_alive():
+                    proc.kill()
+                    proc.join(1.0)
+
+
+def _worker_start(workers: int) -> None:
+    """Initializer of a LocalPool worker: its signal dispositions, then its share of the cores."""
+    interrupts.worker_init()
+    _share_cores(workers)
+
+
+class DaskExecutor(_StopsOnError, Executor):
     """A Dask cluster as a plain ``concurrent.futures.Executor`` (its futures are
     ``concurrent.futures.Future``), so every caller that takes an executor (sweeps, run-ups,
     FE positions) runs on it unchanged. ``shutdown`` closes the client and, for a cluster
-    this process started (``--scheduler local``), the cluster and its workers."""
+    this process started (``--scheduler local``), the cluster and its workers; leaving a
+    ``with`` block on an exception (Ctrl-C included) :meth:`stop` cancels the futures and
+    closes both within a bounded time."""
 
     def __init__(self, client, cluster=None):
         self.client = client
@@ -131,11 +202,38 @@ class DaskExecutor(Executor):
 
     def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
         try:
-            self._executor.shutdown(wait=wait)
+            self._executor.shutdown(wait=wait and not cancel_futures)
         finally:
             self.client.close()
             if self.cluster is not None:
                 self.cluster.close()
+
+    def stop(self, timeout_s: float = STOP_TIMEOUT_S) -> None:
+        """Cancel every future and close the client and a cluster started here, each
+        bounded by ``timeout_s``; a worker process of that cluster still running then is
+        killed."""
+        import psutil  # installed with distributed
+
+        procs = []
+        for nanny in getattr(self.cluster, "workers", {}).values():
+            with contextlib.suppress(Exception):
+                procs.append(psutil.Process(nanny.pid))
+        with contextlib.suppress(Exception):
+            self._executor.shutdown(wait=False)   # cancels the futures
+        with contextlib.suppress(Exception):
+            self.client.close(timeout=timeout_s)
+        # a worker still inside a task would get seconds of grace from the cluster's close;
+        # its tasks are cancelled, so it ends now (psutil checks that the process is still
+        # the one it was, not a new one with a reused pid)
+        for proc in procs:
+            with contextlib.suppress(psutil.Error):
+                proc.terminate()
+        if self.cluster is not None:
+            with contextlib.suppress(Exception):
+                self.cluster.close(timeout=timeout_s)
+        for proc in procs:
+            with contextlib.suppress(psutil.Error):
+                proc.kill()
 
 
 #: --scheduler local:N accepts 1 .. this many worker processes
@@ -172,70 +270,174 @@ def _share_cores(workers: int) -> None:
 def make_executor(workers: int | None = None, scheduler: str | None = None) -> Executor:
     """The executor that runs independent tasks (grid points, run-up chains, FE positions):
 
-    * no scheduler: local processes (``workers``, default all cores);
+    * no scheduler: local processes (:class:`LocalPool`, ``workers``, default all cores);
     * ``local`` or ``local:N``: a ``dask.distributed.LocalCluster`` started here (N worker
-      processes, default the machine's cores, one thread each, on the loopback interface,
-      no dashboard), closed again by ``shutdown``;
-    * anything else: the address of a running Dask scheduler (``tcp://host:8786``).
+      processes, default the machine's cores, one thread each, on the loopback interface;
+      its HTTP server on a free port: with None Dask still takes 8787 and warns on stderr
+      when another cluster has it), closed again by ``shutdown``; its workers are started with SIGINT
+      blocked (core.interrupts.blocked_sigint), so a Ctrl-C reaches only this process;
+    * anything else: the address of a running Dask scheduler (``tcp://host:8786``), which
+      must answer and have a worker within CONNECT_TIMEOUT_S (:func:`connect`).
 
-    Dask needs the optional extra ``gearwear[dask]`` (it is in the ``test`` extra too)."""
+    Use it in a ``with`` block: leaving it on an exception (Ctrl-C included) stops the
+    workers at once. Dask needs the optional extra ``gearwear[dask]`` (it is in the
+    ``test`` extra too)."""
     if not scheduler:
-        procs = workers or os.cpu_count() or 1
-        return ProcessPoolExecutor(max_workers=procs, initializer=_share_cores, initargs=(procs,))
+        return LocalPool(workers or os.cpu_count() or 1)
     n = _local_workers(scheduler)
     try:
         from dask.distributed import Client, LocalCluster
     except ImportError:
         raise InputError(f"--scheduler {scheduler}: Dask is not installed; pip install 'gearwear[dask]'") from None
-    if n != -1:
-        import logging
+    if n == -1:
+        return DaskExecutor(connect(scheduler))
+    import logging
 
-        import dask
+    import dask
 
-        # one thread per worker: the kernels are single-threaded numba code, and two threads
-        # in one process would share one GIL between their Python parts. Dask starts its
-        # workers with MALLOC_TRIM_THRESHOLD_=65536, which also switches off glibc's dynamic
-        # mmap threshold: every array above 128 KiB is then a fresh mmap whose pages fault in
-        # zeroed, and a 1 s simulation with its summary ran 2x slower than in a plain process
-        # (0.36 s against 0.18 s per scene, measured); the workers keep glibc's defaults.
-        with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
-            cluster = LocalCluster(n_workers=n or os.cpu_count() or 1, threads_per_worker=1, processes=True,
-                                   host="127.0.0.1", dashboard_address=None, silence_logs=logging.ERROR)
-        try:
-            return DaskExecutor(Client(cluster), cluster)
-        except BaseException:
-            cluster.close()
-            raise
+    # one thread per worker: the kernels are single-threaded numba code, and two threads
+    # in one process would share one GIL between their Python parts. Dask starts its
+    # workers with MALLOC_TRIM_THRESHOLD_=65536, which also switches off glibc's dynamic
+    # mmap threshold: every array above 128 KiB is then a fresh mmap whose pages fault in
+    # zeroed, and a 1 s simulation with its summary ran 2x slower than in a plain process
+    # (0.36 s against 0.18 s per scene, measured); the workers keep glibc's defaults.
+    with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}), \
+            interrupts.blocked_sigint():
+        cluster = LocalCluster(n_workers=n or os.cpu_count() or 1, threads_per_worker=1, processes=True,
+                               host="127.0.0.1", dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR)
     try:
-        client = Client(scheduler, timeout="10s")
-    except (OSError, TimeoutError, ValueError) as exc:
-        raise InputError(f"--scheduler = {scheduler}: cannot connect to a Dask scheduler there "
-                         f"({type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''})") from None
-    return DaskExecutor(client)
+        return DaskExecutor(Client(cluster), cluster)
+    except BaseException:
+        cluster.close(timeout=STOP_TIMEOUT_S)
+        raise
+
+
+def connect(address: str, timeout_s: float = CONNECT_TIMEOUT_S):
+    """A ``dask.distributed.Client`` of the scheduler at ``address``, or a one-line
+    InputError naming the address if nothing there answers as a Dask scheduler within
+    ``timeout_s`` (nobody listening, a server that accepts the connection and never
+    answers) or the scheduler has no worker within another ``timeout_s``. The connection is
+    made in a thread waited on with a deadline: Dask's own timeout covers opening the
+    connection, not a peer that accepts it and stays silent."""
+    from dask.distributed import Client
+
+    box: dict[str, Any] = {}
+
+    def attempt() -> None:
+        try:
+            box["client"] = Client(address, timeout=f"{timeout_s}s")
+        except BaseException as exc:  # reported by the waiting thread
+            box["error"] = exc
+
+    def bad(why: str) -> InputError:
+        return InputError(f"--scheduler = {address}: {why}; give the address of a running Dask scheduler with "
+                          "workers, e.g. tcp://host:8786, or local[:N]")
+
+    thread = threading.Thread(target=attempt, name="gearwear dask connect", daemon=True)
+    thread.start()
+    thread.join(timeout_s + 1.0)
+    if thread.is_alive():
+        raise bad(f"no answer from a Dask scheduler there within {timeout_s:g} s")
+    if "error" in box:
+        exc = box["error"]
+        first = str(exc).splitlines()[0] if str(exc) else ""
+        raise bad(f"cannot connect to a Dask scheduler there ({type(exc).__name__}: {first})")
+    client = box["client"]
+    try:
+        client.wait_for_workers(1, timeout=timeout_s)
+    except (OSError, TimeoutError):  # asyncio and Dask time-outs are TimeoutError or OSError
+        with contextlib.suppress(Exception):
+            client.close(timeout=1)
+        raise bad(f"the scheduler there has no worker (waited {timeout_s:g} s)") from None
+    return client
 
 
 def sweep(raw: dict[str, Any], name: str, axes: list[Axis], fixed: list[str] | None = None,
           executor: Executor | None = None, progress: bool = True) -> list[dict[str, Any]]:
-    """Run every grid point; results in grid order (deterministic whatever the executor)."""
+    """Run every grid point; results in grid order (deterministic whatever the executor).
+    A run estimated to take longer than LONG_RUN_S says so on stderr once its first point
+    is done (:class:`Estimate`)."""
     from tqdm import tqdm
 
     points = grid(axes)
     # validate every point before starting any work: a bad value fails fast, in one line
     for p in points:
         scene_from_dict(apply_overrides(raw, point_sets(p, list(fixed or []))), name=name)
-    own = executor is None
-    ex = executor or make_executor()
     results: list[dict[str, Any] | None] = [None] * len(points)
-    try:
+    with contextlib.ExitStack() as stack:
+        ex = executor or stack.enter_context(make_executor())
+        parallel = min(workers_of(ex), len(points))
+        estimate = Estimate(f"sweep of {len(points)} points", parallel, math.ceil(len(points) / parallel))
         futures = {ex.submit(run_point, raw, name, p, list(fixed or [])): i for i, p in enumerate(points)}
-        with tqdm(total=len(points), desc="sweep", unit="point", disable=not progress) as bar:
+        with tqdm(total=len(points), desc="sweep", unit="point", disable=not progress, file=sys.stderr) as bar:
             for fut in as_completed(futures):
                 results[futures[fut]] = fut.result()
                 bar.update(1)
-    finally:
-        if own:
-            ex.shutdown()
+                estimate.first_done(bar.write)
     return results  # type: ignore[return-value]
+
+
+#: a sweep or run-up estimated to take longer than this states its estimate (stderr, once)
+LONG_RUN_S = 60.0
+#: a sweep or run-up of more evaluations than this is refused unless --allow-large is given
+MAX_POINTS = 2000
+#: ... and of more than this even with --allow-large (the grid is held in memory)
+HARD_MAX_POINTS = 1_000_000
+
+
+def check_size(count: int, what: str, allow_large: bool) -> None:
+    """A one-line InputError if a sweep or run-up of ``count`` evaluations (``what`` names
+    them: "grid points", "runs (speeds x points x directions)") is larger than MAX_POINTS
+    without ``allow_large``, or than HARD_MAX_POINTS at all."""
+    if count > HARD_MAX_POINTS:
+        raise InputError(f"--set: {count} {what}, more than {HARD_MAX_POINTS} (the grid is held in memory); "
+                         "split the sweep")
+    if count > MAX_POINTS and not allow_large:
+        raise InputError(f"--set: {count} {what}, more than {MAX_POINTS} (hours of computation); give "
+                         "--allow-large to run them anyway (the estimated time is printed once the first is done)")
+
+
+def workers_of(executor: Executor) -> int:
+    """How many tasks ``executor`` runs at once (worker processes, or Dask worker threads)."""
+    n = getattr(executor, "_max_workers", None)
+    if isinstance(n, int):
+        return n
+    client = getattr(executor, "client", None)
+    if client is not None:
+        with contextlib.suppress(Exception):
+            return max(1, sum(int(w.get("nthreads", 1)) for w in client.scheduler_info()["workers"].values()))
+    return os.cpu_count() or 1
+
+
+class Estimate:
+    """The estimated time of a long run, stated once: when the first task is done, its wall
+    time (from the start, so it includes starting the workers) times the ``rounds`` of
+    tasks that follow each other on ``parallel`` workers. Printed (one line through
+    ``write``, above the progress bar) only if that exceeds LONG_RUN_S."""
+
+    def __init__(self, what: str, parallel: int, rounds: int):
+        self.what, self.parallel, self.rounds = what, max(1, parallel), rounds
+        self.t0 = time.perf_counter()
+        self.said = False
+
+    def first_done(self, write) -> None:
+        if self.said:
+            return
+        self.said = True
+        first = time.perf_counter() - self.t0
+        total = first * self.rounds
+        if total > LONG_RUN_S:
+            write(f"gearwear: {self.what} on {self.parallel} worker{'s' if self.parallel > 1 else ''}: about "
+                  f"{duration_text(total)} in all (the first took {first:.1f} s)", file=sys.stderr)
+
+
+def duration_text(seconds: float) -> str:
+    """``45 s``, ``12 min``, ``3 h 20 min``."""
+    if seconds < 90:
+        return f"{seconds:.0f} s"
+    if seconds < 5400:
+        return f"{seconds / 60:.0f} min"
+    return f"{int(seconds // 3600)} h {int(seconds % 3600 // 60)} min"
 
 
 def table_csv(axes: list[Axis], results: list[dict[str, Any]]) -> str:

@@ -33,18 +33,24 @@ import hashlib
 import json
 import math
 import os
+import shutil
 import sys
 import tempfile
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
 
 import numpy as np
 
+from gearwear.core.inputs import read_bounded
 from gearwear.core.validation import fail
 from gearwear.geometry.curves import curve_mean
 
 from . import io
+
+#: the largest cache file read (a table of 10^6 rows is ~80 MB; a surrogate of 65536 runs ~0.5 GB)
+ENTRY_LIMIT_BYTES = 1 << 30
+SIDECAR_LIMIT_BYTES = 16 << 20
 
 HEADER = "angle_deg,k_N_per_m,ste_um,excitation_um,pairs_in_contact"
 _COLUMNS = HEADER.split(",")
@@ -96,6 +102,12 @@ class StiffnessTable:
     meta: dict[str, Any]
     from_cache: bool = False
     span_rad: float = math.nan
+    csv_bytes: bytes = field(default=b"", repr=False)   # the checked CSV bytes (cache or store)
+
+    @property
+    def sidecar_bytes(self) -> bytes:
+        """The sidecar as the cache holds it (``meta`` in the sidecar's JSON form)."""
+        return (io.json_text(self.meta) + "\n").encode("utf-8")
 
     @property
     def mean_N_per_m(self) -> float:
@@ -180,11 +192,12 @@ def read(csv_path: Path, meta: dict[str, Any], points: int | None = None) -> tup
     """Check and read one table CSV against its sidecar ``meta``: (table, None) or (None, reason).
 
     ``points``: the expected number of rows (default: ``meta["rows"]``, written by
-    :func:`store`)."""
-    try:
-        raw = Path(csv_path).read_bytes()
-    except OSError as exc:
-        return None, f"cannot be read ({exc.strerror or exc})"
+    :func:`store`). The file is read bounded and only if it is a regular file
+    (core.inputs.read_bounded: a folder, a FIFO or a link to a device is a reason, not a
+    hang)."""
+    raw, why = read_bounded(csv_path, "file", ENTRY_LIMIT_BYTES)
+    if raw is None:
+        return None, why
     return check(raw, meta, points)
 
 
@@ -209,7 +222,7 @@ def check(raw: bytes, meta: dict[str, Any], points: int | None = None) -> tuple[
     if not isinstance(span, (int, float)) or not span > data[-1, 0] * math.pi / 180:
         return None, "has no valid span_rad in its sidecar (the table's period, beyond its last angle)"
     tab = StiffnessTable(np.radians(data[:, 0]), data[:, 1], data[:, 3] * 1e-6, data[:, 2] * 1e-6,
-                         data[:, 4].astype(int), meta, from_cache=True, span_rad=float(span))
+                         data[:, 4].astype(int), meta, from_cache=True, span_rad=float(span), csv_bytes=raw)
     return tab, None
 
 
@@ -227,23 +240,47 @@ def entry(folder: Path, key: str, suffix: str) -> tuple[Path, dict[str, Any] | N
     """(data file ``<key><suffix>``, its sidecar's metadata, None) for an entry whose sidecar
     belongs to ``key``; (path, None, None) if there is no entry; (path, None, reason) if
     there is one that must not be used. Shared by every kind of cache entry (stiffness
-    tables, diagnosis surrogates); the caller then checks the data itself."""
+    tables, diagnosis surrogates); the caller then checks the data itself (read with
+    core.inputs.read_bounded). Both files are read only if they are regular files, within a
+    size bound: a folder, a FIFO, a link to /dev/zero or an unreadable file in their place
+    is a reason to recompute, never a hang or a crash."""
     path = folder / f"{key}{suffix}"
     side = Path(str(path) + ".json")
-    has_data, has_side = path.exists(), side.exists()
+    has_data, has_side = os.path.lexists(path), os.path.lexists(side)
     if not (has_data or has_side):
         return path, None, None
     if not has_side:
         return path, None, "has no sidecar"
     if not has_data:
         return path, None, "has a sidecar but no data"
+    raw, why = read_bounded(side, "file", SIDECAR_LIMIT_BYTES)
+    if raw is None:
+        return path, None, f"has an unusable sidecar ({why})"
     try:
-        meta = json.loads(side.read_text())
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        meta = json.loads(raw.decode("utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
         return path, None, f"has an unreadable sidecar ({type(exc).__name__})"
     if not isinstance(meta, dict) or meta.get("input_sha256") != key:
         return path, None, "has a sidecar that belongs to other inputs"
     return path, meta, None
+
+
+def write_entry(key: str, label: str, files: dict[Path, bytes], notify: Notify | None = to_stderr) -> bool:
+    """Write the files of a cache entry, in order (data first, then its sidecar), each
+    atomically and over whatever damaged entry is there (a folder in its place is removed:
+    the cache's names are its own). If that fails (OSError) ``notify`` gets one line and the
+    caller uses its result without caching it; returns whether the entry was stored."""
+    try:
+        for path, data in files.items():
+            if path.is_dir() and not path.is_symlink():
+                shutil.rmtree(path)
+            io.write_bytes(path, data)
+        return True
+    except OSError as exc:
+        if notify is not None:
+            notify(f"cache entry {key[:8]}... ({label}) could not be stored ({exc.strerror or exc}); the result "
+                   "is used without caching it")
+        return False
 
 
 def entry_message(key: str, label: str, reason: str) -> str:
@@ -262,8 +299,9 @@ def cached(inputs: dict[str, Any], folder: Path | None = None, notify: Notify | 
 
 
 def store(table: StiffnessTable, inputs: dict[str, Any], method: str, folder: Path | None = None,
-          extra: dict[str, Any] | None = None) -> Path:
-    """Write the table and its sidecar into the cache (atomic); returns the CSV path.
+          extra: dict[str, Any] | None = None, label: str = "table", notify: Notify | None = to_stderr) -> Path:
+    """Write the table and its sidecar into the cache (atomic; if that fails, ``notify``
+    gets one line and the table is used uncached, :func:`write_entry`); returns the CSV path.
 
     The sidecar records ``csv_sha256``, the SHA-256 of the CSV bytes, which a read checks.
     Afterwards ``table`` holds exactly what a later read of the entry returns (the
@@ -273,12 +311,12 @@ def store(table: StiffnessTable, inputs: dict[str, Any], method: str, folder: Pa
     key = table_key(inputs)
     csv = folder / f"{key}.csv"
     data = table.to_csv().encode("utf-8")
+    side = io.sidecar_bytes(csv, inputs, method, {**(extra or {}), "mean_N_per_m": table.mean_N_per_m,
+                                                  "rows": int(len(table.angle_rad)), "span_rad": table.span_rad,
+                                                  "csv_sha256": hashlib.sha256(data).hexdigest()})
     # sidecar first would let a reader see metadata without data; write data first
-    io.write_bytes(csv, data)
-    io.sidecar(csv, inputs, method, {**(extra or {}), "mean_N_per_m": table.mean_N_per_m,
-                                     "rows": int(len(table.angle_rad)), "span_rad": table.span_rad,
-                                     "csv_sha256": hashlib.sha256(data).hexdigest()})
-    meta = json.loads(Path(str(csv) + ".json").read_text())
+    write_entry(key, label, {csv: data, Path(str(csv) + ".json"): side}, notify)
+    meta = json.loads(side)
     # from the bytes written, not from the file: a concurrent writer of the same key cannot interfere
     back, reason = check(data, meta)
     if back is None:
@@ -286,4 +324,5 @@ def store(table: StiffnessTable, inputs: dict[str, Any], method: str, folder: Pa
     table.angle_rad, table.k_N_per_m, table.excitation_m = back.angle_rad, back.k_N_per_m, back.excitation_m
     table.ste_m, table.pairs_in_contact, table.meta, table.from_cache = (back.ste_m, back.pairs_in_contact,
                                                                         meta, False)
+    table.csv_bytes = data
     return csv

@@ -55,6 +55,10 @@ def _setup(tmp: Path) -> None:
     (tmp / "cache_is_a_file").write_text("x\n")
     (tmp / "all_zero.csv").write_text("signal,harmonic,amplitude\nF_m_N,1,0\nF_m_N,2,0\n")
     (tmp / "diag.toml").write_text((Path(__file__).parents[1] / "examples" / "diagnose" / "scene.toml").read_text())
+    (tmp / "huge_harmonics.csv").write_text("signal,harmonic,amplitude\nF_m_N,1,1e300\nF_m_N,2,3.5\n")
+    (tmp / "huge_series.csv").write_text("time_s,y_p_um\n0,1\n0.001,-2e6\n0.002,1\n")
+    (tmp / "user_manifest_out").mkdir()
+    (tmp / "user_manifest_out" / "manifest.json").write_text('{"name": "my project", "files": ["a.txt"]}\n')
 
 
 S = "--set"
@@ -179,6 +183,20 @@ CASES: list[tuple[str, list[str], str, str | None, dict[str, str]]] = [
     ("sweep-workers-zero", ["sweep", S, "operating.speed_rpm=1000,1200", "--workers", "0"], "--workers", "0", {}),
     ("calibrate-workers-zero", ["calibrate", "--refresh", "--workers", "0"], "--workers", "0", {}),
     ("scene-bad-set", ["scene", S, "pair.teeth=[1,2]"], "pair.teeth[0]", "1", {}),
+    # ---- sizes and magnitudes, refused before any work (and before anything is cached)
+    ("sweep-range-infinite", ["sweep", S, "operating.speed_rpm=inf:2000:2"], "operating.speed_rpm", "inf", {}),
+    ("sweep-range-nan", ["sweep", S, "operating.speed_rpm=1000:nan:3"], "operating.speed_rpm", "nan", {}),
+    ("sweep-too-many-points", ["sweep", S, "operating.speed_rpm=1000:2000:3000"], "--allow-large", "3000", {}),
+    ("sweep-list-of-20000", ["sweep", S, "operating.speed_rpm=" + ",".join(f"{1000 + i / 100:g}" for i in range(20000))],
+     "--allow-large", "20000", {}),
+    ("sweep-grid-too-large-even-allowed", ["sweep", S, "operating.speed_rpm=1000:2000:10000", S,
+                                           "operating.torque_Nm=10:50:200", "--allow-large"], "--set", "2000000", {}),
+    ("runup-too-many-runs", ["runup", S, "operating.speed_rpm=1000:2000:1500"], "--allow-large", "3000", {}),
+    ("mass-absurd-before-calibration", ["simulate", "paper-default", S, "bodies.mass_kg=1e-9",
+                                        S, 'effects.mesh_stiffness.source="calibrated"'],
+     "solver.steps_per_mesh_period", "256", {}),
+    ("measured-amplitude-absurd", ["diagnose", "--measured", "huge_harmonics.csv"], "--measured", "1e+300", {}),
+    ("measured-sample-absurd", ["diagnose", "--measured", "huge_series.csv"], "--measured", "-2e+06", {}),
     # ---- flank modifications and faults (issue 13)
     ("relief-start-above-tip", ["stiffness", S, "flank.tip_relief={amount_um=5, start_diameter_mm=170}", "--out", "o"],
      "flank.tip_relief.start_diameter_mm[0]", "170", {}),
@@ -202,6 +220,8 @@ CASES: list[tuple[str, list[str], str, str | None, dict[str, str]]] = [
     ("out-is-file", ["simulate", "--out", "a_file.txt"], "--out", "a_file.txt", {}),
     ("out-under-file", ["stiffness", "--out", "a_file.txt/sub"], "--out", "a_file.txt/sub", {}),
     ("out-foreign-folder", ["geometry", "--no-mesh", "--out", "foreign_out"], "--out", "foreign_out", {}),
+    ("out-users-manifest-json", ["geometry", "--no-mesh", "--out", "user_manifest_out"], "--out",
+     "user_manifest_out", {}),
     ("report-out-is-file", ["report", "paper", "--out", "a_file.txt"], "--out", "a_file.txt", {}),
     # ---- options that would do nothing, and a measurement with nothing in it (issue 25)
     ("scene-schema-with-set", ["scene", "--schema", S, "operating.speed_rpm=1"], "--set", None, {}),

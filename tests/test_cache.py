@@ -231,3 +231,116 @@ def test_a_computed_table_that_fails_the_checks_is_not_stored_silently(cache):
                                 np.ones(8, dtype=int), {})
     with pytest.raises(ValueError, match="the computed table has a non-finite k_N_per_m"):
         tables.store(tab, {"kind": "test", "points": 8}, "test")
+
+
+# -- an entry that is not a regular file ------------------------------------------------------
+
+def _within(seconds, fn):
+    """fn() run in a thread that must finish within ``seconds``: a read that waited on a FIFO
+    would fail the test instead of hanging it."""
+    import threading
+
+    box = {}
+    t = threading.Thread(target=lambda: box.setdefault("result", fn()), daemon=True)
+    t.start()
+    t.join(seconds)
+    assert not t.is_alive(), f"still running after {seconds} s (waiting on the damaged entry?)"
+    return box["result"]
+
+
+def _break(path, damage):
+    """Put something that is not a cache file at ``path``."""
+    if damage == "unreadable" and os.geteuid() == 0:
+        pytest.skip("root reads a chmod 000 file")
+    path.unlink()
+    if damage == "folder":
+        path.mkdir()
+        (path / "x").write_text("x")
+    elif damage == "fifo":
+        os.mkfifo(path)
+    elif damage == "dev-zero":
+        path.symlink_to("/dev/zero")
+    else:
+        path.write_bytes(b"x")
+        path.chmod(0)
+
+
+DAMAGES = ["folder", "fifo", "dev-zero", "unreadable"]
+
+
+@pytest.mark.parametrize("which", ["data", "sidecar"])
+@pytest.mark.parametrize("damage", DAMAGES)
+def test_a_table_entry_that_is_not_a_regular_file_is_recomputed(cache, fe_runs, capsys, damage, which):
+    good = table()
+    key, csv = entry(cache)
+    _break(csv if which == "data" else csv.with_name(csv.name + ".json"), damage)
+    again = _within(60, table)
+    err = capsys.readouterr().err
+    assert err.startswith(f"gearwear: cache entry {key[:8]}... (unworn, 0 um) ") and err.count("\n") == 1, err
+    assert err.endswith("; recomputing\n") and ("is a" in err or "cannot be read" in err), err
+    assert not again.from_cache and np.array_equal(again.k_N_per_m, good.k_N_per_m)
+    assert table().from_cache and csv.is_file() and not csv.is_symlink()   # stored again, over the damage
+
+
+@pytest.fixture(scope="module")
+def surrogate(tmp_path_factory):
+    """A small diagnosis surrogate (8 design points) of the example scene, built once in
+    this process: (its BuildSpec, the cache folder)."""
+    from pathlib import Path
+
+    from gearwear import diagnose_cmd as dc
+    from gearwear import diagnose_surrogate as ds
+    from gearwear.scene import load_scene_dict, scene_from_dict
+
+    folder = tmp_path_factory.mktemp("surrogate-cache")
+    old = os.environ.get("GEARWEAR_CACHE")
+    os.environ["GEARWEAR_CACHE"] = str(folder)
+    try:
+        raw, name = load_scene_dict(str(Path(__file__).parents[1] / "examples" / "diagnose" / "scene.toml"))
+        unknowns = dc.parse_unknowns("wear,clearance")
+        lo, hi = dc.prior_ranges(raw, unknowns, {})
+        K = int(scene_from_dict(raw, name=name).output["harmonics"])
+        spec = ds.BuildSpec(raw, name, unknowns, lo, hi, K, 8, dc.HOLDOUT_POINTS[2])
+        ds.build(spec, notify=None)
+    finally:
+        if old is None:
+            os.environ.pop("GEARWEAR_CACHE")
+        else:
+            os.environ["GEARWEAR_CACHE"] = old
+    return spec, folder
+
+
+@pytest.mark.parametrize("which", ["data", "sidecar"])
+@pytest.mark.parametrize("damage", DAMAGES)
+def test_a_surrogate_entry_that_is_not_a_regular_file_is_refused_on_read(surrogate, tmp_path, damage, which):
+    import shutil
+
+    from gearwear import diagnose_surrogate as ds
+
+    spec, built = surrogate
+    folder = tmp_path / "cache"
+    shutil.copytree(built, folder)
+    inputs = spec.inputs()
+    npz = folder / f"{tables.table_key(inputs)}.npz"
+    assert _within(60, lambda: ds.lookup(inputs, spec.unknowns, folder))[0] is not None
+    _break(npz if which == "data" else npz.with_name(npz.name + ".json"), damage)
+    sur, reason = _within(60, lambda: ds.lookup(inputs, spec.unknowns, folder))
+    assert sur is None and ("is a" in reason or "cannot be read" in reason), reason
+
+
+def test_a_surrogate_entry_replaced_by_a_folder_is_rebuilt_and_stored(surrogate, tmp_path, monkeypatch):
+    import shutil
+
+    from gearwear import diagnose_surrogate as ds
+
+    spec, built = surrogate
+    folder = tmp_path / "cache"
+    shutil.copytree(built, folder)
+    monkeypatch.setenv("GEARWEAR_CACHE", str(folder))
+    key = tables.table_key(spec.inputs())
+    _break(folder / f"{key}.npz", "folder")
+    lines = []
+    sur = _within(300, lambda: ds.build(spec, notify=lines.append))
+    assert lines == [f"cache entry {key[:8]}... (diagnose surrogate) is a folder, not a file; recomputing"]
+    assert not sur.from_cache and (folder / f"{key}.npz").is_file()
+    assert ds.build(spec, notify=lines.append).from_cache and len(lines) == 1

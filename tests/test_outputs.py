@@ -239,6 +239,108 @@ def test_ctrl_c_during_the_swap_rolls_back(tmp_path, monkeypatch):
     assert list(target.iterdir()) == [] and sorted(p.name for p in tmp_path.iterdir()) == ["out"]
 
 
+# -- (d') the swap never deletes a file gearwear did not write ----------------------------------
+
+def test_a_file_that_appears_during_the_run_is_never_deleted(tmp_path, monkeypatch, capsys):
+    """A file put into --out while the command runs (after the check before any work): the
+    swap stops with one line and exit 2, the folder and that file stay as they are."""
+    from gearwear import stiffness_job
+
+    out = tmp_path / "st"
+    run_ok("stiffness", "--points", "16", "--out", str(out))
+    capsys.readouterr()
+    before = snapshot(out)
+    figures = stiffness_job.figures
+
+    def while_writing(curves):
+        (out / "notes.txt").write_text("written by the user during the run\n")
+        return figures(curves)
+
+    monkeypatch.setattr(stiffness_job, "figures", while_writing)
+    assert main(["stiffness", "--points", "16", "--wear", "mild", "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "notes.txt appeared in it during the run" in err[0] and "--out = " in err[0]
+    assert (out / "notes.txt").read_text() == "written by the user during the run\n"
+    assert {k: v for k, v in snapshot(out).items() if k != "notes.txt"} == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["st"]  # no .st.*.tmp / .old left
+
+
+def test_a_file_that_appears_between_the_check_and_the_rename_is_never_deleted(tmp_path):
+    """The swap checks the folder again once it is renamed aside, when nothing can be added
+    to it by its name any more: a file that arrived just before the rename is kept."""
+    import gearwear.core.atomic as atomic
+
+    target = tmp_path / "out"
+    target.mkdir()
+    (target / "mine.txt").write_text("x")
+    seen = []
+
+    def may_replace(folder):
+        seen.append(folder.name)
+        if folder != target and any(folder.iterdir()):
+            raise io.InputError(f"--out = {target}: mine.txt appeared")
+
+    new = tmp_path / ".fresh"
+    new.mkdir()
+    with pytest.raises(io.InputError):
+        atomic.swap_in(new, target, may_replace)
+    assert seen[0] == "out" and seen[1].startswith(".out.") and seen[1].endswith(".old")
+    assert (target / "mine.txt").read_text() == "x" and sorted(p.name for p in tmp_path.iterdir()) == [".fresh", "out"]
+
+
+def _make_read_only(folder: Path):
+    """chmod 555 (or, as root, for whom permissions do not stop a deletion, the immutable
+    attribute); returns the undo, or skips if neither is possible here."""
+    import shutil
+    import subprocess
+
+    if os.geteuid() != 0:
+        folder.chmod(0o555)
+        return lambda: folder.chmod(0o755)
+    if shutil.which("chattr") is None or subprocess.run(["chattr", "+i", str(folder)], capture_output=True).returncode:
+        pytest.skip("running as root without chattr +i: no folder here is read-only to this process")
+    return lambda: subprocess.run(["chattr", "-i", str(folder)], check=True)
+
+
+@pytest.mark.parametrize("where", [".", "sub"])
+def test_a_read_only_out_is_refused_before_any_work(tmp_path, capsys, where):
+    """Its old content could not be deleted: the command stops before any work (exit 2,
+    one line), so no hidden .NAME.*.old folder is left holding it."""
+    out = tmp_path / "st"
+    run_ok("stiffness", "--points", "16", "--out", str(out))
+    (out / "fields_0").mkdir()
+    (out / "fields_0" / "u.vtu").write_text("old field\n")
+    capsys.readouterr()
+    locked = out if where == "." else out / "fields_0"
+    undo = _make_read_only(locked)
+    try:
+        before = snapshot(out)
+        assert main(["stiffness", "--points", "16", "--out", str(out)]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        name = "." if where == "." else "fields_0/"
+        assert len(err) == 1 and f"{name} is read-only" in err[0], err
+        assert snapshot(out) == before
+        assert sorted(p.name for p in tmp_path.iterdir()) == ["st"]
+    finally:
+        undo()
+
+
+def test_a_users_manifest_json_does_not_make_a_folder_gearwears(tmp_path, capsys):
+    """A folder holding only a file of the user's called manifest.json, or one that claims to
+    be gearwear's without a command and a file list, is not replaced."""
+    for doc in ({"name": "my project", "files": ["a", "b"]},
+                {"software": "gearwear", "files": {}},
+                {"software": "gearwear", "command": "stiffness", "files": {"x.csv": "not a hash"}}):
+        out = tmp_path / "mine"
+        out.mkdir(exist_ok=True)
+        (out / "manifest.json").write_text(json.dumps(doc))
+        assert main(["stiffness", "--points", "16", "--out", str(out)]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "manifest.json" in err[0], err
+        assert json.loads((out / "manifest.json").read_text()) == doc
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["mine"]
+
+
 # -- (e) provenance is the content of the inputs ----------------------------------------------
 
 SCENE = """

@@ -7,8 +7,10 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -97,3 +99,108 @@ def test_the_manifest_hashes_the_bytes_that_were_used(tmp_path):
     man = json.loads((out / "manifest.json").read_text())
     ref = man["provenance"]["referenced_files"]["effects.mesh_stiffness.path"]
     assert ref["sha256"] == hashlib.sha256(rows.encode()).hexdigest()
+
+
+# -- every wait is bounded: a Dask scheduler address -----------------------------------------
+
+@pytest.fixture
+def silent_server():
+    """A TCP server that accepts connections and never answers (a port of something that is
+    not a Dask scheduler, or a hung one): its address."""
+    import socket
+    import threading
+
+    srv = socket.socket()
+    srv.bind(("127.0.0.1", 0))
+    srv.listen(8)
+    held = []
+    stop = threading.Event()
+
+    def serve():
+        srv.settimeout(0.2)
+        while not stop.is_set():
+            try:
+                held.append(srv.accept()[0])
+            except OSError:
+                continue
+    t = threading.Thread(target=serve, daemon=True)
+    t.start()
+    yield f"tcp://127.0.0.1:{srv.getsockname()[1]}"
+    stop.set()
+    t.join(2)
+    for c in held:
+        c.close()
+    srv.close()
+
+
+def _nobody_listens() -> str:
+    import socket
+
+    s = socket.socket()
+    s.bind(("127.0.0.1", 0))
+    port = s.getsockname()[1]
+    s.close()   # nothing listens there now
+    return f"tcp://127.0.0.1:{port}"
+
+
+@pytest.mark.parametrize("command", [["sweep", "--set", "operating.speed_rpm=1000,1100", *SHORT],
+                                     ["runup", "--set", "operating.speed_rpm=1000,1100", "--max-periods", "40"]],
+                         ids=["sweep", "runup"])
+@pytest.mark.parametrize("where", ["silent", "nobody"])
+def test_a_scheduler_address_that_does_not_answer_is_refused_in_bounded_time(tmp_path, silent_server, command,
+                                                                             where):
+    from gearwear.sweep_job import CONNECT_TIMEOUT_S
+
+    address = silent_server if where == "silent" else _nobody_listens()
+    out = tmp_path / "o"
+    t0 = time.monotonic()
+    r = run(*command, "--scheduler", address, "--out", str(out), cwd=tmp_path, timeout=90)
+    took = time.monotonic() - t0
+    _one_line_exit_2(r, f"--scheduler = {address}", f"{CONNECT_TIMEOUT_S:g} s" if where == "silent" else "connect",
+                     out=out)
+    assert took < CONNECT_TIMEOUT_S + 15, took   # the stated wait, plus the start of the command
+    assert sorted(p.name for p in tmp_path.iterdir()) == []
+
+
+def test_a_scheduler_without_workers_is_refused():
+    pytest.importorskip("distributed")
+    from dask.distributed import LocalCluster
+
+    from gearwear.sweep_job import connect
+
+    with LocalCluster(n_workers=0, processes=True, host="127.0.0.1", dashboard_address="127.0.0.1:0") as cluster:
+        t0 = time.monotonic()
+        with pytest.raises(InputError, match=r"^--scheduler = tcp://127\.0\.0\.1:\d+: the scheduler there has no "
+                                             r"worker \(waited 2 s\)"):
+            connect(cluster.scheduler_address, timeout_s=2)
+        assert time.monotonic() - t0 < 10
+
+
+# -- a long run states its estimate ----------------------------------------------------------
+
+def test_a_long_sweep_states_its_estimated_time_once(tmp_path, monkeypatch, capsys):
+    from gearwear import sweep_job
+    from gearwear.cli import main
+
+    monkeypatch.setattr(sweep_job, "LONG_RUN_S", 0.0)    # every run counts as long here
+    monkeypatch.chdir(tmp_path)
+    assert main(["sweep", "--set", "operating.speed_rpm=1000,1100,1200", *SHORT, "--workers", "1", "--json"]) == 0
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and re.match(r"^gearwear: sweep of 3 points on 1 worker: about \d+ s in all \(the first "
+                                      r"took \d+\.\d s\)$", err[0]), err
+
+
+# -- odd paths: an --out name the terminal's encoding cannot show -------------------------------
+
+@pytest.mark.parametrize("env", [{"LC_ALL": "C", "PYTHONUTF8": "0"}, {"LC_ALL": "C"}, {"PYTHONIOENCODING": "ascii"}],
+                         ids=["C-locale-no-utf8-mode", "C-locale", "ascii-stdout"])
+def test_a_non_ascii_out_works_under_an_ascii_locale(tmp_path, env):
+    base = {k: v for k, v in os.environ.items() if k not in ("PYTHONIOENCODING", "PYTHONUTF8", "LANG", "LC_ALL")}
+    r = subprocess.run([sys.executable, "-m", "gearwear.cli", "geometry", "--no-mesh", "--out", "résultats"],
+                       capture_output=True, cwd=tmp_path, env={**base, **env}, timeout=120)
+    assert r.returncode == 0, r.stderr.decode(errors="replace")
+    assert r.stderr == b""
+    out = tmp_path / "résultats"
+    assert (out / "manifest.json").is_file() and (out / "profile.csv").is_file()
+    assert [p.name for p in tmp_path.iterdir()] == ["résultats"]
+    assert r.stdout.count(b"wrote ") == len(list(out.iterdir()))
