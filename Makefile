@@ -52,6 +52,7 @@ bench: $(STAMP)
 report: $(STAMP)
 	@$(PY) -m gearwear.envcheck
 	GEARWEAR_CACHE=$(CURDIR)/.gearwear-cache $(VENV)/bin/gearwear report paper --out reports/paper
+	$(VENV)/bin/gearwear report pair examples/shifted_pair.toml --out reports/pair/shifted_pair
 	$(VENV)/bin/gearwear verify --out reports/verification
 	$(VENV)/bin/gearwear stiffness --wear unworn mild severe --out reports/stiffness_wear
 	$(VENV)/bin/gearwear stiffness --clearance-um 0 25 50 75 100 --out reports/stiffness_clearance
