@@ -21,7 +21,7 @@ from gearwear.core.validation import InputError
 from gearwear.geometry.spec import PairSpec, default_pair
 from gearwear.geometry.wear import WearSpec
 
-from .scene import Scene, pair_from_dict, parse_wear_arg, wear_from_dict
+from .scene import Scene, pair_from_dict, parse_wear_arg, wear_from_dict, wear_table
 
 METHODS = ("ishikawa", "energy", "iso6336", "fem")
 
@@ -101,8 +101,10 @@ def verify(pair: PairSpec | None = None, wear: Sequence[Any] = ("unworn", "mild"
 def simulate(scene: Scene | str | None = None, **overrides: Any):
     """Simulate a scene (a Scene, a built-in name or a TOML path). Keyword overrides use
     the dotted keys with ``__`` for the dots: ``simulate("paper-default",
-    operating__speed_rpm=6000)``. Returns ``SimulationRun`` (``.summary()``,
-    ``.result.t``, ``.result.signals``)."""
+    operating__speed_rpm=6000)``; the command line's short flags are keywords too, with
+    the same spellings: ``wear="25um"`` (a phase, a depth in um or running hours, like
+    ``--wear``), ``torque_Nm=120`` and ``clearance_um=30``. Returns ``SimulationRun``
+    (``.summary()``, ``.result.t``, ``.result.signals``)."""
     from .simulate_job import run
 
     return run(_scene(scene, overrides))  # run() already names errors by scene key
@@ -128,7 +130,15 @@ def _scene(scene: Scene | str | None, overrides: Mapping[str, Any]) -> Scene:
         if overrides:
             raise InputError("overrides: give them with Scene.load(name, {...}) or pass the scene by name")
         return scene
-    return Scene.load(scene, {k.replace("__", "."): v for k, v in overrides.items()})
+    short = {"torque_Nm": "operating.torque_Nm", "clearance_um": "effects.bearing_clearance.clearance_um"}
+    dotted: dict[str, Any] = {}
+    for k, v in overrides.items():
+        if k == "wear":
+            # the --wear spellings: the [effects] wear table they stand for (scene.wear_table)
+            dotted["effects.wear"] = wear_table(v) if isinstance(v, str) else v
+        else:
+            dotted[short.get(k, k.replace("__", "."))] = v
+    return Scene.load(scene, dotted)
 
 
 __all__ = ["paper_pair", "pair", "wear", "mesh_stiffness", "verify", "simulate", "sweep", "Scene", "PairSpec",

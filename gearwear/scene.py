@@ -276,19 +276,26 @@ def wear_from_dict(table: Mapping[str, Any] | str, torque_Nm: float = 40.0, spee
     return wear_spec(t["effects"].wear, t["operating"], pair)
 
 
-def wear_override(text: str) -> str:
-    """The ``--wear`` shorthand (a phase, ``25um`` or ``500h``) as the ``--set`` it stands for."""
+def wear_table(text: str) -> dict[str, Any]:
+    """The ``[effects] wear`` table of a ``--wear`` shorthand: a phase (``severe``), a
+    maximum depth (``25um``) or running hours (``500h``)."""
     t = text.strip()
     if t in PHASE_DEPTHS_M:
-        return f'effects.wear={{phase="{t}"}}'
+        return {"phase": t}
     for suffix, key in (("um", "max_depth_um"), ("h", "hours")):
         if t.endswith(suffix):
             try:
-                return f"effects.wear={{{key}={float(t[:-len(suffix)])!r}}}"
+                return {key: float(t[:-len(suffix)])}
             except ValueError:
                 break
     raise InputError(f"--wear = {text!r}: must be one of {', '.join(PHASE_DEPTHS_M)}, a depth like 25um, "
                      "or running hours like 500h")
+
+
+def wear_override(text: str) -> str:
+    """The ``--wear`` shorthand as the ``--set`` it stands for."""
+    (key, value), = wear_table(text).items()
+    return f"effects.wear={{{key}={value!r}}}".replace("'", '"')
 
 
 def parse_wear_arg(text: str, torque_Nm: float = 40.0, speed_rpm: float = 1200.0) -> WearSpec:
