@@ -172,3 +172,16 @@ def test_the_reference_names_keys_not_python_classes():
     assert "gearwear.schema" not in text and "Doc |" not in text and "Doc " not in text
     for table in ("flank.tip_relief", "flank.root_relief", "faults.crack", "faults.spall", "blank.pinion"):
         assert f"### [{table}]" in text
+
+
+def test_the_reference_states_every_default_in_toml_words():
+    """A key without a default reads 'required', never a Python object's repr (the
+    relief's start_diameter_mm showed `PydanticUndefined`); every default cell is
+    'absent', 'required' or a TOML value."""
+    text = reference_markdown()
+    assert "Undefined" not in text
+    rows = [r for r in text.splitlines() if r.startswith("| `")]
+    for row in rows:
+        default = row.split(" | ")[4]
+        assert default in ("absent", "required") or default.startswith("`"), row
+    assert any(r.startswith("| `start_diameter_mm`") and " | required | " in r for r in rows)
