@@ -20,6 +20,8 @@ and its errors are renamed to scene keys here.
 
 import difflib
 import inspect
+import types
+import typing
 import math
 from typing import Annotated, Any, Literal, Mapping, Union
 
@@ -901,10 +903,17 @@ def model_table_name(model: type[BaseModel], key: str) -> str:
 
 
 def _type_name(annotation: Any) -> str:
+    """The TOML type of a key in words (an optional key's None is its absence, shown in the
+    default column; a ``|`` would break the Markdown table)."""
+    args = [a for a in typing.get_args(annotation) if a is not type(None)]
+    if typing.get_origin(annotation) in (typing.Union, types.UnionType) and len(args) == 1:
+        annotation = args[0]
+    if typing.get_origin(annotation) is tuple:
+        inner = typing.get_args(annotation)
+        return f"[{', '.join(_type_name(a) for a in inner)}]"
     text = getattr(annotation, "__name__", None) or str(annotation)
-    return {"float": "number", "int": "whole number", "bool": "true/false", "str": "string"}.get(text, "list"
-                                                                                               if "list" in text
-                                                                                               else text)
+    return {"float": "number", "int": "whole number", "bool": "true/false", "str": "string"}.get(
+        text, "list" if "list" in text else text.replace("|", "or"))
 
 
 def to_toml(data: Mapping[str, Any]) -> str:

@@ -176,12 +176,14 @@ def test_the_reference_names_keys_not_python_classes():
 
 def test_the_reference_states_every_default_in_toml_words():
     """A key without a default reads 'required', never a Python object's repr (the
-    relief's start_diameter_mm showed `PydanticUndefined`); every default cell is
-    'absent', 'required' or a TOML value."""
+    relief's start_diameter_mm showed `PydanticUndefined`); every row has its six cells
+    (an optional key's type "str | None" split its row); every default cell is 'absent',
+    'required' or a TOML value."""
     text = reference_markdown()
     assert "Undefined" not in text
     rows = [r for r in text.splitlines() if r.startswith("| `")]
     for row in rows:
+        assert row.count(" | ") == 5, row   # six cells: a '|' in a type broke the row ("str | None")
         default = row.split(" | ")[4]
         assert default in ("absent", "required") or default.startswith("`"), row
     assert any(r.startswith("| `start_diameter_mm`") and " | required | " in r for r in rows)
