@@ -185,6 +185,40 @@ def check_rk4_stable(model: GearDynamics, steps_per_mesh_period: int, k: float |
                          f"method = dopri5")
 
 
+#: |h lambda| at which Dormand-Prince 5(4) leaves its stability region (about 3.3 on the
+#: negative real axis, less along the imaginary one): no accepted step is longer than
+#: DOPRI5_STABLE_H_OMEGA / omega_max once the fastest mode is excited
+DOPRI5_STABLE_H_OMEGA = 3.5
+
+
+def dopri5_step_budget(t_end_s: float, mesh_frequency_Hz: float) -> int:
+    """dopri5's default budget of steps (accepted + rejected) for a run to ``t_end_s``:
+    20 000 per mesh period plus 100 000."""
+    return int(20_000 * (t_end_s * mesh_frequency_Hz + 1)) + 100_000
+
+
+def check_dopri5_budget(model: GearDynamics, duration_s: float, k: float | None = None,
+                        bound: bool = False, max_steps: int | None = None) -> None:
+    """One-line InputError if dopri5 cannot reach ``duration_s`` within its step budget:
+    an explicit method's steps stay below DOPRI5_STABLE_H_OMEGA / omega_max, so it needs
+    at least duration_s omega_max / 3.5 steps (omega_max: :func:`rk4_stability_number`'s
+    linearisation, at mesh stiffness ``k``; ``bound``: a lower bound). Checked before any
+    work, so a scene whose bodies are absurdly light is refused in a second rather than
+    after minutes of integration (or an FE calibration) that would end the same way."""
+    if k is None:
+        k = float(np.max(model.k_table)) if model.tvms else model.k_mean
+    w = max_linear_rate(model, k)
+    budget = max_steps if max_steps is not None else dopri5_step_budget(duration_s, model.mesh_frequency_Hz)
+    need = duration_s * w / DOPRI5_STABLE_H_OMEGA
+    if need > budget:
+        eq = ">=" if bound else "="
+        raise InputError(f"duration_s = {duration_s:g} s: dopri5 cannot reach it within its budget of "
+                         f"{budget} steps: the fastest mode of the linearised model (omega_max {eq} "
+                         f"{w:.4g} rad/s) limits a stable step to {DOPRI5_STABLE_H_OMEGA / w:.3g} s, "
+                         f"so it needs >= {need:.3g} steps (check the bodies' masses and the bearing "
+                         f"stiffness, or shorten duration_s)")
+
+
 def _run(method, model, z0, t_end, t_out, steps_per_period, rtol, atol_vec, sw, max_steps, zlim):
     par, phi, phx, kx, ex = derived(model)
     p = tuple(par.tolist())
@@ -394,7 +428,9 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
                              f"{max_output_bytes / 2 ** 30:.3g} GiB); use fewer steps per mesh "
                              f"period or method = dopri5")
     if max_steps is None:
-        max_steps = int(20_000 * (t_end * fm + 1)) + 100_000
+        max_steps = dopri5_step_budget(t_end, fm)
+    if method == "dopri5":
+        check_dopri5_budget(model, t_end, max_steps=max_steps)
 
     z0 = static_equilibrium(model) if y0 is None else np.asarray(y0, float).ravel()
     if z0.shape != (10,) or not np.all(np.isfinite(z0)):

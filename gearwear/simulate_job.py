@@ -184,9 +184,10 @@ def check_before_stiffness(scene: Scene) -> None:
     solver would refuse anyway is refused first, with nothing computed or cached. The
     stiffness is not known yet: the check runs on the scene's model without its mesh spring
     and damper (k = 0, c_h = 0). Its fastest mode (the bearings', sqrt(k_b / m)) is a lower
-    bound of the one RK4 must resolve with any mesh stiffness, so what fails here fails
-    later too (e.g. bodies.mass_kg = 1e-9 kg: omega_max >= 5e8 rad/s)."""
-    from gearwear.dynamics.simulate import check_rk4_stable, resolve_method
+    bound of the one RK4 must resolve, or that limits dopri5's stable step, with any mesh
+    stiffness, so what fails here fails later too (e.g. bodies.mass_kg = 1e-9 kg: omega_max
+    >= 5e8 rad/s)."""
+    from gearwear.dynamics.simulate import check_dopri5_budget, check_rk4_stable, resolve_method
 
     require_dynamics(scene)
     periods = revolution_periods(scene.pair, scene.faults)
@@ -196,6 +197,8 @@ def check_before_stiffness(scene: Scene) -> None:
         model = build_model(scene, none).with_(c_h=0.0)
         if resolve_method(model, scene.solver.get("method", "auto")) == "rk4":
             check_rk4_stable(model, scene.solver.get("steps_per_mesh_period", 256), k=0.0, bound=True)
+        else:
+            check_dopri5_budget(model, scene.solver.get("duration_s", 0.5), k=0.0, bound=True)
     except InputError as exc:
         raise renamed(exc, SOLVER_KEYS) from None
 

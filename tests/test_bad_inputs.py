@@ -195,6 +195,10 @@ CASES: list[tuple[str, list[str], str, str | None, dict[str, str]]] = [
     ("mass-absurd-before-calibration", ["simulate", "paper-default", S, "bodies.mass_kg=1e-9",
                                         S, 'effects.mesh_stiffness.source="calibrated"'],
      "solver.steps_per_mesh_period", "256", {}),
+    # the same with dopri5 (paper-wear-severe has bearing clearance): refused by its step budget
+    ("mass-absurd-before-calibration-dopri5", ["simulate", "paper-wear-severe", S, "bodies.mass_kg=1e-9",
+                                               S, 'effects.mesh_stiffness.source="calibrated"'],
+     "solver.duration_s", "0.5", {}),
     ("measured-amplitude-absurd", ["diagnose", "--measured", "huge_harmonics.csv"], "--measured", "1e+300", {}),
     ("measured-sample-absurd", ["diagnose", "--measured", "huge_series.csv"], "--measured", "-2e+06", {}),
     # ---- flank modifications and faults (issue 13)
