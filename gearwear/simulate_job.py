@@ -191,7 +191,8 @@ def check_before_stiffness(scene: Scene) -> None:
 
     require_dynamics(scene)
     periods = revolution_periods(scene.pair, scene.faults)
-    phi = np.linspace(0.0, periods * 2 * math.pi / scene.pair.teeth[0], 8, endpoint=False)
+    # nodes in every mesh period of the table (a table over a revolution needs them in each)
+    phi = np.linspace(0.0, periods * 2 * math.pi / scene.pair.teeth[0], 8 * periods, endpoint=False)
     none = StiffnessInput(phi, np.zeros_like(phi), np.zeros_like(phi), "constant", 0.0, 0.0, periods)
     try:
         model = build_model(scene, none).with_(c_h=0.0)

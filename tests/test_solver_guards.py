@@ -66,3 +66,21 @@ def test_cli_guards_exit_2_in_one_line(tmp_path, sets, needle):
     assert r.returncode == 2, r.stderr
     assert needle in r.stderr and len(r.stderr.strip().splitlines()) == 1
     assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("name", ["root_crack", "spall", "tip_relief", "shifted_pair", "your_pair",
+                                  "runup_backlash"])
+@pytest.mark.parametrize("source", ["calibrated", "fem"])
+def test_the_check_before_an_fe_stiffness_accepts_every_valid_example(name, source):
+    """The solver check made before an FE stiffness (simulate_job.check_before_stiffness)
+    accepts every valid example, including the fault scenes whose table spans a whole
+    revolution (its stand-in table had nodes in 7 of 8 eighths of the revolution only, so
+    `simulate examples/root_crack.toml --set effects.mesh_stiffness.source=fem` was refused
+    for a table it had built itself), and the shifted pair whose driver has more teeth."""
+    from pathlib import Path
+
+    from gearwear.scene import Scene
+    from gearwear.simulate_job import check_before_stiffness
+
+    path = Path(__file__).resolve().parents[1] / "examples" / f"{name}.toml"
+    check_before_stiffness(Scene.load(str(path), {"effects.mesh_stiffness.source": source}))
