@@ -91,10 +91,8 @@ def test_example_rows_against_reports(case):
     for n, ok in d["identifiable"].items():   # a resolved unknown holds its truth
         if ok:
             assert e[n]["lo95"] <= TRUTH[n] <= e[n]["hi95"], n
-    w, c = e["wear_max_depth_um"], e["clearance_um"]
-    say(f"| {iv(w)} | {iv(c)} |")
-    if case == "torque":
-        say(f"torque_Nm {iv(e['torque_Nm'])} not identifiable")
+    # the docs' table of these rows is generated from this file (docs/generate.py,
+    # tests/test_docs_generated.py); here: the resolved unknowns hold the truth
 
 
 def test_plan_sentences_against_plan_json():
@@ -103,15 +101,10 @@ def test_plan_sentences_against_plan_json():
     harm = [r for r in rows if r["measurement"].endswith("harmonics")]
     disp = [r for r in rows if r["measurement"] in ("y_p_um time series", "x_p_um time series")]
     assert not any(r["separable"] for r in harm) and all(r["separable"] for r in disp)
-    clr = [100 * r["width_fraction"]["clearance_um"] for r in harm]
-    say(f"(clearance {min(clr):.0f}-{max(clr):.0f} % of its prior range)")
-    dc = [100 * r["width_fraction"]["clearance_um"] for r in disp]
-    dw = [100 * r["width_fraction"]["wear_max_depth_um"] for r in disp]
-    say(f"(clearance {min(dc):.0f}-{max(dc):.0f} %, wear {min(dw):.0f}-{max(dw):.0f} %)")
-    b = d["best"]
-    say(f"the narrowest is all four signals at {b['speed_rpm']:g} rpm and {b['torque_Nm']:g} N m "
-        f"(wear {100 * b['width_fraction']['wear_max_depth_um']:.0f} %, clearance "
-        f"{100 * b['width_fraction']['clearance_um']:.0f} %)")
+    # the docs' paragraph on the plan is generated from plan.json (docs/generate.py); here:
+    # no harmonic table resolves the clearance, every displacement series resolves both
+    assert all(r["width_fraction"]["clearance_um"] > 0.5 for r in harm)
+    assert all(max(r["width_fraction"].values()) < 0.5 for r in disp)
 
 
 def test_clearance_identity_figure():
