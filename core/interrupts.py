@@ -86,8 +86,9 @@ def _unraisable(hook):
 
 
 def _deliver_later(signum: int) -> None:
+    """Send ``signum`` to the main thread again, a moment later."""
     time.sleep(0.02)
-    _thread.interrupt_main(signum)
+    _thread.interrupt_main(signal.Signals(signum))
 
 
 @contextmanager
@@ -136,8 +137,8 @@ def deferred(children: bool = False) -> Iterator[list[int]]:
             signal.pthread_sigmask(signal.SIG_SETMASK, mask)
         for s, h in old.items():
             signal.signal(s, h if h is not None else signal.SIG_DFL)
-        for s in dict.fromkeys(hits):
-            signal.raise_signal(s)
+        for hit in dict.fromkeys(hits):
+            signal.raise_signal(hit)
 
 
 @contextmanager

@@ -212,7 +212,7 @@ class DaskExecutor(_StopsOnError, Executor):
         """Cancel every future and close the client and a cluster started here, each
         bounded by ``timeout_s``; a worker process of that cluster still running then is
         killed."""
-        import psutil  # installed with distributed
+        import psutil  # type: ignore[import-untyped]  # installed with distributed (no stubs)
 
         procs = []
         for nanny in getattr(self.cluster, "workers", {}).values():
