@@ -20,10 +20,16 @@ and ISO 6336 (method B c_gamma_alpha b) beside them. Wall times are printed, nev
 asserted.
 
     .venv/bin/python benchmarks/bench_bore_study.py
+
+The FE runs in the 2D state the command line takes for this pair (fem.plane = "auto":
+plane strain at b/m = 10). Writes benchmarks/results/bench_bore_study.json, from which
+docs/generate.py fills the bore-study table of docs/models.md.
 """
 
+import json
 import math
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -32,8 +38,12 @@ from gearwear.analytic.tvms import mesh_stiffness
 from gearwear.fem import pair as fp
 from gearwear.fem.pair_body import rot
 from gearwear.scene import scene_from_dict
+from gearwear.schema import resolved_plane
 
 BORES_MM = ([12.5, 25.0], [18.0, 40.0], [24.0, 55.0])
+#: the 2D state `gearwear stiffness --method fem` takes for this pair (fem.plane = "auto", b/m = 10)
+PLANE = resolved_plane("auto", 30.0, 3.0)
+RESULT = Path(__file__).resolve().parent / "results" / "bench_bore_study.json"
 TORQUE_NM = 120.0
 POSITIONS = 24
 
@@ -66,8 +76,9 @@ def ring_translation_m(pm, ps) -> float:
 
 
 def main() -> None:
-    print(f"23/47, m 3 mm, b 30 mm, x +0.2/-0.1, {TORQUE_NM:g} N m, {POSITIONS} positions; means in 1e8 N/m, "
-          "k_blank in 1e6 N m/rad")
+    print(f"23/47, m 3 mm, b 30 mm, x +0.2/-0.1, {TORQUE_NM:g} N m, {POSITIONS} positions, plane {PLANE}; "
+          "means in 1e8 N/m, k_blank in 1e6 N m/rad")
+    rows = []
     hdr = ("bores mm", "r_ref mm", "FE bore-fixed", "FE mesh only", "mesh - transl.", "k_blank FE",
            "k_blank closed", "identity", "Ishikawa", "energy", "ISO 6336", "FE s", "analytic s")
     print(" | ".join(hdr))
@@ -75,7 +86,7 @@ def main() -> None:
         pair = the_pair(bores)
         fp._BODY_CACHE.clear()  # cold: both bodies built
         t0 = time.perf_counter()
-        fe = fp.pair_contact(pair, positions=POSITIONS, torque_Nm=TORQUE_NM)
+        fe = fp.pair_contact(pair, positions=POSITIONS, torque_Nm=TORQUE_NM, plane=PLANE)
         t_fe = time.perf_counter() - t0
         F = TORQUE_NM / pair.gear(0).base_radius_m
         rb = [g.base_radius_m for g in pair.gears]
@@ -83,7 +94,7 @@ def main() -> None:
         kc = [annulus_k(g, r) for g, r in zip(pair.gears, r_ref)]
         ident = np.abs(fe.ste_m / (fe.mesh_ste_m + F * sum(r * r / k for r, k in zip(rb, kc))) - 1).max()
         # the n = 1 part: the circles' translation, from the same model (cached bodies)
-        pm = fp.pair_model(pair, torque_Nm=TORQUE_NM)
+        pm = fp.pair_model(pair, torque_Nm=TORQUE_NM, plane=PLANE)
         tr = np.array([ring_translation_m(pm, fp.solve_position(pm, float(th), F)) for th in fe.angle_rad])
         k_mt = fp._secant(fe.pair_load_N, fe.meta["pair_gap_m"], fe.mesh_ste_m - tr)[0]
         t0 = time.perf_counter()
@@ -103,6 +114,20 @@ def main() -> None:
               f"{np.mean(tr) / F * 1e10:.3f}; rim below the root r_f - r_bore = "
               f"{(pair.gear(0).root_radius_m - bores[0] * 1e-3) * 1e3:.2f}/"
               f"{(pair.gear(1).root_radius_m - bores[1] * 1e-3) * 1e3:.2f} mm", flush=True)
+        rows.append({"bores_mm": list(bores), "r_ref_mm": [r * 1e3 for r in r_ref],
+                     "root_radius_mm": [g.root_radius_m * 1e3 for g in pair.gears],
+                     "bore_fixed_mean_N_per_m": fe.mean_N_per_m,
+                     "mesh_only_mean_N_per_m": fe.meta["mesh_only_mean_N_per_m"],
+                     "mesh_only_without_translation_mean_N_per_m": float(np.mean(k_mt)),
+                     "k_blank_fe_Nm_per_rad": list(kf), "k_blank_closed_form_Nm_per_rad": kc,
+                     "identity_residual_max": float(ident),
+                     "blank_compliance_closed_form_m_per_N": sum(r * r / k for r, k in zip(rb, kc)),
+                     "translation_compliance_m_per_N": float(np.mean(tr) / F),
+                     "ishikawa_mean_N_per_m": ish, "energy_mean_N_per_m": en, "iso6336_N_per_m": iso,
+                     "fe_wall_s": t_fe, "analytic_wall_s": t_an})
+    RESULT.write_text(json.dumps({"pair": "23/47, m 3 mm, b 30 mm, x +0.2/-0.1", "torque_Nm": TORQUE_NM,
+                                  "positions": POSITIONS, "plane": PLANE, "rows": rows}, indent=1) + "\n")
+    print(f"wrote {RESULT}")
 
 
 if __name__ == "__main__":

@@ -61,6 +61,70 @@ def plane_study() -> str:
     return "\n".join(lines)
 
 
+def _pct(a: float, b: float) -> str:
+    return f"{100 * (b / a - 1):+.1f} %"
+
+
+def bore_study() -> str:
+    """The bore study (benchmarks/results/bench_bore_study.json, benchmarks/bench_bore_study.py):
+    the pair FE held at its bores, the mesh only, the blanks' torsion (FE and closed form),
+    the identity's residual and the analytic models beside them, then the decomposition of
+    the bore dependence in words."""
+    d = _json("benchmarks/results/bench_bore_study.json")
+    rows = d["rows"]
+    lines = [f"Pair FE in plane {d['plane']} (the command line's `auto` for b/m = 10), {d['positions']} positions, "
+             f"{d['torque_Nm']:g} N m; means in 1e8 N/m, k_blank in 1e6 N m/rad:", "",
+             "| bores (mm) | r_ref (mm) | FE bore-fixed | FE mesh only | - translation | k_blank FE (pinion / gear) | "
+             "k_blank closed form | identity | Ishikawa | energy | ISO 6336 | FE wall (s) | 3 analytic (s) |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        kf, kc = r["k_blank_fe_Nm_per_rad"], r["k_blank_closed_form_Nm_per_rad"]
+        lines.append(f"| {r['bores_mm'][0]:g} / {r['bores_mm'][1]:g} | {r['r_ref_mm'][0]:.2f} / {r['r_ref_mm'][1]:.2f} | "
+                     f"{r['bore_fixed_mean_N_per_m'] / 1e8:.4f} | {r['mesh_only_mean_N_per_m'] / 1e8:.4f} | "
+                     f"{r['mesh_only_without_translation_mean_N_per_m'] / 1e8:.4f} | "
+                     f"{kf[0] / 1e6:.3f} / {kf[1] / 1e6:.3f} | {kc[0] / 1e6:.3f} / {kc[1] / 1e6:.3f} | "
+                     f"{r['identity_residual_max']:.1e} | {r['ishikawa_mean_N_per_m'] / 1e8:.4f} | "
+                     f"{r['energy_mean_N_per_m'] / 1e8:.4f} | {r['iso6336_N_per_m'] / 1e8:.4f} | "
+                     f"{r['fe_wall_s']:.1f} | {r['analytic_wall_s']:.2f} |")
+    a, mid, b = rows[0], rows[1], rows[-1]
+    fix = [1e10 / r["bore_fixed_mean_N_per_m"] for r in (a, b)]
+    mesh = [1e10 / r["mesh_only_mean_N_per_m"] for r in (a, b)]
+    blank = [1e10 * r["blank_compliance_closed_form_m_per_N"] for r in (a, b)]
+    tr = [1e10 * r["translation_compliance_m_per_N"] for r in (a, b)]
+    d_mesh, d_tr = mesh[0] - mesh[1], tr[0] - tr[1]
+    module = 3.0
+    rim = [[(rf - bo) / module for rf, bo in zip(r["root_radius_mm"], r["bores_mm"])] for r in rows]
+    name = lambda r: f"{r['bores_mm'][0]:g}/{r['bores_mm'][1]:g}"  # noqa: E731
+    ratio = lambda key, ref: " / ".join(f"{r[key] / r[ref]:.2f}" for r in rows)  # noqa: E731
+    lines += ["", (
+        f"From {name(a)} to {name(b)} mm the bore-fixed mean rises "
+        f"{_pct(a['bore_fixed_mean_N_per_m'], b['bore_fixed_mean_N_per_m'])} "
+        f"({a['bore_fixed_mean_N_per_m']:.3g} to {b['bore_fixed_mean_N_per_m']:.3g} N/m); its compliance 1/mean "
+        f"falls by {fix[0] - fix[1]:.2f}e-10 m/N ({fix[0]:.3f} to {fix[1]:.3f}e-10). The blanks' torsion below r_ref "
+        f"(closed form, {blank[0]:.3f} to {blank[1]:.3f}e-10) is {blank[0] - blank[1]:.2f}e-10 of it. The mesh-only "
+        f"compliance falls by the other {d_mesh:.2f}e-10 ({mesh[0]:.3f} to {mesh[1]:.3f}e-10; the mean "
+        f"{_pct(a['mesh_only_mean_N_per_m'], mid['mesh_only_mean_N_per_m'])} at {name(mid)}, "
+        f"{_pct(a['mesh_only_mean_N_per_m'], b['mesh_only_mean_N_per_m'])} at {name(b)}): {d_tr:.2f}e-10 is the "
+        f"reference circles' translation along the line of action ({tr[0]:.3f} to {tr[1]:.3f}e-10: the blanks' "
+        f"bending under the net tooth force, the n = 1 part, which grows like ln(r_ref / r_bore)), and "
+        f"{d_mesh - d_tr:.2f}e-10 the teeth's foundation, which a bore held close under the root stiffens (the rim "
+        f"below the root, s_R = r_f - r_bore, is {' / '.join(f'{x[0]:.1f}' for x in rim)} modules on the pinion and "
+        f"{' / '.join(f'{x[1]:.1f}' for x in rim)} on the gear; at {b['bores_mm'][0]:g} mm the pinion's r_ref is "
+        f"{b['r_ref_mm'][0] - b['bores_mm'][0]:.2f} mm above its bore). Without the translation the mesh-only mean "
+        f"moves {_pct(a['mesh_only_without_translation_mean_N_per_m'], mid['mesh_only_without_translation_mean_N_per_m'])} "
+        f"at {name(mid)} and {_pct(a['mesh_only_without_translation_mean_N_per_m'], b['mesh_only_without_translation_mean_N_per_m'])} "
+        f"at {name(b)}. The energy method moves with the bore too "
+        f"({_pct(a['energy_mean_N_per_m'], mid['energy_mean_N_per_m'])} / "
+        f"{_pct(a['energy_mean_N_per_m'], b['energy_mean_N_per_m'])}, through Sainsot's h_fi): its ratio to the "
+        f"mesh-only mean is {ratio('energy_mean_N_per_m', 'mesh_only_mean_N_per_m')}, to the bore-fixed one "
+        f"{ratio('energy_mean_N_per_m', 'bore_fixed_mean_N_per_m')}; ISO 6336's "
+        f"{ratio('iso6336_N_per_m', 'mesh_only_mean_N_per_m')} against "
+        f"{ratio('iso6336_N_per_m', 'bore_fixed_mean_N_per_m')}; Ishikawa's "
+        f"{ratio('ishikawa_mean_N_per_m', 'mesh_only_mean_N_per_m')} against "
+        f"{ratio('ishikawa_mean_N_per_m', 'bore_fixed_mean_N_per_m')}.")]
+    return "\n".join(lines)
+
+
 def _interval(e: dict) -> str:
     return f"{e['value']:.1f} (95 %: {e['lo95']:.1f}-{e['hi95']:.1f})"
 
@@ -132,7 +196,7 @@ def diagnose_plan() -> str:
 
 
 TABLES = {"stiffness-peer": stiffness_peer, "plane-study": plane_study, "diagnose-examples": diagnose_examples,
-          "diagnose-plan": diagnose_plan}
+          "diagnose-plan": diagnose_plan, "bore-study": bore_study}
 
 BLOCK = re.compile(r"(<!-- generated: (?P<name>[\w-]+) -->\n)(?P<body>.*?)(<!-- end: (?P=name) -->)", re.S)
 
