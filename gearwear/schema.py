@@ -370,9 +370,9 @@ class FemDoc(_Table):
         "auto", description="2D idealisation of the FE models: stress (sigma_zz = 0, the thin-face limit), strain "
                             "(eps_zz = 0, the wide-face limit) or auto: stress below b/m = 4.3, strain from there "
                             "on. The 3D FE check (reports/plane, fem.solid3d) puts the face-averaged tooth "
-                            "compliance within 1.6 % of plane stress up to b/m = 1 and within 2.3 % of plane strain "
+                            "compliance within 1.5 % of plane stress up to b/m = 1 and within 2.3 % of plane strain "
                             "from b/m = 10 on; the largest error over the three load radii is the same for both at "
-                            "b/m = 4.3 (stress 5.0 % and strain 5.5 % at 4, 5.7 % and 4.3 % at 5).")
+                            "b/m = 4.3 (stress 5.0 % and strain 5.5 % at 4, 5.4 % and 4.5 % at 5).")
 
 
 SIGNALS = ("y_p", "x_p", "y_g", "x_g", "q", "delta", "F_m")
