@@ -21,7 +21,7 @@ from gearwear.core.validation import InputError
 from gearwear.geometry.spec import PairSpec, default_pair
 from gearwear.geometry.wear import WearSpec
 
-from .scene import Scene, pair_from_dict, parse_wear_arg, wear_from_dict, wear_table
+from .scene import SHORT_KEYS, Scene, pair_from_dict, parse_wear_arg, wear_from_dict, wear_table
 
 METHODS = ("ishikawa", "energy", "iso6336", "fem")
 
@@ -130,14 +130,10 @@ def _scene(scene: Scene | str | None, overrides: Mapping[str, Any]) -> Scene:
         if overrides:
             raise InputError("overrides: give them with Scene.load(name, {...}) or pass the scene by name")
         return scene
-    short = {"torque_Nm": "operating.torque_Nm", "clearance_um": "effects.bearing_clearance.clearance_um"}
     dotted: dict[str, Any] = {}
     for k, v in overrides.items():
-        if k == "wear":
-            # the --wear spellings: the [effects] wear table they stand for (scene.wear_table)
-            dotted["effects.wear"] = wear_table(v) if isinstance(v, str) else v
-        else:
-            dotted[short.get(k, k.replace("__", "."))] = v
+        # the --wear spellings stand for an [effects] wear table (scene.wear_table)
+        dotted[SHORT_KEYS.get(k, k.replace("__", "."))] = wear_table(v) if k == "wear" and isinstance(v, str) else v
     return Scene.load(scene, dotted)
 
 

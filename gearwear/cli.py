@@ -66,9 +66,7 @@ def _clearance_set(text: str) -> str:
     return f"effects.bearing_clearance.clearance_um={text}"
 
 
-ALIAS_KEYS = {"torque_Nm": ("operating.torque_Nm", "--torque-Nm"),
-              "clearance_um": ("effects.bearing_clearance.clearance_um", "--clearance-um"),
-              "wear": ("effects.wear", "--wear")}
+ALIAS_FLAGS = {"torque_Nm": "--torque-Nm", "clearance_um": "--clearance-um", "wear": "--wear"}
 
 
 def _load(args: argparse.Namespace, default: str = "paper-default", extra: list[str] | None = None,
@@ -76,7 +74,7 @@ def _load(args: argparse.Namespace, default: str = "paper-default", extra: list[
     """The command's scene: file or built-in name, short-flag aliases, then --set. A bad
     value given through a short flag is reported under the flag's name. ``loaded``: the
     command computes load sharing, so the torque must be > 0."""
-    from .scene import apply_overrides, load_scene_dict, scene_from_dict
+    from .scene import SHORT_KEYS, apply_overrides, load_scene_dict, scene_from_dict
 
     data, name = load_scene_dict(args.scene, default=default)
     try:
@@ -86,7 +84,7 @@ def _load(args: argparse.Namespace, default: str = "paper-default", extra: list[
                        "must be in (0, 1e+07] N m: the load sharing of the mesh stiffness needs a load")
         return scene
     except InputError as exc:
-        given = {key: flag for attr, (key, flag) in ALIAS_KEYS.items() if getattr(args, attr, None) is not None}
+        given = {SHORT_KEYS[attr]: flag for attr, flag in ALIAS_FLAGS.items() if getattr(args, attr, None) is not None}
         for key, flag in given.items():  # a sub-key of an alias (--wear=-5um sets effects.wear.max_depth_um)
             if str(exc).startswith(key + "."):
                 raise type(exc)(f"{flag}: {exc}") from None

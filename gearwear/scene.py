@@ -276,6 +276,12 @@ def wear_from_dict(table: Mapping[str, Any] | str, torque_Nm: float = 40.0, spee
     return wear_spec(t["effects"].wear, t["operating"], pair)
 
 
+#: the command line's short flags (and the Python API's keywords of the same names): the
+#: scene key each stands for
+SHORT_KEYS = {"torque_Nm": "operating.torque_Nm", "clearance_um": "effects.bearing_clearance.clearance_um",
+              "wear": "effects.wear"}
+
+
 def wear_table(text: str) -> dict[str, Any]:
     """The ``[effects] wear`` table of a ``--wear`` shorthand: a phase (``severe``), a
     maximum depth (``25um``) or running hours (``500h``)."""
