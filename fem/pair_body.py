@@ -67,7 +67,7 @@ import scipy.sparse.linalg as spla
 from gearwear.fem.mesh import MeshSizes, mesh_full_gear
 from gearwear.geometry.crack import Crack, crack_mouth_arc
 from gearwear.geometry.polyline import cumulative_length, quadratic_parameter, with_midpoints
-from gearwear.geometry.profile import FILLET, INVOLUTE, ToothProfile, ring_outline, tooth_outline
+from gearwear.geometry.profile import FILLET, INVOLUTE, ROOT_LAND, ToothProfile, ring_outline, tooth_outline
 from gearwear.geometry.sampling import profile_at, region_junctions
 from gearwear.geometry.spec import GearSpec, Material
 
@@ -146,7 +146,14 @@ def _sample_flank(profile: ToothProfile, spacing, fine: tuple[float, float, floa
     on [s_lo, s_hi], so the edge at the tip corner (s_hi) is a full step at every
     refinement level (the corner contact is sensitive to it)."""
     s = profile.s
-    keep = np.sort(np.concatenate([s[region_junctions(profile)], np.asarray(keep_s, dtype=float)]))
+    junctions = s[region_junctions(profile)]
+    # the fillet leaves the root circle tangentially, so a root land shorter than 1/20 step
+    # (a nearly full-round root) is spanned by the first edge: as a vertex it would leave an
+    # edge of that length, and a sliver element, at the space centre
+    land = s[np.flatnonzero(profile.region == ROOT_LAND)[-1]]
+    if 0.0 < land < 0.05 * float(spacing(0.0)):
+        junctions = junctions[junctions != land]
+    keep = np.sort(np.concatenate([junctions, np.asarray(keep_s, dtype=float)]))
     if fine is None:
         sn = np.array(_walk(0.0, float(s[-1]), spacing, keep))
     else:
