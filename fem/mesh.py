@@ -40,16 +40,18 @@ the circle.  The exact area of the region is therefore
   + 0.5*cross(H_from, P_0) - 0.5 * r_hub**2 * (angle_to - angle_from)``.
 
 A parabola through three points of a circle under-estimates each circular
-segment by ``r^2 * phi^5 / 30`` (``phi`` = half the subtended angle), so the P2
-area error comes only from the bore.  The bore is forced to use enough
-elements (``Mesh.MinimumCircleNodes``) to keep this error below 1e-8 of the
-region area -- two orders of magnitude below the 1e-6 acceptance tolerance.
-Every mesh is checked twice: its elements must fill exactly (1e-9) the region
-its named boundaries enclose (a hole or an overlap fails), and that region
-must be the exact one: within 1e-9 after the analytic bore defect (chords for
-order 1, parabolas for order 2) for straight outlines, within 1e-6 for every
-order-2 mesh (curved edges that gmsh splits follow their parabola to a few
-nm only).
+segment by ``r^2 * phi^5 / 30`` (``phi`` = half the subtended angle): the bore's
+P2 area defect, computed exactly, and kept below 1e-8 of the region area by
+forcing enough bore elements (``Mesh.MinimumCircleNodes``).
+Where gmsh splits a curved outline edge it places the new nodes on the Bezier
+curve but each mid-side node at the arc-length middle of its piece, so the
+6-node edge is another parabola through the same three curve points; the area
+it adds or loses against the true piece is computed exactly too
+(``_split_edge_defect``), after checking that every outline node lies on its
+curve.  Every mesh is checked twice: its elements must fill exactly (1e-9) the
+region its named boundaries enclose (a hole or an overlap fails), and that
+region must be the exact one to 1e-9 after the bore defect and the split
+defect.
 
 Element sizes
 -------------
