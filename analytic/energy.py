@@ -68,11 +68,12 @@ Hertz contact (linear, Yang & Lin 1987), identical materials:
 
     1/k_h = 4 (1 - nu^2) / (pi E b)                                            [m/N]
 
-Plane state by derivation: the beam terms (E, G) are plane stress; the Hertz term is
-plane strain (line contact of long cylinders), which is right at every face width since
-the contact zone (a ~ 64 um) is far narrower than any face; Sainsot's foundation is a fit
-to 2D results at one Poisson ratio with only E in it, so its state cannot be switched.
-None of them reads the scene key fem.plane (README, "Plane stress or plane strain").
+Plane state: the beam terms (E, G) are plane stress by derivation; with plane = "strain" (the
+scene key fem.plane, resolved as for the FE) bending and axial take E / (1 - nu^2) and shear
+keeps G (``analytic.plane``). The Hertz term is plane strain (line contact of long cylinders)
+in both states, right at every face width since the contact zone (a ~ 64 um) is far narrower
+than any face; Sainsot's foundation is a fit to 2D results at one Poisson ratio with only E in
+it, so its state cannot be switched and it is kept as published.
 """
 
 from __future__ import annotations
@@ -88,6 +89,8 @@ from gearwear.geometry.crack import Crack, reduced_section
 from gearwear.geometry.loading import half_thickness_at_height, load_points, root_section, thickness_table
 from gearwear.geometry.profile import FILLET, INVOLUTE, TIP_LAND, ToothProfile
 from gearwear.geometry.spec import Material
+
+from .plane import beam_modulus_Pa
 
 #: Timoshenko shear coefficient of a rectangular section used by the energy method.
 SHEAR_FACTOR = 1.2
@@ -199,7 +202,7 @@ def _cumulative_moments(half_thickness: Callable[[np.ndarray], np.ndarray], brea
 
 
 def beam_compliance(half_thickness: Callable[[np.ndarray], np.ndarray], breaks_m, x_load_m, y_load_m,
-                    w_rad, material: Material, face_width_m: float, n_gauss: int = 16):
+                    w_rad, material: Material, face_width_m: float, n_gauss: int = 16, plane: str = "stress"):
     """Bending, shear and axial compliance (m/N) of a cantilever tooth, each an array
     over the load positions (equations in the module docstring).
 
@@ -207,6 +210,8 @@ def beam_compliance(half_thickness: Callable[[np.ndarray], np.ndarray], breaks_m
     ``breaks_m``: increasing heights (m) where x(y) may be non-smooth; the first is
     the clamped root section y_M, the last must reach the highest load.
     ``x_load_m``, ``y_load_m``, ``w_rad``: contact point (m) and load angle (rad).
+    ``plane``: the 2D state; plane strain puts E / (1 - nu^2) in the bending and axial
+    terms and keeps G in the shear term (``analytic.plane``).
     """
     if n_gauss < 1:
         raise ValueError(f"n_gauss = {n_gauss}: must be >= 1")
@@ -220,7 +225,8 @@ def beam_compliance(half_thickness: Callable[[np.ndarray], np.ndarray], breaks_m
         raise ValueError(f"load heights must lie in ({y_M:.6g}, {breaks[-1]:.6g}] m "
                          "(above the root section, within the profile)")
     J0, J1, J2, K = _cumulative_moments(half_thickness, breaks, y_F, n_gauss)
-    E, G, b = material.youngs_modulus_Pa, material.shear_modulus_Pa, face_width_m
+    E, G, b = beam_modulus_Pa(material.youngs_modulus_Pa, material.poisson_ratio, plane), \
+        material.shear_modulus_Pa, face_width_m
     a, s = np.cos(w), np.sin(w)
     # expanding [a (y_F - y) - s x_F]^2 about y_M keeps the moments position-free;
     # with eta measured from y_M the terms stay of the lever's size (no cancellation)
@@ -274,7 +280,7 @@ class ToothCompliance:
 
 def tooth_compliance(profile: ToothProfile, radius_m, material: Material, face_width_m: float,
                      n_gauss: int = 16, opposite: ToothProfile | None = None,
-                     crack: Crack | None = None) -> ToothCompliance:
+                     crack: Crack | None = None, plane: str = "stress") -> ToothCompliance:
     """Potential-energy compliance of the tooth ``profile`` loaded at contact radii
     ``radius_m`` (m) on its (nominal or worn) right flank.
 
@@ -288,6 +294,8 @@ def tooth_compliance(profile: ToothProfile, radius_m, material: Material, face_w
     ``crack``: a root crack on the loaded flank (``geometry.crack.Crack``): reduced
     sections in the bending, shear and axial integrals (module docstring), foundation
     unchanged. None (the default) is the intact tooth, computed exactly as without it.
+    ``plane``: "stress" or "strain", the beam terms' 2D state (:func:`beam_compliance`); the
+    foundation and Hertz terms are the same in both (module docstring).
     """
     lp = load_points(profile, radius_m)
     y_M, x_M = root_section(profile)
@@ -311,7 +319,7 @@ def tooth_compliance(profile: ToothProfile, radius_m, material: Material, face_w
         def half(y):
             return 0.5 * (np.interp(y, ys, ts) - red.loss_m(y))
     bending, shear, axial = beam_compliance(half, breaks, lp.x_m, lp.y_m, lp.w_rad,
-                                            material, face_width_m, n_gauss)
+                                            material, face_width_m, n_gauss, plane)
     r_f = profile.gear.root_radius_m
     S_f = 2.0 * x_M
     theta_f = S_f / (2.0 * r_f)

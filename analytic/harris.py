@@ -36,14 +36,15 @@ class HarrisMap:
 
 
 def harris_map(pair: PairSpec, flank: FlankSpec, torques_Nm, method: str = "ishikawa", points: int = DEFAULT_POINTS,
-               wear: WearSpec | None = None, clearance_m: float = 0.0) -> HarrisMap:
-    """TE peak-to-peak (m) over one mesh period at each torque, without and with ``flank``."""
+               wear: WearSpec | None = None, clearance_m: float = 0.0, plane: str = "stress") -> HarrisMap:
+    """TE peak-to-peak (m) over one mesh period at each torque, without and with ``flank``
+    (``plane``: the tooth beams' 2D state, analytic.plane)."""
     T = np.asarray(torques_Nm, dtype=float)
     nominal: list[float] = []
     modified: list[float] = []
     for t in T:
         for fl, out in ((None, nominal), (flank, modified)):
             r = mesh_stiffness(pair, method=method, points=points, torque_Nm=float(t), clearance_m=clearance_m,
-                               wear=wear, flank=fl)
+                               wear=wear, flank=fl, plane=plane)
             out.append(float(np.ptp(r.ste_m)))
     return HarrisMap(T, np.array(nominal), np.array(modified))

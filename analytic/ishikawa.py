@@ -30,13 +30,12 @@ b in m, delta in m):
 
 A pair's compliance (Eq. 6) is (delta_1 + delta_2)_pinion + delta_3 + (delta_1 + delta_2)_gear.
 
-Plane state by derivation: delta_1 is a beam with free sides (E, G = E / (2 (1 + nu))):
-plane stress; Weber's delta_2 is a half-plane foundation ((1 - nu^2) / E): plane strain;
-delta_3 is Palmgren's empirical law for real (3D) line contacts. The scene key fem.plane
-does not switch them (the FE's key; README, "Plane stress or plane strain": the 3D check
-puts a tooth of b/m = 4 midway between the states, and switching would change the paper's
-model). A consistent state would take E / (1 - nu^2) in delta_1's bending and axial terms
-for plane strain, or E (1 + 2 nu) / (1 + nu)^2, nu / (1 + nu) in delta_2 for plane stress.
+Plane state: delta_1 is a beam with free sides (E, G = E / (2 (1 + nu))): plane stress, the
+paper's model; with plane = "strain" (the scene key fem.plane, resolved as for the FE) its
+bending and axial terms take E / (1 - nu^2) and the shear term keeps G (``analytic.plane``).
+Weber's delta_2 is a half-plane foundation derived in plane strain ((1 - nu^2) / E) and
+delta_3 is Palmgren's empirical law for real (3D) line contacts; both are kept as published
+in either state.
 
 Root crack (``crack=``, ``geometry.crack``): the reduced-section model of Chen & Shao
 (Engineering Failure Analysis 18(8):2149-2164, 2011) after Tian (MSc thesis, Univ. of
@@ -63,6 +62,7 @@ from gearwear.geometry.profile import ToothProfile
 from gearwear.geometry.spec import Material
 
 from gearwear.geometry.loading import load_points, root_height_m, root_section, thickness_table
+from .plane import beam_modulus_Pa
 
 DEFAULT_SLICES = 64
 
@@ -95,7 +95,8 @@ def thickness_at_height(loaded: ToothProfile, y_m, opposite: ToothProfile | None
     return np.interp(np.asarray(y_m, dtype=float), ys, ts)
 
 
-def slice_beam_compliance(thickness_fn, y_M, y_F, x_F, w, E: float, nu: float, b: float, n_slices: int):
+def slice_beam_compliance(thickness_fn, y_M, y_F, x_F, w, E: float, nu: float, b: float, n_slices: int,
+                          plane: str = "stress"):
     """Bending, shear and axial compliance (m/N) of a slice cantilever (Eq. 2 sums).
 
     thickness_fn(y) gives the full tooth thickness at heights y (array in, array out);
@@ -113,8 +114,11 @@ def slice_beam_compliance(thickness_fn, y_M, y_F, x_F, w, E: float, nu: float, b
         shear   = 12 (1 + nu) / (5 E b) cos^2 w L sum 1 / t_j,   axial = sin^2 w L / (E b) sum 1 / t_j
 
     so all slices x positions are one interpolation, two reciprocals and one matrix
-    product (no powers, no per-term temporaries).
+    product (no powers, no per-term temporaries). ``plane``: the 2D state of the bending
+    and axial terms, whose E becomes E / (1 - nu^2) in plane strain (``analytic.plane``;
+    the shear term's G is the same in both).
     """
+    Eb = beam_modulus_Pa(E, nu, plane)
     y_M = np.asarray(y_M, dtype=float)
     y_F, x_F, w = (np.asarray(v, dtype=float) for v in (y_F, x_F, w))
     L = (y_F - y_M) / n_slices
@@ -134,10 +138,10 @@ def slice_beam_compliance(thickness_fn, y_M, y_F, x_F, w, E: float, nu: float, b
     cube *= t
     sums = np.tensordot(_slice_weights(n_slices), np.divide(1.0, cube, out=cube), axes=(0, 0))
     c, s = np.cos(w), np.sin(w)
-    bending = 12.0 / (E * b) * (c * c * L ** 3 * sums[0] - c * s * x_F * L ** 2 * sums[1]
+    bending = 12.0 / (Eb * b) * (c * c * L ** 3 * sums[0] - c * s * x_F * L ** 2 * sums[1]
                                 + s * s * x_F ** 2 * L * sums[2])
     shear = 12.0 * (1 + nu) / (5.0 * E * b) * c * c * L * inv_sum
-    axial = s * s * L / (E * b) * inv_sum
+    axial = s * s * L / (Eb * b) * inv_sum
     return bending, shear, axial
 
 
@@ -152,7 +156,7 @@ def _slice_weights(n_slices: int) -> np.ndarray:
 
 def tooth_compliance(loaded: ToothProfile, radius_m, material: Material, face_width_m: float,
                      n_slices: int = DEFAULT_SLICES, opposite: ToothProfile | None = None,
-                     crack: Crack | None = None) -> SliceCompliance:
+                     crack: Crack | None = None, plane: str = "stress") -> SliceCompliance:
     """Slice-model compliance of one tooth loaded at contact radii ``radius_m`` (m).
 
     ``loaded`` is the loaded flank (worn or not); ``opposite`` the other flank
@@ -160,6 +164,8 @@ def tooth_compliance(loaded: ToothProfile, radius_m, material: Material, face_wi
     ``crack``: a root crack on the loaded flank (``geometry.crack.Crack``), reduced
     sections as in the module docstring; the foundation term is unchanged. None (the
     default) is the intact tooth, computed exactly as without the argument.
+    ``plane``: "stress" (the paper's delta_1) or "strain" (E / (1 - nu^2) in its bending and
+    axial terms); delta_2 is Weber's plane-strain foundation in both (module docstring).
     Vectorized over radii x slices.
     """
     if n_slices < 1:
@@ -177,7 +183,7 @@ def tooth_compliance(loaded: ToothProfile, radius_m, material: Material, face_wi
             return np.interp(y, ys, ts) - red.loss_m(y)
     bending, shear, axial = slice_beam_compliance(
         thickness, np.full_like(lp.y_m, y_M), lp.y_m, lp.x_m, lp.w_rad,
-        material.youngs_modulus_Pa, material.poisson_ratio, face_width_m, n_slices)
+        material.youngs_modulus_Pa, material.poisson_ratio, face_width_m, n_slices, plane)
     foundation = _weber(lp.y_axis_m, lp.w_rad, y_M, float(np.interp(y_M, ys, ts)), material, face_width_m)
     return SliceCompliance(lp.radius_m, bending, shear, axial, foundation)
 

@@ -138,7 +138,7 @@ def _profiles(pair: PairSpec, wear: WearSpec | None, centre_distance_m: float):
 
 
 def _tooth_compliance(method: str, loaded: ToothProfile, nominal: ToothProfile, radius_m: np.ndarray,
-                      pair: PairSpec, n_slices: int, crack=None) -> np.ndarray:
+                      pair: PairSpec, n_slices: int, crack=None, plane: str = "stress") -> np.ndarray:
     """delta_1 + delta_2 per unit load (m/N) of one tooth at contact radii (``crack``: a
     geometry.crack.Crack at the root of this tooth, or None)."""
     if radius_m.size == 0:
@@ -146,7 +146,7 @@ def _tooth_compliance(method: str, loaded: ToothProfile, nominal: ToothProfile, 
     if method == "ishikawa":
         try:
             c = ishikawa.tooth_compliance(loaded, radius_m, loaded.gear.material, pair.face_width_m, n_slices,
-                                          opposite=nominal, crack=crack)
+                                          opposite=nominal, crack=crack, plane=plane)
         except ValueError as exc:
             if not loaded.is_worn:
                 raise  # a nominal tooth with a non-positive slice is our bug, not the user's input
@@ -155,7 +155,7 @@ def _tooth_compliance(method: str, loaded: ToothProfile, nominal: ToothProfile, 
         return c.total_m_per_N
     from . import energy
     ce = energy.tooth_compliance(loaded, radius_m, loaded.gear.material, pair.face_width_m, opposite=nominal,
-                                 crack=crack)
+                                 crack=crack, plane=plane)
     return np.asarray(ce.total_m_per_N)
 
 
@@ -303,11 +303,12 @@ class _Contact:
     c_hertz_m_per_N: float               # linear Hertz compliance (energy method), else 0
     total_N: float                       # T / r_b1 along the LOA
     periods: int
+    plane: str = "stress"                # 2D state of the tooth beam terms (analytic.plane)
 
 
 def _contact(pair: PairSpec, method: str, torque_Nm: float, clearance_m: float, wear: WearSpec | None,
              bearing_stiffness_N_per_m: float, n_slices: int, corner_contact: bool, correction, flank,
-             faults, crack_correction) -> _Contact:
+             faults, crack_correction, plane: str = "stress") -> _Contact:
     if method not in METHODS:
         raise fail("method", repr(method), "", f"must be one of {', '.join(METHODS)} (iso6336 is a constant)")
     if not (torque_Nm > 0 and math.isfinite(torque_Nm)):
@@ -330,13 +331,13 @@ def _contact(pair: PairSpec, method: str, torque_Nm: float, clearance_m: float, 
         hertz = (0.0, 1.0)
     return _Contact(method, pair, mesh, nominal, loaded, n_slices, correction or (None, None), crack_correction,
                     wear, flank, faults, corner_contact, (lo, hi), hertz, c_hertz, torque_Nm / rb1,
-                    revolution_periods(pair, faults))
+                    revolution_periods(pair, faults), plane)
 
 
 def _compliance(s: _Contact, k: int, radius_m: np.ndarray, corr, crack=None) -> np.ndarray:
     """delta_1 + delta_2 per unit load (m/N) of gear k's tooth at contact radii, times the
     FE correction factor interpolated at the radius (``corr``: (radius_m, factor))."""
-    cg = _tooth_compliance(s.method, s.loaded[k], s.nominal[k], radius_m, s.pair, s.n_slices, crack)
+    cg = _tooth_compliance(s.method, s.loaded[k], s.nominal[k], radius_m, s.pair, s.n_slices, crack, s.plane)
     if corr is not None:
         grid, factor = (np.asarray(a, dtype=float) for a in corr)
         cg = cg * np.interp(radius_m, grid, factor)
@@ -578,7 +579,7 @@ def mesh_stiffness(pair: PairSpec, method: str = "ishikawa", points: int = DEFAU
                    bearing_stiffness_N_per_m: float = math.inf, n_slices: int = ishikawa.DEFAULT_SLICES,
                    corner_contact: bool = True, correction=None, flank: FlankSpec | None = None,
                    faults: FaultSpec | None = None, crack_correction=None, breakpoints: bool = True,
-                   angles_rad=None) -> MeshStiffness:
+                   angles_rad=None, plane: str = "stress") -> MeshStiffness:
     """k_h(theta), pair loads and loaded STE over one mesh period at the operating point
     (over one revolution of the faulty gear when ``faults`` has a fault: ``periods`` mesh
     periods).
@@ -603,13 +604,15 @@ def mesh_stiffness(pair: PairSpec, method: str = "ishikawa", points: int = DEFAU
     interpolated at R (the FE calibration; see gearwear.calibrate). Plain arrays, so
     this module never depends on the FE stage. ``crack_correction``: (radius_m, factor)
     of the cracked tooth (FE of the cracked tooth over the reduced-section model); absent,
-    the cracked tooth takes its gear's ``correction``.
+    the cracked tooth takes its gear's ``correction``. ``plane``: the 2D state of the tooth
+    beam terms, "stress" (the published models) or "strain" (``analytic.plane``); the app
+    passes the scene's fem.plane resolved as for the FE.
     """
     t0 = time.perf_counter()
     if not isinstance(points, (int, np.integer)) or points < 8:
         raise fail("points", points, "", "must be a whole number >= 8")
     s = _contact(pair, method, torque_Nm, clearance_m, wear, bearing_stiffness_N_per_m, n_slices, corner_contact,
-                 correction, flank, faults, crack_correction)
+                 correction, flank, faults, crack_correction, plane)
     P = s.mesh.mesh_angle_rad
     breaks = np.empty(0)
     if angles_rad is not None:
@@ -634,5 +637,6 @@ def mesh_stiffness(pair: PairSpec, method: str = "ishikawa", points: int = DEFAU
     return MeshStiffness(method, pair, s.mesh, torque_Nm, wear, theta, k, delta, excitation, F, d, in_path,
                          wall, n_slices, {"clearance_m": clearance_m, "corner_contact": corner_contact,
                                           "corrected": correction is not None,
-                                          "points_per_mesh_period": int(points), "breakpoints": bool(breakpoints)},
+                                          "points_per_mesh_period": int(points), "breakpoints": bool(breakpoints),
+                                          "plane": plane},
                          flank, faults, s.periods, faulty, breaks)

@@ -76,14 +76,11 @@ def mesh_stiffness(pair: PairSpec | None = None, method: str = "ishikawa", wear:
 
     n = points if points is not None else (24 if method == "fem" else TABLE_POINTS_PER_MESH_PERIOD)
     p = pair or default_pair()
-    # the FE's 2D state as a scene's default fem.plane = "auto" picks it (stress below b/m =
-    # PLANE_STRAIN_FROM_B_OVER_M, strain from there on)
+    # the 2D state of the FE and of the analytic tooth beams as a scene's default fem.plane =
+    # "auto" picks it (stress below b/m = PLANE_STRAIN_FROM_B_OVER_M, strain from there on)
     wears, clearances = [wear_spec(wear, torque_Nm)], [clearance_um * 1e-6]
-    if method == "fem":
-        curves = stiffness_job.compute(p, method, wears, clearances, torque_Nm, n,
-                                       plane=resolved_plane("auto", p.face_width_m, p.module_m))
-    else:
-        curves = stiffness_job.compute(p, method, wears, clearances, torque_Nm, n)
+    curves = stiffness_job.compute(p, method, wears, clearances, torque_Nm, n,
+                                   plane=resolved_plane("auto", p.face_width_m, p.module_m))
     return curves[0].result
 
 

@@ -16,8 +16,8 @@ What a command uses decides what it lists (``uses``):
 * ``dynamics``  damping ratios and the mesh-stiffness model of a scene without one
 * ``wear``      the depth of a named wear phase, the wear model's coefficients
 * ``iso``       the ISO 6336 K_v inputs a run-up draws next to its own
-* ``fem``       the 2D idealisation of the FE models (fem.plane); a dynamic command uses it
-                with an FE mesh-stiffness source ("fem", "calibrated") only
+* ``fem``       the 2D idealisation (fem.plane) of the FE models and the analytic tooth beams;
+                a dynamic command uses it with an analytic or FE mesh-stiffness source
 """
 
 from __future__ import annotations
@@ -28,18 +28,19 @@ from typing import Any, Iterable
 from gearwear.geometry.wear import PHASE_DEPTHS_M, WearSpec
 
 from .schema import PLANE_STRAIN_FROM_B_OVER_M, resolved_plane
-from .schema import DEFAULT_BEARING_DAMPING_RATIO, DEFAULT_MESH_DAMPING_RATIO, FE_SOURCES, Iso6336Doc, SceneDoc
+from .schema import DEFAULT_BEARING_DAMPING_RATIO, DEFAULT_MESH_DAMPING_RATIO, Iso6336Doc, SceneDoc, dynamics_uses_plane
 
 #: what each command's results use (see the module docstring)
 USES = {
     "geometry": frozenset({"geometry", "wear", "bore", "bodies"}),
-    "stiffness": frozenset({"geometry", "elastic", "wear"}),
+    "stiffness": frozenset({"geometry", "elastic", "wear", "fem"}),
+    "stiffness-iso": frozenset({"geometry", "elastic", "wear"}),
     "stiffness-fem": frozenset({"geometry", "elastic", "wear", "bore", "fem"}),
     "verify": frozenset({"geometry", "elastic", "wear", "bore", "fem"}),
     "calibrate": frozenset({"geometry", "elastic", "wear", "bore", "fem"}),
     "simulate": frozenset({"geometry", "elastic", "wear", "bore", "bodies", "dynamics"}),
     "runup": frozenset({"geometry", "elastic", "wear", "bore", "bodies", "dynamics", "iso"}),
-    "report pair": frozenset({"geometry", "elastic", "wear", "bore", "bodies", "dynamics", "iso"}),
+    "report pair": frozenset({"geometry", "elastic", "wear", "bore", "bodies", "dynamics", "iso", "fem"}),
 }
 
 
@@ -174,8 +175,7 @@ def scene_assumptions(scene) -> list[Assumption]:
 def for_command(scene, command: str, extra: Iterable[str] = ()) -> list[Assumption]:
     """The assumptions a command's results rest on (``USES[command]`` plus ``extra``)."""
     uses = USES[command] | frozenset(extra)
-    ms = scene.doc.effects.mesh_stiffness if scene.doc is not None else None
-    if "dynamics" in uses and ms is not None and ms.source in FE_SOURCES:
+    if "dynamics" in uses and scene.doc is not None and dynamics_uses_plane(scene.doc):
         uses |= {"fem"}
     return [a for a in scene_assumptions(scene) if a.use in uses]
 

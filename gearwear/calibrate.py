@@ -437,7 +437,7 @@ def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float =
     cc = crack_correction(pair, faults, positions, plane) if faults is not None and faults.crack is not None else None
     r = mesh_stiffness(pair, method="ishikawa", points=points, torque_Nm=torque_Nm, clearance_m=clearance_m,
                        wear=wear, correction=corr, flank=flank, faults=faults,
-                       crack_correction=None if cc is None else cc.grid())
+                       crack_correction=None if cc is None else cc.grid(), plane=plane)
     pc = pair_correction(pair, wear, clearance_m, torque_Nm, corr, PAIR_POSITIONS, executor, plane)
     s = np.where(r.pairs_in_contact >= 2, pc.double, pc.single)
     k = r.k_N_per_m * s
@@ -469,7 +469,7 @@ def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float =
         "fe_pair_mesh_only_mean_N_per_m": pc.fe_mesh_only_mean_N_per_m,
         "uncorrected_mean_N_per_m": mesh_stiffness(pair, points=points, torque_Nm=torque_Nm,
                                                    clearance_m=clearance_m, wear=wear, flank=flank,
-                                                   faults=faults).mean_N_per_m,
+                                                   faults=faults, plane=plane).mean_N_per_m,
     })
     # store() leaves in tab what a later cache hit returns: cold and cached calls are bit-identical
     return tab

@@ -207,8 +207,9 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
         if m not in stiffness_job.METHODS:
             raise InputError(f"--method = {m!r}: must be one or more of {', '.join(stiffness_job.METHODS)}")
     scene, wears, clearances = _variants(args)
-    uses = "stiffness-fem" if "fem" in methods else "stiffness"
-    plane = _fem_plane(scene.doc, "fem" in methods, f"gearwear stiffness --method {' '.join(methods)}")
+    uses = "stiffness-fem" if "fem" in methods else "stiffness-iso" if set(methods) == {"iso6336"} else "stiffness"
+    plane = _fem_plane(scene.doc, any(m != "iso6336" for m in methods),
+                       f"gearwear stiffness --method {' '.join(methods)}")
     assumed = _assumed(scene, uses)
     torque = scene.operating.torque_Nm
     # default angles per method: the FE's 24 positions take ~10 s, the analytic tables take ms
@@ -233,8 +234,8 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
             bar.refresh()
         for m in methods:
             curves += stiffness_job.compute(scene.pair, m, wears, clearances, torque, points[m], scene.flank,
-                                            scene.faults, **({"progress": progress, "plane": plane} if m == "fem"
-                                                             else {}))
+                                            scene.faults, plane=plane, **({"progress": progress} if m == "fem"
+                                                                          else {}))
     harris = stiffness_job.harris(curves, scene.pair, scene.flank)
     inputs = {**io.scene_inputs(scene), "pair": _pair_inputs(scene),
               "method": methods[0] if len(methods) == 1 else methods, "torque_Nm": torque,

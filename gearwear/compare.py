@@ -54,18 +54,20 @@ class ToothComparison:
 def tooth_vs_analytic(fe: ToothFE) -> ToothComparison:
     """Ishikawa's delta_1 + delta_2 and the energy-method compliance of the tooth of
     ``fe`` at its load radii, on the profiles its FE model was built from (the worn
-    loaded flank and the nominal opposite flank), with its root crack if it has one."""
+    loaded flank and the nominal opposite flank), with its root crack if it has one, and
+    in its 2D state (fem.plane)."""
     if fe.loaded is None or fe.nominal is None:
         raise ValueError("the FE result carries no profiles (made by an older fem.tooth?)")
     pair = fe.pair
     to_um_per_N_per_mm = 1e6 * pair.face_width_m * 1e3
     t0 = time.perf_counter()
     crack = getattr(fe, "crack", None)  # the same root crack in the analytic models (reduced section)
+    # like with like: the analytic beams in the FE's 2D state (analytic.plane)
     ish = ishikawa.tooth_compliance(fe.loaded, fe.radius_m, fe.loaded.gear.material, pair.face_width_m, opposite=fe.nominal,
-                                    crack=crack)
+                                    crack=crack, plane=fe.plane)
     t1 = time.perf_counter()
     en = energy.tooth_compliance(fe.loaded, fe.radius_m, fe.loaded.gear.material, pair.face_width_m, opposite=fe.nominal,
-                                 crack=crack)
+                                 crack=crack, plane=fe.plane)
     t2 = time.perf_counter()
     return ToothComparison(fe, ish.total_m_per_N * to_um_per_N_per_mm, en.total_m_per_N * to_um_per_N_per_mm,
                            t1 - t0, t2 - t1)
@@ -76,11 +78,12 @@ def pair_vs_analytic(fe: PairFE, corner_contact: bool = True, correction=None) -
     (``correction``: the per-gear compliance factors of analytic.tvms.mesh_stiffness)
     and the comparison: "analytic" (the MeshStiffness), the means (N/m), their
     relative difference, the per-position k_FE / k_analytic - 1, the zone means over
-    the FE curve's zones (N/m) and the mean STE (m)."""
+    the FE curve's zones (N/m) and the mean STE (m). The analytic tooth beams are in the
+    FE's 2D state (fe.meta["plane"])."""
     # at exactly the FE positions (not a table with breakpoints): compared position by position
     an = mesh_stiffness(fe.pair, method="ishikawa", torque_Nm=fe.torque_Nm,
                         clearance_m=fe.meta.get("clearance_m", 0.0), wear=fe.wear, corner_contact=corner_contact,
-                        correction=correction, angles_rad=fe.angle_rad)
+                        correction=correction, angles_rad=fe.angle_rad, plane=fe.meta.get("plane", "stress"))
     zones = fe.zone_masks()
     z_fe, z_an = zone_means(fe.k_N_per_m, zones), zone_means(an.k_N_per_m, zones)
     return {

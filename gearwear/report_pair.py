@@ -136,14 +136,15 @@ def stiffness(scene: Scene, settings: Settings,
     from .schema import fem_plane
 
     curves = []
-    plane = fem_plane(scene.doc, True, "gearwear report pair")  # the scene's fem.plane (auto: by b/m)
+    # the scene's fem.plane (auto: by b/m), for the FE and the analytic tooth beams alike
+    plane = fem_plane(scene.doc, True, "gearwear report pair")
     for method in stiffness_job.METHODS:
         step(PARTS[1 + stiffness_job.METHODS.index(method)])
         fem = method == "fem"
         args = (scene.pair, method, [scene.wear], [scene.clearance_m], scene.operating.torque_Nm,
                 settings.fe_positions if fem else settings.points, None if method == "iso6336" else scene.flank)
         curves += (stiffness_job.compute(*args, progress=fe_progress, plane=plane) if fem
-                   else stiffness_job.compute(*args))
+                   else stiffness_job.compute(*args, plane=plane))
     return curves
 
 

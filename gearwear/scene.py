@@ -85,7 +85,7 @@ def require_dynamics(scene: "Scene") -> None:
                          "stiffness (it sets the lateral modes the mesh excites and spans orders of magnitude, "
                          "about 1e7 to 1e10 N/m, between designs, so no default would be right for your pair)")
     if scene.doc is not None:
-        dynamics_fem_plane(scene.doc)  # a given fem.plane only with an FE mesh-stiffness source
+        dynamics_fem_plane(scene.doc)  # a given fem.plane only where the mesh stiffness has a 2D state
 
 
 @dataclass(frozen=True)

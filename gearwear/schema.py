@@ -364,10 +364,14 @@ class FemDoc(_Table):
     calibration) and the resolved pair contact (fem.pair; `gearwear stiffness --method fem`, the
     calibration, the dynamics with effects.mesh_stiffness.source "fem" or "calibrated"). They are
     2D models of the gear section with thickness b; a command that runs none of them refuses a
-    given [fem] key. The analytic models keep the state of their derivation (README: plane
-    stress or plane strain)."""
+    given [fem] key. ``plane`` also sets the state of the analytic tooth beams (Ishikawa's
+    delta_1, the energy method's bending, shear and axial terms: E / (1 - nu^2) in bending and
+    axial in plane strain, analytic.plane), so FE and analytic models are compared like with
+    like; their foundation and Hertz terms keep the state of their derivation."""
     plane: Literal["auto", "stress", "strain"] = PField(
-        "auto", description="2D idealisation of the FE models: stress (sigma_zz = 0, the thin-face limit), strain "
+        "auto", description="2D idealisation of the FE models and of the analytic tooth beams (Ishikawa, energy: "
+                            "E / (1 - nu^2) in bending and axial in plane strain): stress (sigma_zz = 0, the "
+                            "thin-face limit), strain "
                             "(eps_zz = 0, the wide-face limit) or auto: stress below b/m = 4.3, strain from there "
                             "on. The 3D FE check (reports/plane, fem.solid3d) puts the face-averaged tooth "
                             "compliance within 1.5 % of plane stress up to b/m = 1 and within 2.3 % of plane strain "
@@ -661,6 +665,9 @@ def cross_check(doc: SceneDoc) -> None:
 
 #: mesh-stiffness sources that run the FE models
 FE_SOURCES = ("fem", "calibrated")
+#: the mesh-stiffness sources whose models have a 2D state (fem.plane): the FE ones and the
+#: analytic tooth beams
+PLANE_SOURCES = ("analytic", *FE_SOURCES)
 
 
 #: fem.plane = "auto": plane strain from this face width over module on (the 3D check's crossover of
@@ -684,17 +691,27 @@ def fem_plane(doc: SceneDoc | None, runs_fem: bool, what: str) -> str:
     if doc is None:
         return "stress"
     if not runs_fem and _given(doc.fem, "plane"):
-        raise fail("fem.plane", repr(doc.fem.plane), "", f"not used: {what} runs no finite-element model "
-                   f"(only gearwear stiffness --method fem, verify, calibrate and the dynamics with "
-                   f"effects.mesh_stiffness.source = \"fem\" or \"calibrated\" do); drop [fem] plane")
+        raise fail("fem.plane", repr(doc.fem.plane), "", f"not used: {what} runs no model with a 2D state "
+                   f"(only gearwear stiffness --method fem, ishikawa or energy, verify, calibrate, report pair "
+                   f"and the dynamics with effects.mesh_stiffness.source = \"analytic\", \"fem\" or "
+                   f"\"calibrated\" do); drop [fem] plane")
     return resolved_plane(doc.fem.plane, doc.pair.face_width_mm, doc.pair.module_mm)
 
 
+def dynamics_uses_plane(doc: SceneDoc) -> bool:
+    """Whether the dynamics' mesh stiffness comes from a model with a 2D state: an analytic or
+    FE source, or a constant without value_N_per_m (the analytic mean)."""
+    ms = doc.effects.mesh_stiffness
+    if ms is None:
+        return True
+    return ms.source in PLANE_SOURCES or (ms.source == "constant" and ms.value_N_per_m is None)
+
+
 def dynamics_fem_plane(doc: SceneDoc) -> str:
-    """fem.plane for the dynamic commands: used with an FE mesh-stiffness source only."""
+    """fem.plane for the dynamic commands (refused where :func:`dynamics_uses_plane` is false)."""
     ms = doc.effects.mesh_stiffness
     src = ms.source if ms is not None else None
-    return fem_plane(doc, src in FE_SOURCES, f"the dynamics with effects.mesh_stiffness.source = {src!r}"
+    return fem_plane(doc, dynamics_uses_plane(doc), f"the dynamics with effects.mesh_stiffness.source = {src!r}"
                      if src is not None else "the dynamics without [effects] mesh_stiffness")
 
 
@@ -807,8 +824,9 @@ CROSS_CHECKS = (
     "nothing)",
     "`solver.discard_s` < `solver.duration_s`; `rtol`/`atol` only for dopri5, "
     "`steps_per_mesh_period` only for rk4 (after `auto` is resolved)",
-    "`fem.plane` only where an FE model runs: `stiffness --method fem`, `verify`, `calibrate`, and the dynamics "
-    'with `mesh_stiffness.source = "fem"` or `"calibrated"` (checked by the command)',
+    "`fem.plane` only where a model with a 2D state runs: `stiffness --method fem|ishikawa|energy`, `verify`, "
+    '`calibrate`, `report pair`, and the dynamics with `mesh_stiffness.source = "analytic"`, `"fem"` or '
+    '`"calibrated"` (checked by the command)',
 )
 
 

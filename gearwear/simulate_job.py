@@ -167,7 +167,7 @@ def stiffness_input(scene: Scene, breakpoints: bool = True) -> StiffnessInput:
         phi, k, e = r.angle_rad, r.k_N_per_m, r.excitation_m
     else:
         r = mesh_stiffness(pair, points=points, torque_Nm=T, clearance_m=clearance_geo, wear=wear, flank=flank,
-                           faults=faults, breakpoints=breakpoints)
+                           faults=faults, breakpoints=breakpoints, plane=plane)
         phi, k, e = r.angle_rad, r.k_N_per_m, r.excitation_m
         if source == "constant":
             value = (ms or {}).get("value_N_per_m", r.mean_N_per_m)

@@ -174,9 +174,10 @@ def check_method(method: str, flank: FlankSpec | None, faults: FaultSpec | None)
 
 def compute(pair: PairSpec, method: str, wears: list[WearSpec | None], clearances_m: list[float],
             torque_Nm: float, points: int, flank: FlankSpec | None = None,
-            faults: FaultSpec | None = None, **fe_options) -> list[Curve]:
-    """The curves of one method for every wear state and clearance (``fe_options``: the
-    pair FE's options, see :func:`fem_curve`)."""
+            faults: FaultSpec | None = None, plane: str = "stress", **fe_options) -> list[Curve]:
+    """The curves of one method for every wear state and clearance (``plane``: the 2D state
+    of the FE and of the analytic tooth beams, the scene's fem.plane resolved; ``fe_options``:
+    the pair FE's other options, see :func:`fem_curve`)."""
     check_method(method, flank, faults)
     curves = []
     for wear in wears:
@@ -184,10 +185,10 @@ def compute(pair: PairSpec, method: str, wears: list[WearSpec | None], clearance
             if method == "iso6336":
                 r = iso_curve(pair, points, torque_Nm, c)
             elif method == "fem":
-                r = fem_curve(pair, points, torque_Nm, c, wear, flank, faults, **fe_options)
+                r = fem_curve(pair, points, torque_Nm, c, wear, flank, faults, plane=plane, **fe_options)
             else:
                 r = mesh_stiffness(pair, method=method, points=points, torque_Nm=torque_Nm, clearance_m=c,
-                                   wear=wear, flank=flank, faults=faults)
+                                   wear=wear, flank=flank, faults=faults, plane=plane)
             label = f"{wear.label if wear else 'unworn'}, clearance {c * 1e6:g} um"
             curves.append(Curve(label, method, wear, c, r))
     return curves
@@ -208,7 +209,7 @@ def harris(curves: list[Curve], pair: PairSpec, flank: FlankSpec | None):
     if c is None:
         return None
     return harris_map(pair, flank, HARRIS_LOADS * c.result.torque_Nm, c.method, c.result.meta.get(
-        "points_per_mesh_period", DEFAULT_POINTS), c.wear, c.clearance_m)
+        "points_per_mesh_period", DEFAULT_POINTS), c.wear, c.clearance_m, plane=c.result.meta.get("plane", "stress"))
 
 
 def _relief(symbol: str, r) -> str:
