@@ -19,6 +19,7 @@ from gearwear.analytic import TABLE_POINTS_PER_MESH_PERIOD as TABLE_POINTS
 from gearwear.core.validation import InputError, fail, renamed
 
 from . import __version__, io
+from .sources import FE_POSITIONS
 
 if TYPE_CHECKING:
     from .scene import Scene
@@ -213,7 +214,7 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
     assumed = _assumed(scene, uses)
     torque = scene.operating.torque_Nm
     # default angles per method: the FE's 24 positions take ~10 s, the analytic tables take ms
-    points = {m: _int_arg("--points", args.points if args.points is not None else "24" if m == "fem"
+    points = {m: _int_arg("--points", args.points if args.points is not None else str(FE_POSITIONS) if m == "fem"
                           else str(TABLE_POINTS), 8, 1_000_000) for m in methods}
     out = _check_out(args.out, "stiffness")
     fields = []

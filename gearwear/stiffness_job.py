@@ -28,8 +28,7 @@ from gearwear.geometry.spec import PairSpec
 from gearwear.geometry.wear import WearSpec
 
 from . import io
-
-METHODS = ("ishikawa", "energy", "iso6336", "fem")
+from .sources import METHODS
 
 
 @dataclass
