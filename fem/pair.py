@@ -1059,7 +1059,8 @@ def pair_contact(pair: PairSpec, wear: WearSpec | None = None, positions: int = 
                for i in (0, 1)]
     theta = np.arange(positions * periods) * (mesh.mesh_angle_rad / positions)
     timings = {**body_tim, "model_s": t_model - t_start, "positions_s": t_cycle - t_model,
-               "positions_geometry_s": float(sum(r[7] for r in rows)), "positions_lcp_s": float(sum(r[8] for r in rows)),
+               "positions_geometry_s": float(sum(r[7] for r in rows)),
+               "positions_lcp_s": float(sum(r[8] for r in rows)),
                "extended_s": t_end - t_cycle, "total_s": time.perf_counter() - t_start}
     meta = {"sizes_m": {k2: getattr(sizes, k2) for k2 in ("contact_m", "near_m", "far_m", "fillet_m", "global_m")},
             "a_ref_m": a_ref, "window_m": window, "contact_scale": contact_scale,

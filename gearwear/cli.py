@@ -428,7 +428,8 @@ def _calibrate_tables(args, scene, wears, clearances, torque, points, out, execu
 
         for c in clearances:
             tab = calibrate.calibrated_table(scene.pair, w, c, torque, points, calibration=calibration,
-                                             refresh=args.refresh, executor=executor, plane=plane)  # a damaged entry: recomputed
+                                             refresh=args.refresh, executor=executor,  # a damaged entry: recomputed
+                                             plane=plane)
             hit = tab.from_cache
             label = f"{w.label if w else 'unworn'}_clearance{c * 1e6:g}um"
             if out:  # the bytes the cache holds, as checked (not read again)
@@ -553,7 +554,8 @@ def _cmd_runup(args: argparse.Namespace) -> int:
         for p in summ["points"]:
             iso = p["iso6336"]
             at_driver = ("" if iso["n_E1_driver_rpm"] == iso["n_E1_rpm"] else
-                         f" of ISO's gear 1 ({iso['inputs']['z1']} teeth), {iso['n_E1_driver_rpm']:.0f} rpm at the driver")
+                         f" of ISO's gear 1 ({iso['inputs']['z1']} teeth), "
+                         f"{iso['n_E1_driver_rpm']:.0f} rpm at the driver")
             print(f"point {p['point'] or '-'}: ISO 6336 n_E1 = {iso['n_E1_rpm']:.0f} rpm{at_driver}; linear modes "
                   f"{', '.join(f'{f:.1f}' for f in p['linear_eigenfrequencies_Hz'])} Hz")
             for d, r in p["directions"].items():

@@ -148,7 +148,8 @@ PAIR_KEYS = {"teeth": "pair.teeth", "addendum_coefficient": "pair.addendum_coeff
              "installed_centre_distance_m": ("pair.centre_distance_mm", 1e3, "mm")}
 
 #: unitless own names that a geometry message may mention after its key ("profile_shift[0] >= 0.3")
-_PAIR_WORDS = re.compile(r"(?<![\w.])(profile_shift|allow_undercut|addendum_coefficient|teeth)(?=\[\d\]|\s*(?:>=|<=|=))")
+_PAIR_WORDS = re.compile(r"(?<![\w.])(profile_shift|allow_undercut|addendum_coefficient|teeth)"
+                         r"(?=\[\d\]|\s*(?:>=|<=|=))")
 
 
 def renamed_pair_error(exc: InputError) -> InputError:
@@ -363,7 +364,8 @@ FAULT_KEYS: dict[str, Any] = {"crack.tooth": "faults.crack.tooth", "spall.tooth"
               "spall.start_diameter_m": ("faults.spall.start_diameter_mm", 1e3, "mm"),
               "spall.length_m": ("faults.spall.length_mm", 1e3, "mm"),
               "spall.depth_m": ("faults.spall.depth_um", 1e6, "um"),
-              "depth_m": ("faults.crack.depth_mm", 1e3, "mm"), "angle_rad": ("faults.crack.angle_deg", 180 / math.pi, "deg")}
+              "depth_m": ("faults.crack.depth_mm", 1e3, "mm"),
+              "angle_rad": ("faults.crack.angle_deg", 180 / math.pi, "deg")}
 
 
 def flank_spec(f: FlankDoc, pair: PairSpec) -> FlankSpec | None:

@@ -164,7 +164,8 @@ def stiffness_input(scene: Scene, breakpoints: bool = True) -> StiffnessInput:
     elif source == "fem":
         from .stiffness_job import fem_curve
         check_before_stiffness(scene)
-        r = fem_curve(pair, FE_POSITIONS, T, clearance_geo, wear, flank, faults, blank_torsion=blank_torsion(ms), plane=plane)
+        r = fem_curve(pair, FE_POSITIONS, T, clearance_geo, wear, flank, faults,
+                      blank_torsion=blank_torsion(ms), plane=plane)
         phi, k, e = r.angle_rad, r.k_N_per_m, r.excitation_m
     else:
         r = mesh_stiffness(pair, points=points, torque_Nm=T, clearance_m=clearance_geo, wear=wear, flank=flank,
