@@ -377,7 +377,7 @@ dp_reach = reach["dopri5"]
 total = time.perf_counter() - T_START
 log("\nSummary")
 log(f"  RK4 1 s all effects: {rk4_all:.3f} s (stiffness only {rk4_stiff:.3f} s)")
-log(f"  ratio vs RK45 at equal accuracy: "
+log("  ratio vs RK45 at equal accuracy: "
     + (f"{ratio:.0f} (RK45 {rk45_eq['setting']}, error {rk45_eq['err_h1_10']:.1e} vs RK4-256 "
        f"{err_rk4_256:.1e}; bracket up to {ratio_next:.0f} at {rk45_next['setting']}, "
        f"interpolated {ratio_interp:.0f})" if ratio and ratio_interp else

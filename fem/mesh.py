@@ -122,7 +122,6 @@ from __future__ import annotations
 
 import itertools
 import math
-import os
 import threading
 import time
 from contextlib import contextmanager

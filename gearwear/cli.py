@@ -19,7 +19,7 @@ from gearwear.analytic import TABLE_POINTS_PER_MESH_PERIOD as TABLE_POINTS
 from gearwear.core.validation import InputError, fail, renamed
 
 from . import __version__, io
-from .sources import FE_POSITIONS
+from .sources import FE_POSITIONS, METHODS
 
 if TYPE_CHECKING:
     from .scene import Scene
@@ -205,8 +205,8 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
 
     methods = list(dict.fromkeys(_split_multi(args.method)))  # several methods: overlaid
     for m in methods:
-        if m not in stiffness_job.METHODS:
-            raise InputError(f"--method = {m!r}: must be one or more of {', '.join(stiffness_job.METHODS)}")
+        if m not in METHODS:
+            raise InputError(f"--method = {m!r}: must be one or more of {', '.join(METHODS)}")
     scene, wears, clearances = _variants(args)
     uses = "stiffness-fem" if "fem" in methods else "stiffness-iso" if set(methods) == {"iso6336"} else "stiffness"
     plane = _fem_plane(scene.doc, any(m != "iso6336" for m in methods),

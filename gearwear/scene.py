@@ -202,7 +202,9 @@ WEB_KEYS = {f"web.{own}[{i}]": (f"blank.{gear}.{key}", 1e3, "mm")
 def pair_spec(doc: SceneDoc) -> PairSpec:
     """The SI pair spec of a validated document, checked for geometric consistency."""
     p, m = doc.pair, doc.material
-    mm = (lambda v: None if v is None else (v[0] * 1e-3, v[1] * 1e-3))
+    def mm(v):
+        return None if v is None else (v[0] * 1e-3, v[1] * 1e-3)
+
     webs = (None, None) if doc.blank is None else (_web(doc.blank.pinion), _web(doc.blank.gear))
     spec = PairSpec(
         teeth=p.teeth, module_m=p.module_mm * 1e-3, pressure_angle_rad=math.radians(p.pressure_angle_deg),

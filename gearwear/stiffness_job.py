@@ -28,7 +28,6 @@ from gearwear.geometry.spec import PairSpec
 from gearwear.geometry.wear import WearSpec
 
 from . import io
-from .sources import METHODS
 
 
 @dataclass

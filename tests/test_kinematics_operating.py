@@ -8,7 +8,7 @@ import pytest
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.operating import backlash, centre_distance, operating_geometry
 from gearwear.geometry.profile import tooth_profile
-from gearwear.geometry.spec import default_pair, inv
+from gearwear.geometry.spec import default_pair
 from scenes import paper_pair_from
 from gearwear.core.validation import InputError
 

@@ -10,7 +10,7 @@ from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.profile import INVOLUTE, involute_points, tooth_profile
 from gearwear.geometry.spec import default_pair
 from gearwear.core.validation import InputError
-from gearwear.geometry.wear import (WearSpec, flank_depth, hertz_half_width, hertz_load_integral, specific_sliding,
+from gearwear.geometry.wear import (WearSpec, hertz_half_width, hertz_load_integral, specific_sliding,
                                     wear_on_line_of_action, worn_profiles)
 from gearwear.scene import parse_wear_arg, wear_from_dict
 
