@@ -1,6 +1,7 @@
 # gearwear: two commands on a fresh machine.
 #   make demo   set up .venv and run the main job on the built-in paper gear pair
 #   make test   set up .venv and run the test suite
+#   make check  the fast tier: lint (ruff), types (mypy on the built wheel), the tests not marked slow
 PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
@@ -10,7 +11,7 @@ OUT    ?= out/demo
 BENCH_VENV  := .venv-bench
 BENCH_STAMP := $(BENCH_VENV)/.installed-stamp
 
-.PHONY: demo test bench report venv clean fe-design-space
+.PHONY: demo test check bench report venv clean fe-design-space
 
 venv: $(STAMP)
 
@@ -29,6 +30,11 @@ demo: $(STAMP)
 test: $(STAMP)
 	@$(PY) -m gearwear.envcheck
 	$(PY) -m pytest -q -n 2
+
+check: $(STAMP)
+	$(PY) -m ruff check .
+	$(PY) tools/check_types.py
+	$(PY) -m pytest -q -n 2 -m "not slow and not design_space"
 
 # The pair FE on 200 Sobol designs of the geometry's whole space (an hour or more; not in make test)
 fe-design-space: $(STAMP)

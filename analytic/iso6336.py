@@ -550,4 +550,5 @@ def iso1328_deviations_um(module_m: float, reference_diameter_m: float, grade: i
     def rnd(x: float) -> float:
         q = 1.0 if x > 10 else (0.5 if x >= 5 else 0.1)
         return round(round(x / q) * q, 1)
-    return rnd((0.3 * (m + 0.4 * math.sqrt(d)) + 4.0) * step), rnd((2.5 * math.sqrt(m) + 0.17 * math.sqrt(d) + 0.5) * step)
+    return rnd((0.3 * (m + 0.4 * math.sqrt(d)) + 4.0) * step), rnd((2.5 * math.sqrt(m) + 0.17 * math.sqrt(d) + 0.5)
+                                                                   * step)

@@ -98,7 +98,8 @@ def main() -> None:
         tr = np.array([ring_translation_m(pm, fp.solve_position(pm, float(th), F)) for th in fe.angle_rad])
         k_mt = fp._secant(fe.pair_load_N, fe.meta["pair_gap_m"], fe.mesh_ste_m - tr)[0]
         t0 = time.perf_counter()
-        ish, en = (mesh_stiffness(pair, m, torque_Nm=TORQUE_NM, plane=PLANE).mean_N_per_m for m in ("ishikawa", "energy"))
+        ish, en = (mesh_stiffness(pair, m, torque_Nm=TORQUE_NM, plane=PLANE).mean_N_per_m
+                   for m in ("ishikawa", "energy"))
         iso = iso6336_stiffness(pair, torque_Nm=TORQUE_NM).mesh_stiffness_N_per_m
         t_an = time.perf_counter() - t0
         kf = fe.meta["blank_torsional_stiffness_Nm_per_rad"]

@@ -50,7 +50,8 @@ def wear_steps(raw, name, ds) -> list[dict]:
     out = []
     for a in (14.0, 20.0, 30.0):
         w = np.linspace(a, a + 2.0, 41)
-        F = np.array([ds.amplitudes(ds.simulate_point(raw, name, {"wear": float(x), "clearance": 24.0}, sol, 10)[0][None],
+        F = np.array([ds.amplitudes(ds.simulate_point(raw, name, {"wear": float(x), "clearance": 24.0},
+                                                      sol, 10)[0][None],
                                     10)[0, 30:40] for x in w])
         dev = [float(np.sqrt(np.mean((F[:, k] - np.polyval(np.polyfit(w, F[:, k], 2), w)) ** 2)) / np.mean(F[:, k]))
                for k in range(10)]
@@ -90,8 +91,10 @@ def main() -> dict:
     by_wear = {f"below_{SMALL_WEAR_UM:g}_um": float(np.nanmedian(rel[small])),
                f"from_{SMALL_WEAR_UM:g}_um": float(np.nanmedian(rel[~small])),
                "points_below": int(small.sum())}
-    print(f"held-out error median below {SMALL_WEAR_UM:g} um of wear {100 * by_wear[f'below_{SMALL_WEAR_UM:g}_um']:.2f} %"
-          f" ({by_wear['points_below']} points), from {SMALL_WEAR_UM:g} um {100 * by_wear[f'from_{SMALL_WEAR_UM:g}_um']:.2f} %")
+    print(f"held-out error median below {SMALL_WEAR_UM:g} um of wear "
+          f"{100 * by_wear[f'below_{SMALL_WEAR_UM:g}_um']:.2f} %"
+          f" ({by_wear['points_below']} points), from {SMALL_WEAR_UM:g} um "
+          f"{100 * by_wear[f'from_{SMALL_WEAR_UM:g}_um']:.2f} %")
     steps = wear_steps(raw, name, ds)
     rng = np.random.default_rng(2019)
     truths = np.column_stack([rng.uniform(a, b, TRIALS) for a, b in zip(lo, hi)])

@@ -377,7 +377,7 @@ dp_reach = reach["dopri5"]
 total = time.perf_counter() - T_START
 log("\nSummary")
 log(f"  RK4 1 s all effects: {rk4_all:.3f} s (stiffness only {rk4_stiff:.3f} s)")
-log(f"  ratio vs RK45 at equal accuracy: "
+log("  ratio vs RK45 at equal accuracy: "
     + (f"{ratio:.0f} (RK45 {rk45_eq['setting']}, error {rk45_eq['err_h1_10']:.1e} vs RK4-256 "
        f"{err_rk4_256:.1e}; bracket up to {ratio_next:.0f} at {rk45_next['setting']}, "
        f"interpolated {ratio_interp:.0f})" if ratio and ratio_interp else
@@ -419,8 +419,8 @@ results = dict(
                  ratio_rk45_vs_rk4_equal_accuracy=ratio,
                  ratio_rk45_next_tighter=ratio_next, ratio_rk45_interpolated=ratio_interp,
                  rk45_equal_accuracy=rk45_eq, rk45_next_tighter=rk45_next,
-                 rk4_1s_all_on_neutral_s=rk4_neutral, rk4_1s_constant_stiffness_s=rk4_none, rk4_256_smooth=dict(wall_s=wall_rk4_256,
-                                                                 err=err_rk4_256),
+                 rk4_1s_all_on_neutral_s=rk4_neutral, rk4_1s_constant_stiffness_s=rk4_none,
+                 rk4_256_smooth=dict(wall_s=wall_rk4_256, err=err_rk4_256),
                  event_dopri5_reaches_1e6_s=dp_reach["wall_s"] if dp_reach else None,
                  event_rk4_order=fit_e, compile_s=compile_total, scipy_s=_scipy_spent,
                  total_runtime_s=total),

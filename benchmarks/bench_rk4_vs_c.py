@@ -34,7 +34,6 @@ from __future__ import annotations
 import ctypes
 import datetime
 import json
-import math
 import os
 import platform
 import shutil

@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import datetime
 import json
-import logging
 import os
 import platform
 import sys

@@ -5,15 +5,15 @@ the value, the unit and the allowed range, e.g.::
 
     pair.module_mm = -5 mm: must be in (0, 100] mm
 
-Unknown keys are rejected with the nearest valid key suggested.
+Scene documents (unknown keys, types, ranges) are validated by the pydantic schema in
+gearwear.schema; this module is the error contract every layer raises through.
 """
 
 from __future__ import annotations
 
-import difflib
 import math
 from dataclasses import dataclass
-from typing import Any, Iterable, Mapping
+from typing import Any, Mapping
 
 
 class InputError(ValueError):
@@ -35,8 +35,9 @@ class InputError(ValueError):
 class Field:
     """Schema entry for one scalar (or per-gear pair of scalars) input key.
 
-    lo/hi bound the value; lo_open/hi_open make the bound exclusive.
-    per_gear: the key accepts a scalar (same for both gears) or a 2-list.
+    lo/hi bound the value; lo_open/hi_open make the bound exclusive. (Scene keys are
+    validated by the pydantic schema, gearwear.schema; the layers check their own
+    arguments with :func:`check_scalar` and :func:`fail`.)
     """
 
     unit: str = ""
@@ -45,7 +46,6 @@ class Field:
     lo_open: bool = False
     hi_open: bool = False
     kind: type = float
-    per_gear: bool = False
 
     def range_text(self) -> str:
         left = "(" if self.lo_open or self.lo == -math.inf else "["
@@ -95,52 +95,6 @@ def check_scalar(key: str, value: Any, field: Field) -> float | int:
     if below or above:
         raise fail(key, value, field.unit, f"must be in {field.range_text()}")
     return value
-
-
-def check_value(key: str, value: Any, field: Field):
-    """Validate a scalar, or for ``per_gear`` fields a scalar or a 2-list.
-
-    Per-gear values are returned as a tuple of two.
-    """
-    if not field.per_gear:
-        return check_scalar(key, value, field)
-    if isinstance(value, (list, tuple)):
-        if len(value) != 2:
-            raise fail(key, list(value), "", "must be one value or a list of two (pinion, gear)")
-        return tuple(check_scalar(f"{key}[{i}]", v, field) for i, v in enumerate(value))
-    v = check_scalar(key, value, field)
-    return (v, v)
-
-
-def reject_unknown(table: str, given: Iterable[str], allowed: Iterable[str]) -> None:
-    """Raise for the first key of ``given`` not in ``allowed``, suggesting the nearest."""
-    allowed = list(allowed)
-    for key in given:
-        if key not in allowed:
-            full = f"{table}.{key}" if table else key
-            near = difflib.get_close_matches(key, allowed, n=1, cutoff=0.5)
-            hint = f"; did you mean {table + '.' if table else ''}{near[0]}?" if near else ""
-            options = ", ".join(sorted(allowed))
-            raise InputError(f"{full}: unknown key{hint} (allowed: {options})")
-
-
-def parse_table(table: str, data: Mapping[str, Any], schema: Mapping[str, Field],
-                defaults: Mapping[str, Any], optional: Iterable[str] = ()) -> dict[str, Any]:
-    """Validate a TOML table against ``schema``; missing keys take ``defaults``; a missing
-    key listed in ``optional`` is left out of the result."""
-    if not isinstance(data, Mapping):
-        raise InputError(f"{table}: must be a table of keys, got {type(data).__name__}")
-    reject_unknown(table, data.keys(), schema.keys())
-    out = {}
-    optional = set(optional)
-    for key, field in schema.items():
-        raw = data.get(key, defaults.get(key))
-        if raw is None and key in optional:
-            continue
-        if raw is None:
-            raise InputError(f"{table}.{key}: missing ({field.range_text()})")
-        out[key] = check_value(f"{table}.{key}", raw, field)
-    return out
 
 
 def renamed(exc: InputError, names: Mapping[str, Any]) -> InputError:

@@ -79,7 +79,8 @@ def bore_study() -> str:
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         kf, kc = r["k_blank_fe_Nm_per_rad"], r["k_blank_closed_form_Nm_per_rad"]
-        lines.append(f"| {r['bores_mm'][0]:g} / {r['bores_mm'][1]:g} | {r['r_ref_mm'][0]:.2f} / {r['r_ref_mm'][1]:.2f} | "
+        lines.append(f"| {r['bores_mm'][0]:g} / {r['bores_mm'][1]:g} | "
+                     f"{r['r_ref_mm'][0]:.2f} / {r['r_ref_mm'][1]:.2f} | "
                      f"{r['bore_fixed_mean_N_per_m'] / 1e8:.4f} | {r['mesh_only_mean_N_per_m'] / 1e8:.4f} | "
                      f"{r['mesh_only_without_translation_mean_N_per_m'] / 1e8:.4f} | "
                      f"{kf[0] / 1e6:.3f} / {kf[1] / 1e6:.3f} | {kc[0] / 1e6:.3f} / {kc[1] / 1e6:.3f} | "
@@ -111,8 +112,10 @@ def bore_study() -> str:
         f"below the root, s_R = r_f - r_bore, is {' / '.join(f'{x[0]:.1f}' for x in rim)} modules on the pinion and "
         f"{' / '.join(f'{x[1]:.1f}' for x in rim)} on the gear; at {b['bores_mm'][0]:g} mm the pinion's r_ref is "
         f"{b['r_ref_mm'][0] - b['bores_mm'][0]:.2f} mm above its bore). Without the translation the mesh-only mean "
-        f"moves {_pct(a['mesh_only_without_translation_mean_N_per_m'], mid['mesh_only_without_translation_mean_N_per_m'])} "
-        f"at {name(mid)} and {_pct(a['mesh_only_without_translation_mean_N_per_m'], b['mesh_only_without_translation_mean_N_per_m'])} "
+        "moves "
+        f"{_pct(a['mesh_only_without_translation_mean_N_per_m'], mid['mesh_only_without_translation_mean_N_per_m'])} "
+        f"at {name(mid)} and "
+        f"{_pct(a['mesh_only_without_translation_mean_N_per_m'], b['mesh_only_without_translation_mean_N_per_m'])} "
         f"at {name(b)}. The energy method moves with the bore too "
         f"({_pct(a['energy_mean_N_per_m'], mid['energy_mean_N_per_m'])} / "
         f"{_pct(a['energy_mean_N_per_m'], b['energy_mean_N_per_m'])}, through Sainsot's h_fi): its ratio to the "

@@ -12,7 +12,7 @@ coordinate ``q = R_p theta_p - R_g theta_g``. The rigid-body rotation is reduced
 
 (static centre-distance coupling; see below for the dynamic form).
 
-This is paper Eq. 17 with the typo fixed as DESIGN.md says: the gear torsion equation
+This is paper Eq. 17 with its typo fixed (docs/models.md, "Dynamics"): the gear torsion equation
 uses the output torque ``T_g = T_p R_g / R_p`` and ``R_g``; only then does the
 relative coordinate reduce exactly to the equation for ``q`` above (the paper's
 ``J_g theta_g'' = -T_p + R_p F_m`` is dimensionally right only for a 1:1 pair).

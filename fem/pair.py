@@ -149,11 +149,10 @@ angles, with ``period`` telling which slot holds the faulty tooth.
   serves (the crack's effect on its neighbours' compliance when it is not engaged is
   left out).
 
-Measured (this machine, 2 cores, paper pair, 40 N m, 24 positions per period): spall
-example (1 mm x 20 um at 150 mm on pinion tooth 0): 67 positions solved of 720, cold
-7.8 s (body 6.6 s, positions 0.9 s), 38-268 candidates per position; root crack example
-(2 mm at 45 deg on pinion tooth 0): cracked body 129k dofs, 3128 condensed dofs, built in
-11.3 s; cold 19.7 s (bodies 18.6 s, positions 0.7 s). Checks (tests/test_fem_faults.py):
+Measured (paper pair, 40 N m, 24 positions per period; wall times: make bench): spall
+example (1 mm x 20 um at 150 mm on pinion tooth 0): 67 positions solved of 720, 38-268
+candidates per position; root crack example (2 mm at 45 deg on pinion tooth 0): cracked
+body 129k dofs, 3128 condensed dofs. Checks (tests/test_fem_faults.py):
 near-zero-load TE over a short pit = spall_gap_m to 0.70 % of its peak; in single contact
 on the cracked tooth c_1 read in the cracked pair = single-tooth FE of the cracked tooth
 to 0.05-0.06 %, and the pair compliance = c_1,cracked + c_2 + c_local,healthy to
@@ -164,19 +163,17 @@ concurrent.futures.Executor (a process pool, Dask's ``Client.get_executor()``); 
 workers rebuild the model from its arguments, each building a body once
 (in-process cache), and the result is the serial one to the bit.
 
-Measured (benchmarks/bench_fem_pair.py, 2 cores, 40 N m, plane stress, P2)
-----------------------------------------------------------------------------
+Measured (benchmarks/bench_fem_pair.py, 40 N m, plane stress, P2; wall times there)
+-----------------------------------------------------------------------------------
 Paper pair, 24 positions, h_c = 25.6 um: 96k dofs, 2172 condensed dofs, 38-77
-candidates per position; cold cycle 8-10 s (mesh 1.4, assemble 1.9, ordering 0.9,
-factorize 2.9, flexibility 1.8, 24 positions 0.26 + LCPs 0.10, extended-contact
-bisection 0.3 s). Mean 3.3838e8 N/m; single-pair plateau 2.4686e8, double-pair
+candidates per position. Mean 3.3838e8 N/m; single-pair plateau 2.4686e8, double-pair
 plateau 3.7784e8 N/m; loaded corner contact 0.298 deg before A and 0.296 deg after
 E. Contact-zone refinement h_c = a/1.25 .. a/5: mean 3.38755, 3.38530, 3.38378,
 3.38359, 3.38351 e8 (one more refinement of the default: -0.006 %; Richardson
 estimate 3.38347e8). Single contact: c_1, c_2 equal the single-tooth FE to 0.1-0.15 %,
 k_pair = 1 / (c_1 + c_2 + c_local) to 0.09 %, c_local = 1.50e-9 m/N is 4.5 % above
 Weber in plane stress and 15 % above Weber in plane strain.
-Shifted 21/37 pair (x = +0.25/-0.10): two bodies, cold cycle 14 s, mean 3.2486e8,
+Shifted 21/37 pair (x = +0.25/-0.10): two bodies, mean 3.2486e8,
 plateaus 2.4752e8 / 3.7265e8 N/m, corner contact 0.461 / 0.463 deg.
 """
 
@@ -1062,7 +1059,8 @@ def pair_contact(pair: PairSpec, wear: WearSpec | None = None, positions: int = 
                for i in (0, 1)]
     theta = np.arange(positions * periods) * (mesh.mesh_angle_rad / positions)
     timings = {**body_tim, "model_s": t_model - t_start, "positions_s": t_cycle - t_model,
-               "positions_geometry_s": float(sum(r[7] for r in rows)), "positions_lcp_s": float(sum(r[8] for r in rows)),
+               "positions_geometry_s": float(sum(r[7] for r in rows)),
+               "positions_lcp_s": float(sum(r[8] for r in rows)),
                "extended_s": t_end - t_cycle, "total_s": time.perf_counter() - t_start}
     meta = {"sizes_m": {k2: getattr(sizes, k2) for k2 in ("contact_m", "near_m", "far_m", "fillet_m", "global_m")},
             "a_ref_m": a_ref, "window_m": window, "contact_scale": contact_scale,

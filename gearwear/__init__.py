@@ -10,9 +10,13 @@ package is the app that wires them (docs/architecture.md).
 The API names load on first use, so importing a sub-package stays cheap.
 """
 
+from importlib.metadata import PackageNotFoundError as _NotInstalled, version as _version
 from typing import Any
 
-__version__ = "0.1.0"
+try:  # one source of the version: pyproject.toml, through the installed metadata
+    __version__ = _version("gearwear")
+except _NotInstalled:  # a source tree used without installing it
+    __version__ = "0+unknown"
 
 _API = ("paper_pair", "pair", "wear", "mesh_stiffness", "verify", "simulate", "sweep", "Scene", "PairSpec",
         "WearSpec", "InputError", "METHODS")

@@ -265,7 +265,8 @@ def pair_correction(pair: PairSpec, wear: WearSpec | None, clearance_m: float, t
         sel = zone & even
         # median: the few positions at a zone change (where the analytic tip-corner contact
         # and the FE differ most) must not drag the factor of the whole zone
-        factors[name] = float(np.median(ratio[sel])) if sel.any() else float(np.median(ratio[zone])) if zone.any() else 1.0
+        factors[name] = (float(np.median(ratio[sel])) if sel.any()
+                         else float(np.median(ratio[zone])) if zone.any() else 1.0)
     s = np.where(dbl, factors["double"], factors["single"])
     res = np.abs(s / ratio - 1.0)
     table_error = {"max": float(res.max()), "rms": float(np.sqrt(np.mean(res ** 2))),
@@ -324,7 +325,8 @@ def crack_correction(pair: PairSpec, faults: FaultSpec, positions: int = 21, pla
     assert faults.crack is not None
     fe = single_tooth_compliance(pair, gear_index=faults.crack.gear_index, positions=positions,
                                  crack=faults.crack.crack, plane=plane)
-    return fit_correction(fe.radius_m, fe.fem_compliance_um_per_N_per_mm, tooth_vs_analytic(fe).ishikawa_um_per_N_per_mm)
+    return fit_correction(fe.radius_m, fe.fem_compliance_um_per_N_per_mm,
+                          tooth_vs_analytic(fe).ishikawa_um_per_N_per_mm)
 
 
 @functools.lru_cache(maxsize=1)

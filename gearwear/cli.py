@@ -19,6 +19,7 @@ from gearwear.analytic import TABLE_POINTS_PER_MESH_PERIOD as TABLE_POINTS
 from gearwear.core.validation import InputError, fail, renamed
 
 from . import __version__, io
+from .sources import FE_POSITIONS, METHODS
 
 if TYPE_CHECKING:
     from .scene import Scene
@@ -204,8 +205,8 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
 
     methods = list(dict.fromkeys(_split_multi(args.method)))  # several methods: overlaid
     for m in methods:
-        if m not in stiffness_job.METHODS:
-            raise InputError(f"--method = {m!r}: must be one or more of {', '.join(stiffness_job.METHODS)}")
+        if m not in METHODS:
+            raise InputError(f"--method = {m!r}: must be one or more of {', '.join(METHODS)}")
     scene, wears, clearances = _variants(args)
     uses = "stiffness-fem" if "fem" in methods else "stiffness-iso" if set(methods) == {"iso6336"} else "stiffness"
     plane = _fem_plane(scene.doc, any(m != "iso6336" for m in methods),
@@ -213,7 +214,7 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
     assumed = _assumed(scene, uses)
     torque = scene.operating.torque_Nm
     # default angles per method: the FE's 24 positions take ~10 s, the analytic tables take ms
-    points = {m: _int_arg("--points", args.points if args.points is not None else "24" if m == "fem"
+    points = {m: _int_arg("--points", args.points if args.points is not None else str(FE_POSITIONS) if m == "fem"
                           else str(TABLE_POINTS), 8, 1_000_000) for m in methods}
     out = _check_out(args.out, "stiffness")
     fields = []
@@ -427,7 +428,8 @@ def _calibrate_tables(args, scene, wears, clearances, torque, points, out, execu
 
         for c in clearances:
             tab = calibrate.calibrated_table(scene.pair, w, c, torque, points, calibration=calibration,
-                                             refresh=args.refresh, executor=executor, plane=plane)  # a damaged entry: recomputed
+                                             refresh=args.refresh, executor=executor,  # a damaged entry: recomputed
+                                             plane=plane)
             hit = tab.from_cache
             label = f"{w.label if w else 'unworn'}_clearance{c * 1e6:g}um"
             if out:  # the bytes the cache holds, as checked (not read again)
@@ -552,7 +554,8 @@ def _cmd_runup(args: argparse.Namespace) -> int:
         for p in summ["points"]:
             iso = p["iso6336"]
             at_driver = ("" if iso["n_E1_driver_rpm"] == iso["n_E1_rpm"] else
-                         f" of ISO's gear 1 ({iso['inputs']['z1']} teeth), {iso['n_E1_driver_rpm']:.0f} rpm at the driver")
+                         f" of ISO's gear 1 ({iso['inputs']['z1']} teeth), "
+                         f"{iso['n_E1_driver_rpm']:.0f} rpm at the driver")
             print(f"point {p['point'] or '-'}: ISO 6336 n_E1 = {iso['n_E1_rpm']:.0f} rpm{at_driver}; linear modes "
                   f"{', '.join(f'{f:.1f}' for f in p['linear_eigenfrequencies_Hz'])} Hz")
             for d, r in p["directions"].items():

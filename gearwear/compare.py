@@ -63,10 +63,12 @@ def tooth_vs_analytic(fe: ToothFE) -> ToothComparison:
     t0 = time.perf_counter()
     crack = getattr(fe, "crack", None)  # the same root crack in the analytic models (reduced section)
     # like with like: the analytic beams in the FE's 2D state (analytic.plane)
-    ish = ishikawa.tooth_compliance(fe.loaded, fe.radius_m, fe.loaded.gear.material, pair.face_width_m, opposite=fe.nominal,
+    ish = ishikawa.tooth_compliance(fe.loaded, fe.radius_m, fe.loaded.gear.material, pair.face_width_m,
+                                    opposite=fe.nominal,
                                     crack=crack, plane=fe.plane)
     t1 = time.perf_counter()
-    en = energy.tooth_compliance(fe.loaded, fe.radius_m, fe.loaded.gear.material, pair.face_width_m, opposite=fe.nominal,
+    en = energy.tooth_compliance(fe.loaded, fe.radius_m, fe.loaded.gear.material, pair.face_width_m,
+                                 opposite=fe.nominal,
                                  crack=crack, plane=fe.plane)
     t2 = time.perf_counter()
     return ToothComparison(fe, ish.total_m_per_N * to_um_per_N_per_mm, en.total_m_per_N * to_um_per_N_per_mm,

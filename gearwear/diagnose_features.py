@@ -211,7 +211,8 @@ def _time_series(p: Path, header: list[str], rows: list[list[str]], fm_Hz: float
         if len(r) != len(header):
             raise _bad(p, i + 2, None, f"has {len(r)} fields, the header {len(header)}")
         for j, h in enumerate(header):
-            data[i, j] = _number(p, i + 2, h, r[j]) if h == tcol else _plausible(p, i + 2, h, _number(p, i + 2, h, r[j]))
+            data[i, j] = _number(p, i + 2, h, r[j]) if h == tcol else _plausible(p, i + 2, h,
+                                                                                 _number(p, i + 2, h, r[j]))
     t = data[:, header.index(tcol)]
     if t.size < 2:
         raise _bad(p, None, None, "has fewer than two samples")

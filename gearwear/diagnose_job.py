@@ -214,7 +214,8 @@ def feature_rows(ft: Fit) -> list[dict[str, Any]]:
     s = ft.sur.error(est[None, :], columns=ft.idx)[0]
     tot = np.sqrt(ft.variance(est[None, :])[0])
     return [{"feature": feature_name(f), "signal": f[0], "harmonic": f[1], "measured": float(y),
-             "fitted": float(fv), "sigma_noise": float(np.sqrt(vn)), "sigma_surrogate": float(np.sqrt(ft.multiplicity) * si),
+             "fitted": float(fv), "sigma_noise": float(np.sqrt(vn)),
+             "sigma_surrogate": float(np.sqrt(ft.multiplicity) * si),
              "residual_over_sigma": float((y - fv) / t)}
             for f, y, fv, vn, si, t in zip(ft.features, ft.y, fitted, ft.var_noise, s, tot)]
 

@@ -47,7 +47,8 @@ def pair_warnings(scene: Scene) -> list[str]:
         e = m.youngs_modulus_Pa / 1e9
         if _outside(e, *E_RANGE_GPA):
             out.append(f"material.youngs_modulus_GPa = {e:g} GPa for the {name} is outside "
-                       f"{E_RANGE_GPA[0]:g}-{E_RANGE_GPA[1]:g} GPa, the range of gear materials from plastics to carbide")
+                       f"{E_RANGE_GPA[0]:g}-{E_RANGE_GPA[1]:g} GPa, "
+                       "the range of gear materials from plastics to carbide")
     T = scene.operating.torque_Nm
     if T > 0:
         w = T / pair.gear(0).pitch_radius_m / (pair.face_width_m * 1e3)

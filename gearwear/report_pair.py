@@ -33,6 +33,7 @@ import numpy as np
 from gearwear.core.validation import InputError
 
 from . import __version__, io, runup_job, stiffness_job
+from .sources import METHODS
 from .scene import Scene, require_dynamics
 from .sweep_job import Axis
 
@@ -41,7 +42,7 @@ METHOD_LABELS = {"ishikawa": "Ishikawa (analytic)", "energy": "potential energy 
                  "iso6336": "ISO 6336-1 method B (one constant)", "fem": "pair FE (resolved contact of both bodies)"}
 REFERENCE = "fem"
 #: the parts :func:`compute` announces through its ``step`` callback, in order
-PARTS = ("geometry", *(METHOD_LABELS[m].split(" (")[0] for m in stiffness_job.METHODS), "STE against load",
+PARTS = ("geometry", *(METHOD_LABELS[m].split(" (")[0] for m in METHODS), "STE against load",
          "run-up")
 
 
@@ -131,15 +132,15 @@ def geometry(scene: Scene) -> dict[str, Any]:
 def stiffness(scene: Scene, settings: Settings,
               fe_progress: Callable[[int, int], None] | None = None,
               step: Callable[[str], None] = lambda msg: None) -> list[stiffness_job.Curve]:
-    """k_h over one mesh period by every method (stiffness_job.METHODS) at the scene's
+    """k_h over one mesh period by every method (METHODS) at the scene's
     torque, wear, clearance and flank; ISO 6336 is one constant of the nominal flank."""
     from .schema import fem_plane
 
     curves = []
     # the scene's fem.plane (auto: by b/m), for the FE and the analytic tooth beams alike
     plane = fem_plane(scene.doc, True, "gearwear report pair")
-    for method in stiffness_job.METHODS:
-        step(PARTS[1 + stiffness_job.METHODS.index(method)])
+    for method in METHODS:
+        step(PARTS[1 + METHODS.index(method)])
         fem = method == "fem"
         args = (scene.pair, method, [scene.wear], [scene.clearance_m], scene.operating.torque_Nm,
                 settings.fe_positions if fem else settings.points, None if method == "iso6336" else scene.flank)

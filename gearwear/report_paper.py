@@ -446,7 +446,8 @@ def trends(res: dict[str, Any]) -> list[dict[str, str]]:
         if ok:
             why += (" Why: wear is deepest near root and tip (large sliding), which are in contact only in the "
                     "double zone; at the pitch point (single zone) it is zero.")
-        rows.append({"where": "3.1.1, Fig. 6", "paper": f"change largest in the double-tooth zone A, weak in the single-"
+        rows.append({"where": "3.1.1, Fig. 6",
+                     "paper": f"change largest in the double-tooth zone A, weak in the single-"
                      f"tooth zone B ({p})", "claim": "double > single",
                      "ours": f"mean drop double zone {dd:.1f} %, single zone {ds:.2f} %",
                      "verdict": "agree" if ok else "disagree", "why": why})
@@ -467,13 +468,15 @@ def trends(res: dict[str, Any]) -> list[dict[str, str]]:
     vals = [sw[p].result.harmonics("F_m", 4)[2] for p in PHASES]
     add("3.1.4, Fig. 14", "3 x fm of F_m is enlarged with wear (the same paragraph also lists it as V-shaped)",
         "increase", vals, wear_labels, "(N)",
-        context="The paper contradicts itself on this harmonic. " + _why_harmonic("F_m", 3, runs_w, tabs_w, wear_labels))
+        context="The paper contradicts itself on this harmonic. "
+                + _why_harmonic("F_m", 3, runs_w, tabs_w, wear_labels))
     p2p_k = [float(np.ptp(tw[p].k_N_per_m)) for p in PHASES]
     for name, unit, scale, desc in SIGNALS:
         vals = [sw[p].result.stats[name]["p2p"] * scale for p in PHASES]
         add("3.1, Figs. 7-13; Conclusion 2", f"amplitude of {name} is enlarged with wear", "increase", vals,
             wear_labels, f"(peak-to-peak, {unit})",
-            context=f"Context: the peak-to-peak of the stiffness table changes by {100 * (p2p_k[-1] / p2p_k[0] - 1):+.3g} % "
+            context="Context: the peak-to-peak of the stiffness table changes by "
+                    f"{100 * (p2p_k[-1] / p2p_k[0] - 1):+.3g} % "
                     f"({wear_labels[0]} -> {wear_labels[-1]}); the response also depends on the mode placement.")
     # clearance: geometry
     geo, c = res["geo"], res["cl_fine"]
@@ -611,7 +614,8 @@ def markdown(res: dict[str, Any], rows: list[dict[str, str]], figs: list[str]) -
           "* Eq. 2 (garbled): read as Castigliano on the slice cantilever, including the sin^2 w x_F^2 term.",
           "* Eq. 1: the square root is half the Hertz contact width; Eq. 1 = I_h (2 a |zeta|) N.",
           "* Eq. 11: BC is the total radial play of each bearing (dead zones of half-width BC/2 in Eqs. 7-10).",
-          "* Eq. 15: normal backlash 2 C cos(a)(inv a' - inv a); the printed form uses C' (switch `form = \"printed\"`).",
+          "* Eq. 15: normal backlash 2 C cos(a)(inv a' - inv a); the printed form uses C' "
+          "(switch `form = \"printed\"`).",
           "* Eq. 17: the gear's torsion uses the output torque T_g = T_p R_g / R_p and R_g.",
           "* Eq. 19: no damping force through a backlash gap (switch `damping_in_gap = true` for the literal form).",
           "* Eq. 20: the third branch is delta < -b.", "", "## Figures", ""]

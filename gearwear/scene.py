@@ -148,7 +148,8 @@ PAIR_KEYS = {"teeth": "pair.teeth", "addendum_coefficient": "pair.addendum_coeff
              "installed_centre_distance_m": ("pair.centre_distance_mm", 1e3, "mm")}
 
 #: unitless own names that a geometry message may mention after its key ("profile_shift[0] >= 0.3")
-_PAIR_WORDS = re.compile(r"(?<![\w.])(profile_shift|allow_undercut|addendum_coefficient|teeth)(?=\[\d\]|\s*(?:>=|<=|=))")
+_PAIR_WORDS = re.compile(r"(?<![\w.])(profile_shift|allow_undercut|addendum_coefficient|teeth)"
+                         r"(?=\[\d\]|\s*(?:>=|<=|=))")
 
 
 def renamed_pair_error(exc: InputError) -> InputError:
@@ -201,7 +202,9 @@ WEB_KEYS = {f"web.{own}[{i}]": (f"blank.{gear}.{key}", 1e3, "mm")
 def pair_spec(doc: SceneDoc) -> PairSpec:
     """The SI pair spec of a validated document, checked for geometric consistency."""
     p, m = doc.pair, doc.material
-    mm = (lambda v: None if v is None else (v[0] * 1e-3, v[1] * 1e-3))
+    def mm(v):
+        return None if v is None else (v[0] * 1e-3, v[1] * 1e-3)
+
     webs = (None, None) if doc.blank is None else (_web(doc.blank.pinion), _web(doc.blank.gear))
     spec = PairSpec(
         teeth=p.teeth, module_m=p.module_mm * 1e-3, pressure_angle_rad=math.radians(p.pressure_angle_deg),
@@ -363,7 +366,8 @@ FAULT_KEYS: dict[str, Any] = {"crack.tooth": "faults.crack.tooth", "spall.tooth"
               "spall.start_diameter_m": ("faults.spall.start_diameter_mm", 1e3, "mm"),
               "spall.length_m": ("faults.spall.length_mm", 1e3, "mm"),
               "spall.depth_m": ("faults.spall.depth_um", 1e6, "um"),
-              "depth_m": ("faults.crack.depth_mm", 1e3, "mm"), "angle_rad": ("faults.crack.angle_deg", 180 / math.pi, "deg")}
+              "depth_m": ("faults.crack.depth_mm", 1e3, "mm"),
+              "angle_rad": ("faults.crack.angle_deg", 180 / math.pi, "deg")}
 
 
 def flank_spec(f: FlankDoc, pair: PairSpec) -> FlankSpec | None:

@@ -841,7 +841,8 @@ def _key_table(model: type[BaseModel]) -> list[str]:
                 else f"table, see [{model_table_name(model, key)}] below" if sub is not None
                 else _type_name(info.annotation))
         default = None if info.is_required() else info.get_default(call_default_factory=True)
-        shown = "required" if info.is_required() else "absent" if default is None else f"`{to_toml({'v': default}).split(' = ', 1)[1].strip()}`"
+        shown = ("required" if info.is_required() else "absent" if default is None
+                 else f"`{to_toml({'v': default}).split(' = ', 1)[1].strip()}`")
         rows.append(f"| `{key}` | {kind} | {extra.get('unit', '') or ''} | {extra.get('range', '')} | {shown} | "
                     f"{(info.description or '').replace('|', '/')} |")
     return rows + [""]

@@ -53,6 +53,7 @@ from .assumptions import as_dicts, for_command
 from .plausibility import body_warnings, pair_warnings, response_warnings, stiffness_warnings
 from .scene import Scene, require_dynamics
 from .schema import dynamics_fem_plane
+from .sources import FE_POSITIONS
 
 #: SI unit of each signal of the dynamics layer (dynamics.simulate computes them in SI)
 SI_UNITS = {"y_p": "m", "x_p": "m", "y_g": "m", "x_g": "m", "q": "m", "delta": "m", "F_m": "N"}
@@ -163,7 +164,8 @@ def stiffness_input(scene: Scene, breakpoints: bool = True) -> StiffnessInput:
     elif source == "fem":
         from .stiffness_job import fem_curve
         check_before_stiffness(scene)
-        r = fem_curve(pair, 24, T, clearance_geo, wear, flank, faults, blank_torsion=blank_torsion(ms), plane=plane)
+        r = fem_curve(pair, FE_POSITIONS, T, clearance_geo, wear, flank, faults,
+                      blank_torsion=blank_torsion(ms), plane=plane)
         phi, k, e = r.angle_rad, r.k_N_per_m, r.excitation_m
     else:
         r = mesh_stiffness(pair, points=points, torque_Nm=T, clearance_m=clearance_geo, wear=wear, flank=flank,

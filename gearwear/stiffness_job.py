@@ -29,8 +29,6 @@ from gearwear.geometry.wear import WearSpec
 
 from . import io
 
-METHODS = ("ishikawa", "energy", "iso6336", "fem")
-
 
 @dataclass
 class Curve:
@@ -325,7 +323,8 @@ def figures(curves: list[Curve]):
             panels[2].append((wl, x, np.array([c.result.contact_ratio for c in sel]), {"marker": "o", **style}))
         for a, curves_of in zip(axs, panels):
             span = float(np.ptp(np.concatenate([c[2] for c in curves_of])))
-            plot_merged(a, curves_of, 0.01 * span, note=lambda y0, ys: f" (within {max(np.max(abs(y - y0)) for y in ys):.2g})")
+            plot_merged(a, curves_of, 0.01 * span,
+                        note=lambda y0, ys: f" (within {max(np.max(abs(y - y0)) for y in ys):.2g})")
         axs[0].set_ylabel("mean mesh stiffness (1e8 N/m)")
         axs[1].set_ylabel("zone length per mesh period (deg)")
         axs[2].set_ylabel("contact ratio (dimensionless)")

@@ -15,7 +15,6 @@ import itertools
 import json
 import math
 import os
-import signal
 import sys
 import textwrap
 import threading

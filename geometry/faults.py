@@ -37,7 +37,7 @@ import numpy as np
 
 from .kinematics import MeshGeometry
 from .spec import PairSpec
-from gearwear.core.validation import Field, fail, fail_range
+from gearwear.core.validation import Field, fail_range
 
 #: deepest accepted spall (m): deeper pits are tooth breakage, not a surface fault
 MAX_SPALL_DEPTH_M = 1e-3

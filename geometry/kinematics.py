@@ -39,7 +39,8 @@ class MeshGeometry:
         if self.path_length_m <= 0.0:
             raise InputError(
                 f"centre distance = {self.centre_distance_m * 1e3:.6g} mm: the tip circles no longer overlap "
-                f"the line of action (path of contact {self.path_length_m * 1e3:.4g} mm <= 0); the gears are out of mesh")
+                f"the line of action (path of contact {self.path_length_m * 1e3:.4g} mm <= 0); "
+                "the gears are out of mesh")
 
     # -- scalars -----------------------------------------------------------------
     @property

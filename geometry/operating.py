@@ -18,7 +18,8 @@ only the clearance moves the centres, and zero clearance gives the nominal geome
 exactly.
 
 Backlash. The total normal backlash (along the line of action) at centre distance
-C' is (derivation from the base-circle tooth thicknesses, DESIGN.md)
+C' is (the base-circle space widths left over by both teeth along the line of action,
+ISO 21771; docs/models.md, "Backlash (Eqs. 13-15)")
 
     j_n = j_n0 + 2 (r_b1 + r_b2) (inv(alpha') - inv(alpha_w))          ("consistent")
 

@@ -378,8 +378,9 @@ def check_pair(spec: PairSpec) -> None:
             d_f = spec.root_diameter_m[i]
             if not d_lo < d_f < d_hi:
                 raise fail_range(f"root_diameter_m[{i}]", d_f, Field("m", d_lo, d_hi, lo_open=True, hi_open=True),
-                                 "above the hub, no deeper than the rack with this tip round cuts, below the circle the "
-                                 f"mate's tip reaches at the working centre distance (tip clearance > 0)")
+                                 "above the hub, no deeper than the rack with this tip round cuts, "
+                                 "below the circle the "
+                                 "mate's tip reaches at the working centre distance (tip clearance > 0)")
         if rho > rho_max:
             raise fail("rack_tip_radius_coefficient", rho, "",
                        f"must be in [0, {rho_max:.4f}] for dedendum {hf:g} and pressure angle "

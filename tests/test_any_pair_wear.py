@@ -157,7 +157,7 @@ def test_flank_depth_maps_each_flank_to_its_own_contact_point(name):
         d_all = rb * u_all if i == 0 else L - rb * u_all
         # the active flank (beyond it flank_depth tapers the depth to zero over taper_m)
         inv_pts = (d_all >= mesh.path_start_m) & (d_all <= mesh.path_end_m)
-        u, d = u_all[inv_pts], d_all[inv_pts]
+        d = d_all[inv_pts]
         expected = wear_on_line_of_action(mesh, spec, d)[i]
         assert np.allclose(h[inv_pts], expected, rtol=1e-9, atol=1e-12 * h.max())
         at_pitch = np.flatnonzero(np.abs(prof.roll - u_c) < 1e-12)

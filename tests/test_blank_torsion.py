@@ -133,7 +133,6 @@ def test_mesh_only_does_not_hold_the_blank_torsion():
     check_identity_and_closed_form(ref)
     a, b = cycle(thick), cycle(ref)
     pair = with_bores(ref)
-    F = TORQUE / by_hand(pair.gear(0))[0]
     kappa_terms = 0.0
     torsion = 0.0
     for gi, g in enumerate(pair.gears):

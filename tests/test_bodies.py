@@ -71,7 +71,8 @@ def _hand_blank(g, face_width_m: float, density: float) -> tuple[float, float]:
     def psi(r):
         return g.pitch_thickness_m / (2 * rp) + inv(g.pressure_angle_rad) - inv(math.acos(rb / max(r, rb)))
 
-    A = math.pi * rf ** 2 + g.teeth * quad(lambda r: 2 * psi(r) * r, rf, ra, limit=200)[0] - math.pi * g.hub_radius_m ** 2
+    A = (math.pi * rf ** 2 + g.teeth * quad(lambda r: 2 * psi(r) * r, rf, ra, limit=200)[0]
+         - math.pi * g.hub_radius_m ** 2)
     I = (math.pi * rf ** 4 / 2 + g.teeth * quad(lambda r: 2 * psi(r) * r ** 3, rf, ra, limit=200)[0]
          - math.pi * g.hub_radius_m ** 4 / 2)
     return density * face_width_m * A, density * face_width_m * I

@@ -259,7 +259,8 @@ def test_fe_over_analytic_increase_is_reported(paper, fe_runs):
             d_an = (a - a0) * 1e9 * pair.face_width_m  # m/N -> um/(N/mm)
             d_fe = fe_runs[q].fem_compliance_um_per_N_per_mm - fe0
             ratio = d_fe / d_an
-            lines.append(f"{model.__name__.rsplit('.', 1)[-1]:9s} q = {q} mm: FE/analytic increase {ratio.round(3).tolist()}")
+            lines.append(f"{model.__name__.rsplit('.', 1)[-1]:9s} q = {q} mm: "
+                         f"FE/analytic increase {ratio.round(3).tolist()}")
             assert np.all(ratio > 0)
     print("\nradii mm " + str((R * 1e3).round(3).tolist()) + "\n" + "\n".join(lines))
 

@@ -64,7 +64,9 @@ def test_tapered_tooth_against_adaptive_quadrature():
     """Smooth non-uniform x(y), oblique load off the axis: the moment expansion agrees
     with direct adaptive integration of the defining integrals."""
     y_M = 0.068
-    x = lambda y: 5e-3 - 0.25 * (np.asarray(y) - y_M) + 40.0 * (np.asarray(y) - y_M) ** 2
+    def x(y):
+        return 5e-3 - 0.25 * (np.asarray(y) - y_M) + 40.0 * (np.asarray(y) - y_M) ** 2
+
     E, G = STEEL.youngs_modulus_Pa, STEEL.shear_modulus_Pa
     y_F = np.array([0.071, 0.0745, 0.079])
     x_F = x(y_F)
@@ -91,7 +93,9 @@ def test_real_profile_against_adaptive_quadrature(paper):
     lp = load_points(prof, R)
     y_M, _ = root_section(prof)
     E, G = STEEL.youngs_modulus_Pa, STEEL.shear_modulus_Pa
-    x = lambda y: float(half_thickness_at_height(prof, np.array([y]))[0])
+    def x(y):
+        return float(half_thickness_at_height(prof, np.array([y]))[0])
+
     for i in range(len(R)):
         a, s = math.cos(lp.w_rad[i]), math.sin(lp.w_rad[i])
         verts = np.unique(prof.xy[:, 1][(prof.xy[:, 1] > y_M) & (prof.xy[:, 1] < lp.y_m[i])])

@@ -1,4 +1,5 @@
-"""The pair FE meshes and solves every design the geometry accepts: at least 200 accepted Sobol designs (of 256 drawn) over
+"""The pair FE meshes and solves every design the geometry accepts: at least 200 accepted Sobol designs
+(of 256 drawn) over
 tooth counts, ratio, module, pressure angle, both profile shifts, bores and rack tip radii.
 
 Not part of ``make test`` (each design builds two gear bodies: about 20 s to 5 min here, an

@@ -163,7 +163,8 @@ def tg_displacement(x, y):
     P, l, c, I = P_B, L_B, C_B, I_B
     u = (-P * x ** 2 * y / (2 * E * I) - NU * P * y ** 3 / (6 * E * I) + P * y ** 3 / (6 * I * G)
          + (P * l ** 2 / (2 * E * I) - P * c ** 2 / (2 * I * G)) * y)
-    v = NU * P * x * y ** 2 / (2 * E * I) + P * x ** 3 / (6 * E * I) - P * l ** 2 * x / (2 * E * I) + P * l ** 3 / (3 * E * I)
+    v = (NU * P * x * y ** 2 / (2 * E * I) + P * x ** 3 / (6 * E * I) - P * l ** 2 * x / (2 * E * I)
+         + P * l ** 3 / (3 * E * I))
     return u, v
 
 

@@ -23,7 +23,6 @@ from __future__ import annotations
 import copy
 import dataclasses
 import json
-import math
 import re
 from concurrent.futures import ThreadPoolExecutor
 from functools import cache

@@ -123,7 +123,6 @@ def test_classical_rack_limit_z_min_17():
     # 18 teeth, not undercut: contact starts above the form circle cut by the rack's flank end
     pair = paper_pair_from({"pair": {"teeth": [18, 1000], "hub_radius_mm": [10, 40]}})
     r1, C = 0.5 * M * 18, 0.5 * M * 1018
-    rb1 = r1 * math.cos(ALPHA)
     y_T = -(1.25 - 0.38 * (1 - math.sin(ALPHA))) * M      # lower end of the rack's straight flank
     roll_F = r1 * math.sin(ALPHA) + y_T / math.sin(ALPHA)  # r_b u_F, from T1 along the line of action
     d_A = C * math.sin(ALPHA) - math.sqrt((r2 + M) ** 2 - (r2 * math.cos(ALPHA)) ** 2)

@@ -8,7 +8,7 @@ import pytest
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.operating import backlash, centre_distance, operating_geometry
 from gearwear.geometry.profile import tooth_profile
-from gearwear.geometry.spec import default_pair, inv
+from gearwear.geometry.spec import default_pair
 from scenes import paper_pair_from
 from gearwear.core.validation import InputError
 
@@ -19,7 +19,8 @@ def textbook_contact_ratio(z1, z2, m, alpha, a):
     rb1, rb2 = r1 * math.cos(alpha), r2 * math.cos(alpha)
     ra1, ra2 = r1 + m, r2 + m
     aw = math.acos((rb1 + rb2) / a)
-    return (math.sqrt(ra1**2 - rb1**2) + math.sqrt(ra2**2 - rb2**2) - a * math.sin(aw)) / (math.pi * m * math.cos(alpha))
+    return (math.sqrt(ra1**2 - rb1**2) + math.sqrt(ra2**2 - rb2**2)
+            - a * math.sin(aw)) / (math.pi * m * math.cos(alpha))
 
 
 def test_paper_contact_ratio_matches_textbook():

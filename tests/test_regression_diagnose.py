@@ -72,7 +72,8 @@ def test_blind_test_rows_against_bench_json():
     s = d["surrogate"]
     h = s["heldout"]
     say(f"its held-out error of the harmonic amplitudes is {100 * h['harmonic_relative_error_median']:.2f} % median, "
-        f"{100 * h['harmonic_relative_error_p90']:.1f} % at the 90th and {100 * h['harmonic_relative_error_p95']:.1f} % "
+        f"{100 * h['harmonic_relative_error_p90']:.1f} % at the 90th and "
+        f"{100 * h['harmonic_relative_error_p95']:.1f} % "
         "at the 95th percentile")
     by = s["heldout_median_by_wear"]
     say(f"(median {100 * by['below_8_um']:.1f} % below 8 um of wear, {100 * by['from_8_um']:.2f} % above")

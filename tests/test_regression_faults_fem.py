@@ -60,7 +60,8 @@ def _scene(name: str):
 def reports():
     out = {}
     for name in EXAMPLES:
-        out[name] = {kind: _json(f"examples/{name}/{kind}/{'summary' if 'simulate' in kind else 'stiffness_summary'}.json")
+        out[name] = {kind: _json(f"examples/{name}/{kind}/"
+                                 f"{'summary' if 'simulate' in kind else 'stiffness_summary'}.json")
                      for kind in ("stiffness", "stiffness_fem", "simulate", "simulate_fem")}
         for k in ("stiffness", "stiffness_fem"):
             out[name][k] = out[name][k][0]

@@ -225,7 +225,8 @@ def test_cantilever_and_hertz_rows():
     clamp = m.facets_satisfying(lambda x: np.isclose(x[0], L), boundaries_only=True)
     free = m.facets_satisfying(lambda x: np.isclose(x[0], 0.0), boundaries_only=True)
     model = assemble(m, steel, 1.0, clamp, plane="stress", order=2)
-    U = model.solve(traction_load(model, free, lambda x, y: np.stack([np.zeros_like(x), P / (2 * I) * (c * c - y * y)])))
+    U = model.solve(traction_load(model, free,
+                                  lambda x, y: np.stack([np.zeros_like(x), P / (2 * I) * (c * c - y * y)])))
     tip = float((model.probe(np.array([[0.0, 0.0]])) @ U)[1])
     timoshenko = P * L ** 3 / (3 * E * I) + P * L / (5 / 6 * G * 2 * c)
     say(f"| cantilever vs Timoshenko (clamped, kappa = 5/6) | {pct(tip / timoshenko - 1, 2)} |")
@@ -412,7 +413,8 @@ def test_report_claims_and_modes(report_unworn):
     # trends.json against this fresh run: the unworn point of the wear rows
     for row in rows:
         if row["where"] == "3.1.4, Fig. 13":
-            assert row["ours"] == "largest: " + ", ".join(f"{k} x fm" for k in np.argsort(-r.harmonics("F_m", 10))[:3] + 1)
+            assert row["ours"] == "largest: " + ", ".join(f"{k} x fm"
+                                                          for k in np.argsort(-r.harmonics("F_m", 10))[:3] + 1)
         if row["where"] == "3.1, Fig. 14" and "x fm of F_m" in row["paper"]:
             k = int(row["paper"].split(" x fm")[0])
             assert row["ours"].split(": ")[1].split(" -> ")[0] == f"{r.harmonics('F_m', 4)[k - 1]:.5g}"
@@ -460,7 +462,8 @@ def test_dynamics_accuracy_table():
 
     rk4 = {N: err(simulate(ms, 0.2, 0.1, method="rk4", steps_per_mesh_period=N, samples_per_mesh_period=256))
            for N in (128, 256, 512, 1024)}
-    dp = {rt: err(simulate(ms, 0.2, 0.1, method="dopri5", rtol=rt, samples_per_mesh_period=256)) for rt in (1e-8, 1e-10)}
+    dp = {rt: err(simulate(ms, 0.2, 0.1, method="dopri5", rtol=rt, samples_per_mesh_period=256))
+          for rt in (1e-8, 1e-10)}
     say("| RK4, 128 / 256 / 512 / 1024 steps per mesh period |")
     say(" / ".join(sci(rk4[N]) for N in rk4) + " |")
     say("| adaptive Dormand-Prince, rtol 1e-8 / 1e-10 |")

@@ -3,7 +3,6 @@ row's "why" must follow from what that row measured, on synthetic inputs (both
 directions of every quantity) and on the committed reports/paper/trends.json."""
 
 import json
-import math
 import re
 from pathlib import Path
 from types import SimpleNamespace

@@ -76,7 +76,6 @@ def test_jump_bands_by_hand():
 
 
 def test_iso_table_changes_the_iso_curve_only(tmp_path):
-    out = []
     for extra in ([], ["--set", "iso6336={accuracy_grade=8, C_a_um=3}"]):
         assert main(["runup", "paper-default", "--set", "operating.speed_rpm=1900,2000", *FAST, "--direction", "up",
                      "--workers", "1", "--json"]) == 0 if not extra else main(

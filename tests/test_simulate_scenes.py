@@ -57,7 +57,8 @@ def test_only_named_effects_are_modelled(plain):
                      "effects.transmission_error={}"))
     fm = full.model
     # dynamic coupling starts from the nominal geometry: b = b0 / 2 there
-    assert fm.backlash_half_m == pytest.approx(25e-6) and fm.bearing_half_clearance_m == pytest.approx(5e-6) and fm.te_excitation
+    assert (fm.backlash_half_m == pytest.approx(25e-6) and fm.bearing_half_clearance_m == pytest.approx(5e-6)
+            and fm.te_excitation)
     assert fm.centre_distance == "dynamic"
 
 

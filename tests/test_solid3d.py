@@ -13,7 +13,6 @@ deflection = u_y of the centre line (L, h/2) averaged over the width:
   E / (1 - nu^2)).
 """
 
-import math
 
 import numpy as np
 import pytest

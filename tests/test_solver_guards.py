@@ -5,7 +5,6 @@ import math
 import subprocess
 import sys
 
-import numpy as np
 import pytest
 
 from gearwear.dynamics import linear_eigenfrequencies, paper_pair, simulate

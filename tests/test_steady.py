@@ -141,7 +141,8 @@ def _frf_delta(m, f_Hz: float) -> complex:
 def test_linear_forced_response_equals_the_frequency_response_and_peaks_at_the_modes():
     """Constant stiffness with the excitation e = A (1 - cos phi_m) / 2: a linear
     time-invariant system forced at f_m only. Its steady delta harmonic is |H(f_m)| e_1,
-    e_1 the first harmonic of the excitation, with H the frequency response of the hand-assembled matrices, at every speed of the
+    e_1 the first harmonic of the excitation, with H the frequency response of the hand-assembled matrices,
+    at every speed of the
     run-up (1e-6), and the run-up's maximum sits within one speed step of each mode that
     delta sees (1037 and 4080 Hz; the 1325 Hz bearing modes do not move delta)."""
     A = 2e-6

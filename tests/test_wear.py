@@ -10,7 +10,7 @@ from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.profile import INVOLUTE, involute_points, tooth_profile
 from gearwear.geometry.spec import default_pair
 from gearwear.core.validation import InputError
-from gearwear.geometry.wear import (WearSpec, flank_depth, hertz_half_width, hertz_load_integral, specific_sliding,
+from gearwear.geometry.wear import (WearSpec, hertz_half_width, hertz_load_integral, specific_sliding,
                                     wear_on_line_of_action, worn_profiles)
 from gearwear.scene import parse_wear_arg, wear_from_dict
 
@@ -76,7 +76,8 @@ def test_monotone_and_linear_in_running_time(mesh):
     n = 1200 * 60
     w = 40.0 / default_pair().gear(0).base_radius_m / 0.02
     z1 = specific_sliding(mesh, np.array([dd]))[0][0]
-    assert wear_on_line_of_action(mesh, spec, np.array([dd]))[0][0] == pytest.approx(5.3e-16 * abs(z1) * w * n, rel=1e-12)
+    assert wear_on_line_of_action(mesh, spec, np.array([dd]))[0][0] == pytest.approx(5.3e-16 * abs(z1) * w * n,
+                                                                                     rel=1e-12)
 
 
 def test_phases_scale_to_their_maximum_depth(mesh):
