@@ -56,19 +56,13 @@ import math
 import numpy as np
 from numba import njit
 
+from .dormand_prince import A2, A3, A4, A5, A6, B, C, E
+from .dormand_prince import P as DENSE_P
 from .model import (P_B, P_BB, P_C0, P_CA, P_CBG, P_CBP, P_CH, P_DPHI, P_FS, P_INV0, P_KB,
                     P_KC, P_ME, P_MG, P_MP, P_OM, P_PAPER, P_PER, P_PHI0, P_RS, P_SA, P_UNI)
 
-# Shampine's 4th-order continuous extension of Dormand-Prince 5(4) (as scipy RK45); the
-# tableau itself is unrolled in _dp_stages
-_PD = np.array([
-    [1, -8048581381 / 2820520608, 8663915743 / 2820520608, -12715105075 / 11282082432],
-    [0, 0, 0, 0],
-    [0, 131558114200 / 32700410799, -68118460800 / 10900136933, 87487479700 / 32700410799],
-    [0, -1754552775 / 470086768, 14199869525 / 1410260304, -10690763975 / 1880347072],
-    [0, 127303824393 / 49829197408, -318862633887 / 49829197408, 701980252875 / 199316789632],
-    [0, -282668133 / 205662961, 2019193451 / 616988883, -1453857185 / 822651844],
-    [0, 40617522 / 29380423, -110615467 / 29380423, 69997945 / 29380423]])
+# the Dormand-Prince 5(4) tableau and Shampine's dense output (dynamics.dormand_prince)
+_PD = DENSE_P
 
 NG = 10  # switching functions: s-b, -s-b, then +-u_j - b_b for y_p, x_p, y_g, x_g
 ST_OK, ST_BUDGET, ST_HMIN, ST_DIVERGED = 0, 1, 2, 3
@@ -457,24 +451,22 @@ def _lc6(z, h, a0, k0, a1, k1, a2, k2, a3, k3, a4, k4, a5, k5):
 def _dp_stages(t, h, i, m, z, k1, w1, p, modes, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en):
     """Stages 2-7 of Dormand-Prince 5(4) on tuples (k1 = f(t, z) given, FSAL).
     Returns (z_new, (k2..k7), (w2..w7), error estimate tuple h sum E_s k_s)."""
-    kt, et, dkt, det = _table_at(t + 0.2 * h, i, m, p, phx, kx, ex, sw_tv, sw_te)
-    k2, F, w2 = _rhs(_lc1(z, h, 0.2, k1), kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
-    kt, et, dkt, det = _table_at(t + 0.3 * h, i, m, p, phx, kx, ex, sw_tv, sw_te)
-    k3, F, w3 = _rhs(_lc2(z, h, 3 / 40, k1, 9 / 40, k2), kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
-    kt, et, dkt, det = _table_at(t + 0.8 * h, i, m, p, phx, kx, ex, sw_tv, sw_te)
-    k4, F, w4 = _rhs(_lc3(z, h, 44 / 45, k1, -56 / 15, k2, 32 / 9, k3), kt, et, dkt, det, p, modes,
+    kt, et, dkt, det = _table_at(t + C[1] * h, i, m, p, phx, kx, ex, sw_tv, sw_te)
+    k2, F, w2 = _rhs(_lc1(z, h, A2[0], k1), kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
+    kt, et, dkt, det = _table_at(t + C[2] * h, i, m, p, phx, kx, ex, sw_tv, sw_te)
+    k3, F, w3 = _rhs(_lc2(z, h, A3[0], k1, A3[1], k2), kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
+    kt, et, dkt, det = _table_at(t + C[3] * h, i, m, p, phx, kx, ex, sw_tv, sw_te)
+    k4, F, w4 = _rhs(_lc3(z, h, A4[0], k1, A4[1], k2, A4[2], k3), kt, et, dkt, det, p, modes,
                      sw_bl, sw_cl, sw_dyn, sw_en)
-    kt, et, dkt, det = _table_at(t + 8 / 9 * h, i, m, p, phx, kx, ex, sw_tv, sw_te)
-    k5, F, w5 = _rhs(_lc4(z, h, 19372 / 6561, k1, -25360 / 2187, k2, 64448 / 6561, k3, -212 / 729, k4),
+    kt, et, dkt, det = _table_at(t + C[4] * h, i, m, p, phx, kx, ex, sw_tv, sw_te)
+    k5, F, w5 = _rhs(_lc4(z, h, A5[0], k1, A5[1], k2, A5[2], k3, A5[3], k4),
                      kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
     kt, et, dkt, det = _table_at(t + h, i, m, p, phx, kx, ex, sw_tv, sw_te)
-    k6, F, w6 = _rhs(_lc5(z, h, 9017 / 3168, k1, -355 / 33, k2, 46732 / 5247, k3, 49 / 176, k4,
-                          -5103 / 18656, k5), kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
-    zn = _lc5(z, h, 35 / 384, k1, 500 / 1113, k3, 125 / 192, k4, -2187 / 6784, k5, 11 / 84, k6)
+    k6, F, w6 = _rhs(_lc5(z, h, A6[0], k1, A6[1], k2, A6[2], k3, A6[3], k4, A6[4], k5), kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
+    zn = _lc5(z, h, B[0], k1, B[2], k3, B[3], k4, B[4], k5, B[5], k6)
     k7, F, w7 = _rhs(zn, kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
     zero = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
-    err = _lc6(zero, h, -71 / 57600, k1, 71 / 16695, k3, -71 / 1920, k4, 17253 / 339200, k5,
-               -22 / 525, k6, 1 / 40, k7)
+    err = _lc6(zero, h, E[0], k1, E[2], k3, E[3], k4, E[4], k5, E[5], k6, E[6], k7)
     return zn, (k2, k3, k4, k5, k6, k7), (w2, w3, w4, w5, w6, w7), err
 
 
@@ -500,8 +492,8 @@ def _dp_store(K, k1, w1, ks, ws, zn, znew, sw_en):
 def _dp_energy(z, K, h, znew):
     """Energy quadratures: the 5th-order weights of the states (A[6]) on their rates."""
     for r in range(10, z.shape[0]):
-        znew[r] = z[r] + h * (35 / 384 * K[0, r] + 500 / 1113 * K[2, r] + 125 / 192 * K[3, r]
-                              - 2187 / 6784 * K[4, r] + 11 / 84 * K[5, r])
+        znew[r] = z[r] + h * (B[0] * K[0, r] + B[2] * K[2, r] + B[3] * K[3, r]
+                              + B[4] * K[4, r] + B[5] * K[5, r])
 
 
 # ------------------------------------------------------------------------------------
