@@ -462,7 +462,8 @@ def _dp_stages(t, h, i, m, z, k1, w1, p, modes, phx, kx, ex, sw_tv, sw_bl, sw_cl
     k5, F, w5 = _rhs(_lc4(z, h, A5[0], k1, A5[1], k2, A5[2], k3, A5[3], k4),
                      kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
     kt, et, dkt, det = _table_at(t + h, i, m, p, phx, kx, ex, sw_tv, sw_te)
-    k6, F, w6 = _rhs(_lc5(z, h, A6[0], k1, A6[1], k2, A6[2], k3, A6[3], k4, A6[4], k5), kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
+    k6, F, w6 = _rhs(_lc5(z, h, A6[0], k1, A6[1], k2, A6[2], k3, A6[3], k4, A6[4], k5), kt, et, dkt, det, p, modes,
+                     sw_bl, sw_cl, sw_dyn, sw_en)
     zn = _lc5(z, h, B[0], k1, B[2], k3, B[3], k4, B[4], k5, B[5], k6)
     k7, F, w7 = _rhs(zn, kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
     zero = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
