@@ -1,5 +1,6 @@
-"""The scene key fem.plane: validated, honoured by every FE path, refused where no FE runs,
-listed as assumed where an FE result uses its default."""
+"""The scene key fem.plane: validated, honoured by every FE path and by the analytic tooth
+beams, refused where no model with a 2D state runs, listed as assumed where a result uses its
+default."""
 
 import pytest
 
@@ -46,11 +47,15 @@ def test_refused_where_no_fe_model_runs():
     s = scene(fem={"plane": "strain"})
     with pytest.raises(InputError, match="fem.plane = 'strain': not used: gearwear geometry"):
         fem_plane(s.doc, False, "gearwear geometry")
-    # the dynamics use it only with an FE mesh-stiffness source
+    # the dynamics use it with an analytic or FE mesh-stiffness source, and with a constant
+    # taken from the analytic mean; not with a user table or a given constant
     with pytest.raises(InputError, match="not used"):
-        dynamics_fem_plane(s.doc)
-    assert dynamics_fem_plane(scene(fem={"plane": "strain"},
-                                    effects={"mesh_stiffness": {"source": "fem"}}).doc) == "strain"
+        dynamics_fem_plane(scene(fem={"plane": "strain"},
+                                 effects={"mesh_stiffness": {"source": "constant", "value_N_per_m": 3e8}}).doc)
+    for src in ("fem", "calibrated", "analytic"):
+        assert dynamics_fem_plane(scene(fem={"plane": "strain"},
+                                        effects={"mesh_stiffness": {"source": src}}).doc) == "strain"
+    assert dynamics_fem_plane(s.doc) == "strain"          # no [effects] mesh_stiffness: the analytic mean
     assert dynamics_fem_plane(scene(effects={"mesh_stiffness": {"source": "calibrated"}}).doc) == "stress"
     # absent, nothing to refuse
     assert dynamics_fem_plane(scene().doc) == "stress"
@@ -59,8 +64,10 @@ def test_refused_where_no_fe_model_runs():
 def test_cli_refuses_it_without_fe(capsys):
     assert main(["geometry", "--no-mesh", "--set", "fem.plane=strain"]) != 0
     assert "fem.plane = 'strain': not used: gearwear geometry" in capsys.readouterr().err
-    assert main(["stiffness", "--method", "ishikawa", "--set", "fem.plane=strain"]) != 0
-    assert "gearwear stiffness --method ishikawa" in capsys.readouterr().err
+    assert main(["stiffness", "--method", "iso6336", "--set", "fem.plane=strain"]) != 0
+    assert "gearwear stiffness --method iso6336" in capsys.readouterr().err
+    # the analytic tooth beams take it (tests/test_analytic_plane.py checks what it changes)
+    assert main(["stiffness", "--method", "ishikawa", "--set", "fem.plane=strain"]) == 0
 
 
 def test_the_dynamics_pass_it_to_the_pair_fe(monkeypatch):
@@ -95,7 +102,10 @@ def test_assumed_where_an_fe_result_uses_the_default():
     keys = lambda s, cmd: [a.key for a in for_command(s, cmd)]  # noqa: E731
     assert "fem.plane" in keys(scene(), "verify")
     assert "fem.plane" in keys(scene(), "stiffness-fem")
-    assert "fem.plane" not in keys(scene(), "stiffness")
+    assert "fem.plane" in keys(scene(), "stiffness")            # the analytic tooth beams use it
+    assert "fem.plane" not in keys(scene(), "stiffness-iso")    # ISO 6336 alone has no 2D state
     assert "fem.plane" not in keys(scene(fem={"plane": "stress"}), "verify")
-    assert "fem.plane" not in keys(scene(), "simulate")
+    assert "fem.plane" in keys(scene(), "simulate")             # a constant from the analytic mean
+    assert "fem.plane" not in keys(scene(effects={"mesh_stiffness": {"source": "constant",
+                                                                     "value_N_per_m": 3e8}}), "simulate")
     assert "fem.plane" in keys(scene(effects={"mesh_stiffness": {"source": "calibrated"}}), "simulate")
