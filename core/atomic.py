@@ -43,12 +43,16 @@ def atomic_write(path: str | os.PathLike, writer: Callable[[str], None]) -> Path
     from it) and has the mode 0o666 & ~umask of an ordinary new file."""
     p = Path(path)
     p.parent.mkdir(parents=True, exist_ok=True)
-    tmp = _create_temp(p)
+    tmp: str | None = None
     try:
+        # a signal between creating the temporary and the assignment would leave it
+        # behind: it is delivered once ``tmp`` is set, inside this try
+        with interrupts.deferred():
+            tmp = _create_temp(p)
         writer(tmp)
         os.replace(tmp, p)
     except BaseException:
-        if os.path.exists(tmp):
+        if tmp is not None and os.path.exists(tmp):
             os.unlink(tmp)
         raise
     return p
@@ -134,10 +138,14 @@ def atomic_folder(path: str | os.PathLike, may_replace: Callable[[Path], None] |
     if p.is_symlink():
         p = p.resolve()
     p.parent.mkdir(parents=True, exist_ok=True)
-    tmp = _new_sibling_dir(p, "tmp")
+    tmp: Path | None = None
     try:
+        # as in atomic_write: a signal right after the mkdir is delivered inside this try
+        with interrupts.deferred():
+            tmp = _new_sibling_dir(p, "tmp")
         yield tmp
         swap_in(tmp, p, may_replace)
     except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
+        if tmp is not None:
+            shutil.rmtree(tmp, ignore_errors=True)
         raise
