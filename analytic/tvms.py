@@ -601,7 +601,7 @@ def mesh_stiffness(pair: PairSpec, method: str = "ishikawa", points: int = DEFAU
 
     ``correction``: optional ((radius_m, factor), (radius_m, factor)) per gear: the
     tooth compliance delta_1 + delta_2 at contact radius R is multiplied by the factor
-    interpolated at R (the FE calibration; see gearwear.calibrate). Plain arrays, so
+    interpolated at R (the FE calibration; see gearwear.stiffness.calibration). Plain arrays, so
     this module never depends on the FE stage. ``crack_correction``: (radius_m, factor)
     of the cracked tooth (FE of the cracked tooth over the reduced-section model); absent,
     the cracked tooth takes its gear's ``correction``. ``plane``: the 2D state of the tooth

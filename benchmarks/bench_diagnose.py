@@ -64,11 +64,11 @@ def wear_steps(raw, name, ds) -> list[dict]:
 def main() -> dict:
     cache = tempfile.mkdtemp(prefix="gearwear-bench-diagnose-")
     os.environ["GEARWEAR_CACHE"] = cache
-    from gearwear import diagnose_job as dj
-    from gearwear import diagnose_surrogate as ds
-    from gearwear.diagnose_cmd import DESIGN_POINTS, HOLDOUT_POINTS
-    from gearwear.scene import load_scene_dict
-    from gearwear.sweep_job import make_executor
+    from gearwear.diagnose import job as dj
+    from gearwear.diagnose import surrogate as ds
+    from gearwear.cli.diagnose import DESIGN_POINTS, HOLDOUT_POINTS
+    from gearwear.scene.model import load_scene_dict
+    from gearwear.jobs.sweep import make_executor
 
     raw, name = load_scene_dict(str(SCENE))
     unknowns = [ds.UNKNOWNS["wear"], ds.UNKNOWNS["clearance"]]

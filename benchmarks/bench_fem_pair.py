@@ -18,7 +18,7 @@ import numpy as np
 
 from gearwear.fem import pair as fp
 from gearwear.geometry.spec import default_pair
-from gearwear.scene import pair_from_dict
+from gearwear.scene.model import pair_from_dict
 
 SCALES = (2.0, math.sqrt(2.0), 1.0, 1.0 / math.sqrt(2.0), 0.5)
 

@@ -3,7 +3,7 @@ LocalCluster, with 1 and 2 workers (``make bench``; nothing asserted).
 
 The scenes are the built-in ``paper-default`` (paper pair, analytic Ishikawa stiffness,
 RK4 256 steps per mesh period) at 100 torques from 20 to 40 N m, ``solver.duration_s = 1``
-(0.3 s discarded), run through ``gearwear.sweep_job.sweep`` exactly as ``gearwear sweep``
+(0.3 s discarded), run through ``gearwear.jobs.sweep.sweep`` exactly as ``gearwear sweep``
 does (every point: scene validation, stiffness table, model, integration, summary with
 exact harmonics and condition indicators). For each executor:
 
@@ -35,8 +35,8 @@ for p in (str(ROOT), str(HERE)):
     if p not in sys.path:
         sys.path.insert(0, p)
 
-from gearwear.scene import load_scene_dict  # noqa: E402
-from gearwear.sweep_job import make_executor, parse_axis, sweep  # noqa: E402
+from gearwear.scene.model import load_scene_dict  # noqa: E402
+from gearwear.jobs.sweep import make_executor, parse_axis, sweep  # noqa: E402
 
 N_SCENES = 100
 FIXED = ["solver.duration_s=1.0", "solver.discard_s=0.3"]
@@ -44,8 +44,8 @@ FIXED = ["solver.duration_s=1.0", "solver.discard_s=0.3"]
 
 def warm() -> float:
     """One short simulation in the worker: imports and kernels loaded before timing."""
-    from gearwear.scene import scene_from_dict
-    from gearwear.simulate_job import run
+    from gearwear.scene.model import scene_from_dict
+    from gearwear.jobs.simulate import run
 
     data, name = load_scene_dict("paper-default")
     t0 = time.perf_counter()

@@ -6,7 +6,7 @@ pair enters or leaves the path or starts or stops carrying load, with graded nod
 its loaded side). For N = 90 .. 5760, with and without the breakpoints, on three
 scenes (the paper pair at the issue's 30.5 um bearing clearance; the paper pair with
 severe wear at 10 um clearance; an unequal, profile-shifted 23/47 pair with mild wear and
-20 um clearance): the full dynamics (gearwear.simulate_job.run, the scene's solver), the
+20 um clearance): the full dynamics (gearwear.jobs.simulate.run, the scene's solver), the
 F_m harmonics 1-10, and the k_h harmonics 1-10 of the table (exact Fourier coefficients
 of the piecewise-linear table, geometry.curves.harmonic_amplitudes). Errors are against
 the table with breakpoints at 2 x 5760 nodes per period: the largest over harmonics 1-10
@@ -25,8 +25,8 @@ import numpy as np
 
 from gearwear.analytic import TABLE_POINTS_PER_MESH_PERIOD
 from gearwear.geometry.curves import harmonic_amplitudes
-from gearwear.scene import apply_overrides, builtin_scene_dict, scene_from_dict
-from gearwear.simulate_job import run, stiffness_input
+from gearwear.scene.model import apply_overrides, builtin_scene_dict, scene_from_dict
+from gearwear.jobs.simulate import run, stiffness_input
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "reports" / "breakpoints"

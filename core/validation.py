@@ -6,7 +6,7 @@ the value, the unit and the allowed range, e.g.::
     pair.module_mm = -5 mm: must be in (0, 100] mm
 
 Scene documents (unknown keys, types, ranges) are validated by the pydantic schema in
-gearwear.schema; this module is the error contract every layer raises through.
+gearwear.scene.schema; this module is the error contract every layer raises through.
 """
 
 from __future__ import annotations
@@ -36,7 +36,7 @@ class Field:
     """Schema entry for one scalar (or per-gear pair of scalars) input key.
 
     lo/hi bound the value; lo_open/hi_open make the bound exclusive. (Scene keys are
-    validated by the pydantic schema, gearwear.schema; the layers check their own
+    validated by the pydantic schema, gearwear.scene.schema; the layers check their own
     arguments with :func:`check_scalar` and :func:`fail`.)
     """
 

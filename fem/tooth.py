@@ -58,7 +58,7 @@ the load radius) projected on e_F:
 
 It excludes the local contact flattening (the pair model adds it as the Hertzian
 delta_3) and is the FE counterpart of Ishikawa's delta_1 + delta_2; the app layer
-(``gearwear.compare``) evaluates that and the energy method at the same radii on
+(``gearwear.stiffness.comparison``) evaluates that and the energy method at the same radii on
 the same (worn) profiles, which :class:`ToothFE` carries for it.
 
 Mesh and solution
@@ -590,7 +590,7 @@ def single_tooth_compliance(pair: PairSpec, gear_index: int = 0, wear: WearSpec 
 
     Returns a :class:`ToothFE`: compliance in um per (N/mm) at every position, the
     profiles the model was built from, dofs, elements and wall times (the analytic
-    reference at the same radii: gearwear.compare.tooth_vs_analytic).
+    reference at the same radii: gearwear.stiffness.comparison.tooth_vs_analytic).
     """
     t_start = time.perf_counter()
     if radii_m is None and positions < 2:

@@ -24,7 +24,7 @@ _API = ("paper_pair", "pair", "wear", "mesh_stiffness", "verify", "simulate", "s
 
 def __getattr__(name: str) -> Any:
     if name in _API:
-        from . import api
+        from gearwear import api
         return getattr(api, name)
     raise AttributeError(f"module 'gearwear' has no attribute {name!r}")
 

@@ -21,8 +21,8 @@ from gearwear.core.validation import InputError
 from gearwear.geometry.spec import PairSpec, default_pair
 from gearwear.geometry.wear import WearSpec
 
-from .scene import SHORT_KEYS, Scene, pair_from_dict, parse_wear_arg, wear_from_dict, wear_table
-from .sources import FE_POSITIONS, METHODS
+from gearwear.scene.model import SHORT_KEYS, Scene, pair_from_dict, parse_wear_arg, wear_from_dict, wear_table
+from gearwear.stiffness.sources import FE_POSITIONS, METHODS
 
 
 def paper_pair() -> PairSpec:
@@ -63,7 +63,7 @@ def mesh_stiffness(pair: PairSpec | None = None, method: str = "ishikawa", wear:
     pair: the paper pair at its 40 N m). Returns an object with ``angle_rad``,
     ``k_N_per_m``, ``excitation_m``, ``mean_N_per_m``, ``contact_ratio`` and more
     (``gearwear.analytic.tvms.MeshStiffness``)."""
-    from . import stiffness_job
+    from gearwear.jobs import stiffness as stiffness_job
 
     if method not in METHODS:
         raise InputError(f"method = {method!r}: must be one of {', '.join(METHODS)}")
@@ -71,7 +71,7 @@ def mesh_stiffness(pair: PairSpec | None = None, method: str = "ishikawa", wear:
         if pair is not None:
             raise InputError("torque_Nm: missing; the load sharing needs the pinion torque of your pair (N m)")
         torque_Nm = 40.0  # the paper's operating point, with the paper's pair
-    from .schema import resolved_plane
+    from gearwear.scene.schema import resolved_plane
 
     n = points if points is not None else (FE_POSITIONS if method == "fem" else TABLE_POINTS_PER_MESH_PERIOD)
     p = pair or default_pair()
@@ -86,8 +86,8 @@ def mesh_stiffness(pair: PairSpec | None = None, method: str = "ishikawa", wear:
 def verify(pair: PairSpec | None = None, wear: Sequence[Any] = ("unworn", "mild", "severe"),
            positions: int = 21, convergence: bool = False):
     """FE single-tooth compliance against Ishikawa and the energy method, per wear phase
-    (``gearwear.verify_job.Verification``; ``.phases[i].fem`` etc. in um/(N/mm))."""
-    from . import verify_job
+    (``gearwear.jobs.verify.Verification``; ``.phases[i].fem`` etc. in um/(N/mm))."""
+    from gearwear.jobs import verify as verify_job
 
     wears = [wear_spec(w) for w in wear]
     return verify_job.run(pair or default_pair(), [None if w is None or w.is_unworn else w for w in wears],
@@ -101,7 +101,7 @@ def simulate(scene: Scene | str | None = None, **overrides: Any):
     the same spellings: ``wear="25um"`` (a phase, a depth in um or running hours, like
     ``--wear``), ``torque_Nm=120`` and ``clearance_um=30``. Returns ``SimulationRun``
     (``.summary()``, ``.result.t``, ``.result.signals``)."""
-    from .simulate_job import run
+    from gearwear.jobs.simulate import run
 
     return run(_scene(scene, overrides))  # run() already names errors by scene key
 
@@ -110,8 +110,8 @@ def sweep(scene: Scene | str | None, axes: Mapping[str, Sequence[Any]], workers:
           progress: bool = False) -> list[dict[str, Any]]:
     """Run a scene over the Cartesian grid of ``axes`` ({dotted key: values}) on local
     processes; one summary dict per point, in grid order."""
-    from . import sweep_job as sw
-    from .scene import load_scene_dict
+    from gearwear.jobs import sweep as sw
+    from gearwear.scene.model import load_scene_dict
 
     if isinstance(scene, Scene):
         raise InputError("sweep: give the scene as a built-in name or a file path (a sweep re-reads it per point)")

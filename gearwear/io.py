@@ -34,7 +34,7 @@ from typing import Any, Callable, Iterable
 from gearwear.core.atomic import atomic_folder, atomic_write_bytes
 from gearwear.core.validation import InputError
 
-from . import __version__
+from gearwear import __version__
 
 MANIFEST = "manifest.json"
 TIMING = "timing.json"
@@ -185,7 +185,7 @@ def without_timing(obj: Any) -> Any:
 
 def scene_inputs(scene) -> dict[str, Any]:
     """What a scene contributes to the inputs of a result: the fully resolved scene
-    (``gearwear.schema.resolved_dict``: every default filled in) and its SHA-256.
+    (``gearwear.scene.schema.resolved_dict``: every default filled in) and its SHA-256.
 
     A file the scene refers to (``effects.mesh_stiffness.path``) enters by its content:
     the path is replaced by ``sha256:<hex>`` of the file, so editing the table changes
@@ -193,7 +193,7 @@ def scene_inputs(scene) -> dict[str, Any]:
     out: they label a run but change no number, so two files with the same content and
     different names hash the same (the name is recorded next to the hash, see
     :func:`scene_labels`)."""
-    from .schema import resolved_dict
+    from gearwear.scene.schema import resolved_dict
 
     doc = resolved_dict(scene.doc)
     doc.pop("name", None)
@@ -379,5 +379,5 @@ def write_folder(out: Path, command: str, provenance: dict[str, Any],
 
 
 #: the --out folders written in this process, in order (an interrupt after one was swapped
-#: in says so, gearwear.cli.main)
+#: in says so, gearwear.cli.app.main)
 SWAPPED_IN: list[Path] = []

@@ -21,7 +21,7 @@ def zone_means(k_N_per_m, zones: dict[str, np.ndarray]) -> dict[str, float]:
     """Mean stiffness (N/m) over the double-contact zones A | C and over the
     single-contact zone B of ``zones`` (masks over the same angles as k); nan for an
     empty zone. Sample means: for curves compared position by position at the same
-    uniform angles (gearwear.compare); a curve's own zone means are the integrals of
+    uniform angles (gearwear.stiffness.comparison); a curve's own zone means are the integrals of
     :meth:`CurveStats.zone_means`."""
     k = np.asarray(k_N_per_m, dtype=float)
     double, single = zones["A"] | zones["C"], zones["B"]

@@ -1,7 +1,7 @@
 """Gear pair specification: immutable dataclasses in SI, and their consistency check.
 
 Everything is SI (m, rad, Pa); derived radii are properties. Scenes (TOML, with units
-in the key names) are read by the app layer (``gearwear.schema``), which builds these.
+in the key names) are read by the app layer (``gearwear.scene.schema``), which builds these.
 
 Built-in default: the gear pair of Zhang et al. (2019), Table 2 -- z = 30/30,
 m = 5 mm, alpha = 20 deg, base radius 70.477 mm. Values the paper does not give are

@@ -8,7 +8,7 @@ from __future__ import annotations
 import copy
 from typing import Any
 
-from gearwear.scene import builtin_scene_dict
+from gearwear.scene.model import builtin_scene_dict
 
 
 def paper_doc(name: str = "paper-default") -> dict[str, Any]:
@@ -27,9 +27,9 @@ def with_paper(doc: dict[str, Any], base: str = "paper-default") -> dict[str, An
 
 
 def paper_pair_from(doc: dict[str, Any]):
-    """``gearwear.scene.pair_from_dict`` of ``doc`` over the paper scene: the keys a test
+    """``gearwear.scene.model.pair_from_dict`` of ``doc`` over the paper scene: the keys a test
     changes, the paper pair's values for the rest."""
-    from gearwear.scene import pair_from_dict
+    from gearwear.scene.model import pair_from_dict
 
     return pair_from_dict(with_paper(doc))
 

@@ -12,8 +12,8 @@ import sys
 
 import pytest
 
-from gearwear.assumptions import for_command, scene_assumptions
-from gearwear.scene import scene_from_dict, set_key
+from gearwear.scene.assumptions import for_command, scene_assumptions
+from gearwear.scene.model import scene_from_dict, set_key
 
 #: the least a scene gives: its pair and its operating point
 MINIMAL = {"pair": {"teeth": [23, 47], "module_mm": 3.0, "face_width_mm": 30.0},
@@ -47,7 +47,7 @@ def test_a_minimal_scene_lists_every_default_it_rests_on():
 def test_the_built_in_paper_scenes_state_their_bodies_and_pair():
     """The paper's values are stated in the built-in scenes, not assumed: no pair, material or
     body line (the ISO K_v inputs of a run-up remain)."""
-    from gearwear.scene import builtin_scene
+    from gearwear.scene.model import builtin_scene
 
     for name in ("paper-default", "paper-wear-severe", "paper-clearance"):
         keys = _keys(scene_assumptions(builtin_scene(name)))
@@ -58,8 +58,8 @@ def test_the_built_in_paper_scenes_state_their_bodies_and_pair():
 def test_each_listed_value_is_what_the_run_used(command):
     """Give every assumed value explicitly: the assumption list empties (for those keys) and the
     results are the same numbers."""
-    from gearwear.geometry_job import compute
-    from gearwear.simulate_job import run, stiffness_input
+    from gearwear.jobs.geometry import compute
+    from gearwear.jobs.simulate import run, stiffness_input
 
     doc = {**MINIMAL, "bodies": {"bearing_stiffness_N_per_m": 5e8},
            "effects": {"mesh_stiffness": {"source": "analytic"}}, "solver": {"duration_s": 0.04, "discard_s": 0.02}}

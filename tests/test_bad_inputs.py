@@ -6,7 +6,7 @@ working folder, not in the table cache). Each row of ``CASES`` is one input a ne
 plausibly type, across all commands; the key and the value it must name are written out by
 hand, from the scene reference (docs/scene-reference.md) and ``--help``, not read from the code.
 
-The commands run in-process (``gearwear.cli.main``), which is what the console script calls;
+The commands run in-process (``gearwear.cli.app.main``), which is what the console script calls;
 an exception other than the one-line error would propagate here and fail the test. One test
 runs the real console script to check that no traceback reaches the terminal.
 """
@@ -306,7 +306,7 @@ def test_console_script_never_shows_a_traceback(tmp_path):
 
 def test_ctrl_c_is_one_line_exit_130_and_writes_nothing(tmp_path, monkeypatch, capsys):
     """Ctrl-C in the middle of the computation: exit 130 (128 + SIGINT), one line, no --out folder."""
-    from gearwear import simulate_job
+    from gearwear.jobs import simulate as simulate_job
 
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt

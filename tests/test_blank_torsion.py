@@ -165,7 +165,7 @@ def test_thin_rim_has_no_blank_term():
     assert np.allclose(fe.ste_m - fe.mesh_ste_m, rb2 * fe.blank_rotation_rad[:, 1], rtol=1e-12, atol=0)
     assert fe.meta["blank_torsional_stiffness_Nm_per_rad"][1] == pytest.approx(annulus_k(pair.gear(1)), rel=1e-2)
     # what the FE-based sources hand on: the mesh-only curve with "excluded", reported beside the bore-fixed one
-    from gearwear.stiffness_job import Curve, fem_curve
+    from gearwear.jobs.stiffness import Curve, fem_curve
 
     r = fem_curve(pair, POSITIONS, TORQUE, 0.0, None, blank_torsion="excluded", contact_scale=CONTACT_SCALE,
                   mesh_scale=MESH_SCALE, extended=False)
@@ -183,8 +183,8 @@ def test_thin_rim_has_no_blank_term():
 
 
 def test_blank_torsion_key_only_with_the_fe_sources():
-    from gearwear.scene import scene_from_dict
-    from gearwear.simulate_job import blank_torsion
+    from gearwear.scene.model import scene_from_dict
+    from gearwear.jobs.simulate import blank_torsion
 
     base = {"pair": {"teeth": [23, 47], "module_mm": 3.0, "face_width_mm": 30.0},
             "operating": {"speed_rpm": 1500, "torque_Nm": 120}}
@@ -201,8 +201,8 @@ def test_blank_torsion_key_only_with_the_fe_sources():
 def test_calibrated_table_without_blank_torsion():
     """1 / k_mesh = 1 / k - c_b, STE_mesh = STE - F c_b with F = k (STE - e): the mesh force
     F is unchanged and e is kept."""
-    from gearwear.calibrate import without_blank_torsion
-    from gearwear.tables import StiffnessTable
+    from gearwear.stiffness.calibration import without_blank_torsion
+    from gearwear.stiffness.tables import StiffnessTable
 
     k = np.array([3e8, 4e8, 5e8])
     e = np.array([0.0, 1e-6, 2e-6])

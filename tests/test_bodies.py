@@ -20,7 +20,7 @@ from gearwear.core.validation import InputError
 from gearwear.geometry.blank import body_properties, polygon_polar_moment
 from gearwear.geometry.profile import polygon_area
 from gearwear.geometry.spec import PairSpec, Web, check_pair, inv
-from gearwear.scene import scene_from_dict
+from gearwear.scene.model import scene_from_dict
 
 from scenes import with_paper
 
@@ -149,7 +149,7 @@ def test_density_that_would_change_nothing_is_refused():
 def test_the_dynamics_feel_the_density():
     """Issue 22: 2700, 7850 and 20000 kg/m^3 gave identical harmonics. Heavier bodies lower the
     modes: the harmonics must differ."""
-    from gearwear.simulate_job import run
+    from gearwear.jobs.simulate import run
 
     out = []
     for rho in (2700.0, 20000.0):

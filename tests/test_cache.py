@@ -15,7 +15,8 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from gearwear import calibrate, tables
+from gearwear.stiffness import calibration as calibrate
+from gearwear.stiffness import tables
 from gearwear.core.validation import InputError
 from gearwear.geometry.spec import default_pair
 from gearwear.geometry.wear import WearSpec
@@ -193,19 +194,20 @@ def test_cli_cache_folder_that_is_a_file(tmp_path):
 
 def test_fingerprint_follows_the_source():
     mods = calibrate.code_modules()
-    for m in ("gearwear.calibrate", "gearwear.tables", "gearwear.compare", "gearwear.io", "gearwear.fem.pair",
+    for m in ("gearwear.stiffness.calibration", "gearwear.stiffness.tables", "gearwear.stiffness.comparison",
+              "gearwear.io", "gearwear.fem.pair",
               "gearwear.fem.tooth", "gearwear.fem.pair_body", "gearwear.fem.contact", "gearwear.fem.elasticity",
               "gearwear.fem.mesh", "gearwear.analytic.tvms", "gearwear.analytic.ishikawa", "gearwear.geometry.wear",
               "gearwear.geometry.profile", "gearwear.geometry.kinematics", "gearwear.core.validation"):
         assert m in mods
     assert list(mods) == sorted(mods)
-    assert not [m for m in mods if m == "gearwear" or m.startswith(("gearwear.dynamics", "gearwear.cli"))]
+    assert not [m for m in mods if m == "gearwear" or m.startswith(("gearwear.dynamics", "gearwear.cli.app"))]
     base = calibrate.fingerprint(mods)
     assert base == calibrate.code_fingerprint() and len(base) == 64
     assert calibrate.fingerprint(reversed(mods)) == base              # order-independent
     read = calibrate._source_bytes
     # one changed byte in any one file changes the fingerprint
-    for changed in ("gearwear.fem.pair", "gearwear.tables", "gearwear.geometry.wear"):
+    for changed in ("gearwear.fem.pair", "gearwear.stiffness.tables", "gearwear.geometry.wear"):
         edited = calibrate.fingerprint(mods, read=lambda m: read(m) + (b"#" if m == changed else b""))
         assert edited != base
 
@@ -220,10 +222,12 @@ def test_fingerprint_does_not_depend_on_where_the_files_are(tmp_path):
 
 
 def test_dependencies_follow_imports_inside_functions():
-    src = {"gearwear.calibrate": b"from . import tables\n\ndef f():\n    from gearwear.fem import pair as p\n",
-           "gearwear.tables": b"from . import io\n", "gearwear.io": b"from . import __version__\n"}
-    deps = calibrate.dependencies("gearwear.calibrate", read=lambda m: src.get(m, b""))
-    assert deps == ("gearwear.calibrate", "gearwear.fem", "gearwear.fem.pair", "gearwear.io", "gearwear.tables")
+    """Relative imports at one and two levels, and an import inside a function, are followed."""
+    src = {"gearwear.stiffness.calibration": b"from . import tables\ndef f():\n    from gearwear.fem import pair\n",
+           "gearwear.stiffness.tables": b"from .. import io\n", "gearwear.io": b"from . import __version__\n"}
+    deps = calibrate.dependencies("gearwear.stiffness.calibration", read=lambda m: src.get(m, b""))
+    assert deps == ("gearwear.fem", "gearwear.fem.pair", "gearwear.io", "gearwear.stiffness",
+                    "gearwear.stiffness.calibration", "gearwear.stiffness.tables")
 
 
 def test_a_computed_table_that_fails_the_checks_is_not_stored_silently(cache):
@@ -288,9 +292,9 @@ def surrogate(tmp_path_factory):
     this process: (its BuildSpec, the cache folder)."""
     from pathlib import Path
 
-    from gearwear import diagnose_cmd as dc
-    from gearwear import diagnose_surrogate as ds
-    from gearwear.scene import load_scene_dict, scene_from_dict
+    from gearwear.cli import diagnose as dc
+    from gearwear.diagnose import surrogate as ds
+    from gearwear.scene.model import load_scene_dict, scene_from_dict
 
     folder = tmp_path_factory.mktemp("surrogate-cache")
     old = os.environ.get("GEARWEAR_CACHE")
@@ -315,7 +319,7 @@ def surrogate(tmp_path_factory):
 def test_a_surrogate_entry_that_is_not_a_regular_file_is_refused_on_read(surrogate, tmp_path, damage, which):
     import shutil
 
-    from gearwear import diagnose_surrogate as ds
+    from gearwear.diagnose import surrogate as ds
 
     spec, built = surrogate
     folder = tmp_path / "cache"
@@ -331,7 +335,7 @@ def test_a_surrogate_entry_that_is_not_a_regular_file_is_refused_on_read(surroga
 def test_a_surrogate_entry_replaced_by_a_folder_is_rebuilt_and_stored(surrogate, tmp_path, monkeypatch):
     import shutil
 
-    from gearwear import diagnose_surrogate as ds
+    from gearwear.diagnose import surrogate as ds
 
     spec, built = surrogate
     folder = tmp_path / "cache"

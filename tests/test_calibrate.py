@@ -10,7 +10,8 @@ from concurrent.futures import Executor, Future
 import numpy as np
 import pytest
 
-from gearwear import calibrate, tables
+from gearwear.stiffness import calibration as calibrate
+from gearwear.stiffness import tables
 from gearwear.geometry.spec import default_pair, replace_checked
 
 

@@ -15,7 +15,7 @@ import pytest
 from gearwear.core.validation import InputError
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.operating import backlash
-from gearwear.scene import scene_from_dict
+from gearwear.scene.model import scene_from_dict
 
 PAIRS = {
     "23-47": {"teeth": [23, 47], "module_mm": 3.0, "profile_shift": [0.2, -0.1], "face_width_mm": 30.0,
@@ -57,8 +57,8 @@ def test_the_backlash_it_opens_is_the_hand_formula(name):
 
 
 def test_geometry_stiffness_and_dynamics_run_at_the_same_centre_distance():
-    from gearwear.geometry_job import compute
-    from gearwear.simulate_job import build_model, stiffness_input
+    from gearwear.jobs.geometry import compute
+    from gearwear.jobs.simulate import build_model, stiffness_input
 
     sc = scene_from_dict(_doc(PAIRS["23-47"], centre_distance_mm=105.6))
     g = compute(sc, None, 0.0, 120.0, build_mesh=False).summary()
@@ -76,7 +76,7 @@ def test_geometry_stiffness_and_dynamics_run_at_the_same_centre_distance():
 
 
 def test_without_backlash_the_dynamics_warn_that_the_opened_backlash_is_not_modelled():
-    from gearwear.simulate_job import operating_notes
+    from gearwear.jobs.simulate import operating_notes
 
     sc = scene_from_dict({**_doc(PAIRS["23-47"], centre_distance_mm=105.6),
                           "effects": {"mesh_stiffness": {"source": "analytic"}}})

@@ -1,4 +1,4 @@
-"""FE against the analytic models in the app layer (gearwear.compare): the single-tooth
+"""FE against the analytic models in the app layer (gearwear.stiffness.comparison): the single-tooth
 FE next to Ishikawa and the energy method at the same radii, the FE pair contact next
 to the analytic curve. Coarse meshes, as in test_fem_tooth / test_fem_pair."""
 
@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from gearwear.analytic import energy, ishikawa
-from gearwear.compare import pair_vs_analytic, tooth_vs_analytic
+from gearwear.stiffness.comparison import pair_vs_analytic, tooth_vs_analytic
 from gearwear.fem.pair import pair_contact
 from gearwear.fem.tooth import single_tooth_compliance
 from gearwear.geometry.profile import tooth_profile

@@ -11,8 +11,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from gearwear.scene import scene_from_dict
-from gearwear.simulate_job import run
+from gearwear.scene.model import scene_from_dict
+from gearwear.jobs.simulate import run
 
 HARD = {"pair": {"teeth": [23, 47], "module_mm": 3.0, "profile_shift": [0.2, -0.1], "face_width_mm": 30.0,
                  "hub_radius_mm": [12.5, 25.0]},

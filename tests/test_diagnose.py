@@ -18,13 +18,13 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from gearwear import cli
-from gearwear import diagnose_job as dj
-from gearwear import diagnose_posterior as dp
-from gearwear import diagnose_surrogate as ds
+from gearwear.cli import app as cli
+from gearwear.diagnose import job as dj
+from gearwear.diagnose import posterior as dp
+from gearwear.diagnose import surrogate as ds
 from gearwear.core.validation import InputError
-from gearwear.diagnose_features import fourier_fit, read_measurement, time_series_features
-from gearwear.scene import load_scene_dict
+from gearwear.diagnose.features import fourier_fit, read_measurement, time_series_features
+from gearwear.scene.model import load_scene_dict
 
 FM = 600.0
 K = 10
@@ -218,7 +218,7 @@ def test_bearing_harmonics_are_the_mesh_force_through_a_fixed_transfer_function(
     is linear: harmonic k of y_p (x_p) is F_m's times -cos(a) (-sin(a)) / (k_b - m_p w^2 +
     i c_b w), w = 2 pi k f_m, whatever the wear and clearance (closed form, 1e-5)."""
     from gearwear.dynamics.analysis import window_fourier
-    from gearwear.simulate_job import run
+    from gearwear.jobs.simulate import run
 
     r = run(ds.scene_at(world["raw"], world["name"], {"wear": 25.0, "clearance": 40.0})).result
     m = r.model
@@ -236,7 +236,7 @@ def test_window_fourier_agrees_with_a_fit_of_the_samples(world):
     to carry load, whose harmonics above ~250 alias into a 256-sample fit by ~2e-6)."""
     from gearwear.dynamics import simulate
     from gearwear.dynamics.analysis import window_fourier
-    from gearwear.simulate_job import build_model, stiffness_input
+    from gearwear.jobs.simulate import build_model, stiffness_input
 
     sc = ds.scene_at(world["raw"], world["name"], {"wear": 20.0, "clearance": 5.0})
     r = simulate(build_model(sc, stiffness_input(sc)), sc.solver["duration_s"], sc.solver["discard_s"],

@@ -4,11 +4,11 @@ default."""
 
 import pytest
 
-from gearwear.assumptions import for_command
+from gearwear.scene.assumptions import for_command
 from gearwear.cli import main
 from gearwear.core.validation import InputError
-from gearwear.scene import scene_from_dict
-from gearwear.schema import dynamics_fem_plane, fem_plane, resolved_dict
+from gearwear.scene.model import scene_from_dict
+from gearwear.scene.schema import dynamics_fem_plane, fem_plane, resolved_dict
 
 from scenes import with_paper
 
@@ -22,7 +22,7 @@ def scene(**tables):
 def test_default_and_given():
     """The default is "auto": plane stress below b/m = 4.3 (the paper pair, b/m 4), plane strain
     from there on (the 3D check's crossover, reports/plane); a given state is taken as given."""
-    from gearwear.schema import PLANE_STRAIN_FROM_B_OVER_M
+    from gearwear.scene.schema import PLANE_STRAIN_FROM_B_OVER_M
 
     assert resolved_dict(scene().doc)["fem"] == {"plane": "auto"}
     assert fem_plane(scene().doc, True, "gearwear verify") == "stress"            # b/m = 4
@@ -72,7 +72,7 @@ def test_cli_refuses_it_without_fe(capsys):
 
 def test_the_dynamics_pass_it_to_the_pair_fe(monkeypatch):
     import gearwear.fem.pair as fp
-    from gearwear import simulate_job
+    from gearwear.jobs import simulate as simulate_job
 
     seen = {}
 
@@ -90,7 +90,7 @@ def test_the_dynamics_pass_it_to_the_pair_fe(monkeypatch):
 
 
 def test_calibrated_tables_are_keyed_by_it():
-    from gearwear.calibrate import table_inputs
+    from gearwear.stiffness.calibration import table_inputs
 
     p = scene().pair
     a, b = (table_inputs(p, None, 0.0, 40.0, 360, 21, plane=x) for x in ("stress", "strain"))

@@ -229,14 +229,14 @@ def problems(fig) -> list[str]:
 
 @cache
 def simulation():
-    from gearwear.scene import builtin_scene_dict, scene_from_dict
-    from gearwear.simulate_job import run
+    from gearwear.scene.model import builtin_scene_dict, scene_from_dict
+    from gearwear.jobs.simulate import run
 
     return run(scene_from_dict(builtin_scene_dict("paper-wear-severe"), name="paper-wear-severe"))
 
 
 def phases_of(doc: dict) -> list:
-    from gearwear.verify_job import PhaseResult
+    from gearwear.jobs.verify import PhaseResult
 
     a = np.asarray
     return [PhaseResult(name, a(p["radius_mm"]), a(p["roll_angle_deg"]), a(p["fem_compliance_um_per_N_per_mm"]),
@@ -247,7 +247,7 @@ def phases_of(doc: dict) -> list:
 
 def verification(equal: bool = False):
     """The committed verification's phases; with ``equal`` the mild phase a copy of the unworn."""
-    from gearwear.verify_job import Verification
+    from gearwear.jobs.verify import Verification
 
     phases = phases_of(json.loads((ROOT / "reports/verification/verification.json").read_text()))
     if equal:
@@ -256,12 +256,12 @@ def verification(equal: bool = False):
 
 
 def stiffness_curves(example: str, wears=None, clearances_m=None, points: int = 180):
-    from gearwear.scene import load_scene
-    from gearwear.stiffness_job import compute
+    from gearwear.scene.model import load_scene
+    from gearwear.jobs.stiffness import compute
 
     sc = load_scene(str(EXAMPLES / example)) if example.endswith(".toml") else None
     if sc is None:
-        from gearwear.scene import builtin_scene_dict, scene_from_dict
+        from gearwear.scene.model import builtin_scene_dict, scene_from_dict
         sc = scene_from_dict(builtin_scene_dict(example), name=example)
     curves = compute(sc.pair, "ishikawa", wears if wears is not None else [sc.wear],
                      clearances_m if clearances_m is not None else [sc.clearance_m], sc.operating.torque_Nm, points,
@@ -270,8 +270,8 @@ def stiffness_curves(example: str, wears=None, clearances_m=None, points: int = 
 
 
 def geometry(example: str | None, wear: str | None):
-    from gearwear.geometry_job import compute
-    from gearwear.scene import load_scene, parse_wear_arg
+    from gearwear.jobs.geometry import compute
+    from gearwear.scene.model import load_scene, parse_wear_arg
 
     sc = load_scene(None if example is None else str(EXAMPLES / example))
     return compute(sc, None if wear is None else parse_wear_arg(wear), 0.0, sc.operating.torque_Nm, build_mesh=False)
@@ -279,7 +279,7 @@ def geometry(example: str | None, wear: str | None):
 
 def sweep_results(values, others=None):
     """Harmonic amplitudes that change by a few percent over the sweep, per point."""
-    from gearwear.sweep_job import Axis, grid
+    from gearwear.jobs.sweep import Axis, grid
 
     axes = [Axis("effects.bearing_clearance.clearance_um", tuple(values))] + (others or [])
     results = []
@@ -294,9 +294,9 @@ def sweep_results(values, others=None):
 def runup():
     """A three-speed run-up both ways of the backlash example (real, ~2 s): 1500 rpm from rest
     settles period 2, and 2100 rpm is above f_m = 1036 Hz, a linear mode."""
-    from gearwear import runup_job
-    from gearwear.scene import load_scene_dict
-    from gearwear.sweep_job import parse_axis
+    from gearwear.jobs import runup as runup_job
+    from gearwear.scene.model import load_scene_dict
+    from gearwear.jobs.sweep import parse_axis
 
     data, name = load_scene_dict(str(EXAMPLES / "runup_backlash.toml"))
     speed, others = runup_job.split_speed_axis([parse_axis("operating.speed_rpm=1500:2100:3")])
@@ -351,7 +351,7 @@ class _Run:
 def paper_report_results() -> dict:
     from gearwear.geometry.operating import operating_geometry
     from gearwear.geometry.spec import default_pair
-    from gearwear.report_paper import CLEARANCES_UM, PHASES
+    from gearwear.reports.paper import CLEARANCES_UM, PHASES
 
     pair = default_pair()
     ang = np.linspace(0, 2 * np.pi / 30, 60, endpoint=False)
@@ -369,9 +369,9 @@ def paper_report_results() -> dict:
 
 def diagnosis(monkeypatch):
     """A Fit of two unknowns (a Gaussian posterior on a grid) and its feature rows."""
-    from gearwear import diagnose_plots
-    from gearwear.diagnose_posterior import GridPosterior
-    from gearwear.diagnose_surrogate import UNKNOWNS
+    from gearwear.diagnose import plots as diagnose_plots
+    from gearwear.diagnose.posterior import GridPosterior
+    from gearwear.diagnose.surrogate import UNKNOWNS
 
     ax = [np.linspace(0, 40, 41), np.linspace(0, 50, 51)]
     X, Y = np.meshgrid(*ax, indexing="ij")
@@ -390,12 +390,12 @@ def diagnosis(monkeypatch):
 # -- the registry: every figure function the CLI writes ----------------------------------------
 
 def _simulate(name):
-    from gearwear import simulate_io
+    from gearwear.jobs import simulate_io
     return {"response.png": simulate_io.figure, "spectrum.png": simulate_io.spectrum_figure}[name](simulation())
 
 
 def _verify(equal=False):
-    from gearwear.verify_job import figures
+    from gearwear.jobs.verify import figures
     return figures(verification(equal))["compliance.png"]
 
 
@@ -409,26 +409,26 @@ def _convergence():
 
 def _stiffness(name, example="spall.toml", overlay=False):
     from gearwear.geometry.wear import WearSpec
-    from gearwear.stiffness_job import figures
+    from gearwear.jobs.stiffness import figures
 
     kw = {"wears": [None, WearSpec(phase="severe")], "clearances_m": [0.0, 50e-6]} if overlay else {}
     return figures(stiffness_curves(example, **kw)[1])[name]
 
 
 def _harris():
-    from gearwear.stiffness_job import harris, harris_figure
+    from gearwear.jobs.stiffness import harris, harris_figure
 
     sc, curves = stiffness_curves("tip_relief.toml")
     return harris_figure(harris(curves, sc.pair, sc.flank), sc.operating.torque_Nm, sc.flank)
 
 
 def _tooth(example, wear):
-    from gearwear.geometry_job import tooth_figure
+    from gearwear.jobs.geometry import tooth_figure
     return tooth_figure(geometry(example, wear))
 
 
 def _sweep(name, two_torques=False):
-    from gearwear.sweep_job import Axis, figures
+    from gearwear.jobs.sweep import Axis, figures
 
     if two_torques:
         return figures(*sweep_results(np.linspace(0, 100, 6), [Axis("operating.torque_Nm", (10.0, 40.0))]))[name]
@@ -436,7 +436,7 @@ def _sweep(name, two_torques=False):
 
 
 def _runup(kind, direction="up", every_state=False):
-    from gearwear import runup_job
+    from gearwear.jobs import runup as runup_job
 
     points, chains, others, summ = runup_with_every_state() if every_state else runup()
     if kind == "kv":
@@ -445,17 +445,17 @@ def _runup(kind, direction="up", every_state=False):
 
 
 def _pair_report(name):
-    from gearwear import report_pair
+    from gearwear.reports import pair as report_pair
     return report_pair.FIGURES[name](pair_report_doc())
 
 
 def _paper_report():
-    from gearwear.report_paper import figures
+    from gearwear.reports.paper import figures
     return list(figures(paper_report_results()).items())
 
 
 def _diagnose(name, monkeypatch):
-    from gearwear import diagnose_plots
+    from gearwear.diagnose import plots as diagnose_plots
     return getattr(diagnose_plots, name)(diagnosis(monkeypatch))
 
 
@@ -523,7 +523,7 @@ def test_the_checks_catch_a_bad_figure():
 # -- 1. spectra ----------------------------------------------------------------------------
 
 def test_spectra_cover_the_reported_harmonics_above_a_floor_tied_to_the_signal():
-    from gearwear import simulate_io
+    from gearwear.jobs import simulate_io
     from gearwear.plotting import FLOOR_DB
 
     run = simulation()
@@ -547,7 +547,7 @@ def test_spectra_cover_the_reported_harmonics_above_a_floor_tied_to_the_signal()
 # -- 2. coinciding curves --------------------------------------------------------------------
 
 def test_equal_curves_are_drawn_once_and_named_with_equals():
-    from gearwear.verify_job import figures
+    from gearwear.jobs.verify import figures
 
     fig = figures(verification(equal=True))["compliance.png"]
     top = fig.axes[0]
@@ -561,7 +561,7 @@ def test_equal_curves_are_drawn_once_and_named_with_equals():
 # -- 3. run-up: legend, mode lines, steady states -----------------------------------------------
 
 def test_runup_marks_every_steady_state_and_names_the_mode_speeds():
-    from gearwear import runup_job
+    from gearwear.jobs import runup as runup_job
 
     fig = _runup("kv", every_state=True)
     drawn(fig)
@@ -584,7 +584,7 @@ def test_runup_marks_every_steady_state_and_names_the_mode_speeds():
 # -- 4. sweep labels from the schema ------------------------------------------------------------
 
 def test_every_scene_key_has_an_axis_label_in_words_with_its_unit():
-    from gearwear.schema import json_schema, key_label
+    from gearwear.scene.schema import json_schema, key_label
 
     def keys(node, path, defs):
         node = defs[node["$ref"].split("/")[-1]] if "$ref" in node else node
@@ -612,8 +612,8 @@ def test_every_scene_key_has_an_axis_label_in_words_with_its_unit():
 
 
 def test_sweep_axes_start_at_zero_and_state_the_relative_range():
-    from gearwear.schema import key_label
-    from gearwear.sweep_job import Axis, figures
+    from gearwear.scene.schema import key_label
+    from gearwear.jobs.sweep import Axis, figures
 
     axes, results = sweep_results(np.linspace(0, 100, 11))
     fig = figures(axes, results)["harmonics_F_m_N.png"]
@@ -632,7 +632,7 @@ def test_sweep_axes_start_at_zero_and_state_the_relative_range():
 # -- 5. tooth.png -------------------------------------------------------------------------------
 
 def test_each_gear_has_its_own_axes_and_an_unworn_flank_says_so():
-    from gearwear.geometry_job import key_radii_mm, tooth_figure
+    from gearwear.jobs.geometry import key_radii_mm, tooth_figure
 
     res = geometry("your_pair.toml", "severe")
     fig = tooth_figure(res)
@@ -654,7 +654,7 @@ def test_each_gear_has_its_own_axes_and_an_unworn_flank_says_so():
 
 def test_the_harris_title_states_the_relief():
     from gearwear.geometry.flank import FlankSpec, Relief
-    from gearwear.stiffness_job import relief_text
+    from gearwear.jobs.stiffness import relief_text
 
     title = _harris().axes[0].get_title().replace("\n", " ")
     assert "tip relief on both gears: C_a = 8.5 um, linear, from d = 151.83 mm" in title
@@ -668,7 +668,7 @@ def test_the_harris_title_states_the_relief():
 # -- 7. Campbell diagram ---------------------------------------------------------------------------
 
 def test_the_campbell_diagram_shows_the_subharmonic_of_a_period_2_response():
-    from gearwear import runup_job
+    from gearwear.jobs import runup as runup_job
 
     points, chains, others, _ = runup()
     up = next(c for c in chains if c.direction == "up")
@@ -696,7 +696,7 @@ def test_the_campbell_diagram_shows_the_subharmonic_of_a_period_2_response():
 
 
 def test_peak_hold_keeps_a_one_bin_line_on_coarse_rows():
-    from gearwear.runup_job import peak_hold
+    from gearwear.jobs.runup import peak_hold
 
     f = np.arange(1, 1001) * 10.0          # bins of 10 Hz
     A = np.full(f.size, 1e-9)

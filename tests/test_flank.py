@@ -24,7 +24,7 @@ from gearwear.core.validation import InputError
 from gearwear.geometry.faults import FaultSpec, Spall, spall_gap_m
 from gearwear.geometry.flank import Deviation, FlankSpec, Relief, hpstc_diameters_m
 from gearwear.geometry.kinematics import MeshGeometry
-from gearwear.scene import scene_from_dict
+from gearwear.scene.model import scene_from_dict
 from scenes import paper_pair_from, with_paper
 
 PAIR = paper_pair_from({})

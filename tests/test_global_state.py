@@ -46,7 +46,7 @@ def test_plotting_keeps_the_backend_and_never_imports_pyplot(tmp_path):
                                    (2, 1000, 0.2, 0.4), (2, 4000, 0.6, 0.05))]
         p1 = plot_convergence(rows, out / "conv.png")
         from gearwear import io
-        from gearwear.sweep_job import Axis, figures
+        from gearwear.jobs.sweep import Axis, figures
         axes = [Axis("operating.torque_Nm", (10.0, 20.0))]
         results = [{{"point": {{"operating.torque_Nm": t}}, "harmonics": {{"F_m": list(range(1, 11))}}}}
                    for t in (10.0, 20.0)]

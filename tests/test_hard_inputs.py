@@ -41,8 +41,8 @@ def _fem_summary_coarse():
     bodies at the default level take 30 s; the zone bookkeeping under test is the same),
     through the summary and strict JSON the CLI prints."""
     from gearwear import io
-    from gearwear.scene import apply_overrides, builtin_scene_dict, scene_from_dict
-    from gearwear.stiffness_job import Curve, fem_curve
+    from gearwear.scene.model import apply_overrides, builtin_scene_dict, scene_from_dict
+    from gearwear.jobs.stiffness import Curve, fem_curve
 
     sets = [HIGH_CR[i + 1] for i in range(0, len(HIGH_CR), 2)]
     pair = scene_from_dict(apply_overrides(builtin_scene_dict("paper-default"), sets)).pair

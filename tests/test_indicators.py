@@ -163,8 +163,8 @@ def test_a_non_periodic_healthy_response_is_flagged():
     """The light-load backlash example is healthy but not periodic (its kurtosis of ~20 and
     sideband ratio near 0 dB look like a fault): the indicators say so, and a warning too; the
     paper's severe-wear scene is periodic and carries no such warning."""
-    from gearwear.scene import load_scene
-    from gearwear.simulate_job import run
+    from gearwear.scene.model import load_scene
+    from gearwear.jobs.simulate import run
 
     s = run(load_scene("examples/light_load_backlash.toml")).summary()
     assert s["condition_indicators"]["periodic"] is False

@@ -54,7 +54,7 @@ def test_nothing_imports_the_layers_as_top_level_packages():
 def test_importing_everything_loads_only_gearwear_names():
     """From a neutral folder, the whole package imports, and no module is loaded under a
     second, top-level name (which would make two copies of every class)."""
-    code = ("import sys, gearwear, gearwear.cli, gearwear.schema, gearwear.scene, gearwear.fem.pair, "
+    code = ("import sys, gearwear, gearwear.cli.app, gearwear.scene.schema, gearwear.scene.model, gearwear.fem.pair, "
             "gearwear.analytic.tvms, gearwear.dynamics, gearwear.geometry.wear\n"
             f"bad = [m for m in sys.modules if m.split('.')[0] in {LAYERS!r}]\n"
             "assert not bad, bad\n"

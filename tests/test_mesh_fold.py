@@ -13,7 +13,7 @@ import numpy as np
 
 from gearwear.fem.mesh import inverted_elements
 from gearwear.fem.pair import pair_model
-from gearwear.scene import scene_from_dict
+from gearwear.scene.model import scene_from_dict
 
 
 def test_the_19_45_pair_meshes_with_every_element_valid():

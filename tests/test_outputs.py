@@ -1,7 +1,7 @@
 """Output folders: complete or absent, replaced as a whole, byte-identical for the same
 inputs (timing.json aside), and traced to the content of the inputs (issue 12).
 
-Every command runs in-process through ``gearwear.cli.main`` on small problems. The
+Every command runs in-process through ``gearwear.cli.app.main`` on small problems. The
 paper report would take minutes; its test runs the real ``report paper`` command with
 the expensive parts replaced (analytic instead of FE-calibrated tables, short
 simulations), so everything from the computed results to the files is the real code.
@@ -98,7 +98,8 @@ def test_sweep_twice_same_bytes(tmp_path):
 
 def test_report_paper_twice_same_bytes(tmp_path, monkeypatch):
     """The real `report paper` command with analytic tables (no FE) and 50 ms simulations."""
-    from gearwear import calibrate, report_paper
+    from gearwear.stiffness import calibration as calibrate
+    from gearwear.reports import paper as report_paper
     from gearwear.analytic.tvms import mesh_stiffness
 
     def table(pair, wear, clearance_m=0.0, torque_Nm=40.0, points=360, *args, **kwargs):
@@ -193,7 +194,7 @@ def test_out_empty_or_current_folder_is_refused(tmp_path, monkeypatch, capsys, o
 # -- (d) Ctrl-C while writing leaves the previous output as it was -------------------------------
 
 def test_ctrl_c_while_writing_keeps_the_previous_output(tmp_path, monkeypatch, capsys):
-    from gearwear import stiffness_job
+    from gearwear.jobs import stiffness as stiffness_job
 
     out = tmp_path / "st"
     run_ok("stiffness", "--wear", "mild", "--points", "16", "--out", str(out))
@@ -244,7 +245,7 @@ def test_ctrl_c_during_the_swap_rolls_back(tmp_path, monkeypatch):
 def test_a_file_that_appears_during_the_run_is_never_deleted(tmp_path, monkeypatch, capsys):
     """A file put into --out while the command runs (after the check before any work): the
     swap stops with one line and exit 2, the folder and that file stay as they are."""
-    from gearwear import stiffness_job
+    from gearwear.jobs import stiffness as stiffness_job
 
     out = tmp_path / "st"
     run_ok("stiffness", "--points", "16", "--out", str(out))
@@ -379,7 +380,7 @@ def test_provenance_hashes_content_not_names(tmp_path):
 
 
 def test_referenced_table_enters_by_content(tmp_path):
-    from gearwear.scene import Scene
+    from gearwear.scene.model import Scene
 
     rows = "\n".join(f"{12 * i / 16:g},{2.5e8 + 1e7 * (i % 2):.6g}" for i in range(16))
     scene = 'extends = "paper-default"\n[effects]\nmesh_stiffness = { source = "table", path = "k.csv" }\n'

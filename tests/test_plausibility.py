@@ -8,9 +8,9 @@ from __future__ import annotations
 
 import pytest
 
-from gearwear.plausibility import body_warnings, pair_warnings, response_warnings, stiffness_warnings
-from gearwear.scene import builtin_scene, scene_from_dict
-from gearwear.simulate_job import stiffness_input
+from gearwear.scene.plausibility import body_warnings, pair_warnings, response_warnings, stiffness_warnings
+from gearwear.scene.model import builtin_scene, scene_from_dict
+from gearwear.jobs.simulate import stiffness_input
 
 USER = {"pair": {"teeth": [23, 47], "module_mm": 3.0, "profile_shift": [0.2, -0.1], "face_width_mm": 30.0,
                  "hub_radius_mm": [12.5, 25.0]},

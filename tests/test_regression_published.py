@@ -239,13 +239,13 @@ def test_cantilever_and_hertz_rows():
 def calibrations(pair, cache):
     """FE single-tooth stage of the calibration per wear phase (the default FE level);
     the same FE runs give the verification table's figures."""
-    from gearwear.calibrate import run_fe
+    from gearwear.stiffness.calibration import run_fe
 
     return {p: run_fe(pair, None if p == "unworn" else WearSpec(phase=p), estimate_error=False) for p in PHASES}
 
 
 def test_single_tooth_fe_against_analytic(calibrations):
-    from gearwear.compare import tooth_vs_analytic
+    from gearwear.stiffness.comparison import tooth_vs_analytic
 
     fe = {p: calibrations[p].fe[0] for p in ("unworn", "severe")}
     cmp = {p: tooth_vs_analytic(f) for p, f in fe.items()}
@@ -350,7 +350,7 @@ def test_shifted_pair_row():
 
 @pytest.fixture(scope="module")
 def calibrated(pair, calibrations, pair_fe, cache):
-    from gearwear.calibrate import calibrated_table
+    from gearwear.stiffness.calibration import calibrated_table
 
     tabs = {p: calibrated_table(pair, None if p == "unworn" else WearSpec(phase=p), 0.0, 40.0, 360,
                                 calibration=calibrations[p], notify=None) for p in PHASES}
@@ -385,8 +385,8 @@ def test_calibrated_tables_against_pair_fe(calibrated):
 def report_unworn(calibrated):
     """The wear study's unworn run of `gearwear report paper` (calibrated table from the
     fixture's cache, so no FE is rerun)."""
-    from gearwear.scene import apply_overrides, builtin_scene_dict, scene_from_dict
-    from gearwear.simulate_job import run
+    from gearwear.scene.model import apply_overrides, builtin_scene_dict, scene_from_dict
+    from gearwear.jobs.simulate import run
 
     sc = scene_from_dict(apply_overrides(builtin_scene_dict("paper-wear-unworn"),
                                          ['effects.mesh_stiffness={source = "calibrated"}']), name="paper-wear-unworn")

@@ -44,9 +44,9 @@ def bands(b) -> str:
 
 @pytest.mark.parametrize("name", sorted(RUNS))
 def test_committed_report_matches_a_cheap_recomputation(name):
-    from gearwear import runup_job
-    from gearwear.scene import load_scene_dict
-    from gearwear.sweep_job import parse_axis
+    from gearwear.jobs import runup as runup_job
+    from gearwear.scene.model import load_scene_dict
+    from gearwear.jobs.sweep import parse_axis
 
     scene, speeds = RUNS[name]
     pt, rows = report(name)

@@ -17,7 +17,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from gearwear import io, report_pair, runup_job
+from gearwear import io
+from gearwear.reports import pair as report_pair
+from gearwear.jobs import runup as runup_job
 from gearwear.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -93,8 +95,8 @@ def assert_iso_curve(doc: dict) -> None:
 def assert_page(out: Path, scene_args: list[str]) -> dict:
     """What every report page holds: the files, every method and the FE, the numbers of
     report.json, ISO's curve, the assumptions of the scene."""
-    from gearwear.assumptions import for_command
-    from gearwear.scene import apply_overrides, load_scene_dict, scene_from_dict
+    from gearwear.scene.assumptions import for_command
+    from gearwear.scene.model import apply_overrides, load_scene_dict, scene_from_dict
 
     names = sorted(p.name for p in out.iterdir())
     assert names == sorted(io.OUTPUT_NAMES["report pair"] + (io.MANIFEST, io.TIMING))

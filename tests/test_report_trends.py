@@ -10,7 +10,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from gearwear.report_paper import (CLEARANCES_UM, MECHANISMS, PHASES, agrees, classify, describe_change,
+from gearwear.reports.paper import (CLEARANCES_UM, MECHANISMS, PHASES, agrees, classify, describe_change,
                                    trends)
 
 ROOT = Path(__file__).resolve().parents[1]

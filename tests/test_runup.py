@@ -67,7 +67,7 @@ def test_runup_writes_its_files_the_same_bytes_twice(tmp_path, capsys):
 
 
 def test_jump_bands_by_hand():
-    from gearwear.runup_job import jump_bands
+    from gearwear.jobs.runup import jump_bands
 
     up = [{"speed_rpm": v, "K_v": k} for v, k in zip((1, 2, 3, 4, 5, 6), (1.0, 1.0, 2.0, 2.0, 1.0, 3.0))]
     down = [{"speed_rpm": v, "K_v": k} for v, k in zip((6, 5, 4, 3, 2, 1), (3.0, 1.5, 2.0, 1.0, 1.0, 1.005))]
@@ -131,10 +131,10 @@ def test_dask_local_cluster_gives_the_bytes_of_the_local_processes(tmp_path):
     import numpy as np
     from dask.distributed import Client, LocalCluster
 
-    from gearwear import calibrate
+    from gearwear.stiffness import calibration as calibrate
     from gearwear.fem.pair import pair_contact
     from gearwear.geometry.spec import default_pair
-    from gearwear.sweep_job import DaskExecutor, make_executor
+    from gearwear.jobs.sweep import DaskExecutor, make_executor
 
     sweep = ["sweep", "paper-default", "--set", "operating.torque_Nm=20,30,40", "--set", "solver.duration_s=0.04",
              "--set", "solver.discard_s=0.02"]
@@ -182,8 +182,8 @@ def test_iso_curve_takes_the_gear_with_fewer_teeth_as_gear_1():
 
     import numpy as np
 
-    from gearwear import runup_job
-    from gearwear.scene import load_scene_dict, scene_from_dict
+    from gearwear.jobs import runup as runup_job
+    from gearwear.scene.model import load_scene_dict, scene_from_dict
 
     data, _ = load_scene_dict("paper-default")
     big_drives, small_drives = copy.deepcopy(data), copy.deepcopy(data)

@@ -10,8 +10,8 @@ from pathlib import Path
 import pytest
 
 from gearwear.core.validation import InputError
-from gearwear.schema import json_schema, reference_markdown, resolved_dict, to_toml, validate_document
-from gearwear.scene import builtin_scene_dict, builtin_scene_names, scene_from_dict
+from gearwear.scene.schema import json_schema, reference_markdown, resolved_dict, to_toml, validate_document
+from gearwear.scene.model import builtin_scene_dict, builtin_scene_names, scene_from_dict
 
 from scenes import with_paper
 
@@ -142,7 +142,7 @@ def test_every_command_takes_a_built_in_name_and_set(command):
 
 def test_set_none_removes_an_effect_or_a_key():
     """Round trip (issue 24): there was no way to remove an effect with --set."""
-    from gearwear.scene import apply_overrides
+    from gearwear.scene.model import apply_overrides
 
     base = builtin_scene_dict("paper-wear-severe")
     sc = scene_from_dict(apply_overrides(base, ["effects.backlash=none", "effects.bearing_clearance=none",
@@ -167,9 +167,9 @@ def test_stiffness_overlays_several_methods(tmp_path):
 
 def test_the_reference_names_keys_not_python_classes():
     """Regression (issue 24): the [flank] and [faults] sub-tables showed as
-    `gearwear.schema.ReliefDoc | None`. Every sub-table is a section of its own keys."""
+    `gearwear.scene.schema.ReliefDoc | None`. Every sub-table is a section of its own keys."""
     text = reference_markdown()
-    assert "gearwear.schema" not in text and "Doc |" not in text and "Doc " not in text
+    assert "gearwear.scene.schema" not in text and "Doc |" not in text and "Doc " not in text
     for table in ("flank.tip_relief", "flank.root_relief", "faults.crack", "faults.spall", "blank.pinion"):
         assert f"### [{table}]" in text
 

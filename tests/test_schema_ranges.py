@@ -13,8 +13,8 @@ import math
 import pytest
 
 from gearwear.core.validation import InputError
-from gearwear.scene import scene_from_dict
-from gearwear.schema import json_schema
+from gearwear.scene.model import scene_from_dict
+from gearwear.scene.schema import json_schema
 
 from scenes import paper_doc
 

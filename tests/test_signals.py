@@ -208,7 +208,7 @@ def test_a_signal_ends_the_command_cleanly(command, moment, sig, tmp_path, previ
 def test_worker_processes_ignore_ctrl_c_and_end_on_sigterm():
     """The local pool's workers: SIGINT ignored, SIGTERM at its default action (they are
     ended by their parent), so a Ctrl-C to the group is handled once, by the parent."""
-    from gearwear.sweep_job import LocalPool
+    from gearwear.jobs.sweep import LocalPool
 
     with LocalPool(1) as pool:
         pid = pool.submit(os.getpid).result(timeout=60)

@@ -8,8 +8,8 @@ import sys
 import numpy as np
 import pytest
 
-from gearwear.scene import apply_overrides, builtin_scene_dict, scene_from_dict
-from gearwear.simulate_job import run
+from gearwear.scene.model import apply_overrides, builtin_scene_dict, scene_from_dict
+from gearwear.jobs.simulate import run
 
 SHORT = ["solver.duration_s=0.06", "solver.discard_s=0.03"]
 

@@ -78,8 +78,8 @@ def test_the_check_before_an_fe_stiffness_accepts_every_valid_example(name, sour
     for a table it had built itself), and the shifted pair whose driver has more teeth."""
     from pathlib import Path
 
-    from gearwear.scene import Scene
-    from gearwear.simulate_job import check_before_stiffness
+    from gearwear.scene.model import Scene
+    from gearwear.jobs.simulate import check_before_stiffness
 
     path = Path(__file__).resolve().parents[1] / "examples" / f"{name}.toml"
     check_before_stiffness(Scene.load(str(path), {"effects.mesh_stiffness.source": source}))

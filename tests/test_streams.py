@@ -149,7 +149,7 @@ def _nobody_listens() -> str:
 @pytest.mark.parametrize("where", ["silent", "nobody"])
 def test_a_scheduler_address_that_does_not_answer_is_refused_in_bounded_time(tmp_path, silent_server, command,
                                                                              where):
-    from gearwear.sweep_job import CONNECT_TIMEOUT_S
+    from gearwear.jobs.sweep import CONNECT_TIMEOUT_S
 
     address = silent_server if where == "silent" else _nobody_listens()
     out = tmp_path / "o"
@@ -166,7 +166,7 @@ def test_a_scheduler_without_workers_is_refused():
     pytest.importorskip("distributed")
     from dask.distributed import LocalCluster
 
-    from gearwear.sweep_job import connect
+    from gearwear.jobs.sweep import connect
 
     with LocalCluster(n_workers=0, processes=True, host="127.0.0.1", dashboard_address="127.0.0.1:0") as cluster:
         t0 = time.monotonic()
@@ -179,7 +179,7 @@ def test_a_scheduler_without_workers_is_refused():
 # -- a long run states its estimate ----------------------------------------------------------
 
 def test_a_long_sweep_states_its_estimated_time_once(tmp_path, monkeypatch, capsys):
-    from gearwear import sweep_job
+    from gearwear.jobs import sweep as sweep_job
     from gearwear.cli import main
 
     monkeypatch.setattr(sweep_job, "LONG_RUN_S", 0.0)    # every run counts as long here

@@ -28,8 +28,8 @@ from gearwear.geometry.curves import curve_mean, fourier_coefficients, harmonic_
 from gearwear.geometry.flank import FlankSpec, Relief, hpstc_diameters_m
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.wear import WearSpec
-from gearwear.scene import scene_from_dict
-from gearwear.simulate_job import stiffness_input
+from gearwear.scene.model import scene_from_dict
+from gearwear.jobs.simulate import stiffness_input
 from scenes import paper_pair_from, with_paper
 
 UNEQUAL = {"pair": {"teeth": [23, 47], "module_mm": 3.0, "profile_shift": [0.2, -0.1], "face_width_mm": 30.0,

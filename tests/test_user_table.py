@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from gearwear import simulate_job
-from gearwear.scene import apply_overrides, load_scene_dict, scene_from_dict
+from gearwear.jobs import simulate as simulate_job
+from gearwear.scene.model import apply_overrides, load_scene_dict, scene_from_dict
 from scenes import with_paper
 from gearwear.core.validation import InputError
 
@@ -162,7 +162,7 @@ def test_the_tools_own_stiffness_csv_is_a_user_table(tmp_path, method):
 
     import numpy as np
 
-    from gearwear.scene import read_stiffness_table
+    from gearwear.scene.model import read_stiffness_table
 
     out = tmp_path / "st"
     points = "24" if method == "fem" else "90"

@@ -12,7 +12,7 @@ from gearwear.geometry.spec import default_pair
 from gearwear.core.validation import InputError
 from gearwear.geometry.wear import (WearSpec, hertz_half_width, hertz_load_integral, specific_sliding,
                                     wear_on_line_of_action, worn_profiles)
-from gearwear.scene import parse_wear_arg, wear_from_dict
+from gearwear.scene.model import parse_wear_arg, wear_from_dict
 
 
 @pytest.fixture(scope="module")
@@ -173,7 +173,7 @@ def test_absurd_wear_depth_is_refused_with_the_allowed_maximum(mesh):
     assert half_mm == pytest.approx(half * 1e3, abs=1e-3)
     assert limit_um == pytest.approx(half / 3 * 1e6, abs=2.0)
     assert 1000 < limit_um < 2000                    # a third of a ~4.7 mm half thickness
-    from gearwear.schema import WearDoc
+    from gearwear.scene.schema import WearDoc
     assert f"{limit_um:g} um for the paper pair" in (WearDoc.model_fields["max_depth_um"].description or "")
     assert wear_from_dict({"max_depth_um": limit_um}, pair=default_pair()).max_depth_m == pytest.approx(
         limit_um * 1e-6)
@@ -182,8 +182,8 @@ def test_absurd_wear_depth_is_refused_with_the_allowed_maximum(mesh):
 
 
 def test_running_hours_beyond_severe_are_flagged_and_absurd_ones_refused(mesh):
-    from gearwear import geometry_job
-    from gearwear.scene import Scene
+    from gearwear.jobs import geometry as geometry_job
+    from gearwear.scene.model import Scene
 
     spec = wear_from_dict({"hours": 500.0}, pair=default_pair())
     h1, _ = wear_on_line_of_action(mesh, spec, np.linspace(mesh.path_start_m, mesh.path_end_m, 4001))

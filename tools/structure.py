@@ -70,7 +70,7 @@ def main(root: Path) -> None:
     lines = sorted(((len(p.read_text().splitlines()), m) for m, p in mods.items()), reverse=True)
     print("modules per folder:", ", ".join(f"{k} {v}" for k, v in sorted(folders.items())))
     app = [m for m in mods if m == "gearwear" or (m.startswith("gearwear.") and m.split(".")[1] not in LAYERS)]
-    print(f"app modules: {len(app)}; import depth of the app (gearwear.cli): {depth('gearwear.cli')}")
+    print(f"app modules: {len(app)}; import depth of the app (gearwear.cli.app): {depth('gearwear.cli.app')}")
     print("largest modules (lines):", ", ".join(f"{m} {n}" for n, m in lines[:8]))
     print("modules over 600 lines:", sum(n > 600 for n, _ in lines))
 

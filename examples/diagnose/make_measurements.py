@@ -16,11 +16,11 @@ from pathlib import Path
 
 import numpy as np
 
-from gearwear.diagnose_features import SIGNALS, time_series_features
-from gearwear.diagnose_job import perturb
-from gearwear.diagnose_surrogate import scene_at
-from gearwear.scene import load_scene_dict
-from gearwear.simulate_job import run
+from gearwear.diagnose.features import SIGNALS, time_series_features
+from gearwear.diagnose.job import perturb
+from gearwear.diagnose.surrogate import scene_at
+from gearwear.scene.model import load_scene_dict
+from gearwear.jobs.simulate import run
 
 HERE = Path(__file__).resolve().parent
 TRUTH = {"wear": 18.0, "clearance": 24.0}

@@ -23,7 +23,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from .scene import Scene
+from gearwear.scene.model import Scene
 
 E_RANGE_GPA = (0.5, 700.0)
 DENSITY_RANGE = (500.0, 20000.0)

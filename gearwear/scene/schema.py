@@ -2,7 +2,7 @@
 
 A scene is a TOML document (``gearwear scene --schema`` prints its JSON Schema;
 ``docs/scene-reference.md`` is generated from it). Units are in the key names; the
-resolved :class:`~gearwear.scene.Scene` is SI.
+resolved :class:`~gearwear.scene.model.Scene` is SI.
 
 Why pydantic v2: the schema is declared once as typed models, and the same models give
 the validation, the JSON Schema for editors, the fully resolved document with every
@@ -777,7 +777,7 @@ def reference_markdown() -> str:
     """The scene reference (docs/scene-reference.md), generated from the models: every
     table, key, type, unit, allowed range, default and description."""
     lines = ["# Scene reference", "",
-             "Generated from `gearwear/schema.py` by `gearwear scene --reference`; do not edit by hand.",
+             "Generated from `gearwear/scene/schema.py` by `gearwear scene --reference`; do not edit by hand.",
              "A scene is a TOML document; units are in the key names. `gearwear scene NAME|FILE` prints a",
              "scene with every default filled in, `gearwear scene --schema` the JSON Schema.", ""]
     for name, info in SceneDoc.model_fields.items():

@@ -10,9 +10,9 @@ from typing import Any
 
 import numpy as np
 
-from . import io
-from .assumptions import line_of
-from .simulate_job import SIGNAL_UNITS, SimulationRun, signal_label
+from gearwear import io
+from gearwear.scene.assumptions import line_of
+from gearwear.jobs.simulate import SIGNAL_UNITS, SimulationRun, signal_label
 
 
 def signals_csv(run: SimulationRun) -> str:
@@ -28,7 +28,7 @@ def signals_csv(run: SimulationRun) -> str:
 def figure(run: SimulationRun):
     """Per signal: five mesh periods of the time trace and the amplitude spectrum of the
     kept window up to (K + 0.5) f_m, K = the harmonics the run reports."""
-    from .plotting import spectrum_band_Hz, subplots
+    from gearwear.plotting import spectrum_band_Hz, subplots
 
     r = run.result
     names = run.output["signals"]
@@ -71,8 +71,8 @@ def spectrum_figure(run: SimulationRun):
     from gearwear.dynamics.analysis import acceleration_signals, spectrum
     from gearwear.dynamics.indicators import sideband_lines
 
-    from .plotting import FLOOR_DB, legend_outside, log_floor, spectrum_band_Hz, subplots
-    from .simulate_job import shaft_frequency_Hz
+    from gearwear.plotting import FLOOR_DB, legend_outside, log_floor, spectrum_band_Hz, subplots
+    from gearwear.jobs.simulate import shaft_frequency_Hz
 
     r = run.result
     f_shaft, z = shaft_frequency_Hz(run.scene)

@@ -20,10 +20,10 @@ from gearwear.geometry.operating import OperatingGeometry, centre_distance, oper
 from gearwear.geometry.profile import REGION_NAMES, ToothProfile, gear_outline
 from gearwear.geometry.wear import WearSpec, key_roll_angles, wear_warnings, worn_profiles
 
-from . import io
-from .assumptions import as_dicts, for_command
-from .plausibility import body_warnings, pair_warnings
-from .scene import Scene
+from gearwear import io
+from gearwear.scene.assumptions import as_dicts, for_command
+from gearwear.scene.plausibility import body_warnings, pair_warnings
+from gearwear.scene.model import Scene
 
 
 @dataclass
@@ -191,7 +191,7 @@ def _outline_panel(ax, res: GeometryResult, i: int) -> None:
     pitch circles named at alternate ends (close radii never share an end)."""
     from gearwear.geometry.profile import tooth_outline
 
-    from .plotting import legend_outside, stagger_levels
+    from gearwear.plotting import legend_outside, stagger_levels
 
     nom, worn = res.nominal[i], res.worn[i]
     g = res.scene.pair.gear(i)
@@ -229,7 +229,7 @@ def _wear_panel(ax, res: GeometryResult, i: int) -> None:
     """One gear's wear depth against its own flank radius, its SAP, LPSTC, pitch and HPSTC
     marked by dashed lines and named above the axes (staggered: no overprint); an
     unworn flank says so instead of drawing a zero line."""
-    from .plotting import labels_above, title_pad
+    from gearwear.plotting import labels_above, title_pad
 
     nm, wp = res.nominal[i], res.worn[i]
     mask = np.isfinite(nm.roll)
@@ -257,7 +257,7 @@ def _wear_panel(ax, res: GeometryResult, i: int) -> None:
 def tooth_figure(res: GeometryResult):
     """tooth.png: per gear (columns: pinion, gear) its tooth outline and its wear depth,
     each on its own axes and scale."""
-    from .plotting import subplots
+    from gearwear.plotting import subplots
 
     fig, axs = subplots(2, 2, figsize=(12, 10.5), gridspec_kw={"height_ratios": [1.25, 1]})
     for i in range(2):

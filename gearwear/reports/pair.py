@@ -32,10 +32,12 @@ import numpy as np
 
 from gearwear.core.validation import InputError
 
-from . import __version__, io, runup_job, stiffness_job
-from .sources import METHODS
-from .scene import Scene, require_dynamics
-from .sweep_job import Axis
+from gearwear import __version__, io
+from gearwear.jobs import runup as runup_job
+from gearwear.jobs import stiffness as stiffness_job
+from gearwear.stiffness.sources import METHODS
+from gearwear.scene.model import Scene, require_dynamics
+from gearwear.jobs.sweep import Axis
 
 #: the methods in the order of the page; the FE is the reference of the differences
 METHOD_LABELS = {"ishikawa": "Ishikawa (analytic)", "energy": "potential energy (analytic, Sainsot foundation)",
@@ -117,7 +119,7 @@ def prepare(scene: Scene, settings: Settings = SETTINGS) -> Prepared:
 def geometry(scene: Scene) -> dict[str, Any]:
     """The geometry table's data (``geometry_job`` summary plus the pair's module, pressure
     angle and installed centre distance; lengths in mm, angles in deg)."""
-    from . import geometry_job
+    from gearwear.jobs import geometry as geometry_job
 
     s = geometry_job.compute(scene, scene.wear, scene.clearance_m, scene.operating.torque_Nm,
                              build_mesh=False).summary()
@@ -134,7 +136,7 @@ def stiffness(scene: Scene, settings: Settings,
               step: Callable[[str], None] = lambda msg: None) -> list[stiffness_job.Curve]:
     """k_h over one mesh period by every method (METHODS) at the scene's
     torque, wear, clearance and flank; ISO 6336 is one constant of the nominal flank."""
-    from .schema import fem_plane
+    from gearwear.scene.schema import fem_plane
 
     curves = []
     # the scene's fem.plane (auto: by b/m), for the FE and the analytic tooth beams alike
@@ -175,7 +177,7 @@ def compute(prep: Prepared, executor, step: Callable[[str], None] = lambda msg: 
             fe_progress: Callable[[int, int], None] | None = None, runup_progress: bool = False) -> Report:
     """Every part of the report (``executor`` runs the run-up's chain, e.g.
     ``sweep_job.make_executor(1)``); ``step`` is called before each part with its name."""
-    from .assumptions import as_dicts, for_command
+    from gearwear.scene.assumptions import as_dicts, for_command
 
     scene, settings = prep.scene, prep.settings
     wall: dict[str, float] = {}
@@ -335,7 +337,7 @@ def stiffness_lines(rows: list[dict[str, Any]]) -> list[str]:
 
 def markdown(doc: dict[str, Any]) -> str:
     """README.md of the report, from report.json's dict only."""
-    from .assumptions import line_of
+    from gearwear.scene.assumptions import line_of
 
     g, op, ru, lm = doc["geometry"], doc["operating"], doc["runup"], doc["load_map"]
     iso = ru["iso6336"]
@@ -397,7 +399,7 @@ def markdown(doc: dict[str, Any]) -> str:
 
 def _finish(fig, ax, xlabel: str, ylabel: str, title: str):
     """Labels, a grid and the legend below the axes (off the data)."""
-    from .plotting import legend_outside
+    from gearwear.plotting import legend_outside
 
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
@@ -409,7 +411,7 @@ def _finish(fig, ax, xlabel: str, ylabel: str, title: str):
 
 
 def stiffness_figure(doc: dict[str, Any]):
-    from .plotting import subplots
+    from gearwear.plotting import subplots
 
     fig, ax = subplots(1, 1, figsize=(10, 4.6))
     styles = {"ishikawa": ("C0", "-", None), "energy": ("C2", "--", None), "iso6336": ("C3", ":", None),
@@ -424,7 +426,7 @@ def stiffness_figure(doc: dict[str, Any]):
 
 
 def load_figure(doc: dict[str, Any]):
-    from .plotting import subplots
+    from gearwear.plotting import subplots
 
     lm = doc["load_map"]
     fig, ax = subplots(1, 1, figsize=(9, 4.4))
@@ -437,7 +439,7 @@ def load_figure(doc: dict[str, Any]):
 
 
 def kv_figure(doc: dict[str, Any]):
-    from .plotting import subplots
+    from gearwear.plotting import subplots
 
     ru = doc["runup"]
     iso = ru["iso6336"]

@@ -2,7 +2,7 @@
 to simulate (docs/scene-reference.md). An effect is modelled only if ``[effects]`` names it.
 
 The schema (keys, types, units, ranges, defaults, cross-key checks) is
-``gearwear.schema``; this module loads documents (files, built-in names, ``--set``
+``gearwear.scene.schema``; this module loads documents (files, built-in names, ``--set``
 overrides) and resolves a validated document into the SI specs the layers below use.
 """
 
@@ -24,8 +24,9 @@ from gearwear.geometry.faults import CrackFault, FaultSpec, Spall, check_faults
 from gearwear.geometry.flank import Deviation, FlankSpec, Relief, check_flank
 from gearwear.geometry.wear import PHASE_DEPTHS_M, WearSpec, check_wear
 
-from .schema import (DEFAULT_BEARING_DAMPING_RATIO, DEFAULT_MESH_DAMPING_RATIO, FaultsDoc, FlankDoc, OperatingDoc,
-                     SceneDoc, WearDoc, dynamics_fem_plane, resolved_method, validate_document)
+from gearwear.scene.schema import (DEFAULT_BEARING_DAMPING_RATIO, DEFAULT_MESH_DAMPING_RATIO, FaultsDoc, FlankDoc,
+                                   OperatingDoc, SceneDoc, WearDoc, dynamics_fem_plane, resolved_method,
+                                   validate_document)
 
 TABLE_MIN_ROWS = 8
 #: the other columns of the stiffness tables the tool writes (stiffness_job.curve_csv,
@@ -97,7 +98,7 @@ class Operating:
 @dataclass(frozen=True)
 class Scene:
     """A validated scene resolved to SI. ``effects`` maps effect name -> its options (SI);
-    ``doc`` is the validated document it came from (``gearwear.schema.SceneDoc``)."""
+    ``doc`` is the validated document it came from (``gearwear.scene.schema.SceneDoc``)."""
 
     name: str
     pair: PairSpec
@@ -231,7 +232,7 @@ def pair_from_dict(data: Mapping[str, Any]) -> PairSpec:
     validated."""
     from types import SimpleNamespace
 
-    from .schema import validate_tables
+    from gearwear.scene.schema import validate_tables
 
     return pair_spec(SimpleNamespace(**validate_tables(data, ("pair", "material", "blank"))))  # type: ignore[arg-type]
 
@@ -270,7 +271,7 @@ def wear_from_dict(table: Mapping[str, Any] | str, torque_Nm: float = 40.0, spee
                    pair: PairSpec | None = None) -> WearSpec:
     """A wear spec from an ``[effects] wear`` table (or a phase name), validated (with
     ``pair``: also against the depth limit of that pair, see :func:`wear_spec`)."""
-    from .schema import check_wear_table, validate_tables
+    from gearwear.scene.schema import check_wear_table, validate_tables
 
     t = validate_tables({"effects": {"wear": table}, "operating": {"torque_Nm": torque_Nm, "speed_rpm": speed_rpm}},
                         ("effects", "operating"))
@@ -425,7 +426,7 @@ def read_deviation_csv(path: str | Path, gear_index: int) -> Deviation:
 
 
 def scene_from_dict(data: Mapping[str, Any], name: str = "scene") -> Scene:
-    """Validate a parsed scene document (``gearwear.schema``) and resolve it to SI."""
+    """Validate a parsed scene document (``gearwear.scene.schema``) and resolve it to SI."""
     return scene_from_doc(validate_document(data, name=name))
 
 

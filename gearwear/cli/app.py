@@ -18,11 +18,11 @@ from typing import TYPE_CHECKING, Any
 from gearwear.analytic import TABLE_POINTS_PER_MESH_PERIOD as TABLE_POINTS
 from gearwear.core.validation import InputError, fail, renamed
 
-from . import __version__, io
-from .sources import FE_POSITIONS, METHODS
+from gearwear import __version__, io
+from gearwear.stiffness.sources import FE_POSITIONS, METHODS
 
 if TYPE_CHECKING:
-    from .scene import Scene
+    from gearwear.scene.model import Scene
 
 
 #: --mesh-size-mm: the global element size of the whole-gear mesh; on the paper gear 0.25 mm
@@ -43,7 +43,7 @@ def _bounded_float(name: str, text: str, unit: str, lo: float, hi: float) -> flo
 def _fem_plane(doc: Any, runs_fem: bool, what: str) -> str:
     """schema.fem_plane, imported when a command runs (the CLI imports nothing heavy
     before its signal handlers are installed)."""
-    from .schema import fem_plane
+    from gearwear.scene.schema import fem_plane
 
     return fem_plane(doc, runs_fem, what)
 
@@ -51,7 +51,7 @@ def _fem_plane(doc: Any, runs_fem: bool, what: str) -> str:
 def _alias_sets(args: argparse.Namespace, skip: tuple[str, ...] = ()) -> list[str]:
     """The single-valued short flags as the --set overrides they stand for (``skip``: flags
     whose value the caller sets itself, one variant at a time)."""
-    from .scene import wear_override
+    from gearwear.scene.model import wear_override
 
     sets = []
     if getattr(args, "torque_Nm", None) is not None:
@@ -75,7 +75,7 @@ def _load(args: argparse.Namespace, default: str = "paper-default", extra: list[
     """The command's scene: file or built-in name, short-flag aliases, then --set. A bad
     value given through a short flag is reported under the flag's name. ``loaded``: the
     command computes load sharing, so the torque must be > 0."""
-    from .scene import SHORT_KEYS, apply_overrides, load_scene_dict, scene_from_dict
+    from gearwear.scene.model import SHORT_KEYS, apply_overrides, load_scene_dict, scene_from_dict
 
     data, name = load_scene_dict(args.scene, default=default)
     try:
@@ -95,7 +95,7 @@ def _load(args: argparse.Namespace, default: str = "paper-default", extra: list[
 def _variants(args: argparse.Namespace) -> "tuple[Scene, list, list[float]]":
     """(scene, wear specs, clearances in m) for commands that overlay several --wear and
     --clearance-um values: each value is the scene with that alias applied."""
-    from .scene import wear_override
+    from gearwear.scene.model import wear_override
 
     scene = _load(args)
     wears = [_load(args, extra=[wear_override(w)], skip=("wear",)).wear
@@ -106,7 +106,7 @@ def _variants(args: argparse.Namespace) -> "tuple[Scene, list, list[float]]":
 
 
 def _cmd_geometry(args: argparse.Namespace) -> int:
-    from . import geometry_job
+    from gearwear.jobs import geometry as geometry_job
 
     scene = _load(args, loaded=False)
     _fem_plane(scene.doc, False, "gearwear geometry")
@@ -150,23 +150,23 @@ def _wear_dict(wear) -> dict | None:
     return None if wear is None else dataclasses.asdict(wear)
 
 
-#: which results each command's files hold, for the assumptions they list (gearwear.assumptions.USES)
+#: which results each command's files hold, for the assumptions they list (gearwear.scene.assumptions.USES)
 COMMAND_USES = {"geometry": "geometry", "stiffness": "stiffness", "verify": "verify", "calibrate": "calibrate",
                 "simulate": "simulate", "sweep": "simulate", "runup": "runup", "diagnose": "simulate",
                 "diagnose plan": "simulate", "report pair": "report pair"}
 
 
 def _assumed(scene, uses: str) -> list[dict]:
-    """The assumptions of ``scene`` a command's results rest on (gearwear.assumptions), as
+    """The assumptions of ``scene`` a command's results rest on (gearwear.scene.assumptions), as
     dicts (``key``, ``value``, ``unit``, ``why``)."""
-    from .assumptions import as_dicts, for_command
+    from gearwear.scene.assumptions import as_dicts, for_command
 
     return as_dicts(for_command(scene, uses))
 
 
 def print_assumed(assumed: list[dict]) -> None:
     """One ``assumed:`` line per value (with the results: a bad input stays one line)."""
-    from .assumptions import line_of
+    from gearwear.scene.assumptions import line_of
 
     for a in assumed:
         print(line_of(a))
@@ -201,7 +201,7 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
 
     from gearwear.geometry.faults import revolution_periods
 
-    from . import stiffness_job
+    from gearwear.jobs import stiffness as stiffness_job
 
     methods = list(dict.fromkeys(_split_multi(args.method)))  # several methods: overlaid
     for m in methods:
@@ -247,7 +247,7 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
         return written + (stiffness_job.write_fields(curves, folder, fields) if fields else [])
     files = _write(out, "stiffness", scene, {**inputs, "fields": fields}, write_stiffness,
                    {"curves": {c.slug: c.result.wall_s for c in curves}}, uses=uses)
-    from .plausibility import pair_warnings
+    from gearwear.scene.plausibility import pair_warnings
 
     absurd = pair_warnings(scene)  # legal but no gear's: said, not refused
     summaries = [{**c.summary(), "assumptions": assumed} for c in curves]
@@ -298,7 +298,7 @@ def _unworn_as_none(wears: list) -> list:
 def _cmd_verify(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
-    from . import verify_job
+    from gearwear.jobs import verify as verify_job
 
     if not args.wear:
         args.wear = ["unworn", "mild", "severe"]
@@ -346,7 +346,9 @@ def _cmd_verify(args: argparse.Namespace) -> int:
 
 
 def _cmd_calibrate(args: argparse.Namespace) -> int:
-    from . import calibrate, io, tables
+    from gearwear import io
+    from gearwear.stiffness import calibration as calibrate
+    from gearwear.stiffness import tables
 
     scene, wears, clearances = _variants(args)
     wears = _unworn_as_none(wears)
@@ -394,7 +396,7 @@ def _fe_executor(args: argparse.Namespace):
     built once and shared by the wear states), local processes (--workers N) or Dask
     (--scheduler). Each worker builds the bodies it needs once; the tables are the same to
     the bit on any executor."""
-    from . import sweep_job
+    from gearwear.jobs import sweep as sweep_job
 
     if not (args.workers or args.scheduler):
         return None
@@ -412,7 +414,7 @@ def _workers(args: argparse.Namespace) -> int | None:
 
 def _calibrate_tables(args, scene, wears, clearances, torque, points, out, executor):
     """(rows, files to copy into --out, FE wall times) of every (wear, clearance) table."""
-    from . import calibrate
+    from gearwear.stiffness import calibration as calibrate
 
     plane = _fem_plane(scene.doc, True, "gearwear calibrate")
     rows: list[dict] = []
@@ -450,9 +452,10 @@ def _calibrate_tables(args, scene, wears, clearances, torque, points, out, execu
 
 
 def _cmd_simulate(args: argparse.Namespace) -> int:
-    from . import simulate_io, simulate_job
+    from gearwear.jobs import simulate_io
+    from gearwear.jobs import simulate as simulate_job
 
-    from .scene import require_dynamics
+    from gearwear.scene.model import require_dynamics
 
     scene = _load(args, default="paper-wear-severe")
     require_dynamics(scene)
@@ -473,13 +476,13 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
 
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
-    from . import sweep_job as sweep
-    from .scene import load_scene_dict, require_dynamics
+    from gearwear.jobs import sweep
+    from gearwear.scene.model import load_scene_dict, require_dynamics
 
     data, name = load_scene_dict(args.scene, default="paper-wear-severe")
     out = _check_out(args.out, "sweep")
     axes, fixed = sweep.split_sets(_alias_sets(args))
-    from .scene import apply_overrides, scene_from_dict
+    from gearwear.scene.model import apply_overrides, scene_from_dict
     require_dynamics(scene_from_dict(apply_overrides(data, fixed), name=name))  # the fixed keys are checked first
     if not axes:
         raise InputError("--set: give at least one swept key, KEY=START:STOP:N or KEY=a,b,c")
@@ -512,9 +515,9 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
 def _cmd_runup(args: argparse.Namespace) -> int:
     import time
 
-    from . import runup_job
-    from . import sweep_job as sweep
-    from .scene import apply_overrides, load_scene_dict, require_dynamics, scene_from_dict
+    from gearwear.jobs import runup as runup_job
+    from gearwear.jobs import sweep
+    from gearwear.scene.model import apply_overrides, load_scene_dict, require_dynamics, scene_from_dict
 
     data, name = load_scene_dict(args.scene, default="paper-default")
     out = _check_out(args.out, "runup")
@@ -571,9 +574,9 @@ def _cmd_runup(args: argparse.Namespace) -> int:
 
 
 def _cmd_diagnose(args: argparse.Namespace) -> int:
-    from . import diagnose_cmd as dc
-    from .diagnose_surrogate import BuildSpec, validate_range
-    from .scene import apply_overrides, load_scene_dict, require_dynamics, scene_from_dict
+    from gearwear.cli import diagnose as dc
+    from gearwear.diagnose.surrogate import BuildSpec, validate_range
+    from gearwear.scene.model import apply_overrides, load_scene_dict, require_dynamics, scene_from_dict
 
     data, name = load_scene_dict(args.scene, default="paper-wear-severe")
     unknowns = dc.parse_unknowns(args.unknowns)
@@ -605,7 +608,7 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
         if args.json:
             print(io.json_text({**doc, "wall_s": timing["total_s"], "files": [str(f) for f in files]}, indent=None))
         else:
-            from .diagnose_plan import print_table
+            from gearwear.diagnose.plan import print_table
             print_table(doc)
             for f in files:
                 print(f"wrote {f}")
@@ -615,7 +618,7 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
                          "or --plan for a measurement plan")
     if args.speeds_rpm or args.torques_Nm:
         raise InputError("--speeds-rpm/--torques-Nm: only used with --plan")
-    from .diagnose_features import read_measurement
+    from gearwear.diagnose.features import read_measurement
     meas = read_measurement(args.measured, scene.mesh_frequency_Hz, K)  # a bad file: one line, before any work
     out = _check_out(args.out, "diagnose")
     res = dc.diagnose(spec, meas, rel, floor, workers, not args.json, refresh=args.refresh)
@@ -631,8 +634,8 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
 
 
 def _cmd_scene(args: argparse.Namespace) -> int:
-    from .schema import json_schema, reference_markdown, resolved_dict, to_toml
-    from .scene import builtin_scene_names
+    from gearwear.scene.schema import json_schema, reference_markdown, resolved_dict, to_toml
+    from gearwear.scene.model import builtin_scene_names
 
     if (args.reference or args.schema or args.list) and (args.scene or args.set or args.json):
         given = [f for f, v in (("SCENE", args.scene), ("--set", args.set), ("--json", args.json)) if v]
@@ -648,7 +651,7 @@ def _cmd_scene(args: argparse.Namespace) -> int:
     if args.list:
         print("\n".join(builtin_scene_names()))
         return 0
-    from .assumptions import scene_assumptions
+    from gearwear.scene.assumptions import scene_assumptions
 
     scene = _load(args, loaded=False)
     assert scene.doc is not None
@@ -666,7 +669,7 @@ def _cmd_scene(args: argparse.Namespace) -> int:
 
 
 def _cmd_report(args: argparse.Namespace) -> int:
-    from . import report_paper
+    from gearwear.reports import paper as report_paper
 
     if args.which == "pair":
         return _cmd_report_pair(args)
@@ -691,7 +694,8 @@ def _cmd_report_pair(args: argparse.Namespace) -> int:
 
     from tqdm import tqdm
 
-    from . import report_pair, sweep_job
+    from gearwear.reports import pair as report_pair
+    from gearwear.jobs import sweep as sweep_job
 
     scene = _load(args)
     report_pair.check_scene(scene)
@@ -725,7 +729,7 @@ def _cmd_report_pair(args: argparse.Namespace) -> int:
 
 
 def _print_report_pair(doc: dict, wall: dict) -> None:
-    from . import report_pair
+    from gearwear.reports import pair as report_pair
 
     print(f"{'method':<24}{'mean N/m':>12}{'vs FE %':>9}{'STE p-p um':>12}{'wall s':>9}")
     for r in doc["stiffness"]:
@@ -846,7 +850,7 @@ def _scene_options(sp: argparse.ArgumentParser, default: str, multi: bool = Fals
 
 
 def runup_directions() -> tuple[str, ...]:
-    from .runup_job import DIRECTIONS
+    from gearwear.jobs.runup import DIRECTIONS
 
     return DIRECTIONS
 

@@ -1,6 +1,6 @@
 """The ``gearwear diagnose`` command: option checks, the run, its files and its printout.
 
-gearwear.cli parses the line and checks the generic flags; this module checks what is
+gearwear.cli.app parses the line and checks the generic flags; this module checks what is
 particular to the diagnosis (unknowns, prior ranges, --set of an unknown's key) before
 any simulation, runs the diagnosis or the plan, and writes:
 
@@ -22,10 +22,10 @@ from typing import Any
 
 from gearwear.core.validation import InputError
 
-from . import diagnose_job as dj
-from . import diagnose_surrogate as ds
-from . import io
-from .diagnose_features import Measurement
+from gearwear.diagnose import job as dj
+from gearwear.diagnose import surrogate as ds
+from gearwear import io
+from gearwear.diagnose.features import Measurement
 
 #: default design sizes (Sobol points; the 2^d corners come on top) and held-out runs
 DESIGN_POINTS = {1: 64, 2: 256, 3: 512}
@@ -116,7 +116,7 @@ class LazyExecutor:
 
     def __call__(self):
         if self.executor is None and self.workers != 1:
-            from .sweep_job import make_executor
+            from gearwear.jobs.sweep import make_executor
             self.executor = make_executor(self.workers)
         return self.executor
 
@@ -175,7 +175,7 @@ def inputs(spec: ds.BuildSpec, rel: float, floor_frac: float, extra: dict[str, A
 
 
 def write_diagnosis(d: Diagnosis, folder: Path, inp: dict[str, Any], labels: dict[str, Any]) -> list[Path]:
-    from . import diagnose_plots
+    from gearwear.diagnose import plots as diagnose_plots
 
     files = [io.write_json(folder / "diagnosis.json", d.doc)]
     rows = d.doc["features"]
@@ -241,7 +241,7 @@ def parse_list(text: str | None, flag: str, unit: str, hi: float) -> list[float]
 
 def run_plan(spec: ds.BuildSpec, speeds: list[float], torques: list[float] | None, rel: float, floor_frac: float,
              workers: int | None, progress: bool) -> tuple[dict[str, Any], dict[str, Any]]:
-    from . import diagnose_plan
+    from gearwear.diagnose import plan as diagnose_plan
 
     t0 = time.perf_counter()
     total = len(speeds) * len(torques or [None]) * (spec.design_points + 2 ** len(spec.unknowns)
@@ -253,7 +253,7 @@ def run_plan(spec: ds.BuildSpec, speeds: list[float], torques: list[float] | Non
 
 
 def write_plan(doc: dict[str, Any], folder: Path, inp: dict[str, Any], labels: dict[str, Any]) -> list[Path]:
-    from . import diagnose_plan
+    from gearwear.diagnose import plan as diagnose_plan
 
     files = [io.write_json(folder / "plan.json", doc)]
     csv = io.write_text(folder / "plan.csv", diagnose_plan.table_csv(doc))

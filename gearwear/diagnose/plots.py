@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .diagnose_job import Fit, feature_rows
-from .plotting import legend_outside, subplots
+from gearwear.diagnose.job import Fit, feature_rows
+from gearwear.plotting import legend_outside, subplots
 
 
 def _hpd_levels(p: np.ndarray, masses=(0.95, 0.68)) -> list[float]:
@@ -19,7 +19,7 @@ def _hpd_levels(p: np.ndarray, masses=(0.95, 0.68)) -> list[float]:
 def corner(ft: Fit):
     """Marginals on the diagonal (95 % interval shaded, median dashed), joint densities
     below it (68 and 95 % highest-density contours), on the final grid of the posterior."""
-    from .schema import key_label, key_words
+    from gearwear.scene.schema import key_label, key_words
 
     names = ft.names
     d = len(names)
@@ -68,7 +68,7 @@ def corner(ft: Fit):
 def features(ft: Fit):
     """Per signal: measured harmonic amplitudes with their total 95 % band (noise and
     surrogate error) and the surrogate at the estimate; the means in the titles."""
-    from .simulate_job import SIGNAL_UNITS, SIGNAL_WORDS, signal_name
+    from gearwear.jobs.simulate import SIGNAL_UNITS, SIGNAL_WORDS, signal_name
 
     rows = feature_rows(ft)
     sigs = list(dict.fromkeys(r["signal"] for r in rows))

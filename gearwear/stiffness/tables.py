@@ -7,7 +7,7 @@ mean is the integral of the piecewise-linear table. Its sidecar records
 the inputs, their SHA-256 (inputs + software version), the SHA-256 of the CSV bytes
 (``csv_sha256``), the method, the FE mesh size, the estimated error and the version.
 The cache key is the input hash. For calibrated tables the inputs include the
-fingerprint of the calibration code (gearwear.calibrate.code_fingerprint), so a
+fingerprint of the calibration code (gearwear.stiffness.calibration.code_fingerprint), so a
 changed input, a changed calibration code or a new software version never reuses a
 stale table. Files are written atomically (temporary name + rename), data before
 sidecar, so an interrupted run leaves no half-written table.
@@ -18,7 +18,7 @@ the expected header, it has exactly the rows its sidecar records, every value is
 increase, k > 0 wherever a pair is in contact (k = 0 only where none is), and the
 CSV bytes match ``csv_sha256``. A bad entry is not used; the caller recomputes it
 and reports the reason through its ``notify`` callback (:func:`to_stderr` by default
-in gearwear.calibrate), e.g.::
+in gearwear.stiffness.calibration), e.g.::
 
     gearwear: cache entry 3fa2c1d0... (unworn, 0 um) is truncated (99 of 360 rows); recomputing
 
@@ -46,7 +46,7 @@ from gearwear.core.inputs import read_bounded
 from gearwear.core.validation import fail
 from gearwear.geometry.curves import curve_mean
 
-from . import io
+from gearwear import io
 
 #: the largest cache file read (a table of 10^6 rows is ~80 MB; a surrogate of 65536 runs ~0.5 GB)
 ENTRY_LIMIT_BYTES = 1 << 30

@@ -25,7 +25,7 @@ Only what the scene's ``[effects]`` names is modelled:
   Absent: the nominal geometry.
 
 Masses and inertias: ``bodies.mass_kg`` / ``inertia_kg_m2``, else each gear's own blank
-(``gearwear.scene.resolve_bodies``, ``geometry.blank``). Damping:
+(``gearwear.scene.model.resolve_bodies``, ``geometry.blank``). Damping:
 ``bodies.mesh_damping_N_s_per_m`` / ``bearing_damping_N_s_per_m``, else from the ratios
 c_h = 2 zeta_m sqrt(k_mean m_e), c_b = 2 zeta_b sqrt(k_b m).
 
@@ -49,11 +49,11 @@ from gearwear.geometry.operating import backlash, centre_distance
 from gearwear.geometry.spec import PairSpec
 from gearwear.core.validation import InputError, renamed
 
-from .assumptions import as_dicts, for_command
-from .plausibility import body_warnings, pair_warnings, response_warnings, stiffness_warnings
-from .scene import Scene, require_dynamics
-from .schema import dynamics_fem_plane
-from .sources import FE_POSITIONS
+from gearwear.scene.assumptions import as_dicts, for_command
+from gearwear.scene.plausibility import body_warnings, pair_warnings, response_warnings, stiffness_warnings
+from gearwear.scene.model import Scene, require_dynamics
+from gearwear.scene.schema import dynamics_fem_plane
+from gearwear.stiffness.sources import FE_POSITIONS
 
 #: SI unit of each signal of the dynamics layer (dynamics.simulate computes them in SI)
 SI_UNITS = {"y_p": "m", "x_p": "m", "y_g": "m", "x_g": "m", "q": "m", "delta": "m", "F_m": "N"}
@@ -155,14 +155,14 @@ def stiffness_input(scene: Scene, breakpoints: bool = True) -> StiffnessInput:
         phi, k = ms["angle_rad"], ms["k_N_per_m"]
         e = ms["excitation_m"] if ms["excitation_m"] is not None else np.zeros_like(k)
     elif source == "calibrated":
-        from .calibrate import calibrated_table, without_blank_torsion
+        from gearwear.stiffness.calibration import calibrated_table, without_blank_torsion
         check_before_stiffness(scene)
         tab = calibrated_table(pair, wear, clearance_geo, T, points, flank=flank, faults=faults, plane=plane)
         if blank_torsion(ms) == "excluded":
             tab = without_blank_torsion(tab)
         phi, k, e = tab.angle_rad, tab.k_N_per_m, tab.excitation_m
     elif source == "fem":
-        from .stiffness_job import fem_curve
+        from gearwear.jobs.stiffness import fem_curve
         check_before_stiffness(scene)
         r = fem_curve(pair, FE_POSITIONS, T, clearance_geo, wear, flank, faults,
                       blank_torsion=blank_torsion(ms), plane=plane)

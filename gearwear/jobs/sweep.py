@@ -29,8 +29,8 @@ import numpy as np
 from gearwear.core import interrupts
 from gearwear.core.validation import InputError
 
-from . import io
-from .scene import apply_overrides, parse_value, scene_from_dict
+from gearwear import io
+from gearwear.scene.model import apply_overrides, parse_value, scene_from_dict
 
 
 @dataclass(frozen=True)
@@ -66,7 +66,7 @@ def parse_axis(item: str) -> Axis:
 def split_sets(items: list[str]) -> tuple[list[Axis], list[str]]:
     """--set items as swept axes (KEY=START:STOP:N, KEY=a,b,c) and fixed overrides (the rest,
     and any value that is a TOML array, table or string)."""
-    from .scene import check_sets
+    from gearwear.scene.model import check_sets
 
     check_sets(items)  # one line per --set, each key once (a swept key too)
     axes: list[Axis] = []
@@ -96,8 +96,8 @@ def csv_cell(v) -> str:
 
 def point_label(axes: list[Axis], values) -> str:
     """A point's values on ``axes`` in words, "pinion torque = 10 N m, ..." (the schema's
-    words and units, :func:`gearwear.schema.key_words`); empty without axes."""
-    from .schema import key_words
+    words and units, :func:`gearwear.scene.schema.key_words`); empty without axes."""
+    from gearwear.scene.schema import key_words
 
     def one(a: Axis, v) -> str:
         words, unit = key_words(a.key)
@@ -115,7 +115,7 @@ def point_sets(point: dict[str, Any], fixed: list[str]) -> list[str]:
 
 def run_point(raw: dict[str, Any], name: str, point: dict[str, Any], fixed: list[str]) -> dict[str, Any]:
     """One grid point (top-level function so process and Dask executors can pickle it)."""
-    from .simulate_job import run
+    from gearwear.jobs.simulate import run
 
     scene = scene_from_dict(apply_overrides(raw, point_sets(point, fixed)), name=name)
     summary = run(scene).summary()
@@ -468,9 +468,9 @@ def figures(axes: list[Axis], results: list[dict[str, Any]]):
     in words with units from the schema (any swept key) and the signal table; every
     y axis starts at 0 and each panel's title gives the range in % of its mean, so a
     5 % change looks like 5 %."""
-    from .plotting import from_zero, legend_outside, range_text, subplots
-    from .schema import key_label
-    from .simulate_job import SIGNAL_WORDS, signal_label, signal_name
+    from gearwear.plotting import from_zero, legend_outside, range_text, subplots
+    from gearwear.scene.schema import key_label
+    from gearwear.jobs.simulate import SIGNAL_WORDS, signal_label, signal_name
 
     ax0 = axes[0]
     others = axes[1:]

@@ -27,7 +27,7 @@ from gearwear.geometry.operating import operating_geometry
 from gearwear.geometry.spec import PairSpec
 from gearwear.geometry.wear import WearSpec
 
-from . import io
+from gearwear import io
 
 
 @dataclass
@@ -234,7 +234,7 @@ def harris_figure(hm, torque_Nm: float, flank: FlankSpec | None = None):
     title states the relief the modified flank has."""
     import textwrap
 
-    from .plotting import legend_outside, subplots
+    from gearwear.plotting import legend_outside, subplots
 
     fig, ax = subplots(1, 1, figsize=(8, 4.8))
     ax.plot(hm.torque_Nm, hm.nominal_ste_pp_m * 1e6, "o-", label="nominal flank")
@@ -267,7 +267,7 @@ def curve_csv(c: Curve) -> str:
 def figures(curves: list[Curve]):
     """stiffness.png (k_h and the loaded TE of every curve, the faulty tooth's contact
     shaded) and, for several clearances, mean_vs_clearance.png; legends off the data."""
-    from .plotting import legend_outside, plot_merged, subplots
+    from gearwear.plotting import legend_outside, plot_merged, subplots
 
     figs = {}
     methods = list(dict.fromkeys(c.method for c in curves))

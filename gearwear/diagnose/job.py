@@ -1,10 +1,10 @@
 """``gearwear diagnose``: wear depth, bearing clearance (and torque) from a measured vibration.
 
 The composition: the scene fixes everything known; the unknowns
-(gearwear.diagnose_surrogate.UNKNOWNS) get a prior range; a cached surrogate of the
-6-DOF model over them predicts the measured features (gearwear.diagnose_features); the
+(gearwear.diagnose.surrogate.UNKNOWNS) get a prior range; a cached surrogate of the
+6-DOF model over them predicts the measured features (gearwear.diagnose.features); the
 posterior on a grid gives estimates and 95 % intervals under the stated noise model
-(gearwear.diagnose_posterior); the identifiability verdict says which unknown the
+(gearwear.diagnose.posterior); the identifiability verdict says which unknown the
 measurement cannot resolve and which measurement would.
 """
 
@@ -15,9 +15,9 @@ from typing import Any
 
 import numpy as np
 
-from . import diagnose_posterior as dp
-from .diagnose_features import MEAN_SIGNALS, SIGNALS, Feature, all_features, feature_name, time_series_features
-from .diagnose_surrogate import Surrogate, error_multiplicity
+from gearwear.diagnose import posterior as dp
+from gearwear.diagnose.features import MEAN_SIGNALS, SIGNALS, Feature, all_features, feature_name, time_series_features
+from gearwear.diagnose.surrogate import Surrogate, error_multiplicity
 
 GRID_POINTS = {1: 401, 2: 101, 3: 41}   # per axis and zoom stage
 
@@ -184,8 +184,8 @@ def synthetic_features(raw: dict[str, Any], name: str, truth: dict[str, float], 
     values) of the sampled signals ``columns`` over the kept window, computed as for a
     measured CSV, then each multiplied by (1 + rel eps), eps ~ N(0, 1) independent, plus
     floor_frac times the signal's largest harmonic times another N(0, 1)."""
-    from .diagnose_surrogate import scene_at
-    from .simulate_job import run
+    from gearwear.diagnose.surrogate import scene_at
+    from gearwear.jobs.simulate import run
 
     r = run(scene_at(raw, name, truth)).result
     cols = {c: r.signals[SIGNALS[c][0]] * SIGNALS[c][1] for c in columns}

@@ -23,8 +23,8 @@ import numpy as np
 from gearwear.geometry.spec import PairSpec
 from gearwear.geometry.wear import WearSpec
 
-from . import io
-from .compare import tooth_vs_analytic
+from gearwear import io
+from gearwear.stiffness.comparison import tooth_vs_analytic
 
 
 @dataclass
@@ -108,7 +108,7 @@ METHOD_STYLES = (("FE", "fem", {"marker": "o", "ms": 4, "ls": "-"}), ("Ishikawa"
 def _panel(ax, curves, note) -> None:
     """Draw (label, x, y, style) curves, coinciding ones once (:data:`COINCIDE` of the
     range; ``note`` says by how much they differ), with the legend right of the axes."""
-    from .plotting import legend_outside, plot_merged
+    from gearwear.plotting import legend_outside, plot_merged
 
     if not curves:
         return
@@ -130,7 +130,7 @@ def figures(v: Verification):
     the change by wear. Wear changes the compliance by far less than the methods differ,
     so the phases of one method coincide in the top panels: each is drawn once, its label
     naming every phase it stands for ("FE: unworn = mild = severe")."""
-    from .plotting import subplots
+    from gearwear.plotting import subplots
 
     figs = {}
     fig, (ax, ax2, ax3) = subplots(3, 1, figsize=(11, 11), sharex=True)
@@ -242,7 +242,7 @@ def write(v: Verification, out: Path, inputs: dict[str, Any], labels: dict[str, 
     files.append(io.write_text(out / "verification.md", markdown(v, names)))
     js = io.without_timing(to_json(v))
     # a JSON result carries its provenance inside instead of a .json.json sidecar
-    from . import __version__
+    from gearwear import __version__
     js["provenance"] = {"software": "gearwear", "version": __version__, "inputs": inputs,
                         "input_sha256": io.input_hash(inputs),
                         "method": "fem.tooth vs analytic.ishikawa / analytic.energy", **(labels or {})}

@@ -1,7 +1,7 @@
 """``gearwear diagnose --plan``: which signals, speeds and torques make the unknowns separable.
 
 For every candidate operating point (speed x torque) the surrogate of that point is built
-(or read from the cache, gearwear.diagnose_surrogate), and for every candidate
+(or read from the cache, gearwear.diagnose.surrogate), and for every candidate
 measurement (one signal's harmonic table, one signal's time series with its mean, all
 four signals as time series) the Fisher information of the stated noise model (the
 surrogate's sensitivities, measurement noise on the predicted features, the surrogate's
@@ -9,7 +9,7 @@ own error) gives Cramer-Rao 95 % interval widths at reference points spread over
 prior (a Sobol set). A width is a fraction of the prior range, capped at 1 (the prior
 itself bounds the interval). The table gives the median over the reference points and the
 median |correlation| between wear and clearance: a measurement separates them when both
-widths stay below gearwear.diagnose_posterior.RESOLVED_FRACTION.
+widths stay below gearwear.diagnose.posterior.RESOLVED_FRACTION.
 """
 
 from __future__ import annotations
@@ -20,10 +20,10 @@ from typing import Any, Callable
 
 import numpy as np
 
-from . import diagnose_posterior as dp
-from .diagnose_features import MEAN_SIGNALS, SIGNALS, Feature, all_features
-from .diagnose_job import expected_widths
-from .diagnose_surrogate import BuildSpec, Surrogate, build
+from gearwear.diagnose import posterior as dp
+from gearwear.diagnose.features import MEAN_SIGNALS, SIGNALS, Feature, all_features
+from gearwear.diagnose.job import expected_widths
+from gearwear.diagnose.surrogate import BuildSpec, Surrogate, build
 
 REFERENCE_POINTS = 16
 REFERENCE_SEED = 11

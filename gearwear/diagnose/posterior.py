@@ -8,7 +8,7 @@ r: relative measurement noise (``--noise-pct``, default 2 %); q A_s: an absolute
 q (``--noise-floor-pct``, default 0.5 %) times the largest measured harmonic amplitude
 A_s of the same signal (small harmonics are not known better than the sensor's noise
 floor; it also covers the aliasing of a sampled record); s_i(theta): the surrogate's own
-error (gearwear.diagnose_surrogate), counted m times (``error_multiplicity``) because
+error (gearwear.diagnose.surrogate), counted m times (``error_multiplicity``) because
 the surrogate errors of related features are correlated.
 
 The prior is uniform on the box of the prior ranges. The log-likelihood is

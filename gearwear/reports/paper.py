@@ -1,7 +1,7 @@
 """``gearwear report paper``: regenerate every numerical figure of Zhang et al. (2019)
 with this tool, and compare each of the paper's trend claims with our result.
 
-Stiffness comes from the FE-calibrated tables (gearwear.calibrate); the dynamic
+Stiffness comes from the FE-calibrated tables (gearwear.stiffness.calibration); the dynamic
 responses from the built-in paper scenes with ``mesh_stiffness.source = "calibrated"``.
 Figures are named after the paper's (fig06_..., fig25_...).
 """
@@ -24,9 +24,9 @@ from gearwear.geometry.operating import operating_geometry
 from gearwear.geometry.spec import default_pair
 from gearwear.geometry.wear import PHASE_DEPTHS_M, WearSpec
 
-from . import io
-from .plotting import from_zero, legend_outside, range_text, subplots
-from .simulate_job import signal_label
+from gearwear import io
+from gearwear.plotting import from_zero, legend_outside, range_text, subplots
+from gearwear.jobs.simulate import signal_label
 
 PHASES = ("unworn", "mild", "severe")
 CLEARANCES_UM = (0.0, 20.0, 40.0, 60.0, 80.0, 100.0)
@@ -84,7 +84,7 @@ def change_text(y) -> str:
 # -- computation -----------------------------------------------------------------------
 
 def _scene(base: str, sets: list[str]):
-    from .scene import apply_overrides, builtin_scene_dict, scene_from_dict
+    from gearwear.scene.model import apply_overrides, builtin_scene_dict, scene_from_dict
     return scene_from_dict(apply_overrides(builtin_scene_dict(base), sets), name=base)
 
 
@@ -93,9 +93,9 @@ def compute(progress: Callable[[str], None] | None = None,
     """Every number of the paper report. ``notify`` receives the cache's one-line notes
     (a damaged entry being recomputed); the FE calibration of a wear phase runs only
     when one of its tables is not in the cache."""
-    from . import tables
-    from .calibrate import Calibration, calibrated_table, run_fe
-    from .simulate_job import run
+    from gearwear.stiffness import tables
+    from gearwear.stiffness.calibration import Calibration, calibrated_table, run_fe
+    from gearwear.jobs.simulate import run
 
     tables.cache_dir()  # a bad GEARWEAR_CACHE stops here, before any FE run
     say = progress or (lambda msg: None)

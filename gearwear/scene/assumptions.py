@@ -27,8 +27,9 @@ from typing import Any, Iterable
 
 from gearwear.geometry.wear import PHASE_DEPTHS_M, WearSpec
 
-from .schema import PLANE_STRAIN_FROM_B_OVER_M, resolved_plane
-from .schema import DEFAULT_BEARING_DAMPING_RATIO, DEFAULT_MESH_DAMPING_RATIO, Iso6336Doc, SceneDoc, dynamics_uses_plane
+from gearwear.scene.schema import (DEFAULT_BEARING_DAMPING_RATIO, DEFAULT_MESH_DAMPING_RATIO,
+                                   PLANE_STRAIN_FROM_B_OVER_M, Iso6336Doc, SceneDoc, dynamics_uses_plane,
+                                   resolved_plane)
 
 #: what each command's results use (see the module docstring)
 USES = {
@@ -88,7 +89,7 @@ def _given(model: Any, key: str) -> bool:
 
 
 def scene_assumptions(scene) -> list[Assumption]:
-    """Every assumption of a resolved ``gearwear.scene.Scene`` (all uses)."""
+    """Every assumption of a resolved ``gearwear.scene.model.Scene`` (all uses)."""
     doc: SceneDoc = scene.doc
     pair = scene.pair
     p, mat, b, e = doc.pair, doc.material, doc.bodies, doc.effects

@@ -42,9 +42,9 @@ import numpy as np
 
 from gearwear.core.validation import InputError
 
-from . import io
-from .scene import Scene, apply_overrides, scene_from_dict
-from .sweep_job import Axis, csv_cell, format_value, grid, point_label, point_sets
+from gearwear import io
+from gearwear.scene.model import Scene, apply_overrides, scene_from_dict
+from gearwear.jobs.sweep import Axis, csv_cell, format_value, grid, point_label, point_sets
 
 SPEED_KEY = "operating.speed_rpm"
 DIRECTIONS = ("up", "down", "both")
@@ -96,7 +96,7 @@ def build_point(values: dict[str, Any], scene: Scene, speeds_rpm) -> Point:
     linear modes and the ISO 6336 curve at the driver speeds ``speeds_rpm``."""
     from gearwear.dynamics.model import linear_eigenfrequencies
 
-    from .simulate_job import build_model, stiffness_input
+    from gearwear.jobs.simulate import build_model, stiffness_input
 
     stiff = stiffness_input(scene)
     model = build_model(scene, stiff)
@@ -129,7 +129,7 @@ def iso_curve(scene: Scene, k_mean_N_per_m: float, m_e_kg: float, speeds_rpm) ->
 
     from gearwear.analytic.iso6336 import (dynamic_factor, iso1328_deviations_um, iso6336_stiffness,
                                            running_in_case_hardened_um)
-    from gearwear.schema import Iso6336Doc
+    from gearwear.scene.schema import Iso6336Doc
 
     doc = (scene.doc.iso6336 if scene.doc is not None else None) or Iso6336Doc()
     pair = scene.pair
@@ -222,7 +222,7 @@ def run(points: list[Point], chains: list[Chain], settings: Settings, executor: 
 
     from tqdm import tqdm
 
-    from .sweep_job import Estimate, workers_of
+    from gearwear.jobs.sweep import Estimate, workers_of
 
     total = sum(len(c.speeds) for c in chains)
     futures: dict[Any, tuple[int, int]] = {}
@@ -380,7 +380,7 @@ def _mark_states(ax, points: list[Point], chains: list[Chain]) -> None:
 def _mode_speeds(ax, points: list[Point], summ: dict[str, Any]) -> int:
     """Dashed grey lines at the speeds where f_m meets a linear mode, each named above the
     axes by its frequency (staggered so close ones do not overprint); the rows of names."""
-    from .plotting import labels_above
+    from gearwear.plotting import labels_above
 
     marks: dict[float, float] = {}
     for i, p in enumerate(points):
@@ -402,7 +402,7 @@ def kv_figure(points: list[Point], chains: list[Chain], others: list[Axis], summ
     their frequency) at the speeds where the first mesh harmonic meets a linear mode, a
     marker on every speed whose steady state is not period 1. The legend is right of the
     axes, off the data."""
-    from .plotting import legend_outside, subplots, title_pad
+    from gearwear.plotting import legend_outside, subplots, title_pad
 
     fig, ax = subplots(1, 1, figsize=(12, 5.2))
     colors = ["C0", "C3", "C2", "C1", "C4", "C5", "C6", "C7"]
@@ -437,7 +437,7 @@ def kv_figure(points: list[Point], chains: list[Chain], others: list[Axis], summ
 def _chain_panels(points: list[Point], chains: list[Chain], direction: str, size_in: tuple[float, float]):
     """A figure with one axes (``size_in`` inches) per chain of ``direction``, and per axes
     (axes, point, rows in speed order, speeds rpm)."""
-    from .plotting import subplots
+    from gearwear.plotting import subplots
 
     mine = [c for c in chains if c.direction == direction]
     fig, axs = subplots(1, len(mine), figsize=(size_in[0] * len(mine), size_in[1]), squeeze=False)
@@ -460,7 +460,7 @@ def order_map_figure(points: list[Point], chains: list[Chain], others: list[Axis
     (:func:`campbell_figure`)."""
     from matplotlib.colors import LogNorm
 
-    from .plotting import legend_outside
+    from gearwear.plotting import legend_outside
 
     fig, panels = _chain_panels(points, chains, direction, (6.5, 4.8))
     for ax, p, rows, n in panels:
@@ -536,7 +536,7 @@ def campbell_figure(points: list[Point], chains: list[Chain], others: list[Axis]
     from matplotlib import colormaps
     from matplotlib.colors import LogNorm
 
-    from .plotting import FLOOR_DB, legend_outside, log_floor
+    from gearwear.plotting import FLOOR_DB, legend_outside, log_floor
 
     fig, panels = _chain_panels(points, chains, direction, (7.5, 5.6))
     for ax, p, rows, n in panels:

@@ -41,7 +41,7 @@ missing design information, and the harmonics of the four signals are one set of
 mesh-force harmonics seen through fixed transfer functions while the bearings stay in
 contact. :func:`error_multiplicity` therefore treats them as one common error.
 
-**Cache**: like the stiffness tables (``gearwear.tables``: same folder, SHA-256 key of
+**Cache**: like the stiffness tables (``gearwear.stiffness.tables``: same folder, SHA-256 key of
 every input + the code fingerprint, checked on read, a bad entry is recomputed with one
 line on stderr). An entry is ``<key>.npz`` + ``<key>.npz.json``.
 """
@@ -64,8 +64,9 @@ import numpy as np
 from gearwear.core.inputs import read_bounded
 from gearwear.core.validation import InputError
 
-from . import io, tables
-from .diagnose_features import MEAN_SIGNALS, SIGNALS, Feature, all_features, feature_name
+from gearwear import io
+from gearwear.stiffness import tables
+from gearwear.diagnose.features import MEAN_SIGNALS, SIGNALS, Feature, all_features, feature_name
 
 SURROGATE_VERSION = 1
 TRAIN_DISCARD_S = 0.05      # > 6 time constants of the slowest bearing mode (2 % damping, ~1 kHz)
@@ -73,7 +74,7 @@ TRAIN_PERIODS = 10          # kept mesh periods of a training run
 CV_FOLDS = 32
 DESIGN_SEED = 20190415      # fixed: the same inputs give the same design, hence the same bytes
 HOLDOUT_SEED = 7
-FINGERPRINT_ROOT = "gearwear.diagnose_surrogate"
+FINGERPRINT_ROOT = "gearwear.diagnose.surrogate"
 LABEL = "diagnose surrogate"   # how a cache line names an entry
 
 
@@ -136,7 +137,7 @@ def set_unknowns(raw: dict[str, Any], values: dict[str, float]) -> dict[str, Any
 
 
 def scene_at(raw: dict[str, Any], name: str, values: dict[str, float], solver: dict[str, float] | None = None):
-    from .scene import scene_from_dict
+    from gearwear.scene.model import scene_from_dict
 
     doc = set_unknowns(raw, values)
     if solver:
@@ -169,7 +170,7 @@ def simulate_point(raw: dict[str, Any], name: str, values: dict[str, float], sol
     Top-level, so process and Dask executors can pickle it."""
     from gearwear.dynamics.analysis import window_fourier
 
-    from .simulate_job import run
+    from gearwear.jobs.simulate import run
 
     r = run(scene_at(raw, name, values, solver)).result
     models = [m for m, _ in SIGNALS.values()]
@@ -393,7 +394,7 @@ class BuildSpec:
 @functools.lru_cache(maxsize=None)
 def code_fingerprint() -> str:
     """SHA-256 of the source of every gearwear module the surrogate's numbers depend on."""
-    from .calibrate import dependencies, fingerprint
+    from gearwear.stiffness.calibration import dependencies, fingerprint
 
     return fingerprint(dependencies(FINGERPRINT_ROOT))
 

@@ -26,16 +26,16 @@ corner contact). The stage-1 correction is unchanged; see README for the new
 numbers. CALIBRATION_VERSION is part of the cache key, so a version-1 table is never
 reused.
 
-Tables are cached by the SHA-256 of all inputs (gearwear.tables). The inputs include
+Tables are cached by the SHA-256 of all inputs (gearwear.stiffness.tables). The inputs include
 CALIBRATION_VERSION and :func:`code_fingerprint`, the SHA-256 over the source of every
 gearwear module a calibrated table depends on: this module and the modules it imports,
 followed transitively through their gearwear imports (also those inside functions),
-i.e. the geometry, analytic and fem modules it uses, gearwear.compare, gearwear.tables,
+i.e. the geometry, analytic and fem modules it uses, gearwear.stiffness.comparison, gearwear.stiffness.tables,
 gearwear.io and gearwear.core (:func:`code_modules`). Each module enters as its dotted
 name and its bytes (line endings normalised), sorted by name, so the fingerprint is the
 same in a fresh clone, an editable install and a wheel, and any edit of that code gives
 a new key instead of a stale table. A cache entry that fails its checks on read
-(gearwear.tables.lookup: truncated, unreadable, non-finite, bytes not matching the
+(gearwear.stiffness.tables.lookup: truncated, unreadable, non-finite, bytes not matching the
 sidecar) is recomputed, and :func:`calibrated_table` says so through ``notify`` (one
 line on stderr by default).
 """
@@ -62,8 +62,8 @@ from gearwear.geometry.flank import FlankSpec
 from gearwear.geometry.spec import PairSpec
 from gearwear.geometry.wear import WearSpec
 
-from . import tables
-from .compare import pair_vs_analytic, tooth_vs_analytic
+from gearwear.stiffness import tables
+from gearwear.stiffness.comparison import pair_vs_analytic, tooth_vs_analytic
 
 FIT_DEGREE = 2
 PAIR_POSITIONS = 24
@@ -73,7 +73,7 @@ PAIR_POSITIONS = 24
 CALIBRATION_VERSION = 3
 
 #: the code fingerprint starts here and follows every gearwear import
-FINGERPRINT_ROOT = "gearwear.calibrate"
+FINGERPRINT_ROOT = "gearwear.stiffness.calibration"
 #: not followed: the app package's __init__ (its __version__ is in every key already, and
 #: its lazy API import would pull in the whole app)
 FINGERPRINT_SKIP = frozenset({"gearwear"})
