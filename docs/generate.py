@@ -198,7 +198,23 @@ def diagnose_plan() -> str:
     return text
 
 
-TABLES = {"stiffness-peer": stiffness_peer, "plane-study": plane_study, "diagnose-examples": diagnose_examples,
+def stiffness_sources() -> str:
+    """The stiffness sources and what each supports, from the registry (gearwear.stiffness.sources)."""
+    from gearwear.stiffness.sources import SOURCES
+
+    def yes(flag: bool) -> str:
+        return "yes" if flag else "-"
+
+    rows = ["| source | what it is | `--method` | scene `source` | default points per mesh period | flank, faults | "
+            "fem.plane | runs the FE |", "|---|---|---|---|---|---|---|---|"]
+    for s in SOURCES.values():
+        rows.append(f"| `{s.name}` | {s.title} | {yes(s.command)} | {yes(s.scene)} | {s.default_points} | "
+                    f"{yes(s.flank and s.faults)} | {yes(s.plane)} | {yes(s.fe)} |")
+    return "\n".join(rows)
+
+
+TABLES = {"stiffness-sources": stiffness_sources, "stiffness-peer": stiffness_peer, "plane-study": plane_study,
+          "diagnose-examples": diagnose_examples,
           "diagnose-plan": diagnose_plan, "bore-study": bore_study}
 
 BLOCK = re.compile(r"(<!-- generated: (?P<name>[\w-]+) -->\n)(?P<body>.*?)(<!-- end: (?P=name) -->)", re.S)

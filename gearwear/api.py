@@ -16,13 +16,12 @@ from __future__ import annotations
 
 from typing import Any, Mapping, Sequence
 
-from gearwear.analytic import TABLE_POINTS_PER_MESH_PERIOD
 from gearwear.core.validation import InputError
 from gearwear.geometry.spec import PairSpec, default_pair
 from gearwear.geometry.wear import WearSpec
 
 from gearwear.scene.model import SHORT_KEYS, Scene, pair_from_dict, parse_wear_arg, wear_from_dict, wear_table
-from gearwear.stiffness.sources import FE_POSITIONS, METHODS
+from gearwear.stiffness.sources import METHODS, SOURCES
 
 
 def paper_pair() -> PairSpec:
@@ -73,7 +72,7 @@ def mesh_stiffness(pair: PairSpec | None = None, method: str = "ishikawa", wear:
         torque_Nm = 40.0  # the paper's operating point, with the paper's pair
     from gearwear.scene.schema import resolved_plane
 
-    n = points if points is not None else (FE_POSITIONS if method == "fem" else TABLE_POINTS_PER_MESH_PERIOD)
+    n = points if points is not None else SOURCES[method].default_points
     p = pair or default_pair()
     # the 2D state of the FE and of the analytic tooth beams as a scene's default fem.plane =
     # "auto" picks it (stress below b/m = PLANE_STRAIN_FROM_B_OVER_M, strain from there on)

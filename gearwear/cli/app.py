@@ -19,7 +19,7 @@ from gearwear.analytic import TABLE_POINTS_PER_MESH_PERIOD as TABLE_POINTS
 from gearwear.core.validation import InputError, fail, renamed
 
 from gearwear import __version__, io
-from gearwear.stiffness.sources import FE_POSITIONS, METHODS
+from gearwear.stiffness.sources import METHODS, SOURCES
 
 if TYPE_CHECKING:
     from gearwear.scene.model import Scene
@@ -214,8 +214,8 @@ def _cmd_stiffness(args: argparse.Namespace) -> int:
     assumed = _assumed(scene, uses)
     torque = scene.operating.torque_Nm
     # default angles per method: the FE's 24 positions take ~10 s, the analytic tables take ms
-    points = {m: _int_arg("--points", args.points if args.points is not None else str(FE_POSITIONS) if m == "fem"
-                          else str(TABLE_POINTS), 8, 1_000_000) for m in methods}
+    points = {m: _int_arg("--points", args.points if args.points is not None else str(SOURCES[m].default_points),
+                          8, 1_000_000) for m in methods}
     out = _check_out(args.out, "stiffness")
     fields = []
     if args.fields:
@@ -890,11 +890,11 @@ def build_parser() -> argparse.ArgumentParser:
                                     "16, 17).")
     _scene_options(st, "paper-default", multi=True)
     st.add_argument("--method", nargs="+", default=["ishikawa"],
-                    help="one or more (overlaid): ishikawa (paper Eqs. 2-6, default) | energy (potential energy + "
-                         "Sainsot foundation) | iso6336 | fem (resolved FE contact of both gear bodies, ~10 s)")
+                    help="one or more (overlaid; default ishikawa): " + " | ".join(
+                        f"{m}: {SOURCES[m].title}" for m in METHODS))
     st.add_argument("--points", help=f"uniform angles per mesh period for every method (>= 8; default {TABLE_POINTS}, "
-                                     "24 for fem; the analytic methods add the breakpoints of the load sharing as "
-                                     "nodes)")
+                                     f"{SOURCES['fem'].default_points} for fem; the analytic methods add the "
+                                     "breakpoints of the load sharing as nodes)")
     st.add_argument("--out", help="output folder for CSV, JSON sidecars and PNGs")
     st.add_argument("--fields", nargs="+", help="with --method fem: position indices (0 .. points-1, over the "
                                                 "revolution with a fault) whose displacement and stress fields "

@@ -53,7 +53,7 @@ from gearwear.scene.assumptions import as_dicts, for_command
 from gearwear.scene.plausibility import body_warnings, pair_warnings, response_warnings, stiffness_warnings
 from gearwear.scene.model import Scene, require_dynamics
 from gearwear.scene.schema import dynamics_fem_plane
-from gearwear.stiffness.sources import FE_POSITIONS
+from gearwear.stiffness.sources import SOURCES, Request, curve
 
 #: SI unit of each signal of the dynamics layer (dynamics.simulate computes them in SI)
 SI_UNITS = {"y_p": "m", "x_p": "m", "y_g": "m", "x_g": "m", "q": "m", "delta": "m", "F_m": "N"}
@@ -131,15 +131,13 @@ def stiffness_input(scene: Scene, breakpoints: bool = True) -> StiffnessInput:
     the breakpoints of the load sharing on top, analytic.tvms.mesh_stiffness).
     ``breakpoints = False``: the analytic table on the uniform nodes only (for the
     convergence study, benchmarks/bench_table_points.py)."""
-    from gearwear.analytic.tvms import DEFAULT_POINTS, mesh_stiffness
-
     t0 = time.perf_counter()
     pair, T = scene.pair, scene.operating.torque_Nm
     Cp = operating_centre_distance(scene)
     clearance_geo = scene.clearance_m if Cp != pair.centre_distance_m else 0.0
     ms = scene.effects.get("mesh_stiffness")
     source = ms["source"] if ms else "constant"
-    points = (ms or {}).get("points_per_mesh_period", DEFAULT_POINTS)
+    points = (ms or {}).get("points_per_mesh_period")  # None: the source's default (SOURCES)
     wear, flank, faults = scene.wear, scene.flank, scene.faults
     ignored = source == "table" or (source == "constant" and "transmission_error" not in scene.effects)
     if (flank is not None or faults is not None) and ignored:
@@ -150,30 +148,17 @@ def stiffness_input(scene: Scene, breakpoints: bool = True) -> StiffnessInput:
                          '"fem" (or add [effects] transmission_error to a constant stiffness)')
     periods = revolution_periods(pair, faults)
     plane = dynamics_fem_plane(scene.doc) if scene.doc is not None else "stress"
+    if SOURCES[source].fe:
+        check_before_stiffness(scene)
+    options = {}
     if source == "table":
         assert ms is not None
-        phi, k = ms["angle_rad"], ms["k_N_per_m"]
-        e = ms["excitation_m"] if ms["excitation_m"] is not None else np.zeros_like(k)
-    elif source == "calibrated":
-        from gearwear.stiffness.calibration import calibrated_table, without_blank_torsion
-        check_before_stiffness(scene)
-        tab = calibrated_table(pair, wear, clearance_geo, T, points, flank=flank, faults=faults, plane=plane)
-        if blank_torsion(ms) == "excluded":
-            tab = without_blank_torsion(tab)
-        phi, k, e = tab.angle_rad, tab.k_N_per_m, tab.excitation_m
-    elif source == "fem":
-        from gearwear.jobs.stiffness import fem_curve
-        check_before_stiffness(scene)
-        r = fem_curve(pair, FE_POSITIONS, T, clearance_geo, wear, flank, faults,
-                      blank_torsion=blank_torsion(ms), plane=plane)
-        phi, k, e = r.angle_rad, r.k_N_per_m, r.excitation_m
-    else:
-        r = mesh_stiffness(pair, points=points, torque_Nm=T, clearance_m=clearance_geo, wear=wear, flank=flank,
-                           faults=faults, breakpoints=breakpoints, plane=plane)
-        phi, k, e = r.angle_rad, r.k_N_per_m, r.excitation_m
-        if source == "constant":
-            value = (ms or {}).get("value_N_per_m", r.mean_N_per_m)
-            k = np.full_like(k, value)
+        options = {"angle_rad": ms["angle_rad"], "k_N_per_m": ms["k_N_per_m"], "excitation_m": ms["excitation_m"]}
+    elif source == "constant":
+        options = {"value_N_per_m": (ms or {}).get("value_N_per_m")}
+    r = curve(source, Request(pair, T, clearance_geo, wear, flank, faults, points, plane, breakpoints,
+                              blank_torsion(ms), options))
+    phi, k, e = r.angle_rad, r.k_N_per_m, r.excitation_m
     return StiffnessInput(np.asarray(phi), np.asarray(k), np.asarray(e), source,
                           table_mean(phi, k, periods * 2 * math.pi / pair.teeth[0],
                                      (ms or {}).get("interpolation", "linear")),

@@ -12,22 +12,24 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import time
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from gearwear.analytic.tvms import DEFAULT_POINTS, MeshStiffness, mesh_stiffness
+from gearwear.analytic.tvms import DEFAULT_POINTS, MeshStiffness
 from gearwear.core.validation import fail
 from gearwear.geometry.faults import FaultSpec
 from gearwear.geometry.flank import FlankSpec, flank_warnings
-from gearwear.geometry.operating import operating_geometry
 from gearwear.geometry.spec import PairSpec
 from gearwear.geometry.wear import WearSpec
 
 from gearwear import io
+from gearwear.stiffness.sources import BLANK_TORSION, METHODS, SOURCES, Request, curve, fem_curve, iso_curve
+
+__all__ = ["BLANK_TORSION", "Curve", "check_method", "compute", "fem_curve", "figures", "harris", "iso_curve",
+           "write", "write_fields"]
 
 
 @dataclass
@@ -100,54 +102,6 @@ class Curve:
                 + flank_warnings(r.pair, r.flank), **extra}
 
 
-def iso_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float) -> MeshStiffness:
-    """ISO 6336-1 method B as a constant curve k = c_gamma_alpha b at the operating
-    contact ratio (the standard gives no angle dependence)."""
-    from gearwear.analytic.iso6336 import iso6336_stiffness
-
-    t0 = time.perf_counter()
-    og = operating_geometry(pair, clearance_m)
-    iso = iso6336_stiffness(pair, torque_Nm=torque_Nm, contact_ratio=og.contact_ratio)
-    k = np.full(points, iso.mesh_stiffness_N_per_m)
-    theta = np.arange(points) * (og.mesh.mesh_angle_rad / points)
-    F = torque_Nm / pair.gear(0).base_radius_m
-    contacts = og.mesh.contacts(theta)
-    share = np.where(contacts.active, F / np.maximum(contacts.count, 1)[:, None], 0.0)
-    return MeshStiffness("iso6336", pair, og.mesh, torque_Nm, None, theta, k, F / k, np.zeros(points),
-                         share, contacts.d, contacts.active, time.perf_counter() - t0,
-                         meta={"iso": dataclasses.asdict(iso)})
-
-
-#: what the FE-based stiffness holds of the gear blanks (effects.mesh_stiffness.blank_torsion)
-BLANK_TORSION = ("in_series", "excluded")
-
-
-def fem_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float,
-              wear: WearSpec | None, flank: FlankSpec | None = None, faults: FaultSpec | None = None,
-              blank_torsion: str = "in_series", **fe_options) -> MeshStiffness:
-    """Resolved FE contact of both gear bodies (fem.pair) as a MeshStiffness curve, over
-    one revolution of the faulty gear with ``faults`` (``fe_options``: pair_contact's
-    mesh_scale, contact_scale, plane, extended, executor, progress). ``blank_torsion``:
-    "in_series" (the bodies held at their bores: both blanks' torsion in series with the
-    mesh) or "excluded" (the mesh only: the blanks' torsion below their reference
-    circles taken out, fem.pair "The blank's torsion"); meta["fe"] holds both means and
-    the blanks' torsional stiffnesses either way."""
-    from gearwear.fem.pair import pair_contact
-
-    if blank_torsion not in BLANK_TORSION:
-        raise fail("blank_torsion", repr(blank_torsion), "", f"must be one of {', '.join(BLANK_TORSION)}")
-    fe = pair_contact(pair, wear=wear, positions=points, torque_Nm=torque_Nm, clearance_m=clearance_m,
-                      flank=flank, faults=faults, **fe_options)
-    meta = {**{k: v for k, v in fe.meta.items() if k != "pair_gap_m"}, "blank_torsion": blank_torsion,
-            "bore_fixed_mean_N_per_m": fe.mean_N_per_m}
-    if blank_torsion == "excluded":
-        fe = fe.without_blank_torsion()
-    return MeshStiffness("fem", pair, fe.mesh, torque_Nm, wear, fe.angle_rad, fe.k_N_per_m, fe.ste_m,
-                         fe.excitation_m, fe.pair_load_N, fe.pair_d_m, fe.pair_in_path,
-                         float(fe.timings.get("total_s", float("nan"))), meta={"fe": meta}, flank=flank,
-                         faults=fe.faults, periods=fe.periods, faulty_pair=fe.faulty_pair)
-
-
 def write_fields(curves: list[Curve], out: Path, positions: list[int]) -> list[Path]:
     """Displacement and stress fields (.vtu) of the FE curves at the given position
     indices (over the revolution with a fault), one folder per curve
@@ -164,29 +118,26 @@ def write_fields(curves: list[Curve], out: Path, positions: list[int]) -> list[P
 
 def check_method(method: str, flank: FlankSpec | None, faults: FaultSpec | None) -> None:
     """Refuse a method that cannot model the scene's flank deviations or faults (names
-    ``method``): ISO 6336 method B is one constant."""
-    if method == "iso6336" and (flank is not None or faults is not None):
-        raise fail("method", repr(method), "", "is one constant (ISO 6336-1 method B) and cannot show flank "
-                   "modifications or faults; use ishikawa, energy or fem")
+    ``method``; what each source supports: stiffness.sources.SOURCES)."""
+    src = SOURCES[method]
+    if (flank is not None and not src.flank) or (faults is not None and not src.faults):
+        able = [n for n in METHODS if SOURCES[n].flank and SOURCES[n].faults]
+        raise fail("method", repr(method), "", f"is {src.title} and cannot show flank modifications or faults; "
+                   f"use {', '.join(able[:-1])} or {able[-1]}")
 
 
 def compute(pair: PairSpec, method: str, wears: list[WearSpec | None], clearances_m: list[float],
             torque_Nm: float, points: int, flank: FlankSpec | None = None,
             faults: FaultSpec | None = None, plane: str = "stress", **fe_options) -> list[Curve]:
-    """The curves of one method for every wear state and clearance (``plane``: the 2D state
-    of the FE and of the analytic tooth beams, the scene's fem.plane resolved; ``fe_options``:
-    the pair FE's other options, see :func:`fem_curve`)."""
+    """The curves of one method (a source of stiffness.sources.SOURCES) for every wear state
+    and clearance (``plane``: the 2D state of the FE and of the analytic tooth beams, the
+    scene's fem.plane resolved; ``fe_options``: the pair FE's other options, see
+    stiffness.sources.fem_curve)."""
     check_method(method, flank, faults)
     curves = []
     for wear in wears:
         for c in clearances_m:
-            if method == "iso6336":
-                r = iso_curve(pair, points, torque_Nm, c)
-            elif method == "fem":
-                r = fem_curve(pair, points, torque_Nm, c, wear, flank, faults, plane=plane, **fe_options)
-            else:
-                r = mesh_stiffness(pair, method=method, points=points, torque_Nm=torque_Nm, clearance_m=c,
-                                   wear=wear, flank=flank, faults=faults, plane=plane)
+            r = curve(method, Request(pair, torque_Nm, c, wear, flank, faults, points, plane, options=fe_options))
             label = f"{wear.label if wear else 'unworn'}, clearance {c * 1e6:g} um"
             curves.append(Curve(label, method, wear, c, r))
     return curves

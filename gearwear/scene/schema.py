@@ -32,6 +32,7 @@ from pydantic_core import PydanticCustomError
 
 from gearwear.analytic import TABLE_POINTS_PER_MESH_PERIOD as TABLE_POINTS
 from gearwear.core.validation import Field, InputError, fail
+from gearwear.stiffness.sources import SCENE_SOURCES, SOURCES
 
 # -- field helpers -------------------------------------------------------------------
 
@@ -191,7 +192,8 @@ class OperatingDoc(_Table):
 
 class MeshStiffnessDoc(_Table):
     """Where the time-varying mesh stiffness k_h(phi) comes from."""
-    source: Literal["constant", "analytic", "calibrated", "fem", "table"] = PField(
+    # the scene's sources, from the registry (stiffness.sources.SCENE_SOURCES)
+    source: Literal[SCENE_SOURCES] = PField(  # type: ignore[valid-type]
         "analytic", description="analytic (Ishikawa), calibrated (FE-corrected), fem (FE pair contact), "
                                 "constant, or table (a user CSV).")
     value_N_per_m: _num("N/m", 0, 1e13, lo_open=True,  # type: ignore[valid-type]
@@ -664,10 +666,10 @@ def cross_check(doc: SceneDoc) -> None:
 
 
 #: mesh-stiffness sources that run the FE models
-FE_SOURCES = ("fem", "calibrated")
+FE_SOURCES = tuple(n for n in SCENE_SOURCES if SOURCES[n].fe)
 #: the mesh-stiffness sources whose models have a 2D state (fem.plane): the FE ones and the
-#: analytic tooth beams
-PLANE_SOURCES = ("analytic", *FE_SOURCES)
+#: analytic tooth beams (a constant has one only as the analytic mean: dynamics_uses_plane)
+PLANE_SOURCES = tuple(n for n in SCENE_SOURCES if SOURCES[n].plane)
 
 
 #: fem.plane = "auto": plane strain from this face width over module on (the 3D check's crossover of
