@@ -44,6 +44,42 @@ def test_layers_import_one_way():
     assert not bad, "\n".join(bad)
 
 
+#: the app's rooms (gearwear/<room>/) and what each may import of the app, so that the app too
+#: imports one way: stiffness <- scene <- jobs <- (diagnose, reports) <- cli. The top-level
+#: helpers io and plotting are open to every room; io reads the schema (the resolved scene in
+#: provenance) and api sits above the rooms it wires.
+ROOMS = {
+    "stiffness": {"stiffness", "io", "plotting"},
+    "scene": {"scene", "stiffness", "io"},
+    "jobs": {"jobs", "scene", "stiffness", "io", "plotting"},
+    "diagnose": {"diagnose", "jobs", "scene", "stiffness", "io", "plotting"},
+    "reports": {"reports", "jobs", "scene", "stiffness", "io", "plotting"},
+    "cli": {"cli", "diagnose", "reports", "jobs", "scene", "stiffness", "io", "plotting"},
+    "io": {"scene"},
+    "plotting": set(),
+}
+
+
+def test_the_app_rooms_import_one_way():
+    app = ROOT / "gearwear"
+    rooms = {p.name for p in app.iterdir() if (p / "__init__.py").exists() and p.name != "data"}
+    assert rooms == set(ROOMS) - {"io", "plotting"}, rooms
+    bad = []
+    for room, allowed in ROOMS.items():
+        paths = sorted((app / room).glob("*.py")) if room in rooms else [app / f"{room}.py"]
+        for path in paths:
+            for node in ast.walk(ast.parse(path.read_text())):
+                names = ([a.name for a in node.names] if isinstance(node, ast.Import) else
+                         [node.module] if isinstance(node, ast.ImportFrom) and node.module and not node.level
+                         else [])
+                for name in names:
+                    parts = name.split(".")
+                    if parts[0] == "gearwear" and len(parts) > 1 and parts[1] in set(ROOMS) | {"api"} \
+                            and parts[1] not in allowed:
+                        bad.append(f"gearwear/{room}/{path.name} imports {name}")
+    assert not bad, "\n".join(bad)
+
+
 def test_nothing_imports_the_layers_as_top_level_packages():
     for folder in ("gearwear", "tests", "benchmarks", "examples"):
         for path in sorted((ROOT / folder).rglob("*.py")):

@@ -20,7 +20,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import argparse
+
 from gearwear.core.validation import InputError
+from gearwear.cli.common import (alias_sets, bounded_float, check_out, scene_options, worker_count, write_output)
 
 from gearwear.diagnose import job as dj
 from gearwear.diagnose import surrogate as ds
@@ -259,3 +262,104 @@ def write_plan(doc: dict[str, Any], folder: Path, inp: dict[str, Any], labels: d
     csv = io.write_text(folder / "plan.csv", diagnose_plan.table_csv(doc))
     files += [csv, io.sidecar(csv, inp, "gearwear diagnose --plan (Fisher information of the surrogates)", labels)]
     return files
+
+
+def run(args: argparse.Namespace) -> int:
+    from gearwear.cli import diagnose as dc
+    from gearwear.diagnose.surrogate import BuildSpec, validate_range
+    from gearwear.scene.model import apply_overrides, load_scene_dict, require_dynamics, scene_from_dict
+
+    data, name = load_scene_dict(args.scene, default="paper-wear-severe")
+    unknowns = dc.parse_unknowns(args.unknowns)
+    sets = alias_sets(args)
+    dc.check_sets(sets, unknowns)
+    raw = apply_overrides(data, sets)
+    scene = scene_from_dict(raw, name=name)  # the known part, checked first
+    require_dynamics(scene)
+    lo, hi = dc.prior_ranges(raw, unknowns, {"wear": args.wear_range_um, "clearance": args.clearance_range_um,
+                                             "torque": args.torque_range_Nm})
+    validate_range(raw, name, unknowns, lo, hi)
+    rel = bounded_float("--noise-pct", args.noise_pct, "%", 0.01, 100) / 100
+    floor = bounded_float("--noise-floor-pct", args.noise_floor_pct, "%", 0, 100) / 100
+    workers = worker_count(args)
+    d, K = len(unknowns), int(scene.output["harmonics"])
+    design = dc.design_size(args.design_points, "--design-points",
+                            (dc.PLAN_DESIGN_POINTS if args.plan else dc.DESIGN_POINTS)[d])
+    spec = BuildSpec(raw, name, unknowns, lo, hi, K, design, dc.HOLDOUT_POINTS[d])
+    if args.plan:
+        if args.measured:
+            raise InputError(f"--measured {args.measured}: not used with --plan (the plan needs no measurement)")
+        speeds, torques = dc.plan_candidates(raw, unknowns, dc.parse_list(args.speeds_rpm, "--speeds-rpm", "rpm", 1e6),
+                                             dc.parse_list(args.torques_Nm, "--torques-Nm", "N m", 1e7))
+        out = check_out(args.out, "diagnose plan")
+        doc, timing = dc.run_plan(spec, speeds, torques, rel, floor, workers, not args.json)
+        inputs = dc.inputs(spec, rel, floor, {"plan_speeds_rpm": speeds, "plan_torques_Nm": torques})
+        files = write_output(out, "diagnose plan", scene, inputs,
+                       lambda f: dc.write_plan(doc, f, inputs, io.scene_labels(scene)), timing)
+        if args.json:
+            print(io.json_text({**doc, "wall_s": timing["total_s"], "files": [str(f) for f in files]}, indent=None))
+        else:
+            from gearwear.diagnose.plan import print_table
+            print_table(doc)
+            for f in files:
+                print(f"wrote {f}")
+        return 0
+    if not args.measured:
+        raise InputError("--measured: missing; give the measured CSV (a time series or a harmonic table), "
+                         "or --plan for a measurement plan")
+    if args.speeds_rpm or args.torques_Nm:
+        raise InputError("--speeds-rpm/--torques-Nm: only used with --plan")
+    from gearwear.diagnose.features import read_measurement
+    meas = read_measurement(args.measured, scene.mesh_frequency_Hz, K)  # a bad file: one line, before any work
+    out = check_out(args.out, "diagnose")
+    res = dc.diagnose(spec, meas, rel, floor, workers, not args.json, refresh=args.refresh)
+    inputs = dc.inputs(spec, rel, floor, {"measured_sha256": res.doc["measured"]["sha256"]})
+    labels = {**io.scene_labels(scene), "measured_file": str(args.measured)}
+    files = write_output(out, "diagnose", scene, inputs, lambda f: dc.write_diagnosis(res, f, inputs, labels),
+                         res.timing)
+    if args.json:
+        print(io.json_text({**res.doc, "wall_s": res.timing["total_s"], "timing": res.timing,
+                            "files": [str(f) for f in files]}, indent=None))
+    else:
+        dc.print_diagnosis(res.doc, res.timing, files)
+    return 0
+
+
+def add_parser(sub) -> None:
+    """The ``diagnose`` sub-command's arguments."""
+    # argparse %-formats help texts: a literal percent sign is written %%
+    dg = sub.add_parser("diagnose", help="estimate wear depth and bearing clearance (and torque) from a measured "
+                                         "vibration, with 95 %% intervals and an identifiability verdict",
+                        description="Fit the 6-DOF model to measured mesh harmonics (and mean values) through a "
+                                    "cached surrogate of the model over the unknowns; print estimates, 95 % "
+                                    "intervals and which unknown the measurement cannot resolve. --plan: which "
+                                    "signals, speeds and torques would separate the unknowns. The scene fixes "
+                                    "everything known (default: paper-wear-severe). Writes diagnosis.json, "
+                                    "features.csv, corner.png, features.png (plan: plan.json, plan.csv).")
+    scene_options(dg, "paper-wear-severe", aliases=("torque",))
+    dg.add_argument("--measured", help="CSV: a time series (time_s plus any of y_p_um, x_p_um, delta_um, F_m_N; "
+                                       "displacements, so integrate a housing accelerometer upstream) or a "
+                                       "harmonic table (signal,harmonic,amplitude)")
+    dg.add_argument("--plan", action="store_true", help="no measurement: rank signals, speeds and torques by how "
+                                                        "well they would separate the unknowns (Fisher information)")
+    dg.add_argument("--unknowns", default="wear,clearance", help="comma-separated, of wear (wear_max_depth_um), "
+                                                                 "clearance (clearance_um), torque (torque_Nm); "
+                                                                 "default wear,clearance")
+    dg.add_argument("--wear-range-um", help="prior range LO:HI of the maximum wear depth (default 0:40; 0.1:40 "
+                                            "with transmission_error)")
+    dg.add_argument("--clearance-range-um", help="prior range LO:HI of the bearing clearance (default 0:50)")
+    dg.add_argument("--torque-range-Nm", help="prior range LO:HI of the torque (default 0.5 to 1.5 x the scene's)")
+    dg.add_argument("--noise-pct", default="2", help="relative measurement noise of each feature, %% (default 2)")
+    dg.add_argument("--noise-floor-pct", default="0.5", help="absolute noise floor, %% of the largest measured "
+                                                             "harmonic of the same signal (default 0.5)")
+    dg.add_argument("--design-points", help="surrogate design size, a power of two (default 256 for two unknowns, "
+                                            "512 for three; --plan 128 / 256)")
+    dg.add_argument("--workers", help="local worker processes for building a surrogate (default: all cores)")
+    dg.add_argument("--speeds-rpm", help="--plan: candidate pinion speeds, comma-separated (default 0.5, 1, 2 x "
+                                         "the scene's)")
+    dg.add_argument("--torques-Nm", help="--plan: candidate torques, comma-separated (default 0.5, 1, 2 x the "
+                                         "scene's)")
+    dg.add_argument("--refresh", action="store_true", help="rebuild the surrogate even if it is cached")
+    dg.add_argument("--out", help="output folder")
+    dg.add_argument("--json", action="store_true", help="print one JSON object")
+    dg.set_defaults(func=run)

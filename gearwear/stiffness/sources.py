@@ -27,8 +27,6 @@ import time
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Callable, Mapping
 
-import numpy as np
-
 from gearwear.analytic import TABLE_POINTS_PER_MESH_PERIOD
 
 if TYPE_CHECKING:
@@ -123,6 +121,8 @@ def _scene_analytic(rq: Request) -> "MeshStiffness":
 def iso_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float) -> "MeshStiffness":
     """ISO 6336-1 method B as a constant curve k = c_gamma_alpha b at the operating
     contact ratio (the standard gives no angle dependence)."""
+    import numpy as np
+
     from gearwear.analytic.iso6336 import iso6336_stiffness
     from gearwear.analytic.tvms import MeshStiffness
     from gearwear.geometry.operating import operating_geometry
@@ -182,6 +182,8 @@ def table_curve(name: str, rq: Request, angle_rad, k_N_per_m, excitation_m, ste_
     """A k_h(phi), e(phi) table as the common curve type. A table carries no pair loads or
     contact positions: those arrays have no columns (shape (n, 0)), and an unknown loaded
     STE is NaN, never a made-up number."""
+    import numpy as np
+
     from gearwear.analytic.tvms import MeshStiffness
     from gearwear.geometry.operating import operating_geometry
 
@@ -212,6 +214,8 @@ def _calibrated(rq: Request) -> "MeshStiffness":
 def _user_table(rq: Request) -> "MeshStiffness":
     """A user's k_h(phi) CSV, read and checked by the scene (scene.model.read_stiffness_table):
     ``options`` holds its ``angle_rad``, ``k_N_per_m`` and ``excitation_m`` (None: zero)."""
+    import numpy as np
+
     o = rq.options
     k = np.asarray(o["k_N_per_m"])
     e = o.get("excitation_m")
@@ -222,6 +226,8 @@ def _constant(rq: Request) -> "MeshStiffness":
     """One value at the analytic table's nodes: ``options["value_N_per_m"]``, else the
     analytic curve's mean. The analytic wear excitation is kept (it acts with the
     transmission_error effect)."""
+    import numpy as np
+
     r = _scene_analytic(rq)
     value = rq.options.get("value_N_per_m")
     k = np.full_like(r.k_N_per_m, r.mean_N_per_m if value is None else value)
