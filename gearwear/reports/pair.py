@@ -2,14 +2,14 @@
 
 Five parts, each from the job that computes it elsewhere in gearwear:
 
-1. the geometry of both gears and the mesh (``geometry_job``);
-2. the mesh stiffness k_h over one mesh period by every method (``stiffness_job``:
+1. the geometry of both gears and the mesh (``jobs.geometry``);
+2. the mesh stiffness k_h over one mesh period by every method (``jobs.stiffness``:
    Ishikawa, potential energy, ISO 6336-1 method B as a constant, and the resolved pair FE),
    each method's statistics and its mean's difference from the FE mean;
 3. the peak-to-peak loaded static transmission error (STE) against the pinion torque (a
    Harris map; with a tip or root relief the nominal and the modified flank, otherwise the
    scene's flank only);
-4. a run-up (one sweep up on a local process, natural continuation, ``runup_job``) over a
+4. a run-up (one sweep up on a local process, natural continuation, ``jobs.runup``) over a
    speed range around ISO 6336-1's resonance speed n_E1, with ISO's K_v on the same speeds;
 5. every value the results assume that the scene did not give (``assumptions``).
 
@@ -117,7 +117,7 @@ def prepare(scene: Scene, settings: Settings = SETTINGS) -> Prepared:
 
 
 def geometry(scene: Scene) -> dict[str, Any]:
-    """The geometry table's data (``geometry_job`` summary plus the pair's module, pressure
+    """The geometry table's data (``jobs.geometry`` summary plus the pair's module, pressure
     angle and installed centre distance; lengths in mm, angles in deg)."""
     from gearwear.jobs import geometry as geometry_job
 
