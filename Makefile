@@ -2,16 +2,18 @@
 #   make demo   set up .venv and run the main job on the built-in paper gear pair
 #   make test   set up .venv and run the test suite
 #   make check  the fast tier: lint (ruff), types (mypy on the built wheel), the tests not marked slow
+#   make docs   the API reference from the docstrings into build/api/ (pdoc, the docs extra)
 PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed-stamp
+DOCS_STAMP := $(VENV)/.docs-stamp
 OUT    ?= out/demo
 
 BENCH_VENV  := .venv-bench
 BENCH_STAMP := $(BENCH_VENV)/.installed-stamp
 
-.PHONY: demo test check bench report venv clean fe-design-space
+.PHONY: demo test check docs bench report venv clean fe-design-space
 
 venv: $(STAMP)
 
@@ -35,6 +37,16 @@ check: $(STAMP)
 	$(PY) -m ruff check .
 	$(PY) tools/check_types.py
 	$(PY) -m pytest -q -n 2 -m "not slow and not design_space"
+
+# The API reference: one page per module of gearwear and its layers, into build/api/ (git-ignored).
+# Fails on a module that does not import, a pdoc warning or a broken cross-reference (tools/api_docs.py).
+# The docs extra goes into the same .venv, once (its own stamp: make test and make check do not install it).
+$(DOCS_STAMP): $(STAMP) pyproject.toml
+	$(PY) -m pip install --quiet -e '.[docs]'
+	touch $(DOCS_STAMP)
+
+docs: $(DOCS_STAMP)
+	$(PY) tools/api_docs.py --out build/api
 
 # The pair FE on 200 Sobol designs of the geometry's whole space (an hour or more; not in make test)
 fe-design-space: $(STAMP)
@@ -84,4 +96,4 @@ report: $(STAMP)
 	done
 
 clean:
-	rm -rf $(VENV) $(BENCH_VENV) out .pytest_cache .hypothesis
+	rm -rf $(VENV) $(BENCH_VENV) out .pytest_cache .hypothesis build/api
