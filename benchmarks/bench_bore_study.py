@@ -38,7 +38,7 @@ from gearwear.analytic.tvms import mesh_stiffness
 from gearwear.fem import pair as fp
 from gearwear.fem.pair_body import rot
 from gearwear.scene.model import scene_from_dict
-from gearwear.scene.schema import resolved_plane
+from gearwear.scene.checks import resolved_plane
 
 BORES_MM = ([12.5, 25.0], [18.0, 40.0], [24.0, 55.0])
 #: the 2D state `gearwear stiffness --method fem` takes for this pair (fem.plane = "auto", b/m = 10)

@@ -70,7 +70,7 @@ def mesh_stiffness(pair: PairSpec | None = None, method: str = "ishikawa", wear:
         if pair is not None:
             raise InputError("torque_Nm: missing; the load sharing needs the pinion torque of your pair (N m)")
         torque_Nm = 40.0  # the paper's operating point, with the paper's pair
-    from gearwear.scene.schema import resolved_plane
+    from gearwear.scene.checks import resolved_plane
 
     n = points if points is not None else SOURCES[method].default_points
     p = pair or default_pair()

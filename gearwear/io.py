@@ -185,7 +185,7 @@ def without_timing(obj: Any) -> Any:
 
 def scene_inputs(scene) -> dict[str, Any]:
     """What a scene contributes to the inputs of a result: the fully resolved scene
-    (``gearwear.scene.schema.resolved_dict``: every default filled in) and its SHA-256.
+    (``gearwear.scene.checks.resolved_dict``: every default filled in) and its SHA-256.
 
     A file the scene refers to (``effects.mesh_stiffness.path``) enters by its content:
     the path is replaced by ``sha256:<hex>`` of the file, so editing the table changes
@@ -193,7 +193,7 @@ def scene_inputs(scene) -> dict[str, Any]:
     out: they label a run but change no number, so two files with the same content and
     different names hash the same (the name is recorded next to the hash, see
     :func:`scene_labels`)."""
-    from gearwear.scene.schema import resolved_dict
+    from gearwear.scene.checks import resolved_dict
 
     doc = resolved_dict(scene.doc)
     doc.pop("name", None)

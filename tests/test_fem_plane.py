@@ -8,7 +8,7 @@ from gearwear.scene.assumptions import for_command
 from gearwear.cli import main
 from gearwear.core.validation import InputError
 from gearwear.scene.model import scene_from_dict
-from gearwear.scene.schema import dynamics_fem_plane, fem_plane, resolved_dict
+from gearwear.scene.checks import dynamics_fem_plane, fem_plane, resolved_dict
 
 from scenes import with_paper
 
@@ -22,7 +22,7 @@ def scene(**tables):
 def test_default_and_given():
     """The default is "auto": plane stress below b/m = 4.3 (the paper pair, b/m 4), plane strain
     from there on (the 3D check's crossover, reports/plane); a given state is taken as given."""
-    from gearwear.scene.schema import PLANE_STRAIN_FROM_B_OVER_M
+    from gearwear.scene.checks import PLANE_STRAIN_FROM_B_OVER_M
 
     assert resolved_dict(scene().doc)["fem"] == {"plane": "auto"}
     assert fem_plane(scene().doc, True, "gearwear verify") == "stress"            # b/m = 4

@@ -584,7 +584,7 @@ def test_runup_marks_every_steady_state_and_names_the_mode_speeds():
 # -- 4. sweep labels from the schema ------------------------------------------------------------
 
 def test_every_scene_key_has_an_axis_label_in_words_with_its_unit():
-    from gearwear.scene.schema import json_schema, key_label
+    from gearwear.scene.reference import json_schema, key_label
 
     def keys(node, path, defs):
         node = defs[node["$ref"].split("/")[-1]] if "$ref" in node else node
@@ -612,7 +612,7 @@ def test_every_scene_key_has_an_axis_label_in_words_with_its_unit():
 
 
 def test_sweep_axes_start_at_zero_and_state_the_relative_range():
-    from gearwear.scene.schema import key_label
+    from gearwear.scene.reference import key_label
     from gearwear.jobs.sweep import Axis, figures
 
     axes, results = sweep_results(np.linspace(0, 100, 11))

@@ -10,7 +10,9 @@ from pathlib import Path
 import pytest
 
 from gearwear.core.validation import InputError
-from gearwear.scene.schema import json_schema, reference_markdown, resolved_dict, to_toml, validate_document
+from gearwear.scene.checks import resolved_dict
+from gearwear.scene.reference import json_schema, reference_markdown, to_toml
+from gearwear.scene.schema import validate_document
 from gearwear.scene.model import builtin_scene_dict, builtin_scene_names, scene_from_dict
 
 from scenes import with_paper

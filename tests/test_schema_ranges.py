@@ -14,7 +14,7 @@ import pytest
 
 from gearwear.core.validation import InputError
 from gearwear.scene.model import scene_from_dict
-from gearwear.scene.schema import json_schema
+from gearwear.scene.reference import json_schema
 
 from scenes import paper_doc
 

@@ -19,7 +19,8 @@ from gearwear.analytic.tvms import MeshStiffness, mesh_stiffness
 from gearwear.cli import build_parser, main
 from gearwear.core.validation import InputError
 from gearwear.geometry.operating import operating_geometry
-from gearwear.scene.schema import MeshStiffnessDoc, json_schema
+from gearwear.scene.reference import json_schema
+from gearwear.scene.schema import MeshStiffnessDoc
 from gearwear.stiffness.sources import METHODS, SCENE_SOURCES, SOURCES, Request, curve
 
 from pairs import DRIVER_LARGER, UNEQUAL

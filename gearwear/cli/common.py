@@ -39,7 +39,7 @@ def int_arg(name: str, text, lo: int, hi: int) -> int:
 def fem_plane(doc: Any, runs_fem: bool, what: str) -> str:
     """schema.fem_plane, imported when a command runs (the CLI imports nothing heavy
     before its signal handlers are installed)."""
-    from gearwear.scene.schema import fem_plane
+    from gearwear.scene.checks import fem_plane
 
     return fem_plane(doc, runs_fem, what)
 

@@ -13,7 +13,8 @@ from gearwear.cli.common import (SET_HELP, load_scene)
 
 
 def run(args: argparse.Namespace) -> int:
-    from gearwear.scene.schema import json_schema, reference_markdown, resolved_dict, to_toml
+    from gearwear.scene.checks import resolved_dict
+    from gearwear.scene.reference import json_schema, reference_markdown, to_toml
     from gearwear.scene.model import builtin_scene_names
 
     if (args.reference or args.schema or args.list) and (args.scene or args.set or args.json):

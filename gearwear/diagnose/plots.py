@@ -19,7 +19,7 @@ def _hpd_levels(p: np.ndarray, masses=(0.95, 0.68)) -> list[float]:
 def corner(ft: Fit):
     """Marginals on the diagonal (95 % interval shaded, median dashed), joint densities
     below it (68 and 95 % highest-density contours), on the final grid of the posterior."""
-    from gearwear.scene.schema import key_label, key_words
+    from gearwear.scene.reference import key_label, key_words
 
     names = ft.names
     d = len(names)

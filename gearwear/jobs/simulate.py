@@ -52,7 +52,7 @@ from gearwear.core.validation import InputError, renamed
 from gearwear.scene.assumptions import as_dicts, for_command
 from gearwear.scene.plausibility import body_warnings, pair_warnings, response_warnings, stiffness_warnings
 from gearwear.scene.model import Scene, require_dynamics
-from gearwear.scene.schema import dynamics_fem_plane
+from gearwear.scene.checks import dynamics_fem_plane
 from gearwear.stiffness.sources import SOURCES, Request, curve
 
 #: SI unit of each signal of the dynamics layer (dynamics.simulate computes them in SI)

@@ -96,8 +96,8 @@ def csv_cell(v) -> str:
 
 def point_label(axes: list[Axis], values) -> str:
     """A point's values on ``axes`` in words, "pinion torque = 10 N m, ..." (the schema's
-    words and units, :func:`gearwear.scene.schema.key_words`); empty without axes."""
-    from gearwear.scene.schema import key_words
+    words and units, :func:`gearwear.scene.reference.key_words`); empty without axes."""
+    from gearwear.scene.reference import key_words
 
     def one(a: Axis, v) -> str:
         words, unit = key_words(a.key)
@@ -469,7 +469,7 @@ def figures(axes: list[Axis], results: list[dict[str, Any]]):
     y axis starts at 0 and each panel's title gives the range in % of its mean, so a
     5 % change looks like 5 %."""
     from gearwear.plotting import from_zero, legend_outside, range_text, subplots
-    from gearwear.scene.schema import key_label
+    from gearwear.scene.reference import key_label
     from gearwear.jobs.simulate import SIGNAL_WORDS, signal_label, signal_name
 
     ax0 = axes[0]

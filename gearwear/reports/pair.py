@@ -136,7 +136,7 @@ def stiffness(scene: Scene, settings: Settings,
               step: Callable[[str], None] = lambda msg: None) -> list[stiffness_job.Curve]:
     """k_h over one mesh period by every method (METHODS) at the scene's
     torque, wear, clearance and flank; ISO 6336 is one constant of the nominal flank."""
-    from gearwear.scene.schema import fem_plane
+    from gearwear.scene.checks import fem_plane
 
     curves = []
     # the scene's fem.plane (auto: by b/m), for the FE and the analytic tooth beams alike

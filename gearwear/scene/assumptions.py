@@ -26,10 +26,14 @@ from dataclasses import dataclass
 from typing import Any, Iterable
 
 from gearwear.geometry.wear import PHASE_DEPTHS_M, WearSpec
-
-from gearwear.scene.schema import (DEFAULT_BEARING_DAMPING_RATIO, DEFAULT_MESH_DAMPING_RATIO,
-                                   PLANE_STRAIN_FROM_B_OVER_M, Iso6336Doc, SceneDoc, dynamics_uses_plane,
-                                   resolved_plane)
+from gearwear.scene.checks import (
+    DEFAULT_BEARING_DAMPING_RATIO,
+    DEFAULT_MESH_DAMPING_RATIO,
+    PLANE_STRAIN_FROM_B_OVER_M,
+    dynamics_uses_plane,
+    resolved_plane,
+)
+from gearwear.scene.schema import Iso6336Doc, SceneDoc
 
 #: what each command's results use (see the module docstring)
 USES = {

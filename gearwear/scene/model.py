@@ -18,15 +18,18 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from gearwear.core.validation import Field, InputError, fail, fail_range, renamed
-from gearwear.geometry.spec import Material, PairSpec, Web, check_pair
-from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.faults import CrackFault, FaultSpec, Spall, check_faults
 from gearwear.geometry.flank import Deviation, FlankSpec, Relief, check_flank
+from gearwear.geometry.kinematics import MeshGeometry
+from gearwear.geometry.spec import Material, PairSpec, Web, check_pair
 from gearwear.geometry.wear import PHASE_DEPTHS_M, WearSpec, check_wear
-
-from gearwear.scene.schema import (DEFAULT_BEARING_DAMPING_RATIO, DEFAULT_MESH_DAMPING_RATIO, FaultsDoc, FlankDoc,
-                                   OperatingDoc, SceneDoc, WearDoc, dynamics_fem_plane, resolved_method,
-                                   validate_document)
+from gearwear.scene.checks import (
+    DEFAULT_BEARING_DAMPING_RATIO,
+    DEFAULT_MESH_DAMPING_RATIO,
+    dynamics_fem_plane,
+    resolved_method,
+)
+from gearwear.scene.schema import FaultsDoc, FlankDoc, OperatingDoc, SceneDoc, WearDoc, validate_document
 
 TABLE_MIN_ROWS = 8
 #: the other columns of the stiffness tables the tool writes (stiffness_job.curve_csv,
@@ -271,7 +274,8 @@ def wear_from_dict(table: Mapping[str, Any] | str, torque_Nm: float = 40.0, spee
                    pair: PairSpec | None = None) -> WearSpec:
     """A wear spec from an ``[effects] wear`` table (or a phase name), validated (with
     ``pair``: also against the depth limit of that pair, see :func:`wear_spec`)."""
-    from gearwear.scene.schema import check_wear_table, validate_tables
+    from gearwear.scene.checks import check_wear_table
+    from gearwear.scene.schema import validate_tables
 
     t = validate_tables({"effects": {"wear": table}, "operating": {"torque_Nm": torque_Nm, "speed_rpm": speed_rpm}},
                         ("effects", "operating"))
