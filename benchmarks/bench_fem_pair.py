@@ -16,6 +16,7 @@ import time
 
 import numpy as np
 
+from gearwear.compare import pair_consistency
 from gearwear.fem import pair as fp
 from gearwear.geometry.spec import default_pair
 from gearwear.scene import pair_from_dict
@@ -84,7 +85,7 @@ def refinement(name, pair):
 
 
 def consistency(pair):
-    rows = fp.consistency(pair, positions=24)
+    rows = pair_consistency(pair, positions=24)
     print("\nPaper pair, single contact: pair FE against the single-tooth FE and Weber (1e-9 m/N = um per kN)")
     print(f"  {'d (mm)':>8}{'c1 pair':>9}{'c1 tooth':>9}{'c2 pair':>9}{'c2 tooth':>9}{'c_local':>9}{'Weber ss':>9}"
           f"{'Weber se':>9}{'k pair':>12}{'1/(c1+c2+cl)':>14}")
