@@ -18,6 +18,7 @@ import numpy as np
 
 from gearwear.compare import pair_consistency
 from gearwear.fem import pair as fp
+from gearwear.fem.pair_model import _BODY_CACHE
 from gearwear.geometry.spec import default_pair
 from gearwear.scene import pair_from_dict
 
@@ -34,7 +35,7 @@ def plateaus(r) -> dict:
 
 
 def cycle(name, pair):
-    fp._BODY_CACHE.clear()  # cold: mesh, assemble, factorize and condense every body
+    _BODY_CACHE.clear()  # cold: mesh, assemble, factorize and condense every body
     t0 = time.perf_counter()
     r = fp.pair_contact(pair, positions=24)
     wall = time.perf_counter() - t0
@@ -65,7 +66,7 @@ def refinement(name, pair):
           f"{'wall (s)':>10}")
     means = []
     for s in SCALES:
-        fp._BODY_CACHE.clear()
+        _BODY_CACHE.clear()
         t0 = time.perf_counter()
         r = fp.pair_contact(pair, positions=24, contact_scale=s)
         w = time.perf_counter() - t0
