@@ -36,9 +36,12 @@ import numpy as np
 from gearwear.analytic.iso6336 import iso6336_stiffness
 from gearwear.analytic.tvms import mesh_stiffness
 from gearwear.fem import pair as fp
-from gearwear.fem.pair_body import rot
-from gearwear.scene.model import scene_from_dict
+from gearwear.fem.pair_cycle import _secant
+from gearwear.fem.pair_model import _BODY_CACHE
+from gearwear.fem.pair_position import _reps_memo
+from gearwear.geometry.pair_positions import rot, tooth_frames
 from gearwear.scene.checks import resolved_plane
+from gearwear.scene.model import scene_from_dict
 
 BORES_MM = ([12.5, 25.0], [18.0, 40.0], [24.0, 55.0])
 #: the 2D state `gearwear stiffness --method fem` takes for this pair (fem.plane = "auto", b/m = 10)
@@ -67,11 +70,11 @@ def ring_translation_m(pm, ps) -> float:
     each candidate's tooth frame): the pinion pushed along -x, the gear along +x."""
     v = [0.0, 0.0]
     for gi, body in enumerate(pm.bodies):
-        rep = fp._reps_memo(body, ps.cand, gi, None)
+        rep = _reps_memo(body, ps.cand, gi, None)
         for k, c in enumerate(ps.cand):
             idx, coef = rep(k, 0)
             local = [float(np.sum(body.blank_h[r][idx] * coef * c["force_N"][:, None])) for r in (1, 2)]
-            v[gi] += float((rot(fp._frames(pm, c["d"])[gi]) @ np.array(local))[0])
+            v[gi] += float((rot(tooth_frames(pm.mesh, c["d"])[gi]) @ np.array(local))[0])
     return v[1] - v[0]
 
 
@@ -84,7 +87,7 @@ def main() -> None:
     print(" | ".join(hdr))
     for bores in BORES_MM:
         pair = the_pair(bores)
-        fp._BODY_CACHE.clear()  # cold: both bodies built
+        _BODY_CACHE.clear()  # cold: both bodies built
         t0 = time.perf_counter()
         fe = fp.pair_contact(pair, positions=POSITIONS, torque_Nm=TORQUE_NM, plane=PLANE)
         t_fe = time.perf_counter() - t0
@@ -96,7 +99,7 @@ def main() -> None:
         # the n = 1 part: the circles' translation, from the same model (cached bodies)
         pm = fp.pair_model(pair, torque_Nm=TORQUE_NM, plane=PLANE)
         tr = np.array([ring_translation_m(pm, fp.solve_position(pm, float(th), F)) for th in fe.angle_rad])
-        k_mt = fp._secant(fe.pair_load_N, fe.meta["pair_gap_m"], fe.mesh_ste_m - tr)[0]
+        k_mt = _secant(fe.pair_load_N, fe.meta["pair_gap_m"], fe.mesh_ste_m - tr)[0]
         t0 = time.perf_counter()
         ish, en = (mesh_stiffness(pair, m, torque_Nm=TORQUE_NM, plane=PLANE).mean_N_per_m
                    for m in ("ishikawa", "energy"))

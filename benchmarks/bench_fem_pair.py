@@ -16,7 +16,9 @@ import time
 
 import numpy as np
 
+from gearwear.stiffness.comparison import pair_consistency
 from gearwear.fem import pair as fp
+from gearwear.fem.pair_model import _BODY_CACHE
 from gearwear.geometry.spec import default_pair
 from gearwear.scene.model import pair_from_dict
 
@@ -33,7 +35,7 @@ def plateaus(r) -> dict:
 
 
 def cycle(name, pair):
-    fp._BODY_CACHE.clear()  # cold: mesh, assemble, factorize and condense every body
+    _BODY_CACHE.clear()  # cold: mesh, assemble, factorize and condense every body
     t0 = time.perf_counter()
     r = fp.pair_contact(pair, positions=24)
     wall = time.perf_counter() - t0
@@ -64,7 +66,7 @@ def refinement(name, pair):
           f"{'wall (s)':>10}")
     means = []
     for s in SCALES:
-        fp._BODY_CACHE.clear()
+        _BODY_CACHE.clear()
         t0 = time.perf_counter()
         r = fp.pair_contact(pair, positions=24, contact_scale=s)
         w = time.perf_counter() - t0
@@ -84,7 +86,7 @@ def refinement(name, pair):
 
 
 def consistency(pair):
-    rows = fp.consistency(pair, positions=24)
+    rows = pair_consistency(pair, positions=24)
     print("\nPaper pair, single contact: pair FE against the single-tooth FE and Weber (1e-9 m/N = um per kN)")
     print(f"  {'d (mm)':>8}{'c1 pair':>9}{'c1 tooth':>9}{'c2 pair':>9}{'c2 tooth':>9}{'c_local':>9}{'Weber ss':>9}"
           f"{'Weber se':>9}{'k pair':>12}{'1/(c1+c2+cl)':>14}")

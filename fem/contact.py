@@ -92,6 +92,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.linalg as sla
 
+from gearwear.core.validation import fail
 from gearwear.geometry.polyline import stitch
 
 __all__ = [
@@ -180,11 +181,11 @@ def solve_contact(flexibility, gap0_m, total_force_N: float | None = None,
     if total_force_N is not None:
         P = float(total_force_N)
         if not (P > 0 and math.isfinite(P)):
-            raise ValueError(f"total_force_N = {total_force_N!r}: must be finite and > 0")
+            raise fail("total_force_N", repr(total_force_N), "", "must be finite and > 0")
     elif approach_m is not None:
         delta = float(approach_m)
         if not math.isfinite(delta):
-            raise ValueError(f"approach_m = {approach_m!r}: must be finite")
+            raise fail("approach_m", repr(approach_m), "", "must be finite")
     cmax = float(np.max(np.abs(np.diag(C))))
     p = np.zeros(n)
     if force_control:

@@ -26,6 +26,7 @@ from skfem import Basis, ElementTriP1, ElementTriP2, ElementVector, FacetBasis, 
 from skfem.helpers import dot
 from skfem.models.elasticity import lame_parameters, linear_elasticity
 
+from gearwear.core.validation import fail
 from gearwear.geometry.spec import Material
 
 from .mesh import CurvedMeshTri2
@@ -37,7 +38,7 @@ def lame(material: Material, plane: str = "stress") -> tuple[float, float]:
     if plane == "stress":
         lam = 2.0 * lam * mu / (lam + 2.0 * mu)
     elif plane != "strain":
-        raise ValueError(f"plane = {plane!r}: must be 'stress' or 'strain'")
+        raise fail("plane", repr(plane), "", "must be 'stress' or 'strain'")
     return lam, mu
 
 

@@ -16,11 +16,13 @@ Public API
 ``triangle_quality``   per-element normalised radius ratio
 ``inverted_elements``  elements whose (isoparametric) map folds
 ``CurvedMeshTri2``     the order-2 mesh class: skfem.MeshTri2 with point location
-``MeshError``          every input or meshing failure (a ``ValueError``)
+``MeshError``          every meshing failure (a ``ValueError``; from a design: a bug)
+``MeshInputError``     an input the mesher refuses as impossible (a ``MeshError`` and an
+                       ``InputError`` of gearwear.core.validation)
 
 Modules (each one idea; this module holds the drivers and the export)
 -------
-``fem.mesh_spec``      MeshSizes, GearMesh, MeshError
+``fem.mesh_spec``      MeshSizes, GearMesh, MeshError, MeshInputError
 ``fem.outline``        outline checks and curved-edge geometry
 ``fem.gmsh_run``       one serialised, deterministic Gmsh run and its raw arrays
 ``fem.mesh_checks``    conversion to scikit-fem, quality, exact region checks
@@ -142,13 +144,14 @@ from gearwear.core.atomic import atomic_write
 from .curved_mesh import CurvedMeshTri2, inverted_elements
 from .gmsh_run import _add_arcs, _add_outline, _hub_size, _run_gmsh
 from .mesh_checks import _finish, triangle_quality
-from .mesh_spec import GearMesh, MeshError, MeshSizes
+from .mesh_spec import GearMesh, MeshError, MeshInputError, MeshSizes
 from .outline import (_as_mids, _as_points, _as_refine_points, _bulge_area, _check_crack, _check_hub, _check_order,
                       _check_refine, _check_simple_closed, _cross, _min_dist_to_origin, _origin_inside, _with_mids,
                       _wrap)
 
 __all__ = [
     "MeshError",
+    "MeshInputError",
     "MeshSizes",
     "GearMesh",
     "mesh_full_gear",
@@ -208,7 +211,7 @@ def mesh_full_gear(
     poly = _as_points(outline_xy, "outline_xy", 3)
     scale = float(np.max(np.abs(poly)))
     if scale <= 0:
-        raise MeshError("outline_xy is degenerate (all points at the origin)")
+        raise MeshInputError("outline_xy is degenerate (all points at the origin)")
     fillet_pts = _as_refine_points(fillet_points_xy, "fillet_points_xy")
     load_pts = _as_refine_points(refine_points_xy, "refine_points_xy")
     _check_refine(sizes, fillet_pts, load_pts)
@@ -217,11 +220,11 @@ def mesh_full_gear(
     _check_simple_closed(curve, "outline_xy", scale)
     twice_area = float(np.sum(_cross(poly, np.roll(poly, -1, axis=0)))) + 2.0 * _bulge_area(poly, mids)
     if twice_area <= 0:
-        raise MeshError(
+        raise MeshInputError(
             f"outline_xy must be counter-clockwise (signed area {twice_area / 2!r} m^2 <= 0)"
         )
     if not _origin_inside(curve):
-        raise MeshError("outline_xy does not enclose the origin (gear must be centred)")
+        raise MeshInputError("outline_xy does not enclose the origin (gear must be centred)")
     r = _check_hub(hub_radius_m, _min_dist_to_origin(curve, closed=True))
     exact = 0.5 * twice_area - math.pi * r**2
     n_circle, hub_h = _hub_size(r, exact, sizes)
@@ -256,11 +259,11 @@ def _sector(outline_xy, hub_radius_m, angle_from_rad, angle_to_rad, sizes, refin
     try:
         a0, a1 = float(angle_from_rad), float(angle_to_rad)
     except (TypeError, ValueError):
-        raise MeshError("angle_from_rad / angle_to_rad must be numbers") from None
+        raise MeshInputError("angle_from_rad / angle_to_rad must be numbers") from None
     if not (math.isfinite(a0) and math.isfinite(a1)):
-        raise MeshError(f"sector angles must be finite, got {a0!r}, {a1!r}")
+        raise MeshInputError(f"sector angles must be finite, got {a0!r}, {a1!r}")
     if not (0.0 < a1 - a0 < 2 * math.pi):
-        raise MeshError(
+        raise MeshInputError(
             f"sector angles out of order: need 0 < angle_to - angle_from < 2*pi, "
             f"got angle_from={a0!r}, angle_to={a1!r}"
         )
@@ -271,7 +274,7 @@ def _sector(outline_xy, hub_radius_m, angle_from_rad, angle_to_rad, sizes, refin
     for name, p, a in (("first", poly[0], a0), ("last", poly[-1], a1)):
         ang = math.atan2(p[1], p[0])
         if np.hypot(*p) <= 0 or abs(_wrap(ang - a)) > ray_tol_rad:
-            raise MeshError(
+            raise MeshInputError(
                 f"{name} point of outline_xy {p.tolist()} is not on the ray at "
                 f"{a!r} rad (its polar angle is {ang!r})"
             )
@@ -291,7 +294,7 @@ def _sector(outline_xy, hub_radius_m, angle_from_rad, angle_to_rad, sizes, refin
     green += float(_cross(poly[-1], h_to) + _cross(h_from, poly[0]))
     exact = 0.5 * green - 0.5 * r**2 * (a1 - a0)
     if exact <= 0:
-        raise MeshError(
+        raise MeshInputError(
             f"sector region has non-positive area {exact!r} m^2 "
             "(outline_xy must run counter-clockwise from angle_from to angle_to)"
         )
@@ -403,7 +406,7 @@ def mesh_sector_solid(
     planes = np.asarray(planes_z_m, dtype=float)
     if planes.ndim != 1 or len(planes) < 2 or planes[0] != 0.0 or np.any(np.diff(planes) <= 0) \
             or not np.all(np.isfinite(planes)):
-        raise MeshError("planes_z_m must increase strictly from 0 (at least two planes)")
+        raise MeshInputError("planes_z_m must increase strictly from 0 (at least two planes)")
     build, exact, r, scale, fillet_pts, load_pts, n_circle, _ = _sector(
         outline_xy, hub_radius_m, angle_from_rad, angle_to_rad, sizes, refine_points_xy, fillet_points_xy,
         1, ray_tol_rad, None)

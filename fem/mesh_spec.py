@@ -1,6 +1,6 @@
 """What a gear mesh is asked for and what it gives back: the element sizes (``MeshSizes``), the
-result (``GearMesh``) and the one error every meshing step raises (``MeshError``). Lengths in m.
-The meshing itself: ``fem.mesh``."""
+result (``GearMesh``) and the errors of the meshing steps (``MeshError``; ``MeshInputError`` for
+an input the mesher refuses as impossible). Lengths in m. The meshing itself: ``fem.mesh``."""
 
 from __future__ import annotations
 
@@ -10,24 +10,37 @@ from dataclasses import dataclass, field
 import numpy as np
 import skfem
 
+from gearwear.core.validation import InputError
 
 
 class MeshError(ValueError):
-    """Invalid geometry / sizes, or a meshing failure (one-line message)."""
+    """A meshing failure (one-line message): Gmsh could not mesh the region, or its mesh
+    failed a check. Every shape a design sends to the mesher passed the geometry's checks,
+    so from a design this is an internal error (the CLI reports it as a bug, exit 1).
+    Inputs the mesher refuses as impossible raise the subclass :class:`MeshInputError`."""
+
+
+class MeshInputError(MeshError, InputError):
+    """An input the mesher refuses because it is impossible: an outline that is not a
+    simple counter-clockwise polygon around the origin, a bore not strictly inside it,
+    sizes or sector angles out of range, a crack that does not start on the outline or
+    ends outside the region. An InputError of the contract (gearwear.core.validation;
+    the CLI reports it as the caller's error, exit 2) and a MeshError for the callers of
+    ``fem.mesh``; the message is the same one-line diagnosis."""
 
 
 def _positive(name: str, value: float | None, allow_none: bool = False) -> float | None:
-    """``value`` as a finite float > 0 (or None if allowed); MeshError naming ``name``."""
+    """``value`` as a finite float > 0 (or None if allowed); MeshInputError naming ``name``."""
     if value is None:
         if allow_none:
             return None
-        raise MeshError(f"{name} must be given, got None")
+        raise MeshInputError(f"{name} must be given, got None")
     try:
         v = float(value)
     except (TypeError, ValueError):
-        raise MeshError(f"{name} must be a number, got {value!r}") from None
+        raise MeshInputError(f"{name} must be a number, got {value!r}") from None
     if not (math.isfinite(v) and v > 0.0):
-        raise MeshError(f"{name} must be finite and > 0, got {value!r}")
+        raise MeshInputError(f"{name} must be finite and > 0, got {value!r}")
     return v
 
 
@@ -69,7 +82,7 @@ class MeshSizes:
         for name in ("fillet_m", "load_m"):
             v = getattr(self, name)
             if v is not None and v > self.global_m:
-                raise MeshError(
+                raise MeshInputError(
                     f"MeshSizes.{name}={v!r} is larger than global_m={self.global_m!r}"
                 )
 

@@ -1,7 +1,8 @@
 """The outline of a region to mesh: input checks (points, a simple closed polygon, the hub
 inside, the order, refinement points, a crack) and its geometry (curved edges as quadratic
 Bezier curves through given mid-points, their bulge areas, the local outline spacing).
-Lengths in m; a bad outline raises ``MeshError`` (``fem.mesh_spec``)."""
+Lengths in m; a bad outline raises ``MeshInputError`` (a ``MeshError`` and an ``InputError``,
+``fem.mesh_spec``)."""
 
 from __future__ import annotations
 
@@ -10,21 +11,21 @@ import math
 import numpy as np
 
 from gearwear.geometry.polyline import project_to_segments
-from .mesh_spec import MeshError, MeshSizes, _positive
+from .mesh_spec import MeshInputError, MeshSizes, _positive
 
 
 def _as_points(a, name: str, min_points: int) -> np.ndarray:
     try:
         p = np.asarray(a, dtype=np.float64)
     except (TypeError, ValueError):
-        raise MeshError(f"{name} must be an (N,2) array of floats") from None
+        raise MeshInputError(f"{name} must be an (N,2) array of floats") from None
     if p.ndim != 2 or p.shape[1] != 2:
-        raise MeshError(f"{name} must have shape (N,2), got {p.shape}")
+        raise MeshInputError(f"{name} must have shape (N,2), got {p.shape}")
     if p.shape[0] < min_points:
-        raise MeshError(f"{name} needs at least {min_points} points, got {p.shape[0]}")
+        raise MeshInputError(f"{name} needs at least {min_points} points, got {p.shape[0]}")
     if not np.all(np.isfinite(p)):
         i = int(np.nonzero(~np.all(np.isfinite(p), axis=1))[0][0])
-        raise MeshError(f"{name} has a non-finite point at index {i}: {p[i].tolist()}")
+        raise MeshInputError(f"{name} has a non-finite point at index {i}: {p[i].tolist()}")
     return p
 
 
@@ -44,7 +45,7 @@ def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _check_simple_closed(poly: np.ndarray, name: str, scale: float) -> None:
-    """Raise MeshError if the closed polygon has degenerate or crossing edges.
+    """Raise MeshInputError if the closed polygon has degenerate or crossing edges.
 
     Sweep-and-prune on x, exact orientation tests on the surviving pairs:
     about 0.1 s for 12 000 vertices of a gear outline.
@@ -56,7 +57,7 @@ def _check_simple_closed(poly: np.ndarray, name: str, scale: float) -> None:
     seg_len = np.linalg.norm(b - a, axis=1)
     if np.any(seg_len <= tol):
         i = int(np.argmax(seg_len <= tol))
-        raise MeshError(
+        raise MeshInputError(
             f"{name}: zero-length edge (duplicate consecutive points) at index {i}: "
             f"{a[i].tolist()}"
             + (" (do not repeat the first point at the end)" if i == n - 1 else "")
@@ -69,7 +70,7 @@ def _check_simple_closed(poly: np.ndarray, name: str, scale: float) -> None:
     fold = (np.abs(cr) <= 1e-12 * seg_len * np.roll(seg_len, -1)) & (dt < 0)
     if np.any(fold):
         i = int(np.argmax(fold))
-        raise MeshError(f"{name}: edges fold back on themselves at vertex {(i + 1) % n}")
+        raise MeshInputError(f"{name}: edges fold back on themselves at vertex {(i + 1) % n}")
     if n <= 3:
         return
     lo = np.minimum(a, b) - tol
@@ -122,7 +123,7 @@ def _raise_if_crossing(a, b, gi, jc, tol, name) -> None:
     if np.any(bad):
         k = int(np.argmax(bad))
         e1, e2 = sorted((int(gi[k]), int(jc[k])))
-        raise MeshError(
+        raise MeshInputError(
             f"{name} is self-intersecting: edge {e1} ({a[e1].tolist()}->{b[e1].tolist()}) "
             f"meets edge {e2} ({a[e2].tolist()}->{b[e2].tolist()})"
         )
@@ -149,7 +150,7 @@ def _origin_inside(poly: np.ndarray) -> bool:
 def _check_hub(hub_radius_m: float, dmin: float) -> float:
     r = float(_positive("hub_radius_m", hub_radius_m) or 0.0)
     if r >= dmin:
-        raise MeshError(
+        raise MeshInputError(
             f"hub_radius_m={r!r} is not strictly inside the outline "
             f"(minimum distance of the outline from the origin is {dmin!r})"
         )
@@ -162,17 +163,17 @@ def _wrap(a: float) -> float:
 
 def _check_order(order) -> int:
     if order not in (1, 2):
-        raise MeshError(f"order must be 1 or 2, got {order!r}")
+        raise MeshInputError(f"order must be 1 or 2, got {order!r}")
     return int(order)
 
 
 def _check_refine(sizes, fillet_pts, load_pts) -> None:
     if not isinstance(sizes, MeshSizes):
-        raise MeshError(f"sizes must be a MeshSizes, got {type(sizes).__name__}")
+        raise MeshInputError(f"sizes must be a MeshSizes, got {type(sizes).__name__}")
     if fillet_pts.shape[0] and sizes.fillet_m is None:
-        raise MeshError("fillet_points_xy given but sizes.fillet_m is None")
+        raise MeshInputError("fillet_points_xy given but sizes.fillet_m is None")
     if load_pts.shape[0] and sizes.load_m is None:
-        raise MeshError("refine_points_xy given but sizes.load_m is None")
+        raise MeshInputError("refine_points_xy given but sizes.load_m is None")
 
 
 def _vertex_sizes(poly: np.ndarray, closed: bool) -> np.ndarray:
@@ -194,24 +195,24 @@ def _as_mids(mids, poly: np.ndarray, closed: bool, order: int) -> np.ndarray | N
     if mids is None:
         return None
     if order != 2:
-        raise MeshError("outline_mid_xy needs order 2 (a curved edge is a quadratic element edge)")
+        raise MeshInputError("outline_mid_xy needs order 2 (a curved edge is a quadratic element edge)")
     ne = len(poly) if closed else len(poly) - 1
     try:
         m = np.asarray(mids, dtype=np.float64)
     except (TypeError, ValueError):
-        raise MeshError("outline_mid_xy must be an (N,2) array of floats") from None
+        raise MeshInputError("outline_mid_xy must be an (N,2) array of floats") from None
     if m.shape != (ne, 2):
-        raise MeshError(f"outline_mid_xy must have shape ({ne}, 2) (one point per outline edge), got {m.shape}")
+        raise MeshInputError(f"outline_mid_xy must have shape ({ne}, 2) (one point per outline edge), got {m.shape}")
     fin = np.isfinite(m)
     if np.any(fin[:, 0] != fin[:, 1]):
-        raise MeshError("outline_mid_xy: a row must be two numbers or two NaNs (straight edge)")
+        raise MeshInputError("outline_mid_xy: a row must be two numbers or two NaNs (straight edge)")
     a, b = poly[:ne], np.roll(poly, -1, axis=0)[:ne]
     off = np.linalg.norm(m - 0.5 * (a + b), axis=1)
     # beyond a quarter of the chord the quadratic edge bends too far to be meshed
     bad = fin[:, 0] & (off > 0.25 * np.linalg.norm(b - a, axis=1))
     if np.any(bad):
         i = int(np.argmax(bad))
-        raise MeshError(f"outline_mid_xy[{i}] = {m[i].tolist()} is more than a quarter of its edge "
+        raise MeshInputError(f"outline_mid_xy[{i}] = {m[i].tolist()} is more than a quarter of its edge "
                         "away from the edge's midpoint")
     return m
 
@@ -249,22 +250,22 @@ def _check_crack(crack_xy, tip_size, poly, curve, r_hub, sizes, scale) -> dict |
     strictly inside the region (inside the outline, outside the bore)."""
     if crack_xy is None:
         if tip_size is not None:
-            raise MeshError("crack_tip_size_m given without crack_xy")
+            raise MeshInputError("crack_tip_size_m given without crack_xy")
         return None
     c = _as_points(crack_xy, "crack_xy", 2)
     if c.shape != (2, 2):
-        raise MeshError(f"crack_xy must have shape (2,2) (mouth, tip), got {c.shape}")
+        raise MeshInputError(f"crack_xy must have shape (2,2) (mouth, tip), got {c.shape}")
     d = np.hypot(poly[:, 0] - c[0, 0], poly[:, 1] - c[0, 1])
     i = int(np.argmin(d))
     if d[i] > 1e-12 * scale:
-        raise MeshError(f"crack_xy mouth {c[0].tolist()} is not an outline point (nearest at {d[i]!r} m)")
+        raise MeshInputError(f"crack_xy mouth {c[0].tolist()} is not an outline point (nearest at {d[i]!r} m)")
     if not (_origin_inside(curve - c[1]) and math.hypot(*c[1]) > r_hub):
-        raise MeshError(f"crack_xy tip {c[1].tolist()} is not inside the meshed region")
+        raise MeshInputError(f"crack_xy tip {c[1].tolist()} is not inside the meshed region")
     if float(np.hypot(*(c[1] - c[0]))) <= 1e-9 * scale:
-        raise MeshError("crack_xy: the crack has zero length")
+        raise MeshInputError("crack_xy: the crack has zero length")
     default = sizes.fillet_m if sizes.fillet_m is not None else sizes.global_m
     h = _positive("crack_tip_size_m", default if tip_size is None else tip_size)
     assert h is not None  # _positive returns its value unless allow_none
     if h > sizes.global_m:
-        raise MeshError(f"crack_tip_size_m={h!r} is larger than global_m={sizes.global_m!r}")
+        raise MeshInputError(f"crack_tip_size_m={h!r} is larger than global_m={sizes.global_m!r}")
     return {"mouth_index": i, "tip_xy": c[1].copy(), "tip_size_m": float(h)}

@@ -12,7 +12,7 @@ the others coarser. Every outline edge carries its arc mid-point (on the exact
 involute there), so the mid-side nodes lie on the flank. The body only rotates
 rigidly in the pair, so its stiffness in its own frame never changes and one
 factorization serves every position and every wear state (wear enters the pair
-solve as initial gaps, see fem.pair).
+solve as initial gaps, see fem.pair_candidates).
 
 A cracked body (:func:`build_cracked_body`) has a root crack cut into tooth 0 and the
 drive flanks of teeth -refined .. +refined sampled like tooth 0's; without rotational
@@ -25,7 +25,7 @@ Flexibility by static condensation
 With the boundary set B = the dofs of (i) every node of tooth 0's refined drive
 flank in the candidate range, (ii) the nodes of the drive-flank edges of the
 neighbouring teeth in the same radius range and (iii) the nodes of the elements
-that cross tooth 0's centre line (reading points of the consistency check), the
+that cross tooth 0's centre line (reading points of fem.pair_centre_line), the
 flexibility of B is the inverse of the Schur complement
 
     S = K_BB - K_BI K_II^-1 K_IB,      G = S^-1 = (K^-1)_BB      (m/N)
@@ -66,6 +66,7 @@ import scipy.sparse.linalg as spla
 
 from gearwear.fem.mesh import MeshSizes, mesh_full_gear
 from gearwear.geometry.crack import Crack, crack_mouth_arc
+from gearwear.geometry.pair_positions import involute_point, rot  # re-exported (the pair geometry's home)
 from gearwear.geometry.polyline import cumulative_length, quadratic_parameter, with_midpoints
 from gearwear.geometry.profile import FILLET, INVOLUTE, ROOT_LAND, ToothProfile, ring_outline, tooth_outline
 from gearwear.geometry.sampling import profile_at, region_junctions
@@ -97,24 +98,6 @@ class BodySizes:
     far_m: float
     fillet_m: float
     global_m: float
-
-
-def rot(angle) -> np.ndarray:
-    """Rotation matrices (..., 2, 2) by ``angle`` (rad, counter-clockwise)."""
-    a = np.asarray(angle, dtype=float)
-    c, s = np.cos(a), np.sin(a)
-    return np.stack([np.stack([c, -s], -1), np.stack([s, c], -1)], -2)
-
-
-def involute_point(g: GearSpec, radius_m) -> np.ndarray:
-    """Exact points (n, 2) of the nominal drive (right) flank of tooth 0 at radii
-    R >= r_b: beta = psi_b - (u - atan u), u = sqrt(R^2 / r_b^2 - 1) (geometry.profile)."""
-    R = np.asarray(radius_m, dtype=float)
-    rb = g.base_radius_m
-    u = np.sqrt(np.maximum((R / rb) ** 2 - 1.0, 0.0))
-    psi_b = g.pitch_thickness_m / (2.0 * g.pitch_radius_m) + (math.tan(g.pressure_angle_rad) - g.pressure_angle_rad)
-    beta = psi_b - (u - np.arctan(u))
-    return np.stack([R * np.sin(beta), R * np.cos(beta)], -1)
 
 
 def _walk(a: float, b: float, spacing, keep: np.ndarray) -> list[float]:

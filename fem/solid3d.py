@@ -78,6 +78,7 @@ import scipy.sparse.linalg as spla
 from skfem import Basis, ElementTetP2
 from skfem.models.elasticity import lame_parameters
 
+from gearwear.core.validation import fail
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.loading import load_points
 from gearwear.geometry.profile import FILLET, INVOLUTE, ROOT_LAND, TIP_LAND, tooth_outline, tooth_profile
@@ -205,7 +206,7 @@ def plane_check(pair: PairSpec, face_width_m: float | None = None, gear_index: i
     t_start = time.perf_counter()
     b = pair.face_width_m if face_width_m is None else float(face_width_m)
     if not (math.isfinite(b) and b > 0):
-        raise ValueError(f"face_width_m = {face_width_m!r}: must be finite and > 0")
+        raise fail("face_width_m", repr(face_width_m), "", "must be finite and > 0")
     g = pair.gear(gear_index)
     R = check_radii(pair, gear_index) if radii_m is None else np.atleast_1d(np.asarray(radii_m, dtype=float))
     mg = MeshGeometry(pair, pair.centre_distance_m)

@@ -120,6 +120,7 @@ import skfem
 from skfem import Basis, ElementTriP1, asm
 from skfem.models.poisson import laplace
 
+from gearwear.core.validation import fail
 from gearwear.geometry.crack import Crack, crack_mouth_arc
 from gearwear.geometry.loading import load_points
 from gearwear.geometry.kinematics import MeshGeometry
@@ -227,7 +228,7 @@ def mesh_sizes(mesh_scale: float = 1.0) -> MeshSizes:
     zone, most of the elements, unrefined)."""
     s = float(mesh_scale)
     if not (math.isfinite(s) and s > 0):
-        raise ValueError(f"mesh_scale = {mesh_scale!r}: must be finite and > 0")
+        raise fail("mesh_scale", repr(mesh_scale), "", "must be finite and > 0")
     return MeshSizes(global_m=GLOBAL_M * s, fillet_m=FILLET_M * s, load_m=LOAD_M * s,
                      fillet_dist_m=FILLET_DIST_M, load_dist_m=LOAD_DIST_M, growth=GROWTH * s)
 
@@ -454,9 +455,9 @@ def tooth_mesh(pair: PairSpec, gear_index: int = 0, wear: WearSpec | None = None
     if crack is not None and wear is not None and not wear.is_unworn:
         raise ValueError("crack with a worn flank: not supported (mesh the crack on the nominal tooth)")
     if order not in (1, 2):
-        raise ValueError(f"order = {order}: must be 1 or 2")
+        raise fail("order", str(order), "", "must be 1 or 2")
     if worn_geometry not in WORN_GEOMETRIES:
-        raise ValueError(f"worn_geometry = {worn_geometry!r}: must be one of {WORN_GEOMETRIES}")
+        raise fail("worn_geometry", repr(worn_geometry), "", f"must be one of {WORN_GEOMETRIES}")
     g = pair.gear(gear_index)
     mg = MeshGeometry(pair, pair.centre_distance_m)
     sizes = mesh_sizes(mesh_scale)
@@ -594,16 +595,16 @@ def single_tooth_compliance(pair: PairSpec, gear_index: int = 0, wear: WearSpec 
     """
     t_start = time.perf_counter()
     if radii_m is None and positions < 2:
-        raise ValueError(f"positions = {positions}: need at least 2")
+        raise fail("positions", str(positions), "", "need at least 2")
     if read_at not in ("radius", "load_line"):
-        raise ValueError(f"read_at = {read_at!r}: must be 'radius' or 'load_line'")
+        raise fail("read_at", repr(read_at), "", "must be 'radius' or 'load_line'")
     g = pair.gear(gear_index)
     mg = MeshGeometry(pair, pair.centre_distance_m)
     b = pair.face_width_m
     if load_N is None:
         load_N = DEFAULT_TORQUE_NM / pair.gear(0).base_radius_m
     if not (math.isfinite(load_N) and load_N > 0):
-        raise ValueError(f"load_N = {load_N!r}: must be finite and > 0")
+        raise fail("load_N", repr(load_N), "", "must be finite and > 0")
 
     # -- load positions, Hertz half-widths, force directions (geometry.loading on the true flank)
     rb = g.base_radius_m

@@ -46,10 +46,10 @@ def coarse_fe(monkeypatch):
     """The pair FE at the coarse sizes of tests/test_fem_faults.py (contact elements a / 1.25,
     the others x 1.5; the same bodies, so a worker that built them there reuses them), so
     the command line runs in seconds; everything else is the command's own path."""
-    from gearwear.fem import pair as fe_pair
+    from gearwear.fem import pair_model as fe_model
 
-    sizes = fe_pair.body_sizes
-    monkeypatch.setattr(fe_pair, "body_sizes", lambda pair, torque_Nm=40.0, contact_scale=1.0, mesh_scale=1.0:
+    sizes = fe_model.body_sizes
+    monkeypatch.setattr(fe_model, "body_sizes", lambda pair, torque_Nm=40.0, contact_scale=1.0, mesh_scale=1.0:
                         sizes(pair, torque_Nm, 2.0 * contact_scale, 1.5 * mesh_scale))
 
 

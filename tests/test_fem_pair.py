@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from gearwear.fem.contact import check_complementarity, solve_contact
-from gearwear.fem.pair import (consistency, pair_contact, pair_model, solve_position, weber_approach_m,
-                      write_fields)
+from gearwear.stiffness.comparison import pair_consistency, weber_approach_m
+from gearwear.fem.pair import pair_contact, pair_model, solve_position, write_fields
 from gearwear.geometry.spec import default_pair
 from scenes import paper_pair_from
 from gearwear.core.validation import InputError
@@ -156,7 +156,7 @@ def test_single_contact_against_single_tooth_fe_and_weber(pair):
     approach exceeds the half-plane formula: measured k_pair 1.4-1.6 % softer. (The
     code's own k_identity = 1 / (c_1,tooth + c_2,tooth + c_local) holds by construction
     once c_i agree, since c_local = STE / F - c_1 - c_2; it is not asserted.)"""
-    rows = consistency(pair, positions=8, contact_scale=COARSE)
+    rows = pair_consistency(pair, positions=8, contact_scale=COARSE)
     assert len(rows) >= 2
     for r in rows:
         assert r["c1_m_per_N"] == pytest.approx(r["c1_tooth_m_per_N"], rel=0.01)

@@ -19,9 +19,11 @@ from hypothesis import given, settings, strategies as st
 from skfem import Functional, BilinearForm, CellBasis, FacetBasis, ElementTriP2, condense, solve
 from skfem.helpers import dot, grad
 
+from gearwear.core.validation import InputError
 from gearwear.fem.mesh import (
     GearMesh,
     MeshError,
+    MeshInputError,
     MeshSizes,
     mesh_full_gear,
     mesh_sector,
@@ -354,6 +356,7 @@ def test_exception_inside_meshing_finalises(small_gear_input, monkeypatch):
     with pytest.raises(MeshError, match="synthetic failure") as ei:
         mesh_full_gear(outline, r, sizes)
     assert "\n" not in str(ei.value)
+    assert not isinstance(ei.value, InputError)  # a Gmsh failure is ours, not the input's
     assert not gmsh.isInitialized()
     monkeypatch.undo()
     assert mesh_full_gear(outline, r, sizes).n_elements > 0  # still usable
@@ -388,33 +391,35 @@ def test_invalid_geometry_errors():
     s = MeshSizes(global_m=5e-3)
     sq = np.array([[-0.05, -0.05], [0.05, -0.05], [0.05, 0.05], [-0.05, 0.05]])
     bowtie = np.array([[-0.05, -0.05], [0.05, 0.05], [0.05, -0.05], [-0.05, 0.05]])
-    with pytest.raises(MeshError, match="self-intersecting"):
+    with pytest.raises(MeshInputError, match="self-intersecting"):
         mesh_full_gear(bowtie, 0.01, s)
-    with pytest.raises(MeshError, match="counter-clockwise"):
+    with pytest.raises(MeshInputError, match="counter-clockwise"):
         mesh_full_gear(sq[::-1], 0.01, s)
-    with pytest.raises(MeshError, match=r"hub_radius_m=0\.05 is not strictly inside"):
+    with pytest.raises(MeshInputError, match=r"hub_radius_m=0\.05 is not strictly inside"):
         mesh_full_gear(sq, 0.05, s)
-    with pytest.raises(MeshError, match="hub_radius_m"):
+    with pytest.raises(MeshInputError, match="hub_radius_m"):
         mesh_full_gear(sq, -1.0, s)
-    with pytest.raises(MeshError, match="duplicate"):
+    with pytest.raises(MeshInputError, match="duplicate"):
         mesh_full_gear(np.vstack([sq, sq[:1]]), 0.01, s)
-    with pytest.raises(MeshError, match="shape"):
+    with pytest.raises(MeshInputError, match="shape"):
         mesh_full_gear(sq[:, :1], 0.01, s)
-    with pytest.raises(MeshError, match="enclose the origin"):
+    with pytest.raises(MeshInputError, match="enclose the origin"):
         mesh_full_gear(sq + 0.2, 0.01, s)
-    with pytest.raises(MeshError, match="fillet_m is None"):
+    with pytest.raises(MeshInputError, match="fillet_m is None"):
         mesh_full_gear(sq, 0.01, s, fillet_points_xy=[[0.03, 0.0]])
-    with pytest.raises(MeshError, match="global_m"):
+    with pytest.raises(MeshInputError, match="global_m"):
         MeshSizes(global_m=-1.0)
-    with pytest.raises(MeshError, match="larger than global_m"):
+    with pytest.raises(MeshInputError, match="larger than global_m"):
         MeshSizes(global_m=1e-3, load_m=2e-3)
     # toothed outline with one tooth tip folded across its neighbour
     th, rr = gear_polar(z=12, r_tip=0.040, r_root=0.034, per_tooth=24)
     bad = to_xy(th, rr)
     bad[8] = bad[20] * 1.0001
-    with pytest.raises(MeshError, match="self-intersecting"):
+    with pytest.raises(MeshInputError, match="self-intersecting"):
         mesh_full_gear(bad, 0.015, s)
     assert issubclass(MeshError, ValueError)
+    # an impossible input is the caller's error, through the contract (exit 2 in the CLI)
+    assert issubclass(MeshInputError, InputError) and issubclass(MeshInputError, MeshError)
     assert not gmsh.isInitialized()
 
 

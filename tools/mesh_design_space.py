@@ -22,9 +22,11 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 import test_fe_design_space as space  # noqa: E402
 
-from gearwear.fem import pair as fp  # noqa: E402
+from gearwear.fem import pair_model as fe_model  # noqa: E402
 from gearwear.fem.mesh import inverted_elements  # noqa: E402
 from gearwear.fem.pair_body import _mesh_body  # noqa: E402
+from gearwear.geometry.pair_positions import lowest_contact_radius_m  # noqa: E402
+from gearwear.geometry.sampling import FINE_SAG_M  # noqa: E402
 from gearwear.geometry.profile import tooth_profile  # noqa: E402
 from gearwear.geometry.wear import key_roll_angles  # noqa: E402
 
@@ -35,13 +37,13 @@ def mesh_one(item) -> str:
     t0 = time.time()
     try:
         T = 200e3 * pair.face_width_m * pair.gear(0).base_radius_m
-        mesh = fp._check_inputs(pair, T, 0.0, "stress", None).mesh
-        sizes, _, window = fp._sizes(pair, T, 1.0, 1.0)
-        nb = int(math.ceil(mesh.contact_ratio + 2 * fp.EXTENSION_PITCHES)) + 1
+        mesh = fe_model._check_inputs(pair, T, 0.0, "stress", None).mesh
+        sizes, _, window = fe_model._sizes(pair, T, 1.0, 1.0)
+        nb = int(math.ceil(mesh.contact_ratio + 2 * fe_model.EXTENSION_PITCHES)) + 1
         out = []
         for gi, g in enumerate(pair.gears):
-            nominal = tooth_profile(g, sag_m=fp.FINE_SAG_M, extra_roll=key_roll_angles(mesh, gi))
-            r_lo = fp._candidate_radius_range(mesh, gi, window)
+            nominal = tooth_profile(g, sag_m=FINE_SAG_M, extra_roll=key_roll_angles(mesh, gi))
+            r_lo = lowest_contact_radius_m(mesh, gi, window, fe_model.EXTENSION_PITCHES)
             _, model, _, _, _ = _mesh_body(g, g.material, pair.face_width_m, nominal, sizes, r_lo, nb, "stress")
             out.append((model.mesh.t.shape[1], int(np.sum(inverted_elements(model.mesh)))))
         return f"{pos:3d} design{i}: ok {out} {time.time() - t0:.1f}s z={pair.teeth}"

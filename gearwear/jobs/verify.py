@@ -92,8 +92,8 @@ def run(pair: PairSpec, wears: list[WearSpec | None], positions: int = 21, conve
                                  progress=(lambda row: progress(f"convergence P{row['order']} scale "
                                                                 f"{row['mesh_scale']:.3f}")) if progress else None)
         acc = acceptance(conv)
-        from gearwear.fem.pair import consistency
-        cons = consistency(pair, plane=plane)  # ~8 s: the pair model and two single-tooth runs
+        from gearwear.stiffness.comparison import pair_consistency
+        cons = pair_consistency(pair, plane=plane)  # ~8 s: the pair model and two single-tooth runs
         return Verification(pair, phases, conv, acc, time.perf_counter() - t0, pair_consistency=cons,
                             meta={"plane": plane})
     return Verification(pair, phases, conv, acc, time.perf_counter() - t0, meta={"plane": plane})
