@@ -83,11 +83,12 @@ def run(args: argparse.Namespace) -> int:
         doc["files"] = [str(f) for f in files]
         print(io.json_text(doc, indent=None))
     else:
-        hdr = f"{'method':<9}{'wear':<9}{'clear um':>9}{'mean N/m':>12}{'min N/m':>12}{'max N/m':>12}" \
+        w = max(9, *(len(s["method"]) + 1 for s in summaries))  # a registered source may have a longer name
+        hdr = f"{'method':<{w}}{'wear':<9}{'clear um':>9}{'mean N/m':>12}{'min N/m':>12}{'max N/m':>12}" \
               f"{'eps':>8}{'double':>12}{'single':>12}{'wall ms':>9}"
         print(hdr)
         for s in summaries:
-            print(f"{s['method']:<9}{s['wear']:<9}{s['clearance_um']:>9g}{s['mean_N_per_m']:>12.4e}"
+            print(f"{s['method']:<{w}}{s['wear']:<9}{s['clearance_um']:>9g}{s['mean_N_per_m']:>12.4e}"
                   f"{s['min_N_per_m']:>12.4e}{s['max_N_per_m']:>12.4e}{s['contact_ratio']:>8.4f}"
                   f"{num_or_dash(s['double_zone_mean_N_per_m'])}{num_or_dash(s['single_zone_mean_N_per_m'])}"
                   f"{s['wall_s'] * 1e3:>9.1f}")
