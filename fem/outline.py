@@ -245,7 +245,7 @@ def _bulge_area(poly: np.ndarray, mids: np.ndarray | None) -> float:
 
 
 def _check_crack(crack_xy, tip_size, poly, curve, r_hub, sizes, scale) -> dict | None:
-    """Validated crack data for :func:`mesh_full_gear` (None without a crack): the
+    """Validated crack data for :func:`gearwear.fem.mesh.mesh_full_gear` (None without a crack): the
     mouth must be an outline point (so the crack line starts on the boundary), the tip
     strictly inside the region (inside the outline, outside the bore)."""
     if crack_xy is None:
