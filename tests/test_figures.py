@@ -351,7 +351,7 @@ class _Run:
 def paper_report_results() -> dict:
     from gearwear.geometry.operating import operating_geometry
     from gearwear.geometry.spec import default_pair
-    from gearwear.reports.paper import CLEARANCES_UM, PHASES
+    from gearwear.reports.paper_study import CLEARANCES_UM, PHASES
 
     pair = default_pair()
     ang = np.linspace(0, 2 * np.pi / 30, 60, endpoint=False)

@@ -10,9 +10,10 @@ from pathlib import Path
 
 import pytest
 
-from gearwear.reports import paper
-from gearwear.reports.paper import (CONTEXTS, DIRECTIONS, MECHANISM_PARAMS, MECHANISMS, QUANTITIES, ROWS, SIGNALS,
-                                    agrees, classify, load_claims)
+from gearwear.reports import paper, paper_trends
+from gearwear.reports.paper_study import SIGNALS
+from gearwear.reports.paper_trends import (CONTEXTS, DIRECTIONS, MECHANISM_PARAMS, MECHANISMS, QUANTITIES, ROWS,
+                                           agrees, classify, load_claims)
 
 ROOT = Path(__file__).resolve().parents[1]
 FIELDS = {"where", "paper", "claim", "quantity", "signal", "k", "harmonics", "note", "mechanisms", "context",
@@ -131,5 +132,5 @@ def test_one_row_per_claim(res):
 
 def test_mechanism_numbers_fill_their_texts(res):
     for key, params in MECHANISM_PARAMS.items():
-        text = paper._mech(key, **params(res))[1]
+        text = paper_trends._mech(key, **params(res))[1]
         assert "{" not in text and "nan" not in text, (key, text)

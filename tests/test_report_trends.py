@@ -10,7 +10,8 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from gearwear.reports.paper import (CLEARANCES_UM, MECHANISMS, PHASES, agrees, classify, describe_change,
+from gearwear.reports.paper_study import CLEARANCES_UM, PHASES
+from gearwear.reports.paper_trends import (MECHANISMS, agrees, classify, describe_change,
                                    trends)
 
 ROOT = Path(__file__).resolve().parents[1]
