@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .model import GearDynamics, _accelerations, bearing_f, has_flank_law, mesh_state
+from .equations import _accelerations, bearing_f, has_flank_law, mesh_state
+from .model import GearDynamics
 
 _trapezoid = getattr(np, "trapezoid", None) or getattr(np, "trapz")
 

@@ -26,8 +26,12 @@ import numpy as np
 from gearwear.core.validation import InputError
 
 from . import kernels
-from .model import (STATE_NAMES, GearDynamics, derived, has_flank_law, max_linear_rate, mesh_state,
-                    rk4_schedule, static_equilibrium, table_node_times)
+from .equations import has_flank_law, mesh_state
+from .equilibrium import static_equilibrium
+from .linear import max_linear_rate
+from .model import STATE_NAMES, GearDynamics
+from .params import derived
+from .table_time import rk4_schedule, table_node_times
 
 __all__ = ["SimResult", "simulate", "kernel_switches", "compute_signals", "round_to_table_periods"]
 

@@ -43,7 +43,8 @@ import numpy as np
 
 from gearwear.core.validation import InputError
 
-from .model import GearDynamics, mesh_geometry
+from .equations import mesh_geometry
+from .model import GearDynamics
 from .simulate import SimResult, simulate
 
 __all__ = ["SteadyState", "steady_state", "section_residuals", "zero_one_test", "classify_sequence",
