@@ -9,6 +9,7 @@ Modules (one idea each; every name stays importable from here)
 ``kernel_dp_step`` one Dormand-Prince 5(4) step, its dense output, energy quadratures
 ``kernel_events``  event detection, location (Illinois) and record (``EV_*``)
 ``kernel_dopri5``  the adaptive driver: ``dopri5``
+``kernel_cache``   numba's disk cache keyed on all of these files (an edit recompiles all)
 ``kernels``        this overview and ``rhs_at`` (the right-hand side at a time, for tests)
 
 Specialisation mechanism
@@ -22,7 +23,7 @@ signature, so each effect set gets its own machine code; inside it every
 ``if sw is not None:`` test is on a ``NoneType`` or ``bool`` argument and numba's
 dead-branch pruning removes the disabled branches before type inference (absent
 effects cost nothing, not even a test). The specialisations are cached on disk
-(``cache=True``).
+(``cache=True``), stamped with the content of every kernel source (``kernel_cache``).
 
 Speed structure
 ---------------
@@ -65,6 +66,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from . import kernel_cache
 from .kernel_dopri5 import dopri5
 from .kernel_events import EV_COLS, EV_F0, EV_F1, EV_T, EV_Z
 from .kernel_rhs import NG, _rhs
@@ -86,3 +88,8 @@ def rhs_at(t, z, p, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en):
     out = np.zeros(14)
     _put(out, dz, w, sw_en)
     return out
+
+
+# numba's disk cache keyed on every kernel source, not only each function's own file
+# (dynamics.kernel_cache); before the first kernel call
+kernel_cache.key_on_sources(__package__)
