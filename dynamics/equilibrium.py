@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from gearwear.core.validation import InputError
+from gearwear.core.validation import fail_text
 
 from .equations import _accelerations, mesh_geometry
 
@@ -35,8 +35,8 @@ def static_equilibrium(model: GearDynamics) -> np.ndarray:
     F = model.F_s
     k = model.k_mean
     if F != 0 and k <= 0:
-        raise InputError("k_table: mean mesh stiffness is 0 N/m, no static "
-                         "equilibrium under load")
+        raise fail_text("k_table", "k_table: mean mesh stiffness is 0 N/m, no static "
+                                   "equilibrium under load")
     sgn = 1.0 if F > 0 else (-1.0 if F < 0 else 0.0)
     bb = model.bearing_half_clearance_m or 0.0
     sa, ca, b = math.sin(model.alpha), math.cos(model.alpha), model.backlash_half_m or 0.0

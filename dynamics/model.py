@@ -87,7 +87,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from gearwear.core.validation import InputError
+from gearwear.core.validation import Field, fail, fail_text
 
 # names that lived here before the split, still importable from this module
 from .equations import _accelerations, bearing_f, has_flank_law, mesh_geometry, mesh_state  # noqa: F401
@@ -150,52 +150,55 @@ class GearDynamics:
         for name in pos:
             v = getattr(self, name)
             if not isinstance(v, (int, float, np.floating, np.integer)) or not math.isfinite(v) or v <= 0:
-                raise InputError(f"{name} = {v!r}: must be a finite number > 0")
+                raise fail_text(name, f"{name} = {v!r}: must be a finite number > 0", v)
         for name in ("c_h", "T_p"):
             v = getattr(self, name)
             if not isinstance(v, (int, float, np.floating, np.integer)) or not math.isfinite(v):
-                raise InputError(f"{name} = {v!r}: must be a finite number")
+                raise fail_text(name, f"{name} = {v!r}: must be a finite number", v)
         if self.c_h < 0:
-            raise InputError(f"c_h = {self.c_h} N s/m: must be >= 0")
+            raise fail_text("c_h", f"c_h = {self.c_h} N s/m: must be >= 0", self.c_h, unit="N s/m")
         cb = self.c_b if isinstance(self.c_b, (tuple, list)) else (self.c_b, self.c_b)
         if len(cb) != 2 or any((not math.isfinite(c)) or c < 0 for c in cb):
-            raise InputError(f"c_b = {self.c_b!r} N s/m: must be >= 0 (one value or pinion, gear)")
+            raise fail_text("c_b", f"c_b = {self.c_b!r} N s/m: must be >= 0 (one value or pinion, gear)",
+                            self.c_b, unit="N s/m")
         object.__setattr__(self, "c_b", (float(cb[0]), float(cb[1])))
         if not (0 < self.alpha < math.pi / 2):
-            raise InputError(f"alpha = {self.alpha} rad: must be in (0, pi/2)")
+            raise fail_text("alpha", f"alpha = {self.alpha} rad: must be in (0, pi/2)", self.alpha, unit="rad",
+                            field=Field("rad", 0.0, math.pi / 2, lo_open=True, hi_open=True))
         if int(self.z_p) != self.z_p or self.z_p < 3:
-            raise InputError(f"z_p = {self.z_p}: must be a whole number >= 3")
+            raise fail_text("z_p", f"z_p = {self.z_p}: must be a whole number >= 3", self.z_p)
         L = self.table_periods
         if (isinstance(L, bool) or not isinstance(L, (int, float, np.floating, np.integer))
                 or not math.isfinite(L) or int(L) != L or L < 1):
-            raise InputError(f"table_periods = {L!r}: must be a whole number >= 1 (mesh "
-                             f"periods spanned by the stiffness tables)")
+            raise fail_text("table_periods", f"table_periods = {L!r}: must be a whole number >= 1 (mesh "
+                                             f"periods spanned by the stiffness tables)", L)
         object.__setattr__(self, "table_periods", int(L))
         P = self.table_period_rad
         phi = np.asarray(self.phi_table, dtype=float).ravel()
         k = np.asarray(self.k_table, dtype=float).ravel()
         if phi.size < 2 or k.shape != phi.shape:
-            raise InputError(f"k_table: needs >= 2 points and the shape of phi_table "
-                             f"({phi.size}), got {k.size}")
+            raise fail_text("k_table", f"k_table: needs >= 2 points and the shape of phi_table "
+                                       f"({phi.size}), got {k.size}")
         if not (np.all(np.isfinite(phi)) and np.all(np.diff(phi) > 0) and phi[0] >= 0
                 and phi[-1] < P * (1 + 1e-12)):
             span = ("one mesh period" if self.table_periods == 1 else
                     f"one table period of {self.table_periods} mesh periods (table_periods)")
-            raise InputError(f"phi_table: must be strictly increasing inside {span} "
-                             f"[0, {P:.6g}) rad")
+            raise fail_text("phi_table", f"phi_table: must be strictly increasing inside {span} "
+                                         f"[0, {P:.6g}) rad")
         if self.table_periods > 1 and phi[-1] < (self.table_periods - 1) * self.mesh_period_rad * (1 - 1e-12):
-            raise InputError(f"phi_table: ends at {phi[-1]:.6g} rad, but table_periods = "
-                             f"{self.table_periods} needs a table over [0, {P:.6g}) rad (nodes in "
-                             f"each of the {self.table_periods} mesh periods; tile a one-period "
-                             f"table or set table_periods = 1)")
+            raise fail_text("phi_table", f"phi_table: ends at {phi[-1]:.6g} rad, but table_periods = "
+                                         f"{self.table_periods} needs a table over [0, {P:.6g}) rad (nodes in "
+                                         f"each of the {self.table_periods} mesh periods; tile a one-period "
+                                         f"table or set table_periods = 1)")
         if phi[-1] >= P:
             phi = phi.copy()
             phi[-1] = np.nextafter(P, 0.0)
         if not np.all(np.isfinite(k)) or np.any(k < 0):
-            raise InputError("k_table N/m: must be finite and >= 0")
+            raise fail_text("k_table", "k_table N/m: must be finite and >= 0", unit="N/m")
         e = np.zeros_like(phi) if self.e_table is None else np.asarray(self.e_table, float).ravel()
         if e.shape != phi.shape or not np.all(np.isfinite(e)):
-            raise InputError(f"e_table m: must be finite with the shape of phi_table ({phi.size})")
+            raise fail_text("e_table", f"e_table m: must be finite with the shape of phi_table ({phi.size})",
+                            unit="m")
         for name, arr in (("phi_table", phi), ("k_table", k), ("e_table", e)):
             arr = arr.copy()
             arr.setflags(write=False)
@@ -203,31 +206,30 @@ class GearDynamics:
         for name in ("backlash_half_m", "bearing_half_clearance_m"):
             v = getattr(self, name)
             if v is not None and (not math.isfinite(v) or v < 0):
-                raise InputError(f"{name} = {v} m: must be >= 0 (or None: effect absent)")
+                raise fail_text(name, f"{name} = {v} m: must be >= 0 (or None: effect absent)", v, unit="m")
         if self.centre_distance not in ("static", "dynamic"):
-            raise InputError(f"centre_distance = {self.centre_distance!r}: must be "
-                             f"'static' or 'dynamic'")
+            raise fail("centre_distance", repr(self.centre_distance), "", "must be 'static' or 'dynamic'")
         if self.mesh_damping not in ("off-when-separated", "paper"):
-            raise InputError(f"mesh_damping = {self.mesh_damping!r}: must be "
-                             f"'off-when-separated' or 'paper'")
+            raise fail("mesh_damping", repr(self.mesh_damping), "", "must be 'off-when-separated' or 'paper'")
         if self.interpolation not in ("linear", "cubic"):
-            raise InputError(f"interpolation = {self.interpolation!r}: must be 'linear' or 'cubic'")
+            raise fail("interpolation", repr(self.interpolation), "", "must be 'linear' or 'cubic'")
         if self.interpolation == "cubic":
             if phi.size < 4:
-                raise InputError(f"k_table: cubic interpolation needs >= 4 points, got {phi.size}")
+                raise fail_text("k_table", f"k_table: cubic interpolation needs >= 4 points, got {phi.size}")
             kc = segment_coefficients(phi, k, P, "cubic")
             d = (np.diff(np.r_[phi, phi[0] + P]))[:, None] * np.linspace(0, 1, 9)[None, :]
             low = np.min(kc[:, 0, None] + d * (kc[:, 1, None] + d * (kc[:, 2, None] + d * kc[:, 3, None])))
             if low < 0:
-                raise InputError(f"k_table: its periodic cubic spline goes negative "
-                                 f"({low:.4g} N/m) between the rows; use linear interpolation")
+                raise fail_text("k_table", f"k_table: its periodic cubic spline goes negative "
+                                           f"({low:.4g} N/m) between the rows; use linear interpolation")
         if self.k_constant is not None and (not math.isfinite(self.k_constant) or self.k_constant < 0):
-            raise InputError(f"k_constant = {self.k_constant} N/m: must be >= 0")
+            raise fail_text("k_constant", f"k_constant = {self.k_constant} N/m: must be >= 0", self.k_constant,
+                            unit="N/m")
         if self.centre_distance == "dynamic" and self.C0_m is not None:
             Cn = (self.R_p + self.R_g) / math.cos(self.alpha)
             if abs(self.C0_m - Cn) > 1e-9 * Cn:
-                raise InputError(f"C0_m = {self.C0_m} m: must equal (R_p + R_g)/cos(alpha) "
-                                 f"= {Cn:.9g} m (alpha is the pressure angle at C0)")
+                raise fail_text("C0_m", f"C0_m = {self.C0_m} m: must equal (R_p + R_g)/cos(alpha) "
+                                        f"= {Cn:.9g} m (alpha is the pressure angle at C0)", self.C0_m, unit="m")
 
     # ---- derived quantities (pure) ----
     @property
