@@ -6,10 +6,7 @@ the value, the unit and the allowed range, e.g.::
     pair.module_mm = -5 mm: must be in (0, 100] mm
 
 Scene documents (unknown keys, types, ranges) are validated by the pydantic schema in
-gearwear.schema; this module is the error contract every layer raises through:
-:func:`fail` (``key = value unit: why``), :func:`fail_range` (the same with a range that
-survives a rename with a unit change) and :func:`fail_text` (a message of another form, given
-as is, with the same fields).
+gearwear.schema; this module is the error contract every layer raises through.
 """
 
 from __future__ import annotations
@@ -22,10 +19,11 @@ from typing import Any, Mapping
 class InputError(ValueError):
     """A user input is invalid; the message is a complete one-line diagnosis.
 
-    Errors built by :func:`fail`, :func:`fail_range` or :func:`fail_text` also carry
-    ``key``, ``value``, ``unit`` and ``why`` so that a higher layer can rename a low layer's
-    own parameter names to the user's keys (:func:`renamed`); every layer raises through
-    them (tests/test_error_contract.py)."""
+    Errors built by :func:`fail` (``key = value unit: why``), :func:`fail_range` (the same
+    with a range that survives a rename with a unit change) or :func:`fail_text` (a message of
+    another form, given as is) also carry ``key``, ``value``, ``unit`` and ``why`` so that a
+    higher layer can rename a low layer's own parameter names to the user's keys
+    (:func:`renamed`); every layer raises through them (tests/test_error_contract.py)."""
 
     key: str | None = None
     value: Any = None
