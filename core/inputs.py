@@ -82,9 +82,10 @@ def _read(p: Path, what: str, limit_bytes: int) -> bytes:
 
 
 def read_input(path: str | Path, key: str, what: str, limit_bytes: int) -> bytes:
-    """The bytes of the input file ``path``, or a one-line :class:`InputError` under ``key``
-    ("KEY = 'path': why") if it is missing, not a regular file, unreadable or larger than
-    ``limit_bytes``. The SHA-256 of the bytes is recorded for :func:`recorded_sha256`."""
+    """The bytes of the input file ``path``, or a one-line
+    :class:`~gearwear.core.validation.InputError` under ``key`` ("KEY = 'path': why") if it
+    is missing, not a regular file, unreadable or larger than ``limit_bytes``. The SHA-256 of
+    the bytes is recorded for :func:`recorded_sha256`."""
     p = Path(path)
     try:
         data = _read(p, what, limit_bytes)
