@@ -85,6 +85,7 @@ from typing import Callable
 
 import numpy as np
 
+from gearwear.core.validation import fail, fail_text
 from gearwear.geometry.crack import Crack, reduced_section
 from gearwear.geometry.loading import half_thickness_at_height, load_points, root_section, thickness_table
 from gearwear.geometry.profile import FILLET, INVOLUTE, TIP_LAND, ToothProfile
@@ -214,7 +215,7 @@ def beam_compliance(half_thickness: Callable[[np.ndarray], np.ndarray], breaks_m
     terms and keeps G in the shear term (``analytic.plane``).
     """
     if n_gauss < 1:
-        raise ValueError(f"n_gauss = {n_gauss}: must be >= 1")
+        raise fail_text("n_gauss", f"n_gauss = {n_gauss}: must be >= 1", n_gauss)
     breaks = np.asarray(breaks_m, dtype=float)
     if breaks.ndim != 1 or len(breaks) < 2 or np.any(np.diff(breaks) <= 0):
         raise ValueError("breaks_m must be a strictly increasing sequence of at least two heights")
@@ -301,8 +302,8 @@ def tooth_compliance(profile: ToothProfile, radius_m, material: Material, face_w
     y_M, x_M = root_section(profile)
     if np.any(lp.y_m <= y_M):
         bad = float(lp.radius_m[lp.y_m <= y_M][0])
-        raise ValueError(f"contact radius = {bad * 1e3:.6g} mm: its contact point lies below the root "
-                         f"section y_M = {y_M * 1e3:.6g} mm (use radii on the active flank)")
+        raise fail("contact radius", bad * 1e3, "mm", f"its contact point lies below the root section "
+                   f"y_M = {y_M * 1e3:.6g} mm (use radii on the active flank)")
     breaks = profile_breaks(profile, y_M)
     if opposite is not None:
         breaks = np.unique(np.concatenate([breaks, profile_breaks(opposite, y_M)]))

@@ -57,6 +57,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from gearwear.core.validation import fail_text
 from gearwear.geometry.crack import Crack, reduced_section
 from gearwear.geometry.profile import ToothProfile
 from gearwear.geometry.spec import Material
@@ -132,7 +133,7 @@ def slice_beam_compliance(thickness_fn, y_M, y_F, x_F, w, E: float, nu: float, b
     if np.may_share_memory(t, y):  # y is overwritten below
         t = t.copy()
     if t.size and not np.min(t) > 0:  # also catches NaN
-        raise ValueError("slice thickness <= 0: the tooth is consumed (wear deeper than the tooth)")
+        raise fail_text(None, "slice thickness <= 0: the tooth is consumed (wear deeper than the tooth)")
     inv_sum = np.divide(1.0, t, out=y).sum(axis=0)
     cube = np.multiply(t, t, out=y)
     cube *= t
@@ -169,7 +170,7 @@ def tooth_compliance(loaded: ToothProfile, radius_m, material: Material, face_wi
     Vectorized over radii x slices.
     """
     if n_slices < 1:
-        raise ValueError(f"n_slices = {n_slices}: must be >= 1")
+        raise fail_text("n_slices", f"n_slices = {n_slices}: must be >= 1", n_slices)
     lp = load_points(loaded, radius_m)
     y_M = root_height_m(loaded)
     ys, ts = thickness_table(loaded, opposite)  # one table for the slices and the root section

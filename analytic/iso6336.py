@@ -91,7 +91,7 @@ import math
 from dataclasses import dataclass, fields, replace
 from typing import Any
 
-from gearwear.core.validation import fail
+from gearwear.core.validation import fail, fail_text
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.spec import GearSpec, PairSpec
 
@@ -158,7 +158,7 @@ def gear_blank_factor(face_width_m: float, module_m: float, web_thickness_m: flo
     if web_thickness_m is None:
         return 1.0
     if rim_thickness_m is None:
-        raise ValueError("gear_blank_factor: a webbed blank needs rim_thickness_m as well")
+        raise fail_text(None, "gear_blank_factor: a webbed blank needs rim_thickness_m as well")
     ratio = min(max(web_thickness_m / face_width_m, 0.2), 1.2)
     rim = max(rim_thickness_m / module_m, 1.0)
     return 1.0 + math.log(ratio) / (5.0 * math.exp(rim / 5.0))
@@ -245,7 +245,7 @@ def low_load_factor(line_load_N_per_mm: float | None) -> float:
     if line_load_N_per_mm is None or line_load_N_per_mm >= LOW_LOAD_LIMIT_N_PER_MM:
         return 1.0
     if line_load_N_per_mm <= 0.0:
-        raise ValueError(f"line load = {line_load_N_per_mm:g} N/mm: must be > 0")
+        raise fail("line load", float(line_load_N_per_mm), "N/mm", "must be > 0")
     return (line_load_N_per_mm / LOW_LOAD_LIMIT_N_PER_MM) ** 0.25
 
 
@@ -317,7 +317,7 @@ def iso6336_stiffness(pair: PairSpec, torque_Nm: float | None = None,
     E = 2 E1 E2 / (E1 + E2). See the module docstring for the equations.
     """
     if K_A <= 0:
-        raise ValueError(f"K_A = {K_A:g}: must be > 0")
+        raise fail("K_A", float(K_A), "", "must be > 0")
     z_driver = pair.teeth[0]
     pair = iso_ordered(pair)  # from here on index 0 is ISO's gear 1 (fewer teeth)
     z1, z2 = pair.teeth
@@ -342,7 +342,7 @@ def iso6336_stiffness(pair: PairSpec, torque_Nm: float | None = None,
     line_load = None
     if torque_Nm is not None:
         if torque_Nm <= 0:
-            raise ValueError(f"torque = {torque_Nm:g} N m: must be > 0")
+            raise fail("torque", float(torque_Nm), "N m", "must be > 0")
         # T1 = T z1 / z_driver: the ratio first, so that it is exactly 1 without a swap
         torque_1_Nm = torque_Nm * (z1 / z_driver)
         d1_m = pair.module_m * z1
@@ -406,7 +406,7 @@ def resonance_speed_rpm(z1: int, c_gamma_N_per_mm_um: float, m_red_kg_per_mm: fl
     natural frequency sqrt(k / m_e) / (2 pi) of the pair's relative torsional vibration on
     rigid bearings."""
     if not (c_gamma_N_per_mm_um > 0 and m_red_kg_per_mm > 0 and z1 > 0):
-        raise ValueError("resonance_speed_rpm: z1, c_gamma and m_red must be > 0")
+        raise fail_text(None, "resonance_speed_rpm: z1, c_gamma and m_red must be > 0")
     return 30000.0 / (math.pi * z1) * math.sqrt(c_gamma_N_per_mm_um / m_red_kg_per_mm)
 
 
@@ -437,7 +437,7 @@ def reduced_mass_sun_planet_kg_per_mm(m_sun_kg_per_mm: float, m_planet_kg_per_mm
     standard itself could not be checked here.
     """
     if planets < 1:
-        raise ValueError(f"planets = {planets}: must be >= 1")
+        raise fail_text("planets", f"planets = {planets}: must be >= 1", planets)
     return m_sun_kg_per_mm * m_planet_kg_per_mm / (m_sun_kg_per_mm + planets * m_planet_kg_per_mm)
 
 
@@ -455,7 +455,7 @@ def cv_coefficients(eps_gamma: float) -> tuple[float, float, float, float, float
     2.5, then 1."""
     e = float(eps_gamma)
     if not e > 1.0:
-        raise ValueError(f"eps_gamma = {e:g}: ISO 6336-1 method B needs a contact ratio > 1")
+        raise fail("eps_gamma", e, "", "ISO 6336-1 method B needs a contact ratio > 1")
     if e <= 2.0:
         c2, c3, c4, c6 = 0.34, 0.23, 0.90, 0.47
     else:
@@ -495,7 +495,7 @@ def dynamic_factor(speed_rpm, z1: int, c_gamma_N_per_mm_um: float, c_prime_N_per
     import numpy as np
 
     if not line_load_N_per_mm > 0:
-        raise ValueError(f"line load = {line_load_N_per_mm:g} N/mm: must be > 0")
+        raise fail("line load", float(line_load_N_per_mm), "N/mm", "must be > 0")
     n = np.atleast_1d(np.asarray(speed_rpm, float))
     w = float(line_load_N_per_mm)
     nE1 = resonance_speed_rpm(z1, c_gamma_N_per_mm_um, m_red_kg_per_mm)
@@ -529,7 +529,8 @@ def iso1328_range_mean(value_mm: float, limits_mm: tuple[float, ...]) -> float:
     """sqrt(lo hi) (mm) of the ISO 1328-1:1995 range lo < value <= hi of ``limits_mm`` that holds
     ``value_mm`` (the first range includes its lower limit)."""
     if not limits_mm[0] <= value_mm <= limits_mm[-1]:
-        raise ValueError(f"{value_mm:g} mm: outside the ISO 1328-1 ranges [{limits_mm[0]:g}, {limits_mm[-1]:g}] mm")
+        raise fail_text(None, f"{value_mm:g} mm: outside the ISO 1328-1 ranges [{limits_mm[0]:g}, "
+                        f"{limits_mm[-1]:g}] mm", value_mm, unit="mm")
     hi_index = next(i for i, hi in enumerate(limits_mm[1:], 1) if value_mm <= hi)
     return math.sqrt(limits_mm[hi_index - 1] * limits_mm[hi_index])
 

@@ -15,6 +15,8 @@ chooses it for the FE and these beam terms alike.
 
 from __future__ import annotations
 
+from gearwear.core.validation import fail
+
 PLANES = ("stress", "strain")
 
 
@@ -25,4 +27,4 @@ def beam_modulus_Pa(youngs_modulus_Pa: float, poisson_ratio: float, plane: str) 
         return youngs_modulus_Pa
     if plane == "strain":
         return youngs_modulus_Pa / (1.0 - poisson_ratio ** 2)
-    raise ValueError(f"plane = {plane!r}: must be one of {', '.join(PLANES)}")
+    raise fail("plane", repr(plane), "", f"must be one of {', '.join(PLANES)}")

@@ -70,7 +70,7 @@ from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.operating import operating_geometry
 from gearwear.geometry.profile import ToothProfile, tooth_profile
 from gearwear.geometry.spec import PairSpec
-from gearwear.core.validation import InputError, fail
+from gearwear.core.validation import fail, fail_text
 from gearwear.geometry.wear import WearSpec, flank_depth, key_roll_angles, wear_on_line_of_action
 
 from . import TABLE_POINTS_PER_MESH_PERIOD, ishikawa
@@ -250,8 +250,8 @@ def share_load(total_N: float, c: np.ndarray, gap: np.ndarray, a: float, expo: f
     cand = np.isfinite(c) & np.isfinite(gap)
     n = c.shape[0]
     if not np.all(cand.any(axis=1)):
-        raise InputError("no tooth pair can come into contact at some angles (contact ratio far below one): "
-                         "the static transmission error is undefined there")
+        raise fail_text(None, "no tooth pair can come into contact at some angles (contact ratio far below one): "
+                              "the static transmission error is undefined there")
     rows = np.nonzero(cand)[0]
     cc, gg = c[cand], gap[cand]
     # upper start: the smallest-gap pair alone carries everything; the total load is

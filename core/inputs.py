@@ -23,7 +23,7 @@ import stat
 import threading
 from pathlib import Path
 
-from .validation import InputError
+from .validation import fail
 
 #: SHA-256 of the bytes each input was parsed from, by resolved path (this process)
 _DIGESTS: dict[str, str] = {}
@@ -82,15 +82,16 @@ def _read(p: Path, what: str, limit_bytes: int) -> bytes:
 
 
 def read_input(path: str | Path, key: str, what: str, limit_bytes: int) -> bytes:
-    """The bytes of the input file ``path``, or a one-line :class:`InputError` under ``key``
-    ("KEY = 'path': why") if it is missing, not a regular file, unreadable or larger than
-    ``limit_bytes``. The SHA-256 of the bytes is recorded for :func:`recorded_sha256`."""
+    """The bytes of the input file ``path``, or a one-line
+    :class:`~gearwear.core.validation.InputError` under ``key`` ("KEY = 'path': why") if it
+    is missing, not a regular file, unreadable or larger than ``limit_bytes``. The SHA-256 of
+    the bytes is recorded for :func:`recorded_sha256`."""
     p = Path(path)
     try:
         data = _read(p, what, limit_bytes)
     except _Refused as exc:
         hint = ": inputs are read from regular files (save a stream to a file first)" if exc.stream else ""
-        raise InputError(f"{key} = {str(p)!r}: {exc}{hint}") from None
+        raise fail(key, repr(str(p)), "", f"{exc}{hint}") from None
     with _LOCK:
         _DIGESTS[str(p.resolve())] = hashlib.sha256(data).hexdigest()
     return data
@@ -113,7 +114,7 @@ def read_input_text(path: str | Path, key: str, what: str, limit_bytes: int) -> 
     try:
         return data.decode("utf-8")
     except UnicodeDecodeError as exc:
-        raise InputError(f"{key} = {str(path)!r}: is not UTF-8 text (byte {exc.start})") from None
+        raise fail(key, repr(str(path)), "", f"is not UTF-8 text (byte {exc.start})") from None
 
 
 def recorded_sha256(path: str | Path) -> str | None:

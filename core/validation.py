@@ -19,9 +19,11 @@ from typing import Any, Mapping
 class InputError(ValueError):
     """A user input is invalid; the message is a complete one-line diagnosis.
 
-    Errors built by :func:`fail` also carry ``key``, ``value``, ``unit`` and ``why`` so
-    that a higher layer can rename a low layer's own parameter names to the user's keys
-    (:func:`renamed`)."""
+    Errors built by :func:`fail` (``key = value unit: why``), :func:`fail_range` (the same
+    with a range that survives a rename with a unit change) or :func:`fail_text` (a message of
+    another form, given as is) also carry ``key``, ``value``, ``unit`` and ``why`` so that a
+    higher layer can rename a low layer's own parameter names to the user's keys
+    (:func:`renamed`); every layer raises through them (tests/test_error_contract.py)."""
 
     key: str | None = None
     value: Any = None
@@ -75,6 +77,26 @@ def fail_range(key: str, value: float, field: Field, note: str = "") -> InputErr
     a unit change, see :func:`renamed`)."""
     err = fail(key, value, field.unit, f"must be in {field.range_text()}" + (f", {note}" if note else ""))
     err.field, err.note = field, note
+    return err
+
+
+def fail_text(key: str | None, text: str, value: Any = None, unit: str = "",
+              field: Field | None = None) -> InputError:
+    """The contract's error for a one-line message that :func:`fail` cannot print byte for
+    byte: a value printed with ``str``/``repr`` rather than ``%g``, no value at all
+    (``k_table N/m: must be ...``), a range in words (``(0, pi/2)``). ``text`` is the message
+    as given. It starts with ``key``, the layer's own name that :func:`renamed` swaps for the
+    user's (None: the message names no input, e.g. ``WearSpec: exactly one of ...``), and
+    ``why`` is what follows the first ``: `` after the key (or all that follows the key);
+    ``value``, ``unit`` and ``field`` are set as :func:`fail` and :func:`fail_range` set them,
+    so a rename with a unit change rescales the value (and the range) as it does for them."""
+    if key is not None and not text.startswith(key):
+        raise ValueError(f"fail_text: the message must start with its key {key!r}: {text!r}")
+    rest = text if key is None else text[len(key):]
+    _, sep, after = rest.partition(": ")
+    err = InputError(text)
+    err.key, err.value, err.unit, err.field = key, value, unit, field
+    err.why = after if sep else rest.strip()
     return err
 
 

@@ -7,9 +7,11 @@ or ``gearwear``. See ``dynamics.model`` for the equations and the paper correcti
 """
 
 from .analysis import energy_balance, harmonics, mechanical_energy, spectrum
-from .model import (STATE_NAMES, GearDynamics, damping_from_ratios, linear_eigenfrequencies,
-                    rhs_python, static_equilibrium)
+from .equilibrium import static_equilibrium
+from .linear import linear_eigenfrequencies
+from .model import STATE_NAMES, GearDynamics, damping_from_ratios
 from .presets import paper_pair, rectangular_stiffness
+from .reference_rhs import rhs_python
 from .simulate import SimResult, compute_signals, kernel_switches, simulate
 
 __all__ = ["GearDynamics", "SimResult", "simulate", "harmonics", "spectrum",

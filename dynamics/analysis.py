@@ -4,7 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .model import GearDynamics, _accelerations, bearing_f, has_flank_law, mesh_state
+from gearwear.core.validation import fail_text
+
+from .equations import _accelerations, bearing_f, has_flank_law, mesh_state
+from .model import GearDynamics
 
 _trapezoid = getattr(np, "trapezoid", None) or getattr(np, "trapz")
 
@@ -404,7 +407,7 @@ def acceleration_signals(result) -> dict:
     window is whole table periods)."""
     model = result.model
     if model is None:
-        raise ValueError("acceleration_signals: the result carries no model")
+        raise fail_text(None, "acceleration_signals: the result carries no model")
     t, Z = result.t, result.states
     a = _accelerations(model, t, Z)
     G = mesh_state(model, t, Z)["G"]

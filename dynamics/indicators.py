@@ -55,7 +55,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from gearwear.core.validation import InputError
+from gearwear.core.validation import fail, fail_text
 
 __all__ = ["GearIndicators", "SidebandLines", "gear_indicators", "result_indicators",
            "ac_rms", "kurtosis", "crest_factor", "fm0", "fm4", "difference_signal",
@@ -71,22 +71,22 @@ _FLAT = 1e-12
 def _signal(x) -> np.ndarray:
     a = np.asarray(x, dtype=float)
     if a.ndim != 1 or a.size < 4:
-        raise InputError(f"x: must be a 1-D signal of >= 4 samples, got shape {a.shape}")
+        raise fail_text("x", f"x: must be a 1-D signal of >= 4 samples, got shape {a.shape}")
     if not np.all(np.isfinite(a)):
-        raise InputError("x: must be finite (no NaN or inf samples)")
+        raise fail_text("x", "x: must be finite (no NaN or inf samples)")
     return a
 
 
 def _positive(name: str, v) -> float:
     if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)) \
             or not math.isfinite(v) or v <= 0:
-        raise InputError(f"{name} = {v!r}: must be a finite number > 0")
+        raise fail_text(name, f"{name} = {v!r}: must be a finite number > 0", v)
     return float(v)
 
 
 def _count(name: str, v, low: int) -> int:
     if isinstance(v, bool) or not isinstance(v, (int, np.integer, float)) or int(v) != v or v < low:
-        raise InputError(f"{name} = {v!r}: must be a whole number >= {low}")
+        raise fail_text(name, f"{name} = {v!r}: must be a whole number >= {low}", v)
     return int(v)
 
 
@@ -101,15 +101,15 @@ def revolution_bins(n_samples: int, fs_Hz: float, f_mesh_Hz: float, f_shaft_Hz: 
     zr = fm / fsh
     z = int(round(zr))
     if z < 1 or abs(zr - z) > 1e-9 * zr:
-        raise InputError(f"f_mesh_Hz = {fm:.9g}: must be a whole multiple of f_shaft_Hz = {fsh:.9g} "
-                         f"(the monitored shaft's tooth count), got the ratio {zr:.9g}")
+        raise fail_text("f_mesh_Hz", f"f_mesh_Hz = {fm:.9g}: must be a whole multiple of f_shaft_Hz = {fsh:.9g} "
+                                     f"(the monitored shaft's tooth count), got the ratio {zr:.9g}", fm)
     rev = n_samples * fsh / fs
     R = int(round(rev))
     if R < 1 or abs(rev - R) > 1e-6:
-        raise InputError(f"x: {n_samples} samples at fs_Hz = {fs:.9g} are {rev:.9g} revolutions of "
-                         f"the shaft at f_shaft_Hz = {fsh:.9g}; the record must hold a whole number "
-                         f"(>= 1) of revolutions (with a simulation: round the duration with "
-                         f"round_to_table_periods)")
+        raise fail_text("x", f"x: {n_samples} samples at fs_Hz = {fs:.9g} are {rev:.9g} revolutions of "
+                             f"the shaft at f_shaft_Hz = {fsh:.9g}; the record must hold a whole number "
+                             f"(>= 1) of revolutions (with a simulation: round the duration with "
+                             f"round_to_table_periods)")
     return R, z
 
 
@@ -130,13 +130,13 @@ def _harmonic_count(N: int, R: int, z: int, n_harmonics) -> int:
     H_max = (N // 2) // (z * R)
     if n_harmonics is None:
         if H_max < 1:
-            raise InputError(f"fs_Hz: the mesh frequency is not below the Nyquist frequency "
-                             f"({N} samples over {R} revolutions, {z} mesh periods each)")
+            raise fail_text("fs_Hz", f"fs_Hz: the mesh frequency is not below the Nyquist frequency "
+                                     f"({N} samples over {R} revolutions, {z} mesh periods each)")
         return H_max
     H = _count("n_harmonics", n_harmonics, 1)
     if H > H_max:
-        raise InputError(f"n_harmonics = {H}: only {H_max} mesh harmonics lie at or below the Nyquist "
-                         f"frequency at this sample rate")
+        raise fail("n_harmonics", H, "", f"only {H_max} mesh harmonics lie at or below the Nyquist "
+                   f"frequency at this sample rate")
     return H
 
 
@@ -247,11 +247,11 @@ def _sb_check(N, R, z, K, N_sb):
     K = _count("K", K, 1)
     N_sb = _count("N_sb", N_sb, 1)
     if 2 * N_sb >= z:
-        raise InputError(f"N_sb = {N_sb}: sidebands must stay closer to their own mesh harmonic "
-                         f"than to the next (2 N_sb < {z} = f_mesh / f_shaft)")
+        raise fail("N_sb", N_sb, "", f"sidebands must stay closer to their own mesh harmonic than to "
+                   f"the next (2 N_sb < {z} = f_mesh / f_shaft)")
     if 2 * (K * z + N_sb) * R >= N:
-        raise InputError(f"K = {K}: the sideband band K f_mesh + N_sb f_shaft reaches the Nyquist "
-                         f"frequency; lower K or N_sb, or sample faster")
+        raise fail("K", K, "", "the sideband band K f_mesh + N_sb f_shaft reaches the Nyquist "
+                   "frequency; lower K or N_sb, or sample faster")
     return K, N_sb
 
 
@@ -373,8 +373,8 @@ def result_indicators(result, signal: str = "a_delta", f_shaft_Hz: float | None 
     else:
         sigs = result.signals
     if signal not in sigs:
-        raise InputError(f"signal = {signal!r}: not a signal of the result (one of "
-                         f"{', '.join(sorted(sigs))})")
+        raise fail("signal", repr(signal), "", f"not a signal of the result (one of "
+                   f"{', '.join(sorted(sigs))})")
     m = result.model
     fsh = f_shaft_Hz if f_shaft_Hz is not None else m.omega_p / (2 * math.pi)
     kw.setdefault("unit", _UNITS.get(signal, ""))

@@ -23,11 +23,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from gearwear.core.validation import InputError
+from gearwear.core.validation import Field, InputError, fail, fail_text
 
 from . import kernels
-from .model import (STATE_NAMES, GearDynamics, derived, has_flank_law, max_linear_rate, mesh_state,
-                    rk4_schedule, static_equilibrium, table_node_times)
+from .equations import has_flank_law, mesh_state
+from .equilibrium import static_equilibrium
+from .linear import max_linear_rate
+from .model import STATE_NAMES, GearDynamics
+from .params import derived
+from .table_time import rk4_schedule, table_node_times
 
 __all__ = ["SimResult", "simulate", "kernel_switches", "compute_signals", "round_to_table_periods"]
 
@@ -179,10 +183,11 @@ def check_rk4_stable(model: GearDynamics, steps_per_mesh_period: int, k: float |
     if hw > 2.5:
         n_min = int(math.ceil(w / (2.5 * model.mesh_frequency_Hz)))
         eq = ">=" if bound else "="
-        raise InputError(f"steps_per_mesh_period = {steps_per_mesh_period}: RK4 is unstable "
-                         f"here (h omega_max {eq} {hw:.3g} > 2.5, omega_max {eq} {w:.4g} rad/s of the "
-                         f"linearised model); use >= {n_min} steps per mesh period or "
-                         f"method = dopri5")
+        raise fail_text("steps_per_mesh_period",
+                        f"steps_per_mesh_period = {steps_per_mesh_period}: RK4 is unstable "
+                        f"here (h omega_max {eq} {hw:.3g} > 2.5, omega_max {eq} {w:.4g} rad/s of the "
+                        f"linearised model); use >= {n_min} steps per mesh period or "
+                        f"method = dopri5", steps_per_mesh_period)
 
 
 #: |h lambda| at which Dormand-Prince 5(4) leaves its stability region (about 3.3 on the
@@ -212,11 +217,11 @@ def check_dopri5_budget(model: GearDynamics, duration_s: float, k: float | None 
     need = duration_s * w / DOPRI5_STABLE_H_OMEGA
     if need > budget:
         eq = ">=" if bound else "="
-        raise InputError(f"duration_s = {duration_s:g} s: dopri5 cannot reach it within its budget of "
-                         f"{budget} steps: the fastest mode of the linearised model (omega_max {eq} "
-                         f"{w:.4g} rad/s) limits a stable step to {DOPRI5_STABLE_H_OMEGA / w:.3g} s, "
-                         f"so it needs >= {need:.3g} steps (check the bodies' masses and the bearing "
-                         f"stiffness, or shorten duration_s)")
+        raise fail("duration_s", float(duration_s), "s", f"dopri5 cannot reach it within its budget of "
+                   f"{budget} steps: the fastest mode of the linearised model (omega_max {eq} "
+                   f"{w:.4g} rad/s) limits a stable step to {DOPRI5_STABLE_H_OMEGA / w:.3g} s, "
+                   f"so it needs >= {need:.3g} steps (check the bodies' masses and the bearing "
+                   f"stiffness, or shorten duration_s)")
 
 
 def _run(method, model, z0, t_end, t_out, steps_per_period, rtol, atol_vec, sw, max_steps, zlim):
@@ -328,11 +333,12 @@ def round_to_table_periods(model: GearDynamics, duration_s: float, discard_s: fl
     sidebands f_m +- n f_shaft, on exact bins. For L = 1 (and any duration that already
     gives whole mesh periods) it returns a duration that keeps the same window."""
     if not (isinstance(duration_s, (int, float)) and math.isfinite(duration_s) and duration_s > 0):
-        raise InputError(f"duration_s = {duration_s} s: must be > 0")
+        raise fail_text("duration_s", f"duration_s = {duration_s} s: must be > 0", duration_s, unit="s")
     if not (math.isfinite(discard_s) and 0 <= discard_s):
-        raise InputError(f"discard_s = {discard_s} s: must be >= 0")
+        raise fail_text("discard_s", f"discard_s = {discard_s} s: must be >= 0", discard_s, unit="s")
     if int(min_table_periods) != min_table_periods or min_table_periods < 1:
-        raise InputError(f"min_table_periods = {min_table_periods}: must be a whole number >= 1")
+        raise fail_text("min_table_periods", f"min_table_periods = {min_table_periods}: must be a whole number >= 1",
+                        min_table_periods)
     fm = model.mesh_frequency_Hz
     L = model.table_periods
     n_d = int(math.ceil(discard_s * fm - 1e-9))
@@ -377,16 +383,17 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
     output times, so the samples and the end state are the same as with ``dense=True``.
     """
     if not (isinstance(duration_s, (int, float)) and math.isfinite(duration_s) and duration_s > 0):
-        raise InputError(f"duration_s = {duration_s} s: must be > 0")
+        raise fail_text("duration_s", f"duration_s = {duration_s} s: must be > 0", duration_s, unit="s")
     if not (math.isfinite(discard_s) and 0 <= discard_s < duration_s):
-        raise InputError(f"discard_s = {discard_s} s: must be in [0, duration_s)")
+        raise fail_text("discard_s", f"discard_s = {discard_s} s: must be in [0, duration_s)", discard_s, unit="s")
     if method not in ("auto", "rk4", "dopri5"):
-        raise InputError(f"method = {method!r}: must be 'rk4', 'dopri5' or 'auto'")
+        raise fail("method", repr(method), "", "must be 'rk4', 'dopri5' or 'auto'")
     if int(steps_per_mesh_period) != steps_per_mesh_period or steps_per_mesh_period < 4:
-        raise InputError(f"steps_per_mesh_period = {steps_per_mesh_period}: must be a "
-                         f"whole number >= 4")
+        raise fail_text("steps_per_mesh_period", f"steps_per_mesh_period = {steps_per_mesh_period}: must be a "
+                        f"whole number >= 4", steps_per_mesh_period)
     if not (0 < rtol < 1):
-        raise InputError(f"rtol = {rtol}: must be in (0, 1)")
+        raise fail_text("rtol", f"rtol = {rtol}: must be in (0, 1)", rtol,
+                        field=Field("", 0.0, 1.0, lo_open=True, hi_open=True))
     method = resolve_method(model, method)
     fm = model.mesh_frequency_Hz
     Pt = 1.0 / fm
@@ -394,9 +401,9 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
     t0 = n_d * Pt
     M = int(math.floor((duration_s - t0) * fm + 1e-9))
     if M < 1:
-        raise InputError(f"duration_s = {duration_s} s: must exceed discard_s rounded up "
-                         f"to whole mesh periods ({t0:.6g} s) by at least one mesh period "
-                         f"({Pt:.6g} s)")
+        raise fail_text("duration_s", f"duration_s = {duration_s} s: must exceed discard_s rounded up "
+                                      f"to whole mesh periods ({t0:.6g} s) by at least one mesh period "
+                                      f"({Pt:.6g} s)", duration_s, unit="s")
     S = int(samples_per_mesh_period or steps_per_mesh_period)
     dt = Pt / S
     # output: the uniform grid of the kept window (M periods, S per period, plus its end
@@ -410,10 +417,10 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
     n_out = t_uni.size + nodes.size
     need = n_out * OUTPUT_BYTES_PER_SAMPLE_STATE
     if need > max_output_bytes:
-        raise InputError(f"duration_s = {duration_s:g} s: the kept window of {M} mesh periods "
-                         f"x {S} samples needs about {need / 2 ** 30:.3g} GiB of output (limit "
-                         f"{max_output_bytes / 2 ** 30:.3g} GiB); shorten duration_s - discard_s or "
-                         f"lower the speed")
+        raise fail("duration_s", float(duration_s), "s", f"the kept window of {M} mesh periods "
+                   f"x {S} samples needs about {need / 2 ** 30:.3g} GiB of output (limit "
+                   f"{max_output_bytes / 2 ** 30:.3g} GiB); shorten duration_s - discard_s or "
+                   f"lower the speed")
     t_out = np.union1d(t_uni, nodes) if nodes.size else t_uni
     uni = np.searchsorted(t_out, t_uni) if nodes.size else np.arange(t_uni.size)
     t_end = float(t_uni[-1])
@@ -423,10 +430,10 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
         # table's nodes, 11 float64 each
         sched = 88 * (model.table_periods * steps_per_mesh_period + model.phi_table.size)
         if sched > max_output_bytes:
-            raise InputError(f"table_periods = {model.table_periods}: the RK4 schedule of one "
-                             f"table period needs about {sched / 2 ** 30:.3g} GiB (limit "
-                             f"{max_output_bytes / 2 ** 30:.3g} GiB); use fewer steps per mesh "
-                             f"period or method = dopri5")
+            raise fail("table_periods", model.table_periods, "", f"the RK4 schedule of one "
+                       f"table period needs about {sched / 2 ** 30:.3g} GiB (limit "
+                       f"{max_output_bytes / 2 ** 30:.3g} GiB); use fewer steps per mesh "
+                       f"period or method = dopri5")
     if max_steps is None:
         max_steps = dopri5_step_budget(t_end, fm)
     if method == "dopri5":
@@ -434,7 +441,7 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
 
     z0 = static_equilibrium(model) if y0 is None else np.asarray(y0, float).ravel()
     if z0.shape != (10,) or not np.all(np.isfinite(z0)):
-        raise InputError("y0: must be 10 finite values (y_p, x_p, y_g, x_g, q and velocities)")
+        raise fail_text("y0", "y0: must be 10 finite values (y_p, x_p, y_g, x_g, q and velocities)")
     nz = 14 if track_energy else 10
     z0 = np.concatenate([z0, np.zeros(nz - 10)])
 
@@ -450,9 +457,9 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
     else:
         atol_vec = np.asarray(atol, float).ravel()
         if atol_vec.shape != (10,):
-            raise InputError("atol: must be None, a scalar or 10 values")
+            raise fail_text("atol", "atol: must be None, a scalar or 10 values")
     if np.any(atol_vec <= 0):
-        raise InputError("atol: must be > 0")
+        raise fail_text("atol", "atol: must be > 0")
     # a displacement this far beyond every physical scale means divergence, not dynamics
     zlim = 1e4 * (x_ref + (model.backlash_half_m or 0.0) + (model.bearing_half_clearance_m or 0.0)
                   + float(np.max(np.abs(z0[:5]))))

@@ -41,9 +41,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from gearwear.core.validation import InputError
+from gearwear.core.validation import Field, fail_text
 
-from .model import GearDynamics, mesh_geometry
+from .equations import mesh_geometry
+from .model import GearDynamics
 from .simulate import SimResult, simulate
 
 __all__ = ["SteadyState", "steady_state", "section_residuals", "zero_one_test", "classify_sequence",
@@ -97,7 +98,7 @@ def zero_one_test(phi, n_c: int = 100, n_cut: int | None = None) -> float:
     x = np.asarray(phi, float).ravel()
     N = x.size
     if N < 50:
-        raise InputError(f"zero_one_test: needs at least 50 samples, got {N}")
+        raise fail_text(None, f"zero_one_test: needs at least 50 samples, got {N}")
     n_cut = int(n_cut or N // 10)
     cs = np.linspace(math.pi / 5, 4 * math.pi / 5, n_c + 2)[1:-1]
     j = np.arange(1, N + 1)
@@ -179,9 +180,10 @@ def steady_state(model: GearDynamics, y0=None, *, tol: float = 1e-6, max_periods
     for name, v, lo in (("max_periods", max_periods, 1), ("chunk_periods", chunk_periods, 2),
                         ("keep_periods", keep_periods, 1), ("p_max", p_max, 1)):
         if int(v) != v or v < lo:
-            raise InputError(f"{name} = {v}: must be a whole number >= {lo}")
+            raise fail_text(name, f"{name} = {v}: must be a whole number >= {lo}", v)
     if not (0 < tol < 1):
-        raise InputError(f"tol = {tol}: must be in (0, 1)")
+        raise fail_text("tol", f"tol = {tol}: must be in (0, 1)", tol,
+                        field=Field("", 0.0, 1.0, lo_open=True, hi_open=True))
     L = model.table_periods
     sim = {"method": method, "steps_per_mesh_period": steps_per_mesh_period, "rtol": rtol, "atol": atol}
     z = None if y0 is None else np.asarray(y0, float).ravel().copy()

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .spec import PairSpec
-from gearwear.core.validation import InputError, fail
+from gearwear.core.validation import fail
 
 
 @dataclass(frozen=True)
@@ -34,13 +34,12 @@ class MeshGeometry:
     def __post_init__(self):
         rb_sum = sum(g.base_radius_m for g in self.pair.gears)
         if not self.centre_distance_m > rb_sum:
-            raise InputError(f"centre distance = {self.centre_distance_m * 1e3:.6g} mm: must exceed the "
-                             f"sum of base radii {rb_sum * 1e3:.6g} mm")
+            raise fail("centre distance", float(self.centre_distance_m * 1e3), "mm",
+                       f"must exceed the sum of base radii {rb_sum * 1e3:.6g} mm")
         if self.path_length_m <= 0.0:
-            raise InputError(
-                f"centre distance = {self.centre_distance_m * 1e3:.6g} mm: the tip circles no longer overlap "
-                f"the line of action (path of contact {self.path_length_m * 1e3:.4g} mm <= 0); "
-                "the gears are out of mesh")
+            raise fail("centre distance", float(self.centre_distance_m * 1e3), "mm",
+                       f"the tip circles no longer overlap the line of action (path of contact "
+                       f"{self.path_length_m * 1e3:.4g} mm <= 0); the gears are out of mesh")
 
     # -- scalars -----------------------------------------------------------------
     @property

@@ -117,7 +117,7 @@ def backlash(pair: PairSpec, centre_distance_m: float, initial_backlash_m: float
              form: str = "consistent") -> float:
     """Total normal backlash (m) at centre distance C' (paper Eqs. 13-15, see module doc)."""
     if form not in BACKLASH_FORMS:
-        raise ValueError(f"backlash form = {form!r}: must be one of {', '.join(BACKLASH_FORMS)}")
+        raise fail("backlash form", repr(form), "", f"must be one of {', '.join(BACKLASH_FORMS)}")
     rb_sum = sum(g.base_radius_m for g in pair.gears)
     a_w = pair.working_pressure_angle_rad
     # at a_w itself the backlash is exactly j_n0 (acos of the rounded ratio would leave ~1e-13 m)
@@ -134,7 +134,7 @@ def operating_geometry(pair: PairSpec, clearance_m: float = 0.0, torque_Nm: floa
     """All operating quantities of paper Fig. 15 at one bearing clearance."""
     check_scalar("initial_backlash_um", initial_backlash_m * 1e6, Field("um", 0, 1e4))
     if backlash_form not in BACKLASH_FORMS:
-        raise ValueError(f"backlash_form = {backlash_form!r}: must be one of {', '.join(BACKLASH_FORMS)}")
+        raise fail("backlash_form", repr(backlash_form), "", f"must be one of {', '.join(BACKLASH_FORMS)}")
     Cp = centre_distance(pair, clearance_m, torque_Nm, bearing_stiffness_N_per_m)
     return OperatingGeometry(pair, clearance_m, torque_Nm, bearing_stiffness_N_per_m,
                              initial_backlash_m, backlash_form, MeshGeometry(pair, Cp))

@@ -46,7 +46,7 @@ from scipy.optimize import brentq
 
 from .polyline import stitch
 from .spec import GearSpec, inv
-from gearwear.core.validation import InputError, fail
+from gearwear.core.validation import InputError, fail, fail_text
 
 ROOT_LAND, FILLET, INVOLUTE, TIP_LAND = 0, 1, 2, 3
 REGION_NAMES = {ROOT_LAND: "root", FILLET: "fillet", INVOLUTE: "involute", TIP_LAND: "tip"}
@@ -500,7 +500,7 @@ def _undercut_intersection(rack: RackGeometry, rb: float, psi_b: float):
     if len(idx) == 0:
         idx = np.flatnonzero(np.sign(g[:-1]) != np.sign(g[1:]))
         if len(idx) == 0:
-            raise InputError("undercut profile: the fillet does not meet the involute (geometry unsupported)")
+            raise fail_text(None, "undercut profile: the fillet does not meet the involute (geometry unsupported)")
     k = idx[-1]
     phi_x = brentq(gap, phis[k], phis[k + 1], xtol=1e-15, rtol=1e-15)
     xy, _ = fillet_points(rack, np.array([phi_x]))
@@ -572,7 +572,7 @@ def gear_outline(nominal: ToothProfile, worn: ToothProfile | None = None,
     g = nominal.gear
     z = g.teeth
     if worn_flank not in ("right", "left"):
-        raise ValueError("worn_flank must be 'right' or 'left'")
+        raise fail_text("worn_flank", "worn_flank must be 'right' or 'left'", repr(worn_flank))
     if worn_teeth == "all":
         worn_set = set(range(z)) if worn is not None else set()
     elif worn_teeth in ("none", None):

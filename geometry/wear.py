@@ -57,7 +57,7 @@ import numpy as np
 from .kinematics import MeshGeometry
 from .profile import INVOLUTE, ToothProfile, tooth_profile
 from .spec import PairSpec
-from gearwear.core.validation import Field, fail, fail_range
+from gearwear.core.validation import Field, fail, fail_range, fail_text
 
 PHASE_DEPTHS_M = {"unworn": 0.0, "mild": 10e-6, "severe": 30e-6}
 WEAR_MODELS = ("archard", "paper_eq1")
@@ -238,7 +238,7 @@ def wear_on_line_of_action(mesh: MeshGeometry, spec: WearSpec, d) -> tuple[np.nd
         return h1c * n1, h2c * n2
     target = PHASE_DEPTHS_M[spec.phase] if spec.phase is not None else spec.max_depth_m
     if target is None:
-        raise ValueError("WearSpec: exactly one of phase, max_depth_m, hours must be set")
+        raise fail_text(None, "WearSpec: exactly one of phase, max_depth_m, hours must be set")
     if target == 0.0:
         return np.zeros_like(d), np.zeros_like(d)
     # scale so the pinion's maximum over its whole active flank equals the target

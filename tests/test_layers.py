@@ -111,7 +111,7 @@ def test_low_layers_name_their_own_parameters_not_flags_or_scene_keys():
     """Errors below the app name the function's parameters; the CLI renames them to
     flags and scene keys (gearwear.core.validation.renamed)."""
     import re
-    pattern = re.compile(r"""(fail\(|InputError\()f?["']"""
+    pattern = re.compile(r"""(fail\(|fail_range\(|fail_text\(|InputError\()f?["']"""
                          r"""(--|pair\.|effects\.|solver\.|bodies\.|operating\.|dynamics\.)""")
     bad = [f"{layer}/{p.name}:{i}" for layer in LAYERS for p in sorted((ROOT / layer).glob("*.py"))
            for i, line in enumerate(p.read_text().splitlines(), 1) if pattern.search(line)]
