@@ -1,7 +1,7 @@
 # gearwear: two commands on a fresh machine.
 #   make demo   set up .venv and run the main job on the built-in paper gear pair
 #   make test   set up .venv and run the test suite
-#   make check  the fast tier: lint (ruff), types (mypy on the built wheel), the tests not marked slow
+#   make check  the fast tier: lint and format (ruff), types (mypy on the built wheel), the tests not marked slow
 #   make docs   the API reference from the docstrings into build/api/ (pdoc, the docs extra)
 PYTHON ?= python3
 VENV   := .venv
@@ -35,6 +35,7 @@ test: $(STAMP)
 
 check: $(STAMP)
 	$(PY) -m ruff check .
+	$(PY) -m ruff format --check .
 	$(PY) tools/check_types.py
 	$(PY) -m pytest -q -n 2 -m "not slow and not design_space"
 

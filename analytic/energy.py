@@ -122,19 +122,23 @@ def sainsot_coefficients(h_fi, theta_f_rad) -> dict[str, np.ndarray]:
     """
     h = np.asarray(h_fi, dtype=float)
     t = np.asarray(theta_f_rad, dtype=float)
-    return {k: A / t ** 2 + B * h ** 2 + C * h / t + D / t + E * h + F
-            for k, (A, B, C, D, E, F) in SAINSOT_COEFFICIENTS.items()}
+    return {
+        k: A / t**2 + B * h**2 + C * h / t + D / t + E * h + F for k, (A, B, C, D, E, F) in SAINSOT_COEFFICIENTS.items()
+    }
 
 
 def sainsot_in_fit_range(h_fi: float, theta_f_rad: float) -> bool:
     """True if (h_fi, theta_f) lie inside :data:`SAINSOT_H_FI_RANGE` and
     :data:`SAINSOT_THETA_F_RANGE_RAD`."""
-    return bool(SAINSOT_H_FI_RANGE[0] <= h_fi <= SAINSOT_H_FI_RANGE[1]
-                and SAINSOT_THETA_F_RANGE_RAD[0] <= theta_f_rad <= SAINSOT_THETA_F_RANGE_RAD[1])
+    return bool(
+        SAINSOT_H_FI_RANGE[0] <= h_fi <= SAINSOT_H_FI_RANGE[1]
+        and SAINSOT_THETA_F_RANGE_RAD[0] <= theta_f_rad <= SAINSOT_THETA_F_RANGE_RAD[1]
+    )
 
 
-def foundation_compliance(w_rad, u_f_m, S_f_m: float, h_fi: float, theta_f_rad: float,
-                          material: Material, face_width_m: float) -> np.ndarray:
+def foundation_compliance(
+    w_rad, u_f_m, S_f_m: float, h_fi: float, theta_f_rad: float, material: Material, face_width_m: float
+) -> np.ndarray:
     """Fillet-foundation compliance (m/N) of Sainsot, Velex & Duverger (2004):
 
         1/k_f = cos^2 w / (E b) [L* (u_f/S_f)^2 + M* (u_f/S_f) + P* (1 + Q* tan^2 w)]
@@ -145,7 +149,7 @@ def foundation_compliance(w_rad, u_f_m, S_f_m: float, h_fi: float, theta_f_rad: 
     c = sainsot_coefficients(h_fi, theta_f_rad)
     w = np.asarray(w_rad, dtype=float)
     r = np.asarray(u_f_m, dtype=float) / S_f_m
-    bracket = c["L"] * r ** 2 + c["M"] * r + c["P"] * (1.0 + c["Q"] * np.tan(w) ** 2)
+    bracket = c["L"] * r**2 + c["M"] * r + c["P"] * (1.0 + c["Q"] * np.tan(w) ** 2)
     return np.cos(w) ** 2 / (material.youngs_modulus_Pa * face_width_m) * bracket
 
 
@@ -163,8 +167,8 @@ def hertz_compliance_linear(materials: Material | tuple[Material, Material], fac
     m1, m2 = (materials, materials) if isinstance(materials, Material) else materials
     if m1 == m2:
         nu = m1.poisson_ratio
-        return 4.0 * (1.0 - nu ** 2) / (math.pi * m1.youngs_modulus_Pa * face_width_m)
-    s = sum((1.0 - m.poisson_ratio ** 2) / m.youngs_modulus_Pa for m in (m1, m2))
+        return 4.0 * (1.0 - nu**2) / (math.pi * m1.youngs_modulus_Pa * face_width_m)
+    s = sum((1.0 - m.poisson_ratio**2) / m.youngs_modulus_Pa for m in (m1, m2))
     return 2.0 * s / (math.pi * face_width_m)
 
 
@@ -176,8 +180,9 @@ def _gauss_legendre(n_gauss: int) -> tuple[np.ndarray, np.ndarray]:
     return xg, wg
 
 
-def _cumulative_moments(half_thickness: Callable[[np.ndarray], np.ndarray], breaks: np.ndarray,
-                        upper: np.ndarray, n_gauss: int) -> np.ndarray:
+def _cumulative_moments(
+    half_thickness: Callable[[np.ndarray], np.ndarray], breaks: np.ndarray, upper: np.ndarray, n_gauss: int
+) -> np.ndarray:
     """(4, n_pos) array of [J_0, J_1, J_2, K] from breaks[0] to ``upper`` (see module doc).
 
     Full pieces between consecutive breaks are integrated once; each position adds
@@ -202,8 +207,17 @@ def _cumulative_moments(half_thickness: Callable[[np.ndarray], np.ndarray], brea
     return cum[:, k] + moments(breaks[k], upper)
 
 
-def beam_compliance(half_thickness: Callable[[np.ndarray], np.ndarray], breaks_m, x_load_m, y_load_m,
-                    w_rad, material: Material, face_width_m: float, n_gauss: int = 16, plane: str = "stress"):
+def beam_compliance(
+    half_thickness: Callable[[np.ndarray], np.ndarray],
+    breaks_m,
+    x_load_m,
+    y_load_m,
+    w_rad,
+    material: Material,
+    face_width_m: float,
+    n_gauss: int = 16,
+    plane: str = "stress",
+):
     """Bending, shear and axial compliance (m/N) of a cantilever tooth, each an array
     over the load positions (equations in the module docstring).
 
@@ -219,22 +233,25 @@ def beam_compliance(half_thickness: Callable[[np.ndarray], np.ndarray], breaks_m
     breaks = np.asarray(breaks_m, dtype=float)
     if breaks.ndim != 1 or len(breaks) < 2 or np.any(np.diff(breaks) <= 0):
         raise ValueError("breaks_m must be a strictly increasing sequence of at least two heights")
-    x_F, y_F, w = np.broadcast_arrays(*(np.atleast_1d(np.asarray(v, dtype=float))
-                                        for v in (x_load_m, y_load_m, w_rad)))
+    x_F, y_F, w = np.broadcast_arrays(*(np.atleast_1d(np.asarray(v, dtype=float)) for v in (x_load_m, y_load_m, w_rad)))
     y_M = breaks[0]
     if np.any(y_F <= y_M) or np.any(y_F > breaks[-1] * (1 + 1e-12)):
-        raise ValueError(f"load heights must lie in ({y_M:.6g}, {breaks[-1]:.6g}] m "
-                         "(above the root section, within the profile)")
+        raise ValueError(
+            f"load heights must lie in ({y_M:.6g}, {breaks[-1]:.6g}] m (above the root section, within the profile)"
+        )
     J0, J1, J2, K = _cumulative_moments(half_thickness, breaks, y_F, n_gauss)
-    E, G, b = beam_modulus_Pa(material.youngs_modulus_Pa, material.poisson_ratio, plane), \
-        material.shear_modulus_Pa, face_width_m
+    E, G, b = (
+        beam_modulus_Pa(material.youngs_modulus_Pa, material.poisson_ratio, plane),
+        material.shear_modulus_Pa,
+        face_width_m,
+    )
     a, s = np.cos(w), np.sin(w)
     # expanding [a (y_F - y) - s x_F]^2 about y_M keeps the moments position-free;
     # with eta measured from y_M the terms stay of the lever's size (no cancellation)
     p = a * (y_F - y_M) - s * x_F
-    bending = 3.0 / (2.0 * E * b) * (p ** 2 * J0 - 2.0 * p * a * J1 + a ** 2 * J2)
-    shear = SHEAR_FACTOR * a ** 2 / (2.0 * G * b) * K
-    axial = s ** 2 / (2.0 * E * b) * K
+    bending = 3.0 / (2.0 * E * b) * (p**2 * J0 - 2.0 * p * a * J1 + a**2 * J2)
+    shear = SHEAR_FACTOR * a**2 / (2.0 * G * b) * K
+    axial = s**2 / (2.0 * E * b) * K
     return bending, shear, axial
 
 
@@ -279,9 +296,16 @@ class ToothCompliance:
         return 1.0 / self.total_m_per_N
 
 
-def tooth_compliance(profile: ToothProfile, radius_m, material: Material, face_width_m: float,
-                     n_gauss: int = 16, opposite: ToothProfile | None = None,
-                     crack: Crack | None = None, plane: str = "stress") -> ToothCompliance:
+def tooth_compliance(
+    profile: ToothProfile,
+    radius_m,
+    material: Material,
+    face_width_m: float,
+    n_gauss: int = 16,
+    opposite: ToothProfile | None = None,
+    crack: Crack | None = None,
+    plane: str = "stress",
+) -> ToothCompliance:
     """Potential-energy compliance of the tooth ``profile`` loaded at contact radii
     ``radius_m`` (m) on its (nominal or worn) right flank.
 
@@ -302,14 +326,19 @@ def tooth_compliance(profile: ToothProfile, radius_m, material: Material, face_w
     y_M, x_M = root_section(profile)
     if np.any(lp.y_m <= y_M):
         bad = float(lp.radius_m[lp.y_m <= y_M][0])
-        raise fail("contact radius", bad * 1e3, "mm", f"its contact point lies below the root section "
-                   f"y_M = {y_M * 1e3:.6g} mm (use radii on the active flank)")
+        raise fail(
+            "contact radius",
+            bad * 1e3,
+            "mm",
+            f"its contact point lies below the root section y_M = {y_M * 1e3:.6g} mm (use radii on the active flank)",
+        )
     breaks = profile_breaks(profile, y_M)
     if opposite is not None:
         breaks = np.unique(np.concatenate([breaks, profile_breaks(opposite, y_M)]))
         x_M = 0.5 * (x_M + float(half_thickness_at_height(opposite, np.array([y_M]))[0]))
     ys, ts = thickness_table(profile, opposite)
     if crack is None:
+
         def half(y):
             return 0.5 * np.interp(y, ys, ts)
     else:
@@ -319,18 +348,27 @@ def tooth_compliance(profile: ToothProfile, radius_m, material: Material, face_w
 
         def half(y):
             return 0.5 * (np.interp(y, ys, ts) - red.loss_m(y))
-    bending, shear, axial = beam_compliance(half, breaks, lp.x_m, lp.y_m, lp.w_rad,
-                                            material, face_width_m, n_gauss, plane)
+
+    bending, shear, axial = beam_compliance(
+        half, breaks, lp.x_m, lp.y_m, lp.w_rad, material, face_width_m, n_gauss, plane
+    )
     r_f = profile.gear.root_radius_m
     S_f = 2.0 * x_M
     theta_f = S_f / (2.0 * r_f)
     h_fi = r_f / profile.gear.hub_radius_m
-    foundation = foundation_compliance(lp.w_rad, lp.y_axis_m - y_M, S_f, h_fi, theta_f,
-                                       material, face_width_m)
+    foundation = foundation_compliance(lp.w_rad, lp.y_axis_m - y_M, S_f, h_fi, theta_f, material, face_width_m)
     coeffs = {k: float(v) for k, v in sainsot_coefficients(h_fi, theta_f).items()}
     return ToothCompliance(
-        radius_m=lp.radius_m, w_rad=lp.w_rad, bending_m_per_N=bending, shear_m_per_N=shear,
-        axial_m_per_N=axial, foundation_m_per_N=foundation, h_fi=h_fi, theta_f_rad=theta_f,
-        foundation_coefficients=coeffs, foundation_in_fit_range=sainsot_in_fit_range(h_fi, theta_f),
-        face_width_m=face_width_m, n_gauss=n_gauss,
+        radius_m=lp.radius_m,
+        w_rad=lp.w_rad,
+        bending_m_per_N=bending,
+        shear_m_per_N=shear,
+        axial_m_per_N=axial,
+        foundation_m_per_N=foundation,
+        h_fi=h_fi,
+        theta_f_rad=theta_f,
+        foundation_coefficients=coeffs,
+        foundation_in_fit_range=sainsot_in_fit_range(h_fi, theta_f),
+        face_width_m=face_width_m,
+        n_gauss=n_gauss,
     )

@@ -30,13 +30,26 @@ class HarrisMap:
     modified_ste_pp_m: np.ndarray
 
     def rows(self) -> list[dict]:
-        return [{"torque_Nm": float(t), "ste_peak_to_peak_nominal_um": float(a * 1e6),
-                 "ste_peak_to_peak_modified_um": float(b * 1e6)}
-                for t, a, b in zip(self.torque_Nm, self.nominal_ste_pp_m, self.modified_ste_pp_m)]
+        return [
+            {
+                "torque_Nm": float(t),
+                "ste_peak_to_peak_nominal_um": float(a * 1e6),
+                "ste_peak_to_peak_modified_um": float(b * 1e6),
+            }
+            for t, a, b in zip(self.torque_Nm, self.nominal_ste_pp_m, self.modified_ste_pp_m)
+        ]
 
 
-def harris_map(pair: PairSpec, flank: FlankSpec, torques_Nm, method: str = "ishikawa", points: int = DEFAULT_POINTS,
-               wear: WearSpec | None = None, clearance_m: float = 0.0, plane: str = "stress") -> HarrisMap:
+def harris_map(
+    pair: PairSpec,
+    flank: FlankSpec,
+    torques_Nm,
+    method: str = "ishikawa",
+    points: int = DEFAULT_POINTS,
+    wear: WearSpec | None = None,
+    clearance_m: float = 0.0,
+    plane: str = "stress",
+) -> HarrisMap:
     """TE peak-to-peak (m) over one mesh period at each torque, without and with ``flank``
     (``plane``: the tooth beams' 2D state, analytic.plane)."""
     T = np.asarray(torques_Nm, dtype=float)
@@ -44,7 +57,15 @@ def harris_map(pair: PairSpec, flank: FlankSpec, torques_Nm, method: str = "ishi
     modified: list[float] = []
     for t in T:
         for fl, out in ((None, nominal), (flank, modified)):
-            r = mesh_stiffness(pair, method=method, points=points, torque_Nm=float(t), clearance_m=clearance_m,
-                               wear=wear, flank=fl, plane=plane)
+            r = mesh_stiffness(
+                pair,
+                method=method,
+                points=points,
+                torque_Nm=float(t),
+                clearance_m=clearance_m,
+                wear=wear,
+                flank=fl,
+                plane=plane,
+            )
             out.append(float(np.ptp(r.ste_m)))
     return HarrisMap(T, np.array(nominal), np.array(modified))

@@ -59,10 +59,10 @@ import numpy as np
 
 from gearwear.core.validation import fail_text
 from gearwear.geometry.crack import Crack, reduced_section
+from gearwear.geometry.loading import load_points, root_height_m, root_section, thickness_table
 from gearwear.geometry.profile import ToothProfile
 from gearwear.geometry.spec import Material
 
-from gearwear.geometry.loading import load_points, root_height_m, root_section, thickness_table
 from .plane import beam_modulus_Pa
 
 DEFAULT_SLICES = 64
@@ -96,8 +96,9 @@ def thickness_at_height(loaded: ToothProfile, y_m, opposite: ToothProfile | None
     return np.interp(np.asarray(y_m, dtype=float), ys, ts)
 
 
-def slice_beam_compliance(thickness_fn, y_M, y_F, x_F, w, E: float, nu: float, b: float, n_slices: int,
-                          plane: str = "stress"):
+def slice_beam_compliance(
+    thickness_fn, y_M, y_F, x_F, w, E: float, nu: float, b: float, n_slices: int, plane: str = "stress"
+):
     """Bending, shear and axial compliance (m/N) of a slice cantilever (Eq. 2 sums).
 
     thickness_fn(y) gives the full tooth thickness at heights y (array in, array out);
@@ -139,8 +140,7 @@ def slice_beam_compliance(thickness_fn, y_M, y_F, x_F, w, E: float, nu: float, b
     cube *= t
     sums = np.tensordot(_slice_weights(n_slices), np.divide(1.0, cube, out=cube), axes=(0, 0))
     c, s = np.cos(w), np.sin(w)
-    bending = 12.0 / (Eb * b) * (c * c * L ** 3 * sums[0] - c * s * x_F * L ** 2 * sums[1]
-                                + s * s * x_F ** 2 * L * sums[2])
+    bending = 12.0 / (Eb * b) * (c * c * L**3 * sums[0] - c * s * x_F * L**2 * sums[1] + s * s * x_F**2 * L * sums[2])
     shear = 12.0 * (1 + nu) / (5.0 * E * b) * c * c * L * inv_sum
     axial = s * s * L / (Eb * b) * inv_sum
     return bending, shear, axial
@@ -155,9 +155,16 @@ def _slice_weights(n_slices: int) -> np.ndarray:
     return W
 
 
-def tooth_compliance(loaded: ToothProfile, radius_m, material: Material, face_width_m: float,
-                     n_slices: int = DEFAULT_SLICES, opposite: ToothProfile | None = None,
-                     crack: Crack | None = None, plane: str = "stress") -> SliceCompliance:
+def tooth_compliance(
+    loaded: ToothProfile,
+    radius_m,
+    material: Material,
+    face_width_m: float,
+    n_slices: int = DEFAULT_SLICES,
+    opposite: ToothProfile | None = None,
+    crack: Crack | None = None,
+    plane: str = "stress",
+) -> SliceCompliance:
     """Slice-model compliance of one tooth loaded at contact radii ``radius_m`` (m).
 
     ``loaded`` is the loaded flank (worn or not); ``opposite`` the other flank
@@ -175,6 +182,7 @@ def tooth_compliance(loaded: ToothProfile, radius_m, material: Material, face_wi
     y_M = root_height_m(loaded)
     ys, ts = thickness_table(loaded, opposite)  # one table for the slices and the root section
     if crack is None:
+
         def thickness(y):
             return np.interp(y, ys, ts)
     else:
@@ -182,15 +190,26 @@ def tooth_compliance(loaded: ToothProfile, radius_m, material: Material, face_wi
 
         def thickness(y):
             return np.interp(y, ys, ts) - red.loss_m(y)
+
     bending, shear, axial = slice_beam_compliance(
-        thickness, np.full_like(lp.y_m, y_M), lp.y_m, lp.x_m, lp.w_rad,
-        material.youngs_modulus_Pa, material.poisson_ratio, face_width_m, n_slices, plane)
+        thickness,
+        np.full_like(lp.y_m, y_M),
+        lp.y_m,
+        lp.x_m,
+        lp.w_rad,
+        material.youngs_modulus_Pa,
+        material.poisson_ratio,
+        face_width_m,
+        n_slices,
+        plane,
+    )
     foundation = _weber(lp.y_axis_m, lp.w_rad, y_M, float(np.interp(y_M, ys, ts)), material, face_width_m)
     return SliceCompliance(lp.radius_m, bending, shear, axial, foundation)
 
 
-def weber_foundation(loaded: ToothProfile, y_axis_m, w_rad, material: Material, face_width_m: float,
-                     opposite: ToothProfile | None = None) -> np.ndarray:
+def weber_foundation(
+    loaded: ToothProfile, y_axis_m, w_rad, material: Material, face_width_m: float, opposite: ToothProfile | None = None
+) -> np.ndarray:
     """Weber's root deflection per unit load, paper Eqs. 3-4 (m/N)."""
     y_M, _ = root_section(loaded)
     s_f = float(thickness_at_height(loaded, np.array([y_M]), opposite)[0])  # 2 Y_M
@@ -202,15 +221,18 @@ def _weber(y_axis_m, w_rad, y_M: float, s_f: float, material: Material, face_wid
     E, nu = material.youngs_modulus_Pa, material.poisson_ratio
     ratio = (np.asarray(y_axis_m) - y_M) / s_f  # L_f / (2 Y_M)
     w = np.asarray(w_rad)
-    bracket = (5.306 * ratio ** 2 + 2.0 * (1 - nu - 2 * nu ** 2) / (1 - nu ** 2) * ratio
-               + 1.534 * (1 + 0.4167 * np.tan(w) ** 2 / (1 + nu)))
-    return np.cos(w) ** 2 * (1 - nu ** 2) / (E * face_width_m) * bracket
+    bracket = (
+        5.306 * ratio**2
+        + 2.0 * (1 - nu - 2 * nu**2) / (1 - nu**2) * ratio
+        + 1.534 * (1 + 0.4167 * np.tan(w) ** 2 / (1 + nu))
+    )
+    return np.cos(w) ** 2 * (1 - nu**2) / (E * face_width_m) * bracket
 
 
 def hertz_approach_m(force_N, materials: Material | tuple[Material, Material], face_width_m: float) -> np.ndarray:
     """Nonlinear Hertzian approach of the pair, paper Eq. 5: 1.275 F^0.9 / (E^0.9 b^0.8) (m)."""
     F = np.maximum(np.asarray(force_N, dtype=float), 0.0)
-    return hertz_coefficient(materials, face_width_m) * F ** 0.9
+    return hertz_coefficient(materials, face_width_m) * F**0.9
 
 
 def hertz_coefficient(materials: Material | tuple[Material, Material], face_width_m: float) -> float:
@@ -220,4 +242,4 @@ def hertz_coefficient(materials: Material | tuple[Material, Material], face_widt
     m1, m2 = (materials, materials) if isinstance(materials, Material) else materials
     E1, E2 = m1.youngs_modulus_Pa, m2.youngs_modulus_Pa
     E = E1 if E1 == E2 else 2.0 * E1 * E2 / (E1 + E2)
-    return 1.275 / (E ** 0.9 * face_width_m ** 0.8)
+    return 1.275 / (E**0.9 * face_width_m**0.8)

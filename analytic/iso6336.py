@@ -119,8 +119,7 @@ def flexibility_theoretical(z1: float, z2: float, x1: float, x2: float) -> float
     this order.
     """
     c1, c2, c3, c4, c5, c6, c7, c8, c9 = ISO_Q_CONSTANTS
-    return (c1 + c2 / z1 + c3 / z2 + c4 * x1 + c5 * x1 / z1 + c6 * x2 + c7 * x2 / z2
-            + c8 * x1 ** 2 + c9 * x2 ** 2)
+    return c1 + c2 / z1 + c3 / z2 + c4 * x1 + c5 * x1 / z1 + c6 * x2 + c7 * x2 / z2 + c8 * x1**2 + c9 * x2**2
 
 
 def iso_ordered(pair: PairSpec) -> PairSpec:
@@ -136,8 +135,9 @@ def iso_ordered(pair: PairSpec) -> PairSpec:
     if pair.teeth[0] <= pair.teeth[1]:
         return pair
     # every tuple field of PairSpec holds one value per gear (index 0 = pinion/driver)
-    return replace(pair, **{f.name: getattr(pair, f.name)[::-1] for f in fields(pair)
-                            if isinstance(getattr(pair, f.name), tuple)})
+    return replace(
+        pair, **{f.name: getattr(pair, f.name)[::-1] for f in fields(pair) if isinstance(getattr(pair, f.name), tuple)}
+    )
 
 
 def single_stiffness_theoretical(z1: float, z2: float, x1: float, x2: float) -> float:
@@ -145,8 +145,9 @@ def single_stiffness_theoretical(z1: float, z2: float, x1: float, x2: float) -> 
     return 1.0 / flexibility_theoretical(z1, z2, x1, x2)
 
 
-def gear_blank_factor(face_width_m: float, module_m: float, web_thickness_m: float | None = None,
-                      rim_thickness_m: float | None = None) -> float:
+def gear_blank_factor(
+    face_width_m: float, module_m: float, web_thickness_m: float | None = None, rim_thickness_m: float | None = None
+) -> float:
     """C_R of ISO 6336-1:2019: 1 for solid discs, else for webbed blanks
 
         C_R = 1 + ln(b_s / b) / (5 exp(s_R / (5 m_n)))
@@ -186,12 +187,12 @@ def basic_rack_factor(dedendum_coefficient: float, pressure_angle_rad: float) ->
     h_fP/m_n = ``dedendum_coefficient``; alpha_n in degrees inside the bracket.
     C_B = 1 for the ISO reference rack h_fP = 1.2 m_n, alpha_n = 20 deg.
     """
-    return ((1.0 + 0.5 * (1.2 - dedendum_coefficient))
-            * (1.0 - 0.02 * (20.0 - math.degrees(pressure_angle_rad))))
+    return (1.0 + 0.5 * (1.2 - dedendum_coefficient)) * (1.0 - 0.02 * (20.0 - math.degrees(pressure_angle_rad)))
 
 
-def single_stiffness(c_th_prime: float, C_R: float, C_B: float, material_factor: float,
-                     helix_angle_rad: float = 0.0) -> float:
+def single_stiffness(
+    c_th_prime: float, C_R: float, C_B: float, material_factor: float, helix_angle_rad: float = 0.0
+) -> float:
     """c' = c'_th C_M C_R C_B cos(beta) E / E_st in N/(mm um), C_M = 0.8 (ISO 6336-1 method B,
     module docstring), without the low-load factor."""
     return c_th_prime * C_M_SOLID * C_R * C_B * math.cos(helix_angle_rad) * material_factor
@@ -220,14 +221,18 @@ def transverse_pressure_angle_rad(normal_pressure_angle_rad: float, helix_angle_
     return math.atan(math.tan(normal_pressure_angle_rad) / math.cos(helix_angle_rad))
 
 
-def transverse_contact_ratio(tip_radii_m: tuple[float, float], base_radii_m: tuple[float, float],
-                             centre_distance_m: float, transverse_base_pitch_m: float) -> float:
+def transverse_contact_ratio(
+    tip_radii_m: tuple[float, float],
+    base_radii_m: tuple[float, float],
+    centre_distance_m: float,
+    transverse_base_pitch_m: float,
+) -> float:
     """eps_alpha = (sqrt(r_a1^2 - r_b1^2) + sqrt(r_a2^2 - r_b2^2) - a sin(alpha_wt)) / p_bt of an
     external pair, cos(alpha_wt) = (r_b1 + r_b2) / a (ISO 21771); radii, a and the transverse
     base pitch p_bt = pi m_t cos(alpha_t) in m."""
     (ra1, ra2), (rb1, rb2) = tip_radii_m, base_radii_m
     alpha_wt = math.acos((rb1 + rb2) / centre_distance_m)
-    approach = math.sqrt(ra1 ** 2 - rb1 ** 2) + math.sqrt(ra2 ** 2 - rb2 ** 2)
+    approach = math.sqrt(ra1**2 - rb1**2) + math.sqrt(ra2**2 - rb2**2)
     return (approach - centre_distance_m * math.sin(alpha_wt)) / transverse_base_pitch_m
 
 
@@ -260,23 +265,23 @@ class IsoStiffness:
     gear 1 = the gear with fewer teeth, whichever drives).
     """
 
-    z1: int                    # teeth of ISO's gear 1 (the fewer)
+    z1: int  # teeth of ISO's gear 1 (the fewer)
     z2: int
-    c_th_prime: float          # theoretical single stiffness c'_th, N/(mm um)
+    c_th_prime: float  # theoretical single stiffness c'_th, N/(mm um)
     C_M: float
     C_R: float
     C_B: float
     cos_beta: float
-    material_factor: float     # E / E_st, 1 for steel/steel
-    c_prime: float             # c' without the low-load factor, N/(mm um)
-    eps_alpha: float           # transverse contact ratio used
-    c_gamma_alpha: float       # mesh stiffness without the low-load factor, N/(mm um)
+    material_factor: float  # E / E_st, 1 for steel/steel
+    c_prime: float  # c' without the low-load factor, N/(mm um)
+    eps_alpha: float  # transverse contact ratio used
+    c_gamma_alpha: float  # mesh stiffness without the low-load factor, N/(mm um)
     low_load_factor: float
-    c_prime_low_load: float    # c' with the low-load factor, N/(mm um)
+    c_prime_low_load: float  # c' with the low-load factor, N/(mm um)
     c_gamma_alpha_low_load: float
     face_width_mm: float
     line_load_N_per_mm: float | None
-    in_fit_range: bool         # profile shifts inside the range of the q' fit
+    in_fit_range: bool  # profile shifts inside the range of the q' fit
 
     @property
     def single_stiffness_N_per_m(self) -> float:
@@ -297,8 +302,9 @@ class IsoStiffness:
         return self.c_gamma_alpha_low_load * self.face_width_mm * 1e6
 
 
-def iso6336_stiffness(pair: PairSpec, torque_Nm: float | None = None,
-                      contact_ratio: float | None = None, K_A: float = 1.0) -> IsoStiffness:
+def iso6336_stiffness(
+    pair: PairSpec, torque_Nm: float | None = None, contact_ratio: float | None = None, K_A: float = 1.0
+) -> IsoStiffness:
     """ISO 6336-1:2019 method B single and mesh stiffness of ``pair`` (spur gears).
 
     ISO's gear 1 is the gear with fewer teeth whatever drives (module docstring, "Gear
@@ -326,18 +332,24 @@ def iso6336_stiffness(pair: PairSpec, torque_Nm: float | None = None,
     C_R = pair_blank_factor(pair)
     # ISO 6336-1: racks that differ (a given root diameter sets each gear's tool
     # dedendum) give C_B = (C_B1 + C_B2) / 2
-    C_B = 0.5 * (basic_rack_factor(pair.gear(0).dedendum_coefficient, pair.pressure_angle_rad)
-                 + basic_rack_factor(pair.gear(1).dedendum_coefficient, pair.pressure_angle_rad))
+    C_B = 0.5 * (
+        basic_rack_factor(pair.gear(0).dedendum_coefficient, pair.pressure_angle_rad)
+        + basic_rack_factor(pair.gear(1).dedendum_coefficient, pair.pressure_angle_rad)
+    )
     # the equivalent modulus E = 2 E1 E2 / (E1 + E2) of the two gears' own materials
     material_factor = pair.equivalent_youngs_modulus_Pa / E_STEEL_ISO_Pa
     c_prime = single_stiffness(c_th, C_R, C_B, material_factor)
-    eps = (MeshGeometry(pair, pair.centre_distance_m).contact_ratio
-           if contact_ratio is None else float(contact_ratio))
+    eps = MeshGeometry(pair, pair.centre_distance_m).contact_ratio if contact_ratio is None else float(contact_ratio)
     if eps < 1.0:
         # c_gamma_alpha = c' (0.75 eps + 0.25) is a mean over overlapping pairs (ISO 6336-1
         # states it for eps >= 1.2); with gaps in the contact there is no such mean
-        raise fail("method", "'iso6336'", "", f"ISO 6336-1 method B needs a contact ratio >= 1 (overlapping "
-                   f"tooth pairs), but it is {eps:.3f}; the analytic methods (ishikawa, energy) model the gaps")
+        raise fail(
+            "method",
+            "'iso6336'",
+            "",
+            f"ISO 6336-1 method B needs a contact ratio >= 1 (overlapping "
+            f"tooth pairs), but it is {eps:.3f}; the analytic methods (ishikawa, energy) model the gaps",
+        )
     b_mm = pair.face_width_m * 1e3
     line_load = None
     if torque_Nm is not None:
@@ -350,11 +362,22 @@ def iso6336_stiffness(pair: PairSpec, torque_Nm: float | None = None,
         line_load = F_t * K_A / b_mm
     f_low = low_load_factor(line_load)
     return IsoStiffness(
-        z1=z1, z2=z2, c_th_prime=c_th, C_M=C_M_SOLID, C_R=C_R, C_B=C_B, cos_beta=1.0,  # spur gears
-        material_factor=material_factor, c_prime=c_prime,
-        eps_alpha=eps, c_gamma_alpha=mesh_stiffness(c_prime, eps), low_load_factor=f_low,
-        c_prime_low_load=c_prime * f_low, c_gamma_alpha_low_load=mesh_stiffness(c_prime * f_low, eps),
-        face_width_mm=b_mm, line_load_N_per_mm=line_load,
+        z1=z1,
+        z2=z2,
+        c_th_prime=c_th,
+        C_M=C_M_SOLID,
+        C_R=C_R,
+        C_B=C_B,
+        cos_beta=1.0,  # spur gears
+        material_factor=material_factor,
+        c_prime=c_prime,
+        eps_alpha=eps,
+        c_gamma_alpha=mesh_stiffness(c_prime, eps),
+        low_load_factor=f_low,
+        c_prime_low_load=c_prime * f_low,
+        c_gamma_alpha_low_load=mesh_stiffness(c_prime * f_low, eps),
+        face_width_mm=b_mm,
+        line_load_N_per_mm=line_load,
         in_fit_range=bool(x1 >= x2 and -0.5 <= x1 + x2 <= 2.0),
     )
 
@@ -413,7 +436,7 @@ def resonance_speed_rpm(z1: int, c_gamma_N_per_mm_um: float, m_red_kg_per_mm: fl
 def mass_per_face_width_kg_per_mm(inertia_kg_m2: float, base_radius_m: float, face_width_m: float) -> float:
     """m* = J / (r_b^2 b) in kg/mm: a gear's polar moment of inertia J (kg m^2) as a mass on
     its line of action (base radius r_b, m), per mm of face width b (m) (ISO 6336-1 method B)."""
-    return inertia_kg_m2 / base_radius_m ** 2 / (face_width_m * 1e3)
+    return inertia_kg_m2 / base_radius_m**2 / (face_width_m * 1e3)
 
 
 def reduced_mass_kg_per_mm(m1_kg_per_mm: float, m2_kg_per_mm: float) -> float:
@@ -468,10 +491,11 @@ def cv_coefficients(eps_gamma: float) -> tuple[float, float, float, float, float
 class IsoDynamicFactor:
     """ISO 6336-1 method B dynamic factor over the speeds of ISO's gear 1 (the gear with fewer
     teeth; arrays follow ``speed_rpm``)."""
-    speed_rpm: Any             # numpy array (min^-1)
-    K_v: Any                   # numpy array
-    N: Any                     # numpy array, resonance ratio n1 / n_E1
-    range_name: tuple          # per speed: one of KV_RANGES
+
+    speed_rpm: Any  # numpy array (min^-1)
+    K_v: Any  # numpy array
+    N: Any  # numpy array, resonance ratio n1 / n_E1
+    range_name: tuple  # per speed: one of KV_RANGES
     n_E1_rpm: float
     N_S: float
     B_p: float
@@ -481,9 +505,18 @@ class IsoDynamicFactor:
     line_load_N_per_mm: float  # w = F_t K_A / b
 
 
-def dynamic_factor(speed_rpm, z1: int, c_gamma_N_per_mm_um: float, c_prime_N_per_mm_um: float,
-                   m_red_kg_per_mm: float, line_load_N_per_mm: float, f_pb_eff_um: float,
-                   f_f_eff_um: float, C_a_um: float, eps_gamma: float) -> IsoDynamicFactor:
+def dynamic_factor(
+    speed_rpm,
+    z1: int,
+    c_gamma_N_per_mm_um: float,
+    c_prime_N_per_mm_um: float,
+    m_red_kg_per_mm: float,
+    line_load_N_per_mm: float,
+    f_pb_eff_um: float,
+    f_f_eff_um: float,
+    C_a_um: float,
+    eps_gamma: float,
+) -> IsoDynamicFactor:
     """K_v of ISO 6336-1 method B at each speed ``speed_rpm`` of ISO's gear 1 (equations above
     the function).
 
@@ -520,8 +553,21 @@ def dynamic_factor(speed_rpm, z1: int, c_gamma_N_per_mm_um: float, c_prime_N_per
 #: ISO 1328-1:1995 range limits (mm) of the reference diameter d and of the normal module m:
 #: the tolerance formulae take the geometric mean of the limits of the range holding the
 #: gear's value (5 <= d <= 20, 20 < d <= 50, ...; 0.5 <= m <= 2, 2 < m <= 3.5, ...)
-ISO1328_DIAMETER_LIMITS_MM = (5.0, 20.0, 50.0, 125.0, 280.0, 560.0, 1000.0, 1600.0, 2500.0, 4000.0, 6000.0,
-                              8000.0, 10000.0)
+ISO1328_DIAMETER_LIMITS_MM = (
+    5.0,
+    20.0,
+    50.0,
+    125.0,
+    280.0,
+    560.0,
+    1000.0,
+    1600.0,
+    2500.0,
+    4000.0,
+    6000.0,
+    8000.0,
+    10000.0,
+)
 ISO1328_MODULE_LIMITS_MM = (0.5, 2.0, 3.5, 6.0, 10.0, 16.0, 25.0, 40.0, 70.0)
 
 
@@ -529,8 +575,12 @@ def iso1328_range_mean(value_mm: float, limits_mm: tuple[float, ...]) -> float:
     """sqrt(lo hi) (mm) of the ISO 1328-1:1995 range lo < value <= hi of ``limits_mm`` that holds
     ``value_mm`` (the first range includes its lower limit)."""
     if not limits_mm[0] <= value_mm <= limits_mm[-1]:
-        raise fail_text(None, f"{value_mm:g} mm: outside the ISO 1328-1 ranges [{limits_mm[0]:g}, "
-                        f"{limits_mm[-1]:g}] mm", value_mm, unit="mm")
+        raise fail_text(
+            None,
+            f"{value_mm:g} mm: outside the ISO 1328-1 ranges [{limits_mm[0]:g}, {limits_mm[-1]:g}] mm",
+            value_mm,
+            unit="mm",
+        )
     hi_index = next(i for i, hi in enumerate(limits_mm[1:], 1) if value_mm <= hi)
     return math.sqrt(limits_mm[hi_index - 1] * limits_mm[hi_index])
 
@@ -551,5 +601,7 @@ def iso1328_deviations_um(module_m: float, reference_diameter_m: float, grade: i
     def rnd(x: float) -> float:
         q = 1.0 if x > 10 else (0.5 if x >= 5 else 0.1)
         return round(round(x / q) * q, 1)
-    return rnd((0.3 * (m + 0.4 * math.sqrt(d)) + 4.0) * step), rnd((2.5 * math.sqrt(m) + 0.17 * math.sqrt(d) + 0.5)
-                                                                   * step)
+
+    return rnd((0.3 * (m + 0.4 * math.sqrt(d)) + 4.0) * step), rnd(
+        (2.5 * math.sqrt(m) + 0.17 * math.sqrt(d) + 0.5) * step
+    )

@@ -26,5 +26,5 @@ def beam_modulus_Pa(youngs_modulus_Pa: float, poisson_ratio: float, plane: str) 
     if plane == "stress":
         return youngs_modulus_Pa
     if plane == "strain":
-        return youngs_modulus_Pa / (1.0 - poisson_ratio ** 2)
+        return youngs_modulus_Pa / (1.0 - poisson_ratio**2)
     raise fail("plane", repr(plane), "", f"must be one of {', '.join(PLANES)}")

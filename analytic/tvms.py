@@ -63,6 +63,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from gearwear.core.validation import fail, fail_text
 from gearwear.geometry.curves import CurveStats
 from gearwear.geometry.faults import FaultSpec, holds_fault, revolution_periods, spall_gap_m
 from gearwear.geometry.flank import FlankSpec, modification_on_line_of_action
@@ -70,7 +71,6 @@ from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.operating import operating_geometry
 from gearwear.geometry.profile import ToothProfile, tooth_profile
 from gearwear.geometry.spec import PairSpec
-from gearwear.core.validation import fail, fail_text
 from gearwear.geometry.wear import WearSpec, flank_depth, key_roll_angles, wear_on_line_of_action
 
 from . import TABLE_POINTS_PER_MESH_PERIOD, ishikawa
@@ -122,6 +122,7 @@ class MeshStiffness(CurveStats):
 
 # -- profiles and compliance ---------------------------------------------------------
 
+
 @lru_cache(maxsize=64)
 def _profiles(pair: PairSpec, wear: WearSpec | None, centre_distance_m: float):
     """(nominal, loaded) profiles of pinion and gear, cached: they depend only on the
@@ -137,25 +138,47 @@ def _profiles(pair: PairSpec, wear: WearSpec | None, centre_distance_m: float):
     return nominal, tuple(loaded)
 
 
-def _tooth_compliance(method: str, loaded: ToothProfile, nominal: ToothProfile, radius_m: np.ndarray,
-                      pair: PairSpec, n_slices: int, crack=None, plane: str = "stress") -> np.ndarray:
+def _tooth_compliance(
+    method: str,
+    loaded: ToothProfile,
+    nominal: ToothProfile,
+    radius_m: np.ndarray,
+    pair: PairSpec,
+    n_slices: int,
+    crack=None,
+    plane: str = "stress",
+) -> np.ndarray:
     """delta_1 + delta_2 per unit load (m/N) of one tooth at contact radii (``crack``: a
     geometry.crack.Crack at the root of this tooth, or None)."""
     if radius_m.size == 0:
         return np.zeros(0)
     if method == "ishikawa":
         try:
-            c = ishikawa.tooth_compliance(loaded, radius_m, loaded.gear.material, pair.face_width_m, n_slices,
-                                          opposite=nominal, crack=crack, plane=plane)
+            c = ishikawa.tooth_compliance(
+                loaded,
+                radius_m,
+                loaded.gear.material,
+                pair.face_width_m,
+                n_slices,
+                opposite=nominal,
+                crack=crack,
+                plane=plane,
+            )
         except ValueError as exc:
             if not loaded.is_worn:
                 raise  # a nominal tooth with a non-positive slice is our bug, not the user's input
-            raise fail("wear depth", float(loaded.depth.max()) * 1e6, "um",
-                       f"makes a slice of the {loaded.gear.name} tooth non-positive ({exc})") from None
+            raise fail(
+                "wear depth",
+                float(loaded.depth.max()) * 1e6,
+                "um",
+                f"makes a slice of the {loaded.gear.name} tooth non-positive ({exc})",
+            ) from None
         return c.total_m_per_N
     from . import energy
-    ce = energy.tooth_compliance(loaded, radius_m, loaded.gear.material, pair.face_width_m, opposite=nominal,
-                                 crack=crack, plane=plane)
+
+    ce = energy.tooth_compliance(
+        loaded, radius_m, loaded.gear.material, pair.face_width_m, opposite=nominal, crack=crack, plane=plane
+    )
     return np.asarray(ce.total_m_per_N)
 
 
@@ -202,6 +225,7 @@ def corner_gap_m(mesh: MeshGeometry, d, side: str) -> np.ndarray:
 
 
 # -- load sharing --------------------------------------------------------------------
+
 
 def _pair_load(e, c, a, expo, warm=None):
     """Solve c F + a F^expo = e for F >= 0 (F = 0 where e <= 0) by Newton's method.
@@ -250,8 +274,11 @@ def share_load(total_N: float, c: np.ndarray, gap: np.ndarray, a: float, expo: f
     cand = np.isfinite(c) & np.isfinite(gap)
     n = c.shape[0]
     if not np.all(cand.any(axis=1)):
-        raise fail_text(None, "no tooth pair can come into contact at some angles (contact ratio far below one): "
-                              "the static transmission error is undefined there")
+        raise fail_text(
+            None,
+            "no tooth pair can come into contact at some angles (contact ratio far below one): "
+            "the static transmission error is undefined there",
+        )
     rows = np.nonzero(cand)[0]
     cc, gg = c[cand], gap[cand]
     # upper start: the smallest-gap pair alone carries everything; the total load is
@@ -259,7 +286,7 @@ def share_load(total_N: float, c: np.ndarray, gap: np.ndarray, a: float, expo: f
     gfull = np.where(cand, gap, np.inf)
     k0 = np.argmin(gfull, axis=1)
     r = np.arange(n)
-    delta = gfull[r, k0] + c[r, k0] * total_N + a * total_N ** expo
+    delta = gfull[r, k0] + c[r, k0] * total_N + a * total_N**expo
     warm = None
     for _ in range(100):
         e = delta[rows] - gg
@@ -280,6 +307,7 @@ def share_load(total_N: float, c: np.ndarray, gap: np.ndarray, a: float, expo: f
 
 # -- the contact state at any pinion angle --------------------------------------------
 
+
 @dataclass(frozen=True)
 class _Contact:
     """Everything the load sharing needs that does not depend on the pinion angle: the
@@ -298,23 +326,36 @@ class _Contact:
     flank: FlankSpec | None
     faults: FaultSpec | None
     corner_contact: bool
-    form_limits_m: tuple[float, float]   # LOA range where a corner can touch the mating involute
-    hertz: tuple[float, float]           # (a, expo) of delta_H = a F^expo (0, 1: linear, in c)
-    c_hertz_m_per_N: float               # linear Hertz compliance (energy method), else 0
-    total_N: float                       # T / r_b1 along the LOA
+    form_limits_m: tuple[float, float]  # LOA range where a corner can touch the mating involute
+    hertz: tuple[float, float]  # (a, expo) of delta_H = a F^expo (0, 1: linear, in c)
+    c_hertz_m_per_N: float  # linear Hertz compliance (energy method), else 0
+    total_N: float  # T / r_b1 along the LOA
     periods: int
-    plane: str = "stress"                # 2D state of the tooth beam terms (analytic.plane)
+    plane: str = "stress"  # 2D state of the tooth beam terms (analytic.plane)
 
 
-def _contact(pair: PairSpec, method: str, torque_Nm: float, clearance_m: float, wear: WearSpec | None,
-             bearing_stiffness_N_per_m: float, n_slices: int, corner_contact: bool, correction, flank,
-             faults, crack_correction, plane: str = "stress") -> _Contact:
+def _contact(
+    pair: PairSpec,
+    method: str,
+    torque_Nm: float,
+    clearance_m: float,
+    wear: WearSpec | None,
+    bearing_stiffness_N_per_m: float,
+    n_slices: int,
+    corner_contact: bool,
+    correction,
+    flank,
+    faults,
+    crack_correction,
+    plane: str = "stress",
+) -> _Contact:
     if method not in METHODS:
         raise fail("method", repr(method), "", f"must be one of {', '.join(METHODS)} (iso6336 is a constant)")
     if not (torque_Nm > 0 and math.isfinite(torque_Nm)):
         raise fail("torque_Nm", torque_Nm, "N m", "must be in (0, 1e7] N m")
-    og = operating_geometry(pair, clearance_m, torque_Nm if math.isfinite(bearing_stiffness_N_per_m) else 0.0,
-                            bearing_stiffness_N_per_m)
+    og = operating_geometry(
+        pair, clearance_m, torque_Nm if math.isfinite(bearing_stiffness_N_per_m) else 0.0, bearing_stiffness_N_per_m
+    )
     mesh = og.mesh
     nominal, loaded = _profiles(pair, wear, mesh.centre_distance_m)
     rb1, rb2 = pair.gear(0).base_radius_m, pair.gear(1).base_radius_m
@@ -327,11 +368,29 @@ def _contact(pair: PairSpec, method: str, torque_Nm: float, clearance_m: float, 
         hertz = (ishikawa.hertz_coefficient(pair.materials, pair.face_width_m), 0.9)
     else:
         from . import energy
+
         c_hertz = energy.hertz_compliance_linear(pair.materials, pair.face_width_m)
         hertz = (0.0, 1.0)
-    return _Contact(method, pair, mesh, nominal, loaded, n_slices, correction or (None, None), crack_correction,
-                    wear, flank, faults, corner_contact, (lo, hi), hertz, c_hertz, torque_Nm / rb1,
-                    revolution_periods(pair, faults), plane)
+    return _Contact(
+        method,
+        pair,
+        mesh,
+        nominal,
+        loaded,
+        n_slices,
+        correction or (None, None),
+        crack_correction,
+        wear,
+        flank,
+        faults,
+        corner_contact,
+        (lo, hi),
+        hertz,
+        c_hertz,
+        torque_Nm / rb1,
+        revolution_periods(pair, faults),
+        plane,
+    )
 
 
 def _compliance(s: _Contact, k: int, radius_m: np.ndarray, corr, crack=None) -> np.ndarray:
@@ -364,7 +423,7 @@ def _state(s: _Contact, theta_rad: np.ndarray, period: np.ndarray):
     exit_ = (d > E) & (d < hi) & s.corner_contact
     cand = in_path | entry | exit_
     d_u, at = np.unique(np.clip(d[cand], A, E), return_inverse=True)
-    radii = (np.sqrt(rb1 ** 2 + d_u ** 2), np.sqrt(rb2 ** 2 + (L - d_u) ** 2))
+    radii = (np.sqrt(rb1**2 + d_u**2), np.sqrt(rb2**2 + (L - d_u) ** 2))
     c_g = [_compliance(s, k, radii[k], s.corrections[k]) for k in (0, 1)]
     c = np.full(d.shape, np.inf)
     c[cand] = (c_g[0] + c_g[1] + s.c_hertz_m_per_N)[at]
@@ -393,7 +452,7 @@ def _state(s: _Contact, theta_rad: np.ndarray, period: np.ndarray):
             g = crack.gear_index
             corr = s.crack_correction if s.crack_correction is not None else s.corrections[g]
             dh, ah = np.unique(np.clip(d[hit], A, E), return_inverse=True)
-            rh = (np.sqrt(rb1 ** 2 + dh ** 2), np.sqrt(rb2 ** 2 + (L - dh) ** 2))
+            rh = (np.sqrt(rb1**2 + dh**2), np.sqrt(rb2**2 + (L - dh) ** 2))
             healthy = [_compliance(s, k, rh[k], s.corrections[k]) for k in (0, 1)]
             healthy[g] = _compliance(s, g, rh[g], corr, crack.crack)
             c[hit] = (healthy[0] + healthy[1] + s.c_hertz_m_per_N)[ah]
@@ -458,8 +517,9 @@ def graded_offsets_rad(P: float, h: float) -> np.ndarray:
     return W * (np.arange(1, N + 1) / N) ** GRADED_POWER
 
 
-def _edge_roots(s: _Contact, a: np.ndarray, b: np.ndarray, period: np.ndarray, col: np.ndarray,
-                tol: float) -> np.ndarray:
+def _edge_roots(
+    s: _Contact, a: np.ndarray, b: np.ndarray, period: np.ndarray, col: np.ndarray, tol: float
+) -> np.ndarray:
     """Angles where the pair in slot ``col`` of mesh period ``period`` starts or stops
     carrying load, one per row, bracketed by a and b (loaded at one end only).
 
@@ -478,7 +538,7 @@ def _edge_roots(s: _Contact, a: np.ndarray, b: np.ndarray, period: np.ndarray, c
 
     rows = np.arange(a.size)
     fa, fb = f(a, rows), f(b, rows)
-    kept_b = np.zeros(a.size, dtype=bool)         # the last step replaced a, keeping b
+    kept_b = np.zeros(a.size, dtype=bool)  # the last step replaced a, keeping b
     for it in range(200):
         act = np.abs(b - a) > tol
         if not act.any():
@@ -515,7 +575,7 @@ def _table_nodes(s: _Contact, points: int) -> tuple[np.ndarray, ...]:
     P = s.mesh.mesh_angle_rad
     h = P / points
     kin = kinematic_breaks_rad(s.mesh)
-    local = np.union1d(np.arange(points) * h, np.r_[kin, P])      # closed period [0, P]
+    local = np.union1d(np.arange(points) * h, np.r_[kin, P])  # closed period [0, P]
     n_loc = local.size
     per = np.repeat(np.arange(s.periods), n_loc)
     th = np.tile(local, s.periods)
@@ -527,7 +587,7 @@ def _table_nodes(s: _Contact, points: int) -> tuple[np.ndarray, ...]:
     keep = (i + 1) % n_loc != 0
     i, k = i[keep], k[keep]
     roots = _edge_roots(s, th[i], th[i + 1], per[i], k, ROOT_TOL * P) if i.size else th[:0]
-    side = np.where(on[i + 1, k], 1.0, -1.0)                     # towards the loaded side
+    side = np.where(on[i + 1, k], 1.0, -1.0)  # towards the loaded side
     offsets = graded_offsets_rad(P, h)
     graded = (roots[:, None] + side[:, None] * offsets).ravel()
     # one-sided limits at a kinematic break where the loaded set jumps
@@ -542,8 +602,12 @@ def _table_nodes(s: _Contact, points: int) -> tuple[np.ndarray, ...]:
     uni = (np.tile(np.arange(points) * h, s.periods), np.repeat(np.arange(s.periods), points))
     breaks = (np.r_[roots, kin_th], np.r_[per[i], kin_per])
     # priority: breakpoints, one-sided limits, graded clusters, the uniform grid
-    groups = [breaks, (np.concatenate([x for x, _ in jumps]), np.concatenate([n for _, n in jumps])),
-              (graded, np.repeat(per[i], offsets.size)), uni]
+    groups = [
+        breaks,
+        (np.concatenate([x for x, _ in jumps]), np.concatenate([n for _, n in jumps])),
+        (graded, np.repeat(per[i], offsets.size)),
+        uni,
+    ]
     local = np.concatenate([g[0] for g in groups])
     period = np.concatenate([g[1] for g in groups])
     prio = np.concatenate([np.full(g[0].size, q) for q, g in enumerate(groups)])
@@ -561,8 +625,8 @@ def merge_nodes(angle: np.ndarray, priority: np.ndarray, span: float, tol: float
     ang, prio = angle[order], priority[order]
     cluster = np.r_[0, np.cumsum(np.diff(ang) > tol)]
     if ang.size > 1 and ang[0] + span - ang[-1] <= tol:
-        cluster[cluster == cluster[-1]] = 0          # the last nodes are the first ones, one span on
-    best = np.lexsort((prio, cluster))                 # by cluster, then priority
+        cluster[cluster == cluster[-1]] = 0  # the last nodes are the first ones, one span on
+    best = np.lexsort((prio, cluster))  # by cluster, then priority
     first = np.r_[True, np.diff(cluster[best]) > 0]
     return order[np.sort(best[first])]
 
@@ -574,12 +638,24 @@ def merge_nodes(angle: np.ndarray, priority: np.ndarray, span: float, tol: float
 DEFAULT_POINTS = TABLE_POINTS_PER_MESH_PERIOD
 
 
-def mesh_stiffness(pair: PairSpec, method: str = "ishikawa", points: int = DEFAULT_POINTS, torque_Nm: float = 40.0,
-                   clearance_m: float = 0.0, wear: WearSpec | None = None,
-                   bearing_stiffness_N_per_m: float = math.inf, n_slices: int = ishikawa.DEFAULT_SLICES,
-                   corner_contact: bool = True, correction=None, flank: FlankSpec | None = None,
-                   faults: FaultSpec | None = None, crack_correction=None, breakpoints: bool = True,
-                   angles_rad=None, plane: str = "stress") -> MeshStiffness:
+def mesh_stiffness(
+    pair: PairSpec,
+    method: str = "ishikawa",
+    points: int = DEFAULT_POINTS,
+    torque_Nm: float = 40.0,
+    clearance_m: float = 0.0,
+    wear: WearSpec | None = None,
+    bearing_stiffness_N_per_m: float = math.inf,
+    n_slices: int = ishikawa.DEFAULT_SLICES,
+    corner_contact: bool = True,
+    correction=None,
+    flank: FlankSpec | None = None,
+    faults: FaultSpec | None = None,
+    crack_correction=None,
+    breakpoints: bool = True,
+    angles_rad=None,
+    plane: str = "stress",
+) -> MeshStiffness:
     """k_h(theta), pair loads and loaded STE over one mesh period at the operating point
     (over one revolution of the faulty gear when ``faults`` has a fault: ``periods`` mesh
     periods).
@@ -611,8 +687,21 @@ def mesh_stiffness(pair: PairSpec, method: str = "ishikawa", points: int = DEFAU
     t0 = time.perf_counter()
     if not isinstance(points, (int, np.integer)) or points < 8:
         raise fail("points", points, "", "must be a whole number >= 8")
-    s = _contact(pair, method, torque_Nm, clearance_m, wear, bearing_stiffness_N_per_m, n_slices, corner_contact,
-                 correction, flank, faults, crack_correction, plane)
+    s = _contact(
+        pair,
+        method,
+        torque_Nm,
+        clearance_m,
+        wear,
+        bearing_stiffness_N_per_m,
+        n_slices,
+        corner_contact,
+        correction,
+        flank,
+        faults,
+        crack_correction,
+        plane,
+    )
     P = s.mesh.mesh_angle_rad
     breaks = np.empty(0)
     if angles_rad is not None:
@@ -634,9 +723,32 @@ def mesh_stiffness(pair: PairSpec, method: str = "ishikawa", points: int = DEFAU
     k = k_pair.sum(axis=1)
     excitation = np.where(k > 0, (k_pair * np.where(loaded_mask, gap, 0.0)).sum(axis=1) / k, 0.0)
     wall = time.perf_counter() - t0
-    return MeshStiffness(method, pair, s.mesh, torque_Nm, wear, theta, k, delta, excitation, F, d, in_path,
-                         wall, n_slices, {"clearance_m": clearance_m, "corner_contact": corner_contact,
-                                          "corrected": correction is not None,
-                                          "points_per_mesh_period": int(points), "breakpoints": bool(breakpoints),
-                                          "plane": plane},
-                         flank, faults, s.periods, faulty, breaks)
+    return MeshStiffness(
+        method,
+        pair,
+        s.mesh,
+        torque_Nm,
+        wear,
+        theta,
+        k,
+        delta,
+        excitation,
+        F,
+        d,
+        in_path,
+        wall,
+        n_slices,
+        {
+            "clearance_m": clearance_m,
+            "corner_contact": corner_contact,
+            "corrected": correction is not None,
+            "points_per_mesh_period": int(points),
+            "breakpoints": bool(breakpoints),
+            "plane": plane,
+        },
+        flank,
+        faults,
+        s.periods,
+        faulty,
+        breaks,
+    )

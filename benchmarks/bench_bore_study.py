@@ -52,16 +52,25 @@ POSITIONS = 24
 
 
 def the_pair(bores_mm):
-    return scene_from_dict({"pair": {"teeth": [23, 47], "module_mm": 3.0, "profile_shift": [0.2, -0.1],
-                                     "face_width_mm": 30.0, "hub_radius_mm": list(bores_mm)},
-                            "operating": {"speed_rpm": 1500, "torque_Nm": TORQUE_NM}}).pair
+    return scene_from_dict(
+        {
+            "pair": {
+                "teeth": [23, 47],
+                "module_mm": 3.0,
+                "profile_shift": [0.2, -0.1],
+                "face_width_mm": 30.0,
+                "hub_radius_mm": list(bores_mm),
+            },
+            "operating": {"speed_rpm": 1500, "torque_Nm": TORQUE_NM},
+        }
+    ).pair
 
 
 def annulus_k(g, r_ref: float) -> float:
     """Closed-form torsional stiffness (N m/rad) of the solid annulus bore..r_ref."""
     if r_ref <= g.hub_radius_m:
         return math.inf
-    return 4 * math.pi * g.material.shear_modulus_Pa * g.face_width_m / (1 / g.hub_radius_m ** 2 - 1 / r_ref ** 2)
+    return 4 * math.pi * g.material.shear_modulus_Pa * g.face_width_m / (1 / g.hub_radius_m**2 - 1 / r_ref**2)
 
 
 def ring_translation_m(pm, ps) -> float:
@@ -79,11 +88,26 @@ def ring_translation_m(pm, ps) -> float:
 
 
 def main() -> None:
-    print(f"23/47, m 3 mm, b 30 mm, x +0.2/-0.1, {TORQUE_NM:g} N m, {POSITIONS} positions, plane {PLANE}; "
-          "means in 1e8 N/m, k_blank in 1e6 N m/rad")
+    print(
+        f"23/47, m 3 mm, b 30 mm, x +0.2/-0.1, {TORQUE_NM:g} N m, {POSITIONS} positions, plane {PLANE}; "
+        "means in 1e8 N/m, k_blank in 1e6 N m/rad"
+    )
     rows = []
-    hdr = ("bores mm", "r_ref mm", "FE bore-fixed", "FE mesh only", "mesh - transl.", "k_blank FE",
-           "k_blank closed", "identity", "Ishikawa", "energy", "ISO 6336", "FE s", "analytic s")
+    hdr = (
+        "bores mm",
+        "r_ref mm",
+        "FE bore-fixed",
+        "FE mesh only",
+        "mesh - transl.",
+        "k_blank FE",
+        "k_blank closed",
+        "identity",
+        "Ishikawa",
+        "energy",
+        "ISO 6336",
+        "FE s",
+        "analytic s",
+    )
     print(" | ".join(hdr))
     for bores in BORES_MM:
         pair = the_pair(bores)
@@ -101,36 +125,62 @@ def main() -> None:
         tr = np.array([ring_translation_m(pm, fp.solve_position(pm, float(th), F)) for th in fe.angle_rad])
         k_mt = _secant(fe.pair_load_N, fe.meta["pair_gap_m"], fe.mesh_ste_m - tr)[0]
         t0 = time.perf_counter()
-        ish, en = (mesh_stiffness(pair, m, torque_Nm=TORQUE_NM, plane=PLANE).mean_N_per_m
-                   for m in ("ishikawa", "energy"))
+        ish, en = (
+            mesh_stiffness(pair, m, torque_Nm=TORQUE_NM, plane=PLANE).mean_N_per_m for m in ("ishikawa", "energy")
+        )
         iso = iso6336_stiffness(pair, torque_Nm=TORQUE_NM).mesh_stiffness_N_per_m
         t_an = time.perf_counter() - t0
         kf = fe.meta["blank_torsional_stiffness_Nm_per_rad"]
-        print(f"{bores[0]:g}/{bores[1]:g} | {r_ref[0] * 1e3:.2f}/{r_ref[1] * 1e3:.2f} | "
-              f"{fe.mean_N_per_m / 1e8:.4f} | {fe.meta['mesh_only_mean_N_per_m'] / 1e8:.4f} | "
-              f"{np.mean(k_mt) / 1e8:.4f} | {kf[0] / 1e6:.3f}/{kf[1] / 1e6:.3f} | "
-              f"{kc[0] / 1e6:.3f}/{kc[1] / 1e6:.3f} | "
-              f"{ident:.1e} | {ish / 1e8:.4f} | {en / 1e8:.4f} | {iso / 1e8:.4f} | {t_fe:.1f} | {t_an:.2f}",
-              flush=True)
+        print(
+            f"{bores[0]:g}/{bores[1]:g} | {r_ref[0] * 1e3:.2f}/{r_ref[1] * 1e3:.2f} | "
+            f"{fe.mean_N_per_m / 1e8:.4f} | {fe.meta['mesh_only_mean_N_per_m'] / 1e8:.4f} | "
+            f"{np.mean(k_mt) / 1e8:.4f} | {kf[0] / 1e6:.3f}/{kf[1] / 1e6:.3f} | "
+            f"{kc[0] / 1e6:.3f}/{kc[1] / 1e6:.3f} | "
+            f"{ident:.1e} | {ish / 1e8:.4f} | {en / 1e8:.4f} | {iso / 1e8:.4f} | {t_fe:.1f} | {t_an:.2f}",
+            flush=True,
+        )
         c_fix, c_mesh = 1 / fe.mean_N_per_m, 1 / fe.meta["mesh_only_mean_N_per_m"]
-        print(f"    compliances 1e-10 m/N: bore-fixed {c_fix * 1e10:.3f}, mesh only {c_mesh * 1e10:.3f}, blanks "
-              f"(closed form) {sum(r * r / k for r, k in zip(rb, kc)) * 1e10:.3f}, circles' translation "
-              f"{np.mean(tr) / F * 1e10:.3f}; rim below the root r_f - r_bore = "
-              f"{(pair.gear(0).root_radius_m - bores[0] * 1e-3) * 1e3:.2f}/"
-              f"{(pair.gear(1).root_radius_m - bores[1] * 1e-3) * 1e3:.2f} mm", flush=True)
-        rows.append({"bores_mm": list(bores), "r_ref_mm": [r * 1e3 for r in r_ref],
-                     "root_radius_mm": [g.root_radius_m * 1e3 for g in pair.gears],
-                     "bore_fixed_mean_N_per_m": fe.mean_N_per_m,
-                     "mesh_only_mean_N_per_m": fe.meta["mesh_only_mean_N_per_m"],
-                     "mesh_only_without_translation_mean_N_per_m": float(np.mean(k_mt)),
-                     "k_blank_fe_Nm_per_rad": list(kf), "k_blank_closed_form_Nm_per_rad": kc,
-                     "identity_residual_max": float(ident),
-                     "blank_compliance_closed_form_m_per_N": sum(r * r / k for r, k in zip(rb, kc)),
-                     "translation_compliance_m_per_N": float(np.mean(tr) / F),
-                     "ishikawa_mean_N_per_m": ish, "energy_mean_N_per_m": en, "iso6336_N_per_m": iso,
-                     "fe_wall_s": t_fe, "analytic_wall_s": t_an})
-    RESULT.write_text(json.dumps({"pair": "23/47, m 3 mm, b 30 mm, x +0.2/-0.1", "torque_Nm": TORQUE_NM,
-                                  "positions": POSITIONS, "plane": PLANE, "rows": rows}, indent=1) + "\n")
+        print(
+            f"    compliances 1e-10 m/N: bore-fixed {c_fix * 1e10:.3f}, mesh only {c_mesh * 1e10:.3f}, blanks "
+            f"(closed form) {sum(r * r / k for r, k in zip(rb, kc)) * 1e10:.3f}, circles' translation "
+            f"{np.mean(tr) / F * 1e10:.3f}; rim below the root r_f - r_bore = "
+            f"{(pair.gear(0).root_radius_m - bores[0] * 1e-3) * 1e3:.2f}/"
+            f"{(pair.gear(1).root_radius_m - bores[1] * 1e-3) * 1e3:.2f} mm",
+            flush=True,
+        )
+        rows.append(
+            {
+                "bores_mm": list(bores),
+                "r_ref_mm": [r * 1e3 for r in r_ref],
+                "root_radius_mm": [g.root_radius_m * 1e3 for g in pair.gears],
+                "bore_fixed_mean_N_per_m": fe.mean_N_per_m,
+                "mesh_only_mean_N_per_m": fe.meta["mesh_only_mean_N_per_m"],
+                "mesh_only_without_translation_mean_N_per_m": float(np.mean(k_mt)),
+                "k_blank_fe_Nm_per_rad": list(kf),
+                "k_blank_closed_form_Nm_per_rad": kc,
+                "identity_residual_max": float(ident),
+                "blank_compliance_closed_form_m_per_N": sum(r * r / k for r, k in zip(rb, kc)),
+                "translation_compliance_m_per_N": float(np.mean(tr) / F),
+                "ishikawa_mean_N_per_m": ish,
+                "energy_mean_N_per_m": en,
+                "iso6336_N_per_m": iso,
+                "fe_wall_s": t_fe,
+                "analytic_wall_s": t_an,
+            }
+        )
+    RESULT.write_text(
+        json.dumps(
+            {
+                "pair": "23/47, m 3 mm, b 30 mm, x +0.2/-0.1",
+                "torque_Nm": TORQUE_NM,
+                "positions": POSITIONS,
+                "plane": PLANE,
+                "rows": rows,
+            },
+            indent=1,
+        )
+        + "\n"
+    )
     print(f"wrote {RESULT}")
 
 

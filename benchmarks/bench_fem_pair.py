@@ -16,11 +16,11 @@ import time
 
 import numpy as np
 
-from gearwear.stiffness.comparison import pair_consistency
 from gearwear.fem import pair as fp
 from gearwear.fem.pair_model import _BODY_CACHE
 from gearwear.geometry.spec import default_pair
 from gearwear.scene.model import pair_from_dict
+from gearwear.stiffness.comparison import pair_consistency
 
 SCALES = (2.0, math.sqrt(2.0), 1.0, 1.0 / math.sqrt(2.0), 0.5)
 
@@ -30,8 +30,9 @@ def plateaus(r) -> dict:
     loaded = r.pair_load_N > 0
     inside = ~np.any(loaded & ~r.pair_in_path, axis=1)
     n = loaded.sum(axis=1)
-    return {k: float(np.mean(r.k_N_per_m[inside & (n == k)])) if np.any(inside & (n == k)) else float("nan")
-            for k in (1, 2)} | {"extended_positions": int(np.sum(~inside)), "contact_ratio": m.contact_ratio}
+    return {
+        k: float(np.mean(r.k_N_per_m[inside & (n == k)])) if np.any(inside & (n == k)) else float("nan") for k in (1, 2)
+    } | {"extended_positions": int(np.sum(~inside)), "contact_ratio": m.contact_ratio}
 
 
 def cycle(name, pair):
@@ -42,9 +43,11 @@ def cycle(name, pair):
     t = r.timings
     z, p = r.zone_means(), plateaus(r)
     gears = sorted({k.split("_")[0] for k in t if k.startswith("gear")})
-    print(f"\n{name}: 24 positions, 40 N m, plane stress, P2, h_c = {r.meta['sizes_m']['contact_m'] * 1e6:.1f} um "
-          f"(a_ref = {r.meta['a_ref_m'] * 1e6:.1f} um), dofs {r.meta['ndofs']}, condensed {r.meta['condensed_dofs']}, "
-          f"candidates per position {r.meta['candidates_per_position']}")
+    print(
+        f"\n{name}: 24 positions, 40 N m, plane stress, P2, h_c = {r.meta['sizes_m']['contact_m'] * 1e6:.1f} um "
+        f"(a_ref = {r.meta['a_ref_m'] * 1e6:.1f} um), dofs {r.meta['ndofs']}, condensed {r.meta['condensed_dofs']}, "
+        f"candidates per position {r.meta['candidates_per_position']}"
+    )
     print(f"  whole cycle (cold, incl. extended-contact bisection): {wall:.2f} s")
     print(f"  {'stage':<34}{'wall (s)':>10}")
     for g in gears:
@@ -54,16 +57,20 @@ def cycle(name, pair):
     print(f"  {'positions: LCPs (3 per position)':<34}{t['positions_lcp_s']:>10.3f}")
     print(f"  {'extended-contact bisection':<34}{t['extended_s']:>10.2f}")
     ext = r.meta["extended_contact_deg"]
-    print(f"  mean k {r.mean_N_per_m:.5e} N/m; zones: single {z['single']:.5e}, double {z['double']:.5e}; "
-          f"plateaus: single {p[1]:.5e}, double {p[2]:.5e} ({p['extended_positions']} positions with corner "
-          f"contact); extended contact {ext['entry']:.3f} deg before A, {ext['exit']:.3f} deg after E")
+    print(
+        f"  mean k {r.mean_N_per_m:.5e} N/m; zones: single {z['single']:.5e}, double {z['double']:.5e}; "
+        f"plateaus: single {p[1]:.5e}, double {p[2]:.5e} ({p['extended_positions']} positions with corner "
+        f"contact); extended contact {ext['entry']:.3f} deg before A, {ext['exit']:.3f} deg after E"
+    )
     return r
 
 
 def refinement(name, pair):
     print(f"\n{name}: h-refinement of the contact zone (24 positions)")
-    print(f"  {'scale':>7}{'h_c (um)':>10}{'mean k (N/m)':>15}{'single':>13}{'double':>13}{'ext in/out (deg)':>18}"
-          f"{'wall (s)':>10}")
+    print(
+        f"  {'scale':>7}{'h_c (um)':>10}{'mean k (N/m)':>15}{'single':>13}{'double':>13}{'ext in/out (deg)':>18}"
+        f"{'wall (s)':>10}"
+    )
     means = []
     for s in SCALES:
         _BODY_CACHE.clear()
@@ -72,42 +79,51 @@ def refinement(name, pair):
         w = time.perf_counter() - t0
         z, e = r.zone_means(), r.meta["extended_contact_deg"]
         means.append(r.mean_N_per_m)
-        print(f"  {s:>7.3f}{r.meta['sizes_m']['contact_m'] * 1e6:>10.2f}{r.mean_N_per_m:>15.6e}{z['single']:>13.5e}"
-              f"{z['double']:>13.5e}{e['entry']:>9.3f}/{e['exit']:.3f}{w:>10.2f}")
+        print(
+            f"  {s:>7.3f}{r.meta['sizes_m']['contact_m'] * 1e6:>10.2f}{r.mean_N_per_m:>15.6e}{z['single']:>13.5e}"
+            f"{z['double']:>13.5e}{e['entry']:>9.3f}/{e['exit']:.3f}{w:>10.2f}"
+        )
     m = np.array(means)
     d = np.diff(m)
     order = math.log(abs(d[-2] / d[-1])) / math.log(math.sqrt(2.0)) if d[-1] != 0 else float("inf")
     rich = m[-1] + d[-1] / (math.sqrt(2.0) ** order - 1.0) if math.isfinite(order) and order > 0 else m[-1]
     i1 = SCALES.index(1.0)
     print(f"  changes between levels: {', '.join(f'{100 * x / m[j]:+.3f} %' for j, x in enumerate(d))}")
-    print(f"  observed order (last three levels) {order:.2f}; Richardson estimate {rich:.6e} N/m; default level "
-          f"(scale 1) {100 * (m[i1] / rich - 1):+.3f} % from it, one more refinement changes it by "
-          f"{100 * (m[i1 + 1] / m[i1] - 1):+.3f} %")
+    print(
+        f"  observed order (last three levels) {order:.2f}; Richardson estimate {rich:.6e} N/m; default level "
+        f"(scale 1) {100 * (m[i1] / rich - 1):+.3f} % from it, one more refinement changes it by "
+        f"{100 * (m[i1 + 1] / m[i1] - 1):+.3f} %"
+    )
 
 
 def consistency(pair):
     rows = pair_consistency(pair, positions=24)
     print("\nPaper pair, single contact: pair FE against the single-tooth FE and Weber (1e-9 m/N = um per kN)")
-    print(f"  {'d (mm)':>8}{'c1 pair':>9}{'c1 tooth':>9}{'c2 pair':>9}{'c2 tooth':>9}{'c_local':>9}{'Weber ss':>9}"
-          f"{'Weber se':>9}{'k pair':>12}{'1/(c1+c2+cl)':>14}")
+    print(
+        f"  {'d (mm)':>8}{'c1 pair':>9}{'c1 tooth':>9}{'c2 pair':>9}{'c2 tooth':>9}{'c_local':>9}{'Weber ss':>9}"
+        f"{'Weber se':>9}{'k pair':>12}{'1/(c1+c2+cl)':>14}"
+    )
     for r in rows:
         f = 1e9
-        print(f"  {r['d_m'] * 1e3:>8.3f}{r['c1_m_per_N'] * f:>9.4f}{r['c1_tooth_m_per_N'] * f:>9.4f}"
-              f"{r['c2_m_per_N'] * f:>9.4f}{r['c2_tooth_m_per_N'] * f:>9.4f}{r['c_local_m_per_N'] * f:>9.4f}"
-              f"{r['weber_stress_m_per_N'] * f:>9.4f}{r['weber_strain_m_per_N'] * f:>9.4f}"
-              f"{r['k_pair_N_per_m']:>12.5e}{r['k_identity_N_per_m']:>14.5e}")
+        print(
+            f"  {r['d_m'] * 1e3:>8.3f}{r['c1_m_per_N'] * f:>9.4f}{r['c1_tooth_m_per_N'] * f:>9.4f}"
+            f"{r['c2_m_per_N'] * f:>9.4f}{r['c2_tooth_m_per_N'] * f:>9.4f}{r['c_local_m_per_N'] * f:>9.4f}"
+            f"{r['weber_stress_m_per_N'] * f:>9.4f}{r['weber_strain_m_per_N'] * f:>9.4f}"
+            f"{r['k_pair_N_per_m']:>12.5e}{r['k_identity_N_per_m']:>14.5e}"
+        )
     cl = np.array([r["c_local_m_per_N"] for r in rows])
     ws = np.array([r["weber_stress_m_per_N"] for r in rows])
     we = np.array([r["weber_strain_m_per_N"] for r in rows])
     idn = np.array([r["k_pair_N_per_m"] / r["k_identity_N_per_m"] - 1 for r in rows])
-    print(f"  c_local / Weber plane stress - 1: {100 * np.mean(cl / ws - 1):+.2f} % (mean), plane strain "
-          f"{100 * np.mean(cl / we - 1):+.2f} %; identity k_pair / (1/(c1+c2+c_local)) - 1: "
-          f"{100 * idn.min():+.3f} .. {100 * idn.max():+.3f} %")
+    print(
+        f"  c_local / Weber plane stress - 1: {100 * np.mean(cl / ws - 1):+.2f} % (mean), plane strain "
+        f"{100 * np.mean(cl / we - 1):+.2f} %; identity k_pair / (1/(c1+c2+c_local)) - 1: "
+        f"{100 * idn.min():+.3f} .. {100 * idn.max():+.3f} %"
+    )
 
 
 paper = default_pair()
-shifted = pair_from_dict({"pair": {"teeth": [21, 37], "profile_shift": [0.25, -0.10],
-                                   "hub_radius_mm": [30.0, 40.0]}})
+shifted = pair_from_dict({"pair": {"teeth": [21, 37], "profile_shift": [0.25, -0.10], "hub_radius_mm": [30.0, 40.0]}})
 cycle("Paper pair (30/30)", paper)
 cycle("Unequal shifted pair (21/37, x = +0.25/-0.10, bores 30/40 mm)", shifted)
 refinement("Paper pair", paper)

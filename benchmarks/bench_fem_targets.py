@@ -13,14 +13,13 @@ import math
 import statistics
 
 import numpy as np
+from _timing import timed  # noqa: E402  (benchmarks/_timing.py)
 
 from gearwear.fem.convergence import acceptance, convergence_table
 from gearwear.fem.mesh import MeshSizes, mesh_full_gear
 from gearwear.fem.tooth import single_tooth_compliance
 from gearwear.geometry.profile import fillet_midpoints, gear_outline, tooth_profile
 from gearwear.geometry.spec import default_pair
-
-from _timing import timed  # noqa: E402  (benchmarks/_timing.py)
 
 RUNS = 3
 
@@ -37,8 +36,12 @@ print(f"  {'stage':<58}{'wall s':>9}{'target':>9}{'ratio':>8}")
 
 # 1. default single-tooth level, 21 positions (was: tests/test_fem_tooth.py, d.wall_s <= 10 s)
 runs = [single_tooth_compliance(pair) for _ in range(RUNS)]
-line("single-tooth FE, default P2 level, 21 positions (wall_s)", statistics.median(r.wall_s for r in runs), 10.0,
-     f"{runs[0].ndofs} dofs")
+line(
+    "single-tooth FE, default P2 level, 21 positions (wall_s)",
+    statistics.median(r.wall_s for r in runs),
+    10.0,
+    f"{runs[0].ndofs} dofs",
+)
 
 # 2. the coarse convergence study of the tests (was: acceptance(..., max_wall_s=60))
 sq = math.sqrt(2.0)
@@ -47,8 +50,7 @@ rows = [dict(x) for x in study]
 for x in rows:
     x["is_default"] = x["order"] == 2 and x is rows[-1]
 acc = acceptance(rows, max_change_pct=1.0)
-line("coarse convergence study: its 'default' level (wall_s)", acc["default_wall_s"], 60.0,
-     f"whole study {wall:.1f} s")
+line("coarse convergence study: its 'default' level (wall_s)", acc["default_wall_s"], 60.0, f"whole study {wall:.1f} s")
 
 # 3. the full 30-tooth P2 mesh at the sizes of tests/test_mesh.py (3 mm, 0.5 mm fillets,
 #    0.2 mm load point), on the real gear outline (was: printed by test_full_gear_timing)
@@ -58,6 +60,5 @@ outline = gear_outline(nom)
 pts = fillet_midpoints(nom, g.teeth)
 load = np.array([[nom.xy[-40, 0], nom.xy[-40, 1]]])
 sizes = MeshSizes(global_m=3e-3, fillet_m=0.5e-3, load_m=0.2e-3)
-gm, wall = timed(lambda: mesh_full_gear(outline, g.hub_radius_m, sizes, refine_points_xy=load,
-                                              fillet_points_xy=pts))
+gm, wall = timed(lambda: mesh_full_gear(outline, g.hub_radius_m, sizes, refine_points_xy=load, fillet_points_xy=pts))
 line("full 30-tooth P2 mesh, 3 / 0.5 / 0.2 mm", wall, None, f"{gm.n_elements} triangles")

@@ -3,17 +3,14 @@
 Reports the median of repeated runs; compares profile cost at two sag tolerances
 (accuracy of the polyline versus time)."""
 
-
 import numpy as np
+from _timing import median_time  # noqa: E402  (benchmarks/_timing.py)
 
-from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.fem.mesh import MeshSizes, mesh_full_gear
+from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.profile import INVOLUTE, fillet_midpoints, gear_outline, involute_points, tooth_profile
 from gearwear.geometry.spec import default_pair
 from gearwear.geometry.wear import WearSpec, worn_profiles
-
-
-from _timing import median_time  # noqa: E402  (benchmarks/_timing.py)
 
 
 def polyline_error(prof):
@@ -32,8 +29,10 @@ print(f"{'what':<38}{'median wall':>14}{'points':>9}{'max chord sag':>18}")
 for sag in (5e-6, 1e-6, 0.2e-6):
     prof = tooth_profile(g, sag_m=sag)
     t = median_time(lambda: tooth_profile(g, sag_m=sag))
-    print(f"{'tooth profile, sag ' + format(sag * 1e6, 'g') + ' um':<38}{t * 1e3:>11.2f} ms{len(prof.s):>9}"
-          f"{polyline_error(prof) * 1e9:>15.1f} nm")
+    print(
+        f"{'tooth profile, sag ' + format(sag * 1e6, 'g') + ' um':<38}{t * 1e3:>11.2f} ms{len(prof.s):>9}"
+        f"{polyline_error(prof) * 1e9:>15.1f} nm"
+    )
 mesh = MeshGeometry(pair, pair.centre_distance_m)
 t = median_time(lambda: worn_profiles(pair, WearSpec(phase="severe"), mesh))
 print(f"{'worn profiles (both gears, severe)':<38}{t * 1e3:>11.2f} ms")
@@ -44,7 +43,10 @@ load = np.array([[nom.xy[-40, 0], nom.xy[-40, 1]]])
 for size in (3e-3, 1.5e-3):
     sizes = MeshSizes(global_m=size, fillet_m=0.4e-3, load_m=0.2e-3)
     gm = mesh_full_gear(outline, g.hub_radius_m, sizes, refine_points_xy=load, fillet_points_xy=pts)
-    t = median_time(lambda: mesh_full_gear(outline, g.hub_radius_m, sizes, refine_points_xy=load,
-                                           fillet_points_xy=pts), n=3)
-    print(f"{'full 30-tooth P2 mesh, global ' + format(size * 1e3, 'g') + ' mm':<38}{t:>12.2f} s"
-          f"{gm.n_elements:>9} tri, area error {gm.area_rel_error:.1e}")
+    t = median_time(
+        lambda: mesh_full_gear(outline, g.hub_radius_m, sizes, refine_points_xy=load, fillet_points_xy=pts), n=3
+    )
+    print(
+        f"{'full 30-tooth P2 mesh, global ' + format(size * 1e3, 'g') + ' mm':<38}{t:>12.2f} s"
+        f"{gm.n_elements:>9} tri, area error {gm.area_rel_error:.1e}"
+    )

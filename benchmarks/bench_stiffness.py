@@ -49,8 +49,9 @@ ROSS_PYTHON = Path(os.environ.get("GEARWEAR_BENCH_PYTHON", ROOT / ".venv-bench" 
 ROSS_REPEATS = 3
 ROSS_TIMEOUT_S = 1800
 OUT_JSON = HERE / "results" / "bench_stiffness.json"
-BENCH_VENV_HELP = ("python3 -m venv .venv-bench && "
-                   ".venv-bench/bin/python -m pip install 'ross-rotordynamics==2.3.0' 'plotly<7'")
+BENCH_VENV_HELP = (
+    "python3 -m venv .venv-bench && .venv-bench/bin/python -m pip install 'ross-rotordynamics==2.3.0' 'plotly<7'"
+)
 
 
 from _timing import median_time  # noqa: E402  (benchmarks/_timing.py)
@@ -97,7 +98,8 @@ def ours(pair, notes):
             res = mesh_stiffness(pair, method=method, points=POINTS, torque_Nm=TORQUE_NM)  # warm-up
             row["cold_wall_s"] = time.perf_counter() - t0
             row["wall_s_median"] = median_time(
-                lambda: mesh_stiffness(pair, method=method, points=POINTS, torque_Nm=TORQUE_NM), RUNS)
+                lambda: mesh_stiffness(pair, method=method, points=POINTS, torque_Nm=TORQUE_NM), RUNS
+            )
             row["runs"] = RUNS
             row["mean_N_per_m"] = float(res.mean_N_per_m)
             row["min_N_per_m"] = float(min(res.k_N_per_m))
@@ -122,13 +124,28 @@ def iso(pair, notes):
         kw = {"torque_Nm": TORQUE_NM} if "torque_Nm" in inspect.signature(iso6336_stiffness).parameters else {}
         res = iso6336_stiffness(pair, **kw)
         wall = median_time(lambda: iso6336_stiffness(pair, **kw), RUNS)
-        rows = [{"method": "iso6336", "kind": "constant c_gamma_alpha b", "wall_s_median": wall, "runs": RUNS,
-                 "mean_N_per_m": float(res.mesh_stiffness_N_per_m), "torque_Nm": kw.get("torque_Nm")}]
+        rows = [
+            {
+                "method": "iso6336",
+                "kind": "constant c_gamma_alpha b",
+                "wall_s_median": wall,
+                "runs": RUNS,
+                "mean_N_per_m": float(res.mesh_stiffness_N_per_m),
+                "torque_Nm": kw.get("torque_Nm"),
+            }
+        ]
         low = getattr(res, "mesh_stiffness_low_load_N_per_m", None)
         if low is not None and kw and low != res.mesh_stiffness_N_per_m:
-            rows.append({"method": "iso6336 low-load", "kind": "constant, low-load factor at 40 N m",
-                         "wall_s_median": wall, "runs": RUNS, "mean_N_per_m": float(low),
-                         "torque_Nm": TORQUE_NM})
+            rows.append(
+                {
+                    "method": "iso6336 low-load",
+                    "kind": "constant, low-load factor at 40 N m",
+                    "wall_s_median": wall,
+                    "runs": RUNS,
+                    "mean_N_per_m": float(low),
+                    "torque_Nm": TORQUE_NM,
+                }
+            )
         return rows
     except Exception as exc:  # noqa: BLE001
         notes.append(f"iso6336: failed ({short_error(exc)})")
@@ -138,15 +155,24 @@ def iso(pair, notes):
 def ross(pair, notes):
     """ROSS's TVMS from the separate benchmark environment, or None."""
     if not ROSS_PYTHON.exists():
-        notes.append(f"ROSS skipped: no benchmark environment at {ROSS_PYTHON}. Create it (from the "
-                     f"project root) with:  {BENCH_VENV_HELP}")
+        notes.append(
+            f"ROSS skipped: no benchmark environment at {ROSS_PYTHON}. Create it (from the "
+            f"project root) with:  {BENCH_VENV_HELP}"
+        )
         return None
-    cmd = [str(ROSS_PYTHON), str(ROSS_SCRIPT), "--pair", json.dumps(pair_for_ross(pair)),
-           "--points", str(POINTS), "--repeats", str(ROSS_REPEATS)]
+    cmd = [
+        str(ROSS_PYTHON),
+        str(ROSS_SCRIPT),
+        "--pair",
+        json.dumps(pair_for_ross(pair)),
+        "--points",
+        str(POINTS),
+        "--repeats",
+        str(ROSS_REPEATS),
+    ]
     try:
         # cwd: a scratch dir, since ROSS's dependencies probe the cwd for shared libraries
-        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=ROSS_TIMEOUT_S,
-                              cwd=tempfile.gettempdir())
+        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=ROSS_TIMEOUT_S, cwd=tempfile.gettempdir())
     except Exception as exc:  # noqa: BLE001 - includes TimeoutExpired
         notes.append(f"ROSS skipped: {short_error(exc)}")
         return None
@@ -181,29 +207,41 @@ def fmt(value, spec, width):
 
 
 def print_table(rows, ross_out):
-    print(f"{'method':<18}{'median wall':>14}{'mean k':>13}{'min k':>12}{'max k':>12}"
-          f"{'mean vs ROSS':>14}{'ROSS/ours':>11}")
+    print(
+        f"{'method':<18}{'median wall':>14}{'mean k':>13}{'min k':>12}{'max k':>12}"
+        f"{'mean vs ROSS':>14}{'ROSS/ours':>11}"
+    )
     print(f"{'':<18}{'(ms)':>14}{'(N/m)':>13}{'(N/m)':>12}{'(N/m)':>12}{'(%)':>14}{'(speed)':>11}")
     allrows = list(rows)
     if ross_out is not None:
-        allrows.append({"method": f"ROSS {ross_out['ross_version']}",
-                        "wall_s_median": ross_out["wall_s_median"], "mean_N_per_m": ross_out["mean_N_per_m"],
-                        "min_N_per_m": ross_out["min_N_per_m"], "max_N_per_m": ross_out["max_N_per_m"],
-                        "mean_diff_vs_ross_pct": 0.0, "speed_ratio_ross_over_ours": 1.0})
+        allrows.append(
+            {
+                "method": f"ROSS {ross_out['ross_version']}",
+                "wall_s_median": ross_out["wall_s_median"],
+                "mean_N_per_m": ross_out["mean_N_per_m"],
+                "min_N_per_m": ross_out["min_N_per_m"],
+                "max_N_per_m": ross_out["max_N_per_m"],
+                "mean_diff_vs_ross_pct": 0.0,
+                "speed_ratio_ross_over_ours": 1.0,
+            }
+        )
     for r in allrows:
         if "error" in r:
             print(f"{r['method']:<18}  failed: {r['error']}")
             continue
         wall = r.get("wall_s_median")
-        print(f"{r['method']:<18}{fmt(None if wall is None else wall * 1e3, '.3f', 14)}"
-              f"{fmt(r.get('mean_N_per_m'), '.4e', 13)}{fmt(r.get('min_N_per_m'), '.3e', 12)}"
-              f"{fmt(r.get('max_N_per_m'), '.3e', 12)}{fmt(r.get('mean_diff_vs_ross_pct'), '+.2f', 14)}"
-              f"{fmt(r.get('speed_ratio_ross_over_ours'), '.1f', 11)}")
+        print(
+            f"{r['method']:<18}{fmt(None if wall is None else wall * 1e3, '.3f', 14)}"
+            f"{fmt(r.get('mean_N_per_m'), '.4e', 13)}{fmt(r.get('min_N_per_m'), '.3e', 12)}"
+            f"{fmt(r.get('max_N_per_m'), '.3e', 12)}{fmt(r.get('mean_diff_vs_ross_pct'), '+.2f', 14)}"
+            f"{fmt(r.get('speed_ratio_ross_over_ours'), '.1f', 11)}"
+        )
 
 
 def write_json(path: Path, data: dict) -> None:
     """Atomic write (temp file + rename) through the project's shared writer."""
     from gearwear.core.atomic import atomic_write_bytes
+
     atomic_write_bytes(path, (json.dumps(data, indent=1) + "\n").encode())
 
 
@@ -214,6 +252,7 @@ def main():
     pair = None
     try:
         from gearwear.geometry.spec import default_pair
+
         pair = default_pair()
     except Exception as exc:  # noqa: BLE001
         notes.append(f"geometry.spec.default_pair failed ({short_error(exc)}): nothing to time")
@@ -228,15 +267,19 @@ def main():
         except Exception as exc:  # noqa: BLE001
             notes.append(f"ROSS skipped: {short_error(exc)}")
         compare(rows, ross_out)
-    print(f"{POINTS}-angle TVMS over one mesh period, paper pair, ours at {TORQUE_NM:g} N m "
-          f"(median of {RUNS} after a warm-up); ROSS median of {ROSS_REPEATS}")
+    print(
+        f"{POINTS}-angle TVMS over one mesh period, paper pair, ours at {TORQUE_NM:g} N m "
+        f"(median of {RUNS} after a warm-up); ROSS median of {ROSS_REPEATS}"
+    )
     print_table(rows, ross_out)
     for r in rows:
         if "cold_wall_s" in r:
             print(f"  {r['method']}: first (cold) call {r['cold_wall_s'] * 1e3:.1f} ms incl. tooth profiles")
     if ross_out is not None:
-        print(f"  ROSS: construction {ross_out['construct_s']:.2f} s (Mesh() computes its own 1000-point "
-              f"curve), import {ross_out['import_s']:.1f} s; grid {ross_out['grid']}")
+        print(
+            f"  ROSS: construction {ross_out['construct_s']:.2f} s (Mesh() computes its own 1000-point "
+            f"curve), import {ross_out['import_s']:.1f} s; grid {ross_out['grid']}"
+        )
     for n in notes:
         print(f"  note: {n}")
     result = {

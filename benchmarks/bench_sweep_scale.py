@@ -35,8 +35,8 @@ for p in (str(ROOT), str(HERE)):
     if p not in sys.path:
         sys.path.insert(0, p)
 
-from gearwear.scene.model import load_scene_dict  # noqa: E402
 from gearwear.jobs.sweep import make_executor, parse_axis, sweep  # noqa: E402
+from gearwear.scene.model import load_scene_dict  # noqa: E402
 
 N_SCENES = 100
 FIXED = ["solver.duration_s=1.0", "solver.discard_s=0.3"]
@@ -44,8 +44,8 @@ FIXED = ["solver.duration_s=1.0", "solver.discard_s=0.3"]
 
 def warm() -> float:
     """One short simulation in the worker: imports and kernels loaded before timing."""
-    from gearwear.scene.model import scene_from_dict
     from gearwear.jobs.simulate import run
+    from gearwear.scene.model import scene_from_dict
 
     data, name = load_scene_dict("paper-default")
     t0 = time.perf_counter()
@@ -73,34 +73,61 @@ def measure(kind: str, workers: int) -> dict:
         ex.shutdown()
     integ = sum(r["integration_wall_s"] for r in rows)
     run = t2 - t1
-    return {"executor": kind, "workers": workers, "startup_s": t1 - t0, "run_s": run, "total_s": t2 - t0,
-            "integration_s": integ, "overhead_per_scene_ms": 1e3 * (run * workers - integ) / N_SCENES,
-            "scenes": len(rows)}
+    return {
+        "executor": kind,
+        "workers": workers,
+        "startup_s": t1 - t0,
+        "run_s": run,
+        "total_s": t2 - t0,
+        "integration_s": integ,
+        "overhead_per_scene_ms": 1e3 * (run * workers - integ) / N_SCENES,
+        "scenes": len(rows),
+    }
 
 
 def main() -> None:
     try:
         import dask.distributed  # noqa: F401
+
         kinds = ["processes", "dask"]
     except ImportError:
         print("dask.distributed not installed: only the process pool is measured (pip install 'gearwear[dask]')")
         kinds = ["processes"]
     res = [measure(k, w) for k in kinds for w in (1, 2)]
-    print(f"{N_SCENES} scenes of 1 s simulated (paper-default, RK4 256 steps/period), this machine "
-          f"({os.cpu_count()} cores)")
-    print(f"{'executor':<10}{'workers':>8}{'start-up s':>12}{'run s':>8}{'total s':>9}{'integration s':>15}"
-          f"{'overhead/scene ms':>19}")
+    print(
+        f"{N_SCENES} scenes of 1 s simulated (paper-default, RK4 256 steps/period), this machine "
+        f"({os.cpu_count()} cores)"
+    )
+    print(
+        f"{'executor':<10}{'workers':>8}{'start-up s':>12}{'run s':>8}{'total s':>9}{'integration s':>15}"
+        f"{'overhead/scene ms':>19}"
+    )
     for r in res:
-        print(f"{r['executor']:<10}{r['workers']:>8}{r['startup_s']:>12.2f}{r['run_s']:>8.2f}{r['total_s']:>9.2f}"
-              f"{r['integration_s']:>15.2f}{r['overhead_per_scene_ms']:>19.1f}")
+        print(
+            f"{r['executor']:<10}{r['workers']:>8}{r['startup_s']:>12.2f}{r['run_s']:>8.2f}{r['total_s']:>9.2f}"
+            f"{r['integration_s']:>15.2f}{r['overhead_per_scene_ms']:>19.1f}"
+        )
     for k in kinds:
         one, two = (next(r for r in res if r["executor"] == k and r["workers"] == w) for w in (1, 2))
-        print(f"{k}: 1 -> 2 workers speed-up {one['run_s'] / two['run_s']:.2f} (run), "
-              f"{one['total_s'] / two['total_s']:.2f} (with start-up)")
+        print(
+            f"{k}: 1 -> 2 workers speed-up {one['run_s'] / two['run_s']:.2f} (run), "
+            f"{one['total_s'] / two['total_s']:.2f} (with start-up)"
+        )
     out = HERE / "results" / "bench_sweep_scale.json"
     out.parent.mkdir(exist_ok=True)
-    out.write_text(json.dumps({"date": datetime.date.today().isoformat(), "machine": platform.platform(),
-                               "cores": os.cpu_count(), "scenes": N_SCENES, "results": res}, indent=2) + "\n")
+    out.write_text(
+        json.dumps(
+            {
+                "date": datetime.date.today().isoformat(),
+                "machine": platform.platform(),
+                "cores": os.cpu_count(),
+                "scenes": N_SCENES,
+                "results": res,
+            },
+            indent=2,
+        )
+        + "\n"
+    )
     print(f"wrote {out.relative_to(ROOT)}")
 
 

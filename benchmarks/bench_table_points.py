@@ -25,14 +25,14 @@ import numpy as np
 
 from gearwear.analytic import TABLE_POINTS_PER_MESH_PERIOD
 from gearwear.geometry.curves import harmonic_amplitudes
-from gearwear.scene.model import apply_overrides, builtin_scene_dict, scene_from_dict
 from gearwear.jobs.simulate import run, stiffness_input
+from gearwear.scene.model import apply_overrides, builtin_scene_dict, scene_from_dict
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "reports" / "breakpoints"
 LENGTHS = (90, 180, 360, 720, 1440, 2880, 5760)
 REFERENCE = 11520
-TOLERANCE = 1e-3          # largest relative error of an F_m harmonic 1-10
+TOLERANCE = 1e-3  # largest relative error of an F_m harmonic 1-10
 HARMONICS = 10
 
 
@@ -41,8 +41,13 @@ def unequal_doc() -> dict:
     from the blanks, mild wear and 20 um bearing clearance (static coupling)."""
     doc = builtin_scene_dict("paper-clearance")
     doc["name"] = "unequal-23-47"
-    doc["pair"] = {"teeth": [23, 47], "module_mm": 3.0, "profile_shift": [0.2, -0.1], "face_width_mm": 30.0,
-                   "hub_radius_mm": [12.5, 25.0]}
+    doc["pair"] = {
+        "teeth": [23, 47],
+        "module_mm": 3.0,
+        "profile_shift": [0.2, -0.1],
+        "face_width_mm": 30.0,
+        "hub_radius_mm": [12.5, 25.0],
+    }
     doc["operating"] = {"speed_rpm": 1500.0, "torque_Nm": 120.0}
     doc["bodies"] = {"bearing_stiffness_N_per_m": 2.6e8}
     doc["effects"]["wear"] = {"phase": "mild"}
@@ -51,26 +56,34 @@ def unequal_doc() -> dict:
 
 
 SCENES = {
-    "paper pair, 30.5 um clearance": (builtin_scene_dict("paper-clearance"),
-                                      ["effects.bearing_clearance.clearance_um=30.5"]),
+    "paper pair, 30.5 um clearance": (
+        builtin_scene_dict("paper-clearance"),
+        ["effects.bearing_clearance.clearance_um=30.5"],
+    ),
     "paper pair, severe wear, 10 um clearance": (builtin_scene_dict("paper-wear-severe"), []),
     "23/47 shifted, mild wear, 20 um clearance": (unequal_doc(), []),
 }
 
 
 def one_run(doc: dict, sets: list[str], points: int, breakpoints: bool) -> dict:
-    sc = scene_from_dict(apply_overrides(doc, sets + [f"effects.mesh_stiffness.points_per_mesh_period={points}"]),
-                         name=doc["name"])
+    sc = scene_from_dict(
+        apply_overrides(doc, sets + [f"effects.mesh_stiffness.points_per_mesh_period={points}"]), name=doc["name"]
+    )
     t0 = time.perf_counter()
     stiff = stiffness_input(sc, breakpoints=breakpoints)
     t1 = time.perf_counter()
     r = run(sc, stiffness=stiff)
     t2 = time.perf_counter()
     span = stiff.periods * 2 * np.pi / sc.pair.teeth[0]
-    return {"points": points, "breakpoints": breakpoints, "nodes": int(len(stiff.phi)),
-            "F_m_N": r.result.harmonics("F_m", HARMONICS).tolist(),
-            "k_h_N_per_m": harmonic_amplitudes(stiff.phi, stiff.k, span, HARMONICS, stiff.periods).tolist(),
-            "table_s": t1 - t0, "dynamics_s": t2 - t1}
+    return {
+        "points": points,
+        "breakpoints": breakpoints,
+        "nodes": int(len(stiff.phi)),
+        "F_m_N": r.result.harmonics("F_m", HARMONICS).tolist(),
+        "k_h_N_per_m": harmonic_amplitudes(stiff.phi, stiff.k, span, HARMONICS, stiff.periods).tolist(),
+        "table_s": t1 - t0,
+        "dynamics_s": t2 - t1,
+    }
 
 
 def rel_error(h, ref) -> float:
@@ -80,7 +93,7 @@ def rel_error(h, ref) -> float:
 
 def study() -> dict:
     out = {"tolerance": TOLERANCE, "reference_points": REFERENCE, "lengths": list(LENGTHS), "scenes": {}}
-    one_run(*SCENES[next(iter(SCENES))], 90, True)          # compile the kernels outside the timings
+    one_run(*SCENES[next(iter(SCENES))], 90, True)  # compile the kernels outside the timings
     for name, (doc, sets) in SCENES.items():
         ref = one_run(doc, sets, REFERENCE, True)
         rows = []
@@ -102,32 +115,48 @@ def study() -> dict:
 def print_table(res: dict) -> None:
     for name, s in res["scenes"].items():
         ref = s["reference"]
-        print(f"\n{name}: reference {ref['points']} points + breakpoints ({ref['nodes']} nodes), "
-              f"F_m harmonics 1-10 (N) {', '.join(f'{x:.4g}' for x in ref['F_m_N'])}")
-        print(f"{'points':>7}{'nodes':>7}{'F_m err':>10}{'k_h err':>10}{'nodes':>7}{'F_m err':>10}{'k_h err':>10}"
-              f"{'wall s':>8}{'wall s':>8}")
+        print(
+            f"\n{name}: reference {ref['points']} points + breakpoints ({ref['nodes']} nodes), "
+            f"F_m harmonics 1-10 (N) {', '.join(f'{x:.4g}' for x in ref['F_m_N'])}"
+        )
+        print(
+            f"{'points':>7}{'nodes':>7}{'F_m err':>10}{'k_h err':>10}{'nodes':>7}{'F_m err':>10}{'k_h err':>10}"
+            f"{'wall s':>8}{'wall s':>8}"
+        )
         print(f"{'':>7}{'uniform only':^27}{'with breakpoints':^27}{'unif.':>8}{'bp':>8}")
         rows = {(r["points"], r["breakpoints"]): r for r in s["rows"]}
         for n in res["lengths"]:
             u, b = rows[n, False], rows[n, True]
-            print(f"{n:>7}{u['nodes']:>7}{u['F_m_error']:>10.2e}{u['k_h_error']:>10.2e}{b['nodes']:>7}"
-                  f"{b['F_m_error']:>10.2e}{b['k_h_error']:>10.2e}{u['table_s'] + u['dynamics_s']:>8.2f}"
-                  f"{b['table_s'] + b['dynamics_s']:>8.2f}")
-    print(f"\nsmallest length with every F_m harmonic 1-10 within {100 * res['tolerance']:g} % of the reference "
-          f"(with breakpoints, all scenes): {res['chosen']}; the default is {res['default']}")
+            print(
+                f"{n:>7}{u['nodes']:>7}{u['F_m_error']:>10.2e}{u['k_h_error']:>10.2e}{b['nodes']:>7}"
+                f"{b['F_m_error']:>10.2e}{b['k_h_error']:>10.2e}{u['table_s'] + u['dynamics_s']:>8.2f}"
+                f"{b['table_s'] + b['dynamics_s']:>8.2f}"
+            )
+    print(
+        f"\nsmallest length with every F_m harmonic 1-10 within {100 * res['tolerance']:g} % of the reference "
+        f"(with breakpoints, all scenes): {res['chosen']}; the default is {res['default']}"
+    )
 
 
 def figure(res: dict):
     from gearwear.plotting import subplots
 
     fig, axs = subplots(1, 2, figsize=(12, 4.6), sharey=True)
-    for ax, what, label in ((axs[0], "F_m_error", "F_m harmonics 1-10 (full dynamics)"),
-                            (axs[1], "k_h_error", "k_h harmonics 1-10 (table)")):
+    for ax, what, label in (
+        (axs[0], "F_m_error", "F_m harmonics 1-10 (full dynamics)"),
+        (axs[1], "k_h_error", "k_h harmonics 1-10 (table)"),
+    ):
         for i, (name, s) in enumerate(res["scenes"].items()):
             for bp, ls, mk in ((False, "--", "s"), (True, "-", "o")):
                 rows = [r for r in s["rows"] if r["breakpoints"] == bp]
-                ax.loglog([r["points"] for r in rows], [max(r[what], 1e-12) for r in rows], ls, marker=mk,
-                          color=f"C{i}", label=f"{name}, {'with breakpoints' if bp else 'uniform only'}")
+                ax.loglog(
+                    [r["points"] for r in rows],
+                    [max(r[what], 1e-12) for r in rows],
+                    ls,
+                    marker=mk,
+                    color=f"C{i}",
+                    label=f"{name}, {'with breakpoints' if bp else 'uniform only'}",
+                )
         ax.axhline(res["tolerance"], color="grey", ls=":", label=f"tolerance {100 * res['tolerance']:g} %")
         ax.set_xlabel("uniform table nodes per mesh period")
         ax.set_title(label, fontsize=10)

@@ -21,10 +21,12 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "reports" / "breakpoints"
-RUNS = {"before (74b2d9b, uniform 360-point table)": OUT / "clearance_sweep_before" / "sweep.csv",
-        "after (360 points + breakpoints)": OUT / "clearance_sweep" / "sweep.csv"}
+RUNS = {
+    "before (74b2d9b, uniform 360-point table)": OUT / "clearance_sweep_before" / "sweep.csv",
+    "after (360 points + breakpoints)": OUT / "clearance_sweep" / "sweep.csv",
+}
 KEY = "effects.bearing_clearance.clearance_um"
-PLOTTED = (3, 4, 7, 9)   # the third harmonic of the issue and the others that jumped most
+PLOTTED = (3, 4, 7, 9)  # the third harmonic of the issue and the others that jumped most
 
 
 def load(path: Path) -> tuple[np.ndarray, np.ndarray]:
@@ -47,8 +49,12 @@ def issue_step(x: np.ndarray, H: np.ndarray, a: float = 30.0, b: float = 31.0) -
     (two 0.5 um steps from a to b), per harmonic."""
     i, j = int(np.flatnonzero(np.isclose(x, a))[0]), int(np.flatnonzero(np.isclose(x, b))[0])
     trend = H[i] + (H[i] - H[i - 1]) + (H[j + 1] - H[j])
-    return {"H_a_N": H[i].tolist(), "H_b_N": H[j].tolist(), "trend_b_N": trend.tolist(),
-            "departure": (np.abs(H[j] - trend) / np.abs(H[j])).tolist()}
+    return {
+        "H_a_N": H[i].tolist(),
+        "H_b_N": H[j].tolist(),
+        "trend_b_N": trend.tolist(),
+        "departure": (np.abs(H[j] - trend) / np.abs(H[j])).tolist(),
+    }
 
 
 def figure(data: dict):
@@ -56,8 +62,9 @@ def figure(data: dict):
 
     fig, axs = subplots(2, 2, figsize=(11, 7.5), sharex=True)
     for ax, k in zip(axs.ravel(), PLOTTED):
-        for (label, (x, H)), style in zip(data.items(), (dict(ls="--", marker="s", ms=3, color="C3"),
-                                                          dict(ls="-", marker="o", ms=3, color="C0"))):
+        for (label, (x, H)), style in zip(
+            data.items(), (dict(ls="--", marker="s", ms=3, color="C3"), dict(ls="-", marker="o", ms=3, color="C0"))
+        ):
             ax.plot(x, H[:, k - 1], label=label, **style)
         ax.set_title(f"harmonic {k} of the mesh force F_m ({k} x f_m)", fontsize=10)
         ax.set_ylabel("amplitude (N)")
@@ -77,9 +84,11 @@ def main() -> None:
     for label, (x, H) in data.items():
         d = step_departures(H)
         worst = d.argmax(axis=0)
-        out[label] = {"largest_step_departure": d.max(axis=0).tolist(),
-                      "at_step_um": [[float(x[w + 1]), float(x[w + 2])] for w in worst],
-                      "step_30_31": issue_step(x, H)}
+        out[label] = {
+            "largest_step_departure": d.max(axis=0).tolist(),
+            "at_step_um": [[float(x[w + 1]), float(x[w + 2])] for w in worst],
+            "step_30_31": issue_step(x, H),
+        }
     print("largest departure of a clearance step from its neighbours' trend, per F_m harmonic (% of the harmonic)")
     print(f"{'harmonic':>9}" + "".join(f"{k:>9}" for k in range(1, 11)))
     for label, r in out.items():
@@ -89,8 +98,10 @@ def main() -> None:
     print("\nthe 30 -> 31 um step, third harmonic:")
     for label, r in out.items():
         s = r["step_30_31"]
-        print(f"  {label}: H3(30) = {s['H_a_N'][2]:.4f} N, H3(31) = {s['H_b_N'][2]:.4f} N, neighbours' trend "
-              f"{s['trend_b_N'][2]:.4f} N, departure {100 * s['departure'][2]:.3f} %")
+        print(
+            f"  {label}: H3(30) = {s['H_a_N'][2]:.4f} N, H3(31) = {s['H_b_N'][2]:.4f} N, neighbours' trend "
+            f"{s['trend_b_N'][2]:.4f} N, departure {100 * s['departure'][2]:.3f} %"
+        )
     OUT.mkdir(parents=True, exist_ok=True)
     (OUT / "clearance_sweep.json").write_text(json.dumps(out, indent=1) + "\n")
     figure(data).savefig(OUT / "clearance_sweep.png", dpi=110)

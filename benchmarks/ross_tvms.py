@@ -103,8 +103,7 @@ def per_gear(value, name):
 
 def parse_args(argv):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--pair", default="{}",
-                    help="JSON object overriding keys of the default pair (or @file.json)")
+    ap.add_argument("--pair", default="{}", help="JSON object overriding keys of the default pair (or @file.json)")
     ap.add_argument("--points", type=int, default=360, help="angle points over one mesh period")
     ap.add_argument("--repeats", type=int, default=3, help="timed evaluations of the full curve")
     ap.add_argument("--grid", choices=("periodic", "ross"), default="periodic")
@@ -135,15 +134,28 @@ def ross_inputs(pair):
     c = float(pair["dedendum_coefficient"]) - ha  # ROSS: dedendum = addendum + tip clearance
     rho_ross = c / (1.0 - math.sin(alpha))  # ROSS's rack tip radius (in modules), not an input
     if abs(rho_ross - pair["rack_tip_radius_coefficient"]) > 1e-3:
-        notes.append(f"rack tip radius: ROSS fixes it at c/(1 - sin alpha) = {rho_ross:.4f} m "
-                     f"(asked {pair['rack_tip_radius_coefficient']:g} m)")
+        notes.append(
+            f"rack tip radius: ROSS fixes it at c/(1 - sin alpha) = {rho_ross:.4f} m "
+            f"(asked {pair['rack_tip_radius_coefficient']:g} m)"
+        )
     if any(x != 0 for x in shift):
         notes.append(f"profile shift {shift} ignored: ROSS has no profile shift (x = 0)")
-    notes.append("load independent: ROSS's TVMS is linear (no torque input; constant Hertzian "
-                 "stiffness pi E b / (4 (1 - nu^2)))")
-    gears = [dict(n=i, width=pair["face_width_mm"] * 1e-3, bore_diameter=2.0 * hub[i] * 1e-3,
-                  module=pair["module_mm"] * 1e-3, n_teeth=int(teeth[i]), pr_angle=alpha,
-                  addendum_coeff=ha, tip_clearance_coeff=c) for i in (0, 1)]
+    notes.append(
+        "load independent: ROSS's TVMS is linear (no torque input; constant Hertzian stiffness pi E b / (4 (1 - nu^2)))"
+    )
+    gears = [
+        dict(
+            n=i,
+            width=pair["face_width_mm"] * 1e-3,
+            bore_diameter=2.0 * hub[i] * 1e-3,
+            module=pair["module_mm"] * 1e-3,
+            n_teeth=int(teeth[i]),
+            pr_angle=alpha,
+            addendum_coeff=ha,
+            tip_clearance_coeff=c,
+        )
+        for i in (0, 1)
+    ]
     return gears, notes
 
 
@@ -164,10 +176,15 @@ def main(argv=None):
         import ross
         from ross.gear_element import GearElementTVMS, Mesh
         from ross.materials import Material
+
         import_s = time.perf_counter() - t0
 
-        material = Material(name="bench_steel", rho=pair["density_kg_per_m3"],
-                            E=pair["youngs_modulus_GPa"] * 1e9, Poisson=pair["poisson_ratio"])
+        material = Material(
+            name="bench_steel",
+            rho=pair["density_kg_per_m3"],
+            E=pair["youngs_modulus_GPa"] * 1e9,
+            Poisson=pair["poisson_ratio"],
+        )
         # "default": each warning once per location (ROSS warns on every quad call)
         with warnings.catch_warnings(record=True) as ws:
             warnings.simplefilter("default")
@@ -184,6 +201,7 @@ def main(argv=None):
             def curve():
                 return theta, [mesh.get_variable_stiffness(t) for t in theta]
         else:
+
             def curve():
                 return mesh.get_stiffness_for_mesh_period(1, args.points)
 
@@ -200,14 +218,15 @@ def main(argv=None):
         fig_path = None
         if args.plot:
             import matplotlib
+
             matplotlib.use("Agg")
             import matplotlib.pyplot as plt
+
             fig, ax = plt.subplots(figsize=(7, 4))
             ax.plot(np.degrees(th), k / 1e8, "k-")
             ax.set_xlabel("pinion angle (deg) over one mesh period")
             ax.set_ylabel("mesh stiffness (1e8 N/m)")
-            ax.set_title(f"ROSS {ross.__version__} GearElementTVMS, {args.points} points, mean "
-                         f"{k.mean():.3e} N/m")
+            ax.set_title(f"ROSS {ross.__version__} GearElementTVMS, {args.points} points, mean {k.mean():.3e} N/m")
             ax.grid(True)
             fig.tight_layout()
             fig.savefig(args.plot, dpi=110)
@@ -215,6 +234,7 @@ def main(argv=None):
 
     try:
         import plotly
+
         plotly_version = plotly.__version__
     except Exception:  # noqa: BLE001 - only informational
         plotly_version = None
@@ -234,8 +254,7 @@ def main(argv=None):
         "max_N_per_m": float(k.max()),
         "contact_ratio": float(mesh.contact_ratio),
         "hertzian_stiffness_N_per_m": float(mesh.hertzian_stiffness),
-        "ross_inputs": [{key: (float(v) if isinstance(v, float) else v) for key, v in kw.items()}
-                        for kw in gear_kw],
+        "ross_inputs": [{key: (float(v) if isinstance(v, float) else v) for key, v in kw.items()} for kw in gear_kw],
         "pair": pair,
         "notes": notes,
         "warnings": seen_warnings,

@@ -62,10 +62,12 @@ def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> Path:
     def write(tmp: str) -> None:
         with open(tmp, "wb") as fh:
             fh.write(data)
+
     return atomic_write(path, write)
 
 
 # -- whole folders ----------------------------------------------------------------------
+
 
 def _new_sibling_dir(p: Path, tag: str) -> Path:
     """Create a new, empty folder next to ``p`` (same filesystem, so renames are atomic),

@@ -33,8 +33,13 @@ MiB = 1 << 20
 
 
 def _kind(mode: int) -> str:
-    for test, name in ((stat.S_ISDIR, "a folder"), (stat.S_ISFIFO, "a pipe (FIFO)"), (stat.S_ISCHR, "a device"),
-                       (stat.S_ISBLK, "a device"), (stat.S_ISSOCK, "a socket")):
+    for test, name in (
+        (stat.S_ISDIR, "a folder"),
+        (stat.S_ISFIFO, "a pipe (FIFO)"),
+        (stat.S_ISCHR, "a device"),
+        (stat.S_ISBLK, "a device"),
+        (stat.S_ISSOCK, "a socket"),
+    ):
         if test(mode):
             return name
     return "not a regular file"
@@ -62,8 +67,9 @@ def _read(p: Path, what: str, limit_bytes: int) -> bytes:
         if not stat.S_ISREG(st.st_mode):
             raise _Refused(f"is {_kind(st.st_mode)}, not a {what}", stream=True)
         if st.st_size > limit_bytes:
-            raise _Refused(f"is {st.st_size} bytes, more than any {what} the tool can use (at most {limit_bytes} "
-                           "bytes)")
+            raise _Refused(
+                f"is {st.st_size} bytes, more than any {what} the tool can use (at most {limit_bytes} bytes)"
+            )
         chunks, n = [], 0
         while n <= limit_bytes:
             block = os.read(fd, min(MiB, limit_bytes + 1 - n))

@@ -48,8 +48,8 @@ def signal_of(exc: BaseException) -> signal.Signals:
 
 
 class _State:
-    received: int | None = None   # the first signal while handled() is active
-    lost: bool = False            # its exception was swallowed ("Exception ignored in ...")
+    received: int | None = None  # the first signal while handled() is active
+    lost: bool = False  # its exception was swallowed ("Exception ignored in ...")
 
 
 _STATE = _State()
@@ -60,7 +60,7 @@ def _main_thread() -> bool:
 
 
 def _raise_once(signum: int, frame: Any) -> None:
-    if _STATE.received is not None and not _STATE.lost:   # cleaning up after the first signal: ignored
+    if _STATE.received is not None and not _STATE.lost:  # cleaning up after the first signal: ignored
         return
     _STATE.received, _STATE.lost = signum if _STATE.received is None else _STATE.received, False
     raise exception_for(_STATE.received)
@@ -74,6 +74,7 @@ def _unraisable(hook):
     again (``_thread.interrupt_main``: the handler runs at the next point of the main
     thread, where it can propagate) instead of being printed; anything else goes to
     ``hook``."""
+
     def unraisable(info) -> None:
         if isinstance(info.exc_value, KeyboardInterrupt) and _STATE.received is not None:
             _STATE.lost = True
@@ -82,6 +83,7 @@ def _unraisable(hook):
             threading.Thread(target=_deliver_later, args=(_STATE.received,), daemon=True).start()
             return
         hook(info)
+
     return unraisable
 
 

@@ -29,7 +29,7 @@ class InputError(ValueError):
     value: Any = None
     unit: str = ""
     why: str = ""
-    field: "Field | None" = None   # set for range errors, so a rename can rescale the range
+    field: "Field | None" = None  # set for range errors, so a rename can rescale the range
     note: str = ""
 
 
@@ -80,8 +80,7 @@ def fail_range(key: str, value: float, field: Field, note: str = "") -> InputErr
     return err
 
 
-def fail_text(key: str | None, text: str, value: Any = None, unit: str = "",
-              field: Field | None = None) -> InputError:
+def fail_text(key: str | None, text: str, value: Any = None, unit: str = "", field: Field | None = None) -> InputError:
     """The contract's error for a one-line message that :func:`fail` cannot print byte for
     byte: a value printed with ``str``/``repr`` rather than ``%g``, no value at all
     (``k_table N/m: must be ...``), a range in words (``(0, pi/2)``). ``text`` is the message
@@ -92,7 +91,7 @@ def fail_text(key: str | None, text: str, value: Any = None, unit: str = "",
     so a rename with a unit change rescales the value (and the range) as it does for them."""
     if key is not None and not text.startswith(key):
         raise ValueError(f"fail_text: the message must start with its key {key!r}: {text!r}")
-    rest = text if key is None else text[len(key):]
+    rest = text if key is None else text[len(key) :]
     _, sep, after = rest.partition(": ")
     err = InputError(text)
     err.key, err.value, err.unit, err.field = key, value, unit, field
@@ -143,4 +142,4 @@ def renamed(exc: InputError, names: Mapping[str, Any]) -> InputError:
                 return fail_range(key, exc.value * factor, scaled, exc.note)
             return fail(key, exc.value * factor, unit, exc.why)
         target = new_key
-    return type(exc)(target + msg[len(base):])
+    return type(exc)(target + msg[len(base) :])

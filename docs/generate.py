@@ -32,14 +32,20 @@ def stiffness_peer() -> str:
     d = _json("benchmarks/results/bench_stiffness.json")
     rows = {r["method"]: r for r in d["rows"] if r.get("kind") == "curve"}
     ross = d["ross"]
-    lines = ["| method (paper pair, 360 angles, 40 N m) | wall (median) | mean k_h (N/m) | ROSS wall / ours |",
-             "|---|---|---|---|"]
+    lines = [
+        "| method (paper pair, 360 angles, 40 N m) | wall (median) | mean k_h (N/m) | ROSS wall / ours |",
+        "|---|---|---|---|",
+    ]
     for name, label in (("ishikawa", "Ishikawa, 64 slices"), ("energy", "potential energy, Gauss 16")):
         r = rows[name]
-        lines.append(f"| {label} | {r['wall_s_median'] * 1e3:.2f} ms | {r['mean_N_per_m']:.4e} | "
-                     f"{ross['wall_s_median'] / r['wall_s_median']:.0f} |")
-    lines.append(f"| ROSS {ross['ross_version']} `GearElementTVMS` (peer) | {ross['wall_s_median'] * 1e3:.0f} ms | "
-                 f"{ross['mean_N_per_m']:.4e} | 1 |")
+        lines.append(
+            f"| {label} | {r['wall_s_median'] * 1e3:.2f} ms | {r['mean_N_per_m']:.4e} | "
+            f"{ross['wall_s_median'] / r['wall_s_median']:.0f} |"
+        )
+    lines.append(
+        f"| ROSS {ross['ross_version']} `GearElementTVMS` (peer) | {ross['wall_s_median'] * 1e3:.0f} ms | "
+        f"{ross['mean_N_per_m']:.4e} | 1 |"
+    )
     return "\n".join(lines)
 
 
@@ -49,15 +55,18 @@ def plane_study() -> str:
     load radii, finest mesh level, and which state has the smaller largest error."""
     rows = _json("reports/plane/plane.json")["rows"]
     widths = sorted({r["b_over_m"] for r in rows})
-    lines = ["| b/m | 3D / plane stress (SAP, pitch, top) | 3D / plane strain (SAP, pitch, top) | closer |",
-             "|---|---|---|---|"]
+    lines = [
+        "| b/m | 3D / plane stress (SAP, pitch, top) | 3D / plane strain (SAP, pitch, top) | closer |",
+        "|---|---|---|---|",
+    ]
     for bm in widths:
         sel = [r for r in rows if r["b_over_m"] == bm]
         st = [r["average_3d"] / r["stress"] for r in sel]
         sn = [r["average_3d"] / r["strain"] for r in sel]
         closer = "stress" if max(abs(x - 1) for x in st) <= max(abs(x - 1) for x in sn) else "strain"
-        lines.append(f"| {bm:g} | {', '.join(f'{x:.3f}' for x in st)} | {', '.join(f'{x:.3f}' for x in sn)} | "
-                     f"{closer} |")
+        lines.append(
+            f"| {bm:g} | {', '.join(f'{x:.3f}' for x in st)} | {', '.join(f'{x:.3f}' for x in sn)} | {closer} |"
+        )
     return "\n".join(lines)
 
 
@@ -72,21 +81,26 @@ def bore_study() -> str:
     the bore dependence in words."""
     d = _json("benchmarks/results/bench_bore_study.json")
     rows = d["rows"]
-    lines = [f"Pair FE in plane {d['plane']} (the command line's `auto` for b/m = 10), {d['positions']} positions, "
-             f"{d['torque_Nm']:g} N m; means in 1e8 N/m, k_blank in 1e6 N m/rad:", "",
-             "| bores (mm) | r_ref (mm) | FE bore-fixed | FE mesh only | - translation | k_blank FE (pinion / gear) | "
-             "k_blank closed form | identity | Ishikawa | energy | ISO 6336 | FE wall (s) | 3 analytic (s) |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    lines = [
+        f"Pair FE in plane {d['plane']} (the command line's `auto` for b/m = 10), {d['positions']} positions, "
+        f"{d['torque_Nm']:g} N m; means in 1e8 N/m, k_blank in 1e6 N m/rad:",
+        "",
+        "| bores (mm) | r_ref (mm) | FE bore-fixed | FE mesh only | - translation | k_blank FE (pinion / gear) | "
+        "k_blank closed form | identity | Ishikawa | energy | ISO 6336 | FE wall (s) | 3 analytic (s) |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
     for r in rows:
         kf, kc = r["k_blank_fe_Nm_per_rad"], r["k_blank_closed_form_Nm_per_rad"]
-        lines.append(f"| {r['bores_mm'][0]:g} / {r['bores_mm'][1]:g} | "
-                     f"{r['r_ref_mm'][0]:.2f} / {r['r_ref_mm'][1]:.2f} | "
-                     f"{r['bore_fixed_mean_N_per_m'] / 1e8:.4f} | {r['mesh_only_mean_N_per_m'] / 1e8:.4f} | "
-                     f"{r['mesh_only_without_translation_mean_N_per_m'] / 1e8:.4f} | "
-                     f"{kf[0] / 1e6:.3f} / {kf[1] / 1e6:.3f} | {kc[0] / 1e6:.3f} / {kc[1] / 1e6:.3f} | "
-                     f"{r['identity_residual_max']:.1e} | {r['ishikawa_mean_N_per_m'] / 1e8:.4f} | "
-                     f"{r['energy_mean_N_per_m'] / 1e8:.4f} | {r['iso6336_N_per_m'] / 1e8:.4f} | "
-                     f"{r['fe_wall_s']:.1f} | {r['analytic_wall_s']:.2f} |")
+        lines.append(
+            f"| {r['bores_mm'][0]:g} / {r['bores_mm'][1]:g} | "
+            f"{r['r_ref_mm'][0]:.2f} / {r['r_ref_mm'][1]:.2f} | "
+            f"{r['bore_fixed_mean_N_per_m'] / 1e8:.4f} | {r['mesh_only_mean_N_per_m'] / 1e8:.4f} | "
+            f"{r['mesh_only_without_translation_mean_N_per_m'] / 1e8:.4f} | "
+            f"{kf[0] / 1e6:.3f} / {kf[1] / 1e6:.3f} | {kc[0] / 1e6:.3f} / {kc[1] / 1e6:.3f} | "
+            f"{r['identity_residual_max']:.1e} | {r['ishikawa_mean_N_per_m'] / 1e8:.4f} | "
+            f"{r['energy_mean_N_per_m'] / 1e8:.4f} | {r['iso6336_N_per_m'] / 1e8:.4f} | "
+            f"{r['fe_wall_s']:.1f} | {r['analytic_wall_s']:.2f} |"
+        )
     a, mid, b = rows[0], rows[1], rows[-1]
     fix = [1e10 / r["bore_fixed_mean_N_per_m"] for r in (a, b)]
     mesh = [1e10 / r["mesh_only_mean_N_per_m"] for r in (a, b)]
@@ -97,34 +111,41 @@ def bore_study() -> str:
     rim = [[(rf - bo) / module for rf, bo in zip(r["root_radius_mm"], r["bores_mm"])] for r in rows]
     name = lambda r: f"{r['bores_mm'][0]:g}/{r['bores_mm'][1]:g}"  # noqa: E731
     ratio = lambda key, ref: " / ".join(f"{r[key] / r[ref]:.2f}" for r in rows)  # noqa: E731
-    lines += ["", (
-        f"From {name(a)} to {name(b)} mm the bore-fixed mean rises "
-        f"{_pct(a['bore_fixed_mean_N_per_m'], b['bore_fixed_mean_N_per_m'])} "
-        f"({a['bore_fixed_mean_N_per_m']:.3g} to {b['bore_fixed_mean_N_per_m']:.3g} N/m); its compliance 1/mean "
-        f"falls by {fix[0] - fix[1]:.2f}e-10 m/N ({fix[0]:.3f} to {fix[1]:.3f}e-10). The blanks' torsion below r_ref "
-        f"(closed form, {blank[0]:.3f} to {blank[1]:.3f}e-10) is {blank[0] - blank[1]:.2f}e-10 of it. The mesh-only "
-        f"compliance falls by the other {d_mesh:.2f}e-10 ({mesh[0]:.3f} to {mesh[1]:.3f}e-10; the mean "
-        f"{_pct(a['mesh_only_mean_N_per_m'], mid['mesh_only_mean_N_per_m'])} at {name(mid)}, "
-        f"{_pct(a['mesh_only_mean_N_per_m'], b['mesh_only_mean_N_per_m'])} at {name(b)}): {d_tr:.2f}e-10 is the "
-        f"reference circles' translation along the line of action ({tr[0]:.3f} to {tr[1]:.3f}e-10: the blanks' "
-        f"bending under the net tooth force, the n = 1 part, which grows like ln(r_ref / r_bore)), and "
-        f"{d_mesh - d_tr:.2f}e-10 the teeth's foundation, which a bore held close under the root stiffens (the rim "
-        f"below the root, s_R = r_f - r_bore, is {' / '.join(f'{x[0]:.1f}' for x in rim)} modules on the pinion and "
-        f"{' / '.join(f'{x[1]:.1f}' for x in rim)} on the gear; at {b['bores_mm'][0]:g} mm the pinion's r_ref is "
-        f"{b['r_ref_mm'][0] - b['bores_mm'][0]:.2f} mm above its bore). Without the translation the mesh-only mean "
-        "moves "
-        f"{_pct(a['mesh_only_without_translation_mean_N_per_m'], mid['mesh_only_without_translation_mean_N_per_m'])} "
-        f"at {name(mid)} and "
-        f"{_pct(a['mesh_only_without_translation_mean_N_per_m'], b['mesh_only_without_translation_mean_N_per_m'])} "
-        f"at {name(b)}. The energy method moves with the bore too "
-        f"({_pct(a['energy_mean_N_per_m'], mid['energy_mean_N_per_m'])} / "
-        f"{_pct(a['energy_mean_N_per_m'], b['energy_mean_N_per_m'])}, through Sainsot's h_fi): its ratio to the "
-        f"mesh-only mean is {ratio('energy_mean_N_per_m', 'mesh_only_mean_N_per_m')}, to the bore-fixed one "
-        f"{ratio('energy_mean_N_per_m', 'bore_fixed_mean_N_per_m')}; ISO 6336's "
-        f"{ratio('iso6336_N_per_m', 'mesh_only_mean_N_per_m')} against "
-        f"{ratio('iso6336_N_per_m', 'bore_fixed_mean_N_per_m')}; Ishikawa's "
-        f"{ratio('ishikawa_mean_N_per_m', 'mesh_only_mean_N_per_m')} against "
-        f"{ratio('ishikawa_mean_N_per_m', 'bore_fixed_mean_N_per_m')}.")]
+    lines += [
+        "",
+        (
+            f"From {name(a)} to {name(b)} mm the bore-fixed mean rises "
+            f"{_pct(a['bore_fixed_mean_N_per_m'], b['bore_fixed_mean_N_per_m'])} "
+            f"({a['bore_fixed_mean_N_per_m']:.3g} to {b['bore_fixed_mean_N_per_m']:.3g} N/m); its compliance 1/mean "
+            f"falls by {fix[0] - fix[1]:.2f}e-10 m/N ({fix[0]:.3f} to {fix[1]:.3f}e-10). The blanks' torsion below "
+            f"r_ref "
+            f"(closed form, {blank[0]:.3f} to {blank[1]:.3f}e-10) is {blank[0] - blank[1]:.2f}e-10 of it. The "
+            f"mesh-only "
+            f"compliance falls by the other {d_mesh:.2f}e-10 ({mesh[0]:.3f} to {mesh[1]:.3f}e-10; the mean "
+            f"{_pct(a['mesh_only_mean_N_per_m'], mid['mesh_only_mean_N_per_m'])} at {name(mid)}, "
+            f"{_pct(a['mesh_only_mean_N_per_m'], b['mesh_only_mean_N_per_m'])} at {name(b)}): {d_tr:.2f}e-10 is the "
+            f"reference circles' translation along the line of action ({tr[0]:.3f} to {tr[1]:.3f}e-10: the blanks' "
+            f"bending under the net tooth force, the n = 1 part, which grows like ln(r_ref / r_bore)), and "
+            f"{d_mesh - d_tr:.2f}e-10 the teeth's foundation, which a bore held close under the root stiffens (the rim "
+            f"below the root, s_R = r_f - r_bore, is {' / '.join(f'{x[0]:.1f}' for x in rim)} modules on the pinion "
+            f"and "
+            f"{' / '.join(f'{x[1]:.1f}' for x in rim)} on the gear; at {b['bores_mm'][0]:g} mm the pinion's r_ref is "
+            f"{b['r_ref_mm'][0] - b['bores_mm'][0]:.2f} mm above its bore). Without the translation the mesh-only mean "
+            "moves "
+            f"{_pct(a['mesh_only_without_translation_mean_N_per_m'], mid['mesh_only_without_translation_mean_N_per_m'])} "  # noqa: E501 (one expression)
+            f"at {name(mid)} and "
+            f"{_pct(a['mesh_only_without_translation_mean_N_per_m'], b['mesh_only_without_translation_mean_N_per_m'])} "
+            f"at {name(b)}. The energy method moves with the bore too "
+            f"({_pct(a['energy_mean_N_per_m'], mid['energy_mean_N_per_m'])} / "
+            f"{_pct(a['energy_mean_N_per_m'], b['energy_mean_N_per_m'])}, through Sainsot's h_fi): its ratio to the "
+            f"mesh-only mean is {ratio('energy_mean_N_per_m', 'mesh_only_mean_N_per_m')}, to the bore-fixed one "
+            f"{ratio('energy_mean_N_per_m', 'bore_fixed_mean_N_per_m')}; ISO 6336's "
+            f"{ratio('iso6336_N_per_m', 'mesh_only_mean_N_per_m')} against "
+            f"{ratio('iso6336_N_per_m', 'bore_fixed_mean_N_per_m')}; Ishikawa's "
+            f"{ratio('ishikawa_mean_N_per_m', 'mesh_only_mean_N_per_m')} against "
+            f"{ratio('ishikawa_mean_N_per_m', 'bore_fixed_mean_N_per_m')}."
+        ),
+    ]
     return "\n".join(lines)
 
 
@@ -145,8 +166,7 @@ _SHORT = {"wear_max_depth_um": "wear", "clearance_um": "clearance", "torque_Nm":
 def diagnose_examples() -> str:
     """The example diagnoses: each unknown's estimate and 95 % interval, and the verdict in
     words (which unknowns the measurement does not resolve, why, and what would)."""
-    lines = ["| measurement | wear_max_depth_um (truth 18) | clearance_um (truth 24) | verdict |",
-             "|---|---|---|---|"]
+    lines = ["| measurement | wear_max_depth_um (truth 18) | clearance_um (truth 24) | verdict |", "|---|---|---|---|"]
     for case, what in DIAGNOSE_EXAMPLES:
         d = _json(f"reports/diagnose/{case}/diagnosis.json")
         e, ident = d["estimates"], d["identifiable"]
@@ -156,8 +176,9 @@ def diagnose_examples() -> str:
                 continue
             info = d["identifiability"][name]
             shown = _SHORT[name] if name in ("wear_max_depth_um", "clearance_um") else f"{name} {_interval(e[name])}"
-            why = (f" (trades off with the {_SHORT[info['trades_off_with']]})" if info.get("reason") == "trade-off"
-                   else "")
+            why = (
+                f" (trades off with the {_SHORT[info['trades_off_with']]})" if info.get("reason") == "trade-off" else ""
+            )
             fix = info.get("would_resolve", {}).get("measurement", "")
             fix = f"; {fix.split(' (')[0]} would resolve it" if fix else ""
             notes.append(f"{shown} not identifiable{why}{fix}")
@@ -182,19 +203,24 @@ def diagnose_plan() -> str:
     dw = [100 * r["width_fraction"]["wear_max_depth_um"] for r in disp]
     b = d["best"]
     low = min(r["torque_Nm"] for r in rows)
-    blind = sorted({r["speed_rpm"] for r in harm if r["torque_Nm"] == low}
-                   - {r["speed_rpm"] for r in harm if r["torque_Nm"] == low
-                      and r["width_fraction"]["wear_max_depth_um"] < 0.995})
-    text = (f"At every candidate speed and torque no harmonic table separates wear and clearance "
-            f"(clearance {_span(clr)} of its prior range), while every displacement time "
-            f"series {'does' if all(r['separable'] for r in disp) else 'mostly does'} "
-            f"(clearance {_span(dc)}, wear {_span(dw)}); the narrowest is "
-            f"all four signals at {b['speed_rpm']:g} rpm and {b['torque_Nm']:g} N m (wear "
-            f"{100 * b['width_fraction']['wear_max_depth_um']:.0f} %, clearance "
-            f"{100 * b['width_fraction']['clearance_um']:.0f} %).")
+    blind = sorted(
+        {r["speed_rpm"] for r in harm if r["torque_Nm"] == low}
+        - {r["speed_rpm"] for r in harm if r["torque_Nm"] == low and r["width_fraction"]["wear_max_depth_um"] < 0.995}
+    )
+    text = (
+        f"At every candidate speed and torque no harmonic table separates wear and clearance "
+        f"(clearance {_span(clr)} of its prior range), while every displacement time "
+        f"series {'does' if all(r['separable'] for r in disp) else 'mostly does'} "
+        f"(clearance {_span(dc)}, wear {_span(dw)}); the narrowest is "
+        f"all four signals at {b['speed_rpm']:g} rpm and {b['torque_Nm']:g} N m (wear "
+        f"{100 * b['width_fraction']['wear_max_depth_um']:.0f} %, clearance "
+        f"{100 * b['width_fraction']['clearance_um']:.0f} %)."
+    )
     if blind:
-        text += (f" At {low:g} N m the harmonics alone say nothing about the wear at "
-                 f"{' and '.join(f'{s:g}' for s in blind)} rpm (100 %).")
+        text += (
+            f" At {low:g} N m the harmonics alone say nothing about the wear at "
+            f"{' and '.join(f'{s:g}' for s in blind)} rpm (100 %)."
+        )
     return text
 
 
@@ -205,17 +231,27 @@ def stiffness_sources() -> str:
     def yes(flag: bool) -> str:
         return "yes" if flag else "-"
 
-    rows = ["| source | what it is | `--method` | scene `source` | default points per mesh period | flank, faults | "
-            "fem.plane | runs the FE |", "|---|---|---|---|---|---|---|---|"]
+    rows = [
+        "| source | what it is | `--method` | scene `source` | default points per mesh period | flank, faults | "
+        "fem.plane | runs the FE |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
     for s in SOURCES.values():
-        rows.append(f"| `{s.name}` | {s.title} | {yes(s.command)} | {yes(s.scene)} | {s.default_points} | "
-                    f"{yes(s.flank and s.faults)} | {yes(s.plane)} | {yes(s.fe)} |")
+        rows.append(
+            f"| `{s.name}` | {s.title} | {yes(s.command)} | {yes(s.scene)} | {s.default_points} | "
+            f"{yes(s.flank and s.faults)} | {yes(s.plane)} | {yes(s.fe)} |"
+        )
     return "\n".join(rows)
 
 
-TABLES = {"stiffness-sources": stiffness_sources, "stiffness-peer": stiffness_peer, "plane-study": plane_study,
-          "diagnose-examples": diagnose_examples,
-          "diagnose-plan": diagnose_plan, "bore-study": bore_study}
+TABLES = {
+    "stiffness-sources": stiffness_sources,
+    "stiffness-peer": stiffness_peer,
+    "plane-study": plane_study,
+    "diagnose-examples": diagnose_examples,
+    "diagnose-plan": diagnose_plan,
+    "bore-study": bore_study,
+}
 
 BLOCK = re.compile(r"(<!-- generated: (?P<name>[\w-]+) -->\n)(?P<body>.*?)(<!-- end: (?P=name) -->)", re.S)
 

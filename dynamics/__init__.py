@@ -14,7 +14,21 @@ from .presets import paper_pair, rectangular_stiffness
 from .reference_rhs import rhs_python
 from .simulate import SimResult, compute_signals, kernel_switches, simulate
 
-__all__ = ["GearDynamics", "SimResult", "simulate", "harmonics", "spectrum",
-           "linear_eigenfrequencies", "energy_balance", "mechanical_energy", "rhs_python",
-           "static_equilibrium", "damping_from_ratios", "paper_pair", "rectangular_stiffness",
-           "kernel_switches", "compute_signals", "STATE_NAMES"]
+__all__ = [
+    "GearDynamics",
+    "SimResult",
+    "simulate",
+    "harmonics",
+    "spectrum",
+    "linear_eigenfrequencies",
+    "energy_balance",
+    "mechanical_energy",
+    "rhs_python",
+    "static_equilibrium",
+    "damping_from_ratios",
+    "paper_pair",
+    "rectangular_stiffness",
+    "kernel_switches",
+    "compute_signals",
+    "STATE_NAMES",
+]

@@ -11,8 +11,19 @@ from .model import GearDynamics
 
 _trapezoid = getattr(np, "trapezoid", None) or getattr(np, "trapz")
 
-__all__ = ["spectrum", "harmonics", "window_harmonics", "window_fourier", "fourier_amplitudes", "gauss_grid",
-           "dense_derivatives", "event_pieces", "energy_balance", "mechanical_energy", "acceleration_signals"]
+__all__ = [
+    "spectrum",
+    "harmonics",
+    "window_harmonics",
+    "window_fourier",
+    "fourier_amplitudes",
+    "gauss_grid",
+    "dense_derivatives",
+    "event_pieces",
+    "energy_balance",
+    "mechanical_energy",
+    "acceleration_signals",
+]
 
 # 3-point Gauss-Legendre on [0, 1]: exact for polynomials of degree 5
 _GL_X = 0.5 + 0.5 * np.array([-np.sqrt(0.6), 0.0, np.sqrt(0.6)])
@@ -156,21 +167,21 @@ def window_integrals(result, names, n: int = 10, chunk: int = 200_000, fold: boo
             if sub is not None:
                 wq = wq * np.repeat(~broken[sel], 3)
             if ph is None:
-                ph = _phasors(tq[:3 * P], result.fm_Hz, n, k0=0)
+                ph = _phasors(tq[: 3 * P], result.fm_Hz, n, k0=0)
             for name in names:
                 acc[name] += ph @ (wq * sig[name]).reshape(-1, 3 * P).sum(axis=0)
     else:
-        _add_pieces(acc, model, t, Z, F, np.nonzero(~broken)[0], names, n, result.fm_Hz, chunk,
-                    compute_signals, k0=0)
-    return ({name: 2.0 * v[1:] / span for name, v in acc.items()},
-            {name: float(v[0].real) / span for name, v in acc.items()})
+        _add_pieces(acc, model, t, Z, F, np.nonzero(~broken)[0], names, n, result.fm_Hz, chunk, compute_signals, k0=0)
+    return (
+        {name: 2.0 * v[1:] / span for name, v in acc.items()},
+        {name: float(v[0].real) / span for name, v in acc.items()},
+    )
 
 
-def _add_pieces(acc, model, t, Z, F, pieces, names, n: int, fm_Hz: float, chunk: int, compute_signals,
-                k0: int = 1):
+def _add_pieces(acc, model, t, Z, F, pieces, names, n: int, fm_Hz: float, chunk: int, compute_signals, k0: int = 1):
     """acc[name] += int x e^{-i k w t} dt, k = k0..n, over the pieces [t_j, t_j+1] listed (in chunks)."""
     for c0 in range(0, pieces.size, chunk):
-        tq, wq, sig = _signals_at_quadrature(model, t, Z, F, pieces[c0:c0 + chunk], names, compute_signals)
+        tq, wq, sig = _signals_at_quadrature(model, t, Z, F, pieces[c0 : c0 + chunk], names, compute_signals)
         ph = _phasors(tq, fm_Hz, n, k0)
         for name in names:
             acc[name] += ph @ (wq * sig[name])
@@ -213,9 +224,9 @@ def dense_derivatives(result) -> np.ndarray:
     if sides is not None:
         ev, lo, hi, first, last = sides
         if first.any():
-            F[0] = ev[np.nonzero(first)[0][-1], EV_F1:EV_F1 + 10]
+            F[0] = ev[np.nonzero(first)[0][-1], EV_F1 : EV_F1 + 10]
         if last.any():
-            F[-1] = ev[np.nonzero(last)[0][0], EV_F0:EV_F0 + 10]
+            F[-1] = ev[np.nonzero(last)[0][0], EV_F0 : EV_F0 + 10]
     return F
 
 
@@ -250,7 +261,7 @@ def event_pieces(result, F) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray, n
     broken = np.cumsum(d)[:-1] > 0
     dropped = np.zeros(n, dtype=bool)
     for e in np.nonzero(hi > lo)[0]:
-        dropped[lo[e]:hi[e]] = True
+        dropped[lo[e] : hi[e]] = True
     ends = np.zeros(n, dtype=bool)
     ends[:-1] |= broken
     ends[1:] |= broken
@@ -265,15 +276,16 @@ def event_pieces(result, F) -> tuple[np.ndarray, tuple[np.ndarray, np.ndarray, n
     ts, Zs, Fs = np.empty(m), np.empty((m, 10)), np.empty((m, 10))
     ts[~copy], Zs[~copy], Fs[~copy] = t[keep], result.states_dense[keep, :10], F[keep]
     for c, f0 in ((before, EV_F0), (before + 1, EV_F1)):
-        ts[c], Zs[c], Fs[c] = ev[:, EV_T], ev[:, EV_Z:EV_Z + 10], ev[:, f0:f0 + 10]
+        ts[c], Zs[c], Fs[c] = ev[:, EV_T], ev[:, EV_Z : EV_Z + 10], ev[:, f0 : f0 + 10]
     # a piece between two output times is either whole (integrated with the rest) or the
     # gap between two runs of broken pieces: only pieces with an event end are new
     pieces = np.nonzero(copy[:-1] | copy[1:])[0]
     return broken, (ts, Zs, Fs, pieces)
 
 
-def _affine_fold(acc, model, t, Z, F, broken, R: int, Pt: int, names, n: int, fm_Hz: float, compute_signals,
-                 k0: int = 1):
+def _affine_fold(
+    acc, model, t, Z, F, broken, R: int, Pt: int, names, n: int, fm_Hz: float, compute_signals, k0: int = 1
+):
     """acc[name] += the window integral over the whole pieces for signals affine in the
     state (window_fourier): the end values of every piece summed over the R table periods
     (Pt pieces each) with the pieces that hold events left out, the signals on one period."""
@@ -287,7 +299,7 @@ def _affine_fold(acc, model, t, Z, F, broken, R: int, Pt: int, names, n: int, fm
         for Xs, X in ((Zs0, Z[out]), (Zs1, Z[out + 1]), (Fs0, F[out]), (Fs1, F[out + 1])):
             np.subtract.at(Xs, q, X)
         np.subtract.at(count, q, 1.0)
-    tb = t[:Pt + 1]
+    tb = t[: Pt + 1]
     w = np.diff(tb)
     tq, wq = _gauss_nodes(tb[:-1], w)
     dt = w[:, None]
@@ -306,8 +318,8 @@ def _hermite_at_gauss(Z0, Z1, F0, F1) -> np.ndarray:
     Hermite basis is a constant of the node, so every piece is interpolated at once."""
     nodes = []
     for th in _GL_X:
-        h00, h10 = 2 * th ** 3 - 3 * th ** 2 + 1, th ** 3 - 2 * th ** 2 + th
-        h01, h11 = -2 * th ** 3 + 3 * th ** 2, th ** 3 - th ** 2
+        h00, h10 = 2 * th**3 - 3 * th**2 + 1, th**3 - 2 * th**2 + th
+        h01, h11 = -2 * th**3 + 3 * th**2, th**3 - th**2
         nodes.append(h00 * Z0 + h10 * F0 + h01 * Z1 + h11 * F1)
     return np.stack(nodes, axis=1).reshape(-1, Z0.shape[1])
 
@@ -348,8 +360,9 @@ def mechanical_energy(model: GearDynamics, t, Z) -> np.ndarray:
     """Kinetic + bearing strain + mesh strain energy (reduced model) at states Z (N, 10)."""
     Z = np.atleast_2d(np.asarray(Z, float))
     t = np.atleast_1d(np.asarray(t, float))
-    T = 0.5 * (model.m_p * (Z[:, 5] ** 2 + Z[:, 6] ** 2) + model.m_g * (Z[:, 7] ** 2 + Z[:, 8] ** 2)
-               + model.m_e * Z[:, 9] ** 2)
+    T = 0.5 * (
+        model.m_p * (Z[:, 5] ** 2 + Z[:, 6] ** 2) + model.m_g * (Z[:, 7] ** 2 + Z[:, 8] ** 2) + model.m_e * Z[:, 9] ** 2
+    )
     Vb = 0.5 * model.k_b * np.sum(bearing_f(model, Z[:, :4]) ** 2, axis=1)
     return T + Vb + mesh_state(model, t, Z)["V_mesh"]
 
@@ -378,18 +391,25 @@ def energy_balance(result, model: GearDynamics) -> dict:
         ms = mesh_state(model, t, Z)
         cbp, cbg = model.c_b_pair
         p_in = model.F_s * Z[:, 9]
-        p_d = cbp * (Z[:, 5] ** 2 + Z[:, 6] ** 2) + cbg * (Z[:, 7] ** 2 + Z[:, 8] ** 2) \
-            + ms["F_damp"] * ms["delta_dot"]
+        p_d = cbp * (Z[:, 5] ** 2 + Z[:, 6] ** 2) + cbg * (Z[:, 7] ** 2 + Z[:, 8] ** 2) + ms["F_damp"] * ms["delta_dot"]
         p_k = 0.5 * ms["dk_dt"] * (ms["f_drive"] ** 2 + ms["f_back"] ** 2)
         p_e = -ms["k_h"] * (ms["f_drive"] + ms["f_back"]) * ms["de_dt"]
-        W = {k: float(_trapezoid(p, t)) for k, p in
-             (("W_in", p_in), ("D", p_d), ("W_k", p_k), ("W_e", p_e))}
+        W = {k: float(_trapezoid(p, t)) for k, p in (("W_in", p_in), ("D", p_d), ("W_k", p_k), ("W_e", p_e))}
         how = "grid trapezoid"
     res = dE - (W["W_in"] - W["D"] + W["W_k"] + W["W_e"])
     scale = max(abs(dE), abs(W["W_in"]), abs(W["D"]), abs(W["W_k"]), abs(W["W_e"]), 1e-300)
-    return dict(input_work=W["W_in"], dissipated=W["D"], parametric_work=W["W_k"],
-                excitation_work=W["W_e"], energy_change=dE, E_start=float(E[0]),
-                E_end=float(E[-1]), residual=res, relative_residual=abs(res) / scale, method=how)
+    return dict(
+        input_work=W["W_in"],
+        dissipated=W["D"],
+        parametric_work=W["W_k"],
+        excitation_work=W["W_e"],
+        energy_change=dE,
+        E_start=float(E[0]),
+        E_end=float(E[-1]),
+        residual=res,
+        relative_residual=abs(res) / scale,
+        method=how,
+    )
 
 
 def acceleration_signals(result) -> dict:

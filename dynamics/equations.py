@@ -124,9 +124,28 @@ def mesh_state(model: GearDynamics, t, z, k=None, e=None):
     mode = np.where(drive & back, 2, np.where(drive, 1, np.where(back, -1, 0)))
     Fd = np.where(damp_on, model.c_h * ddelta, 0.0)
     F = Fd + k * (fd + fb)
-    return dict(delta=delta, delta_dot=ddelta, s=s, k_h=k, dk_dt=dk, e=e, de_dt=de, b=b,
-                drive=drive, back=back, mode=mode, f_drive=fd, f_back=fb, F_damp=Fd, F_m=F,
-                V_mesh=0.5 * k * (fd * fd + fb * fb), G=G, Gb=Gb, sin_a=sa, cos_a=ca)
+    return dict(
+        delta=delta,
+        delta_dot=ddelta,
+        s=s,
+        k_h=k,
+        dk_dt=dk,
+        e=e,
+        de_dt=de,
+        b=b,
+        drive=drive,
+        back=back,
+        mode=mode,
+        f_drive=fd,
+        f_back=fb,
+        F_damp=Fd,
+        F_m=F,
+        V_mesh=0.5 * k * (fd * fd + fb * fb),
+        G=G,
+        Gb=Gb,
+        sin_a=sa,
+        cos_a=ca,
+    )
 
 
 def bearing_f(model: GearDynamics, u):

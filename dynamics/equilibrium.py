@@ -35,8 +35,7 @@ def static_equilibrium(model: GearDynamics) -> np.ndarray:
     F = model.F_s
     k = model.k_mean
     if F != 0 and k <= 0:
-        raise fail_text("k_table", "k_table: mean mesh stiffness is 0 N/m, no static "
-                                   "equilibrium under load")
+        raise fail_text("k_table", "k_table: mean mesh stiffness is 0 N/m, no static equilibrium under load")
     sgn = 1.0 if F > 0 else (-1.0 if F < 0 else 0.0)
     bb = model.bearing_half_clearance_m or 0.0
     sa, ca, b = math.sin(model.alpha), math.cos(model.alpha), model.backlash_half_m or 0.0
@@ -52,14 +51,17 @@ def static_equilibrium(model: GearDynamics) -> np.ndarray:
         return z
     from scipy.optimize import root
 
-    xs = max(abs(F) / model.k_b, abs(F) / max(k, 1.0), 1e-9)   # scale to O(1) unknowns
+    xs = max(abs(F) / model.k_b, abs(F) / max(k, 1.0), 1e-9)  # scale to O(1) unknowns
     em = model.e_mean
 
     def resid(u):
         zz = np.zeros(10)
         zz[:5] = z[:5] + u * xs
-        return _accelerations(model, np.array(0.0), zz, k=k, e=em) * np.array(
-            [model.m_p, model.m_p, model.m_g, model.m_g, model.m_e]) / max(abs(F), 1.0)
+        return (
+            _accelerations(model, np.array(0.0), zz, k=k, e=em)
+            * np.array([model.m_p, model.m_p, model.m_g, model.m_g, model.m_e])
+            / max(abs(F), 1.0)
+        )
 
     # start: delta of the dynamic form (no x-projection) on the drive flank
     z0 = z.copy()

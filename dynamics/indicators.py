@@ -57,9 +57,21 @@ import numpy as np
 
 from gearwear.core.validation import fail, fail_text
 
-__all__ = ["GearIndicators", "SidebandLines", "gear_indicators", "result_indicators",
-           "ac_rms", "kurtosis", "crest_factor", "fm0", "fm4", "difference_signal",
-           "sideband_energy", "sideband_lines", "revolution_bins"]
+__all__ = [
+    "GearIndicators",
+    "SidebandLines",
+    "gear_indicators",
+    "result_indicators",
+    "ac_rms",
+    "kurtosis",
+    "crest_factor",
+    "fm0",
+    "fm4",
+    "difference_signal",
+    "sideband_energy",
+    "sideband_lines",
+    "revolution_bins",
+]
 
 # an AC part below this fraction of the signal's magnitude is floating-point rounding
 _FLAT = 1e-12
@@ -78,8 +90,12 @@ def _signal(x) -> np.ndarray:
 
 
 def _positive(name: str, v) -> float:
-    if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)) \
-            or not math.isfinite(v) or v <= 0:
+    if (
+        isinstance(v, bool)
+        or not isinstance(v, (int, float, np.floating, np.integer))
+        or not math.isfinite(v)
+        or v <= 0
+    ):
         raise fail_text(name, f"{name} = {v!r}: must be a finite number > 0", v)
     return float(v)
 
@@ -101,15 +117,22 @@ def revolution_bins(n_samples: int, fs_Hz: float, f_mesh_Hz: float, f_shaft_Hz: 
     zr = fm / fsh
     z = int(round(zr))
     if z < 1 or abs(zr - z) > 1e-9 * zr:
-        raise fail_text("f_mesh_Hz", f"f_mesh_Hz = {fm:.9g}: must be a whole multiple of f_shaft_Hz = {fsh:.9g} "
-                                     f"(the monitored shaft's tooth count), got the ratio {zr:.9g}", fm)
+        raise fail_text(
+            "f_mesh_Hz",
+            f"f_mesh_Hz = {fm:.9g}: must be a whole multiple of f_shaft_Hz = {fsh:.9g} "
+            f"(the monitored shaft's tooth count), got the ratio {zr:.9g}",
+            fm,
+        )
     rev = n_samples * fsh / fs
     R = int(round(rev))
     if R < 1 or abs(rev - R) > 1e-6:
-        raise fail_text("x", f"x: {n_samples} samples at fs_Hz = {fs:.9g} are {rev:.9g} revolutions of "
-                             f"the shaft at f_shaft_Hz = {fsh:.9g}; the record must hold a whole number "
-                             f"(>= 1) of revolutions (with a simulation: round the duration with "
-                             f"round_to_table_periods)")
+        raise fail_text(
+            "x",
+            f"x: {n_samples} samples at fs_Hz = {fs:.9g} are {rev:.9g} revolutions of "
+            f"the shaft at f_shaft_Hz = {fsh:.9g}; the record must hold a whole number "
+            f"(>= 1) of revolutions (with a simulation: round the duration with "
+            f"round_to_table_periods)",
+        )
     return R, z
 
 
@@ -130,13 +153,20 @@ def _harmonic_count(N: int, R: int, z: int, n_harmonics) -> int:
     H_max = (N // 2) // (z * R)
     if n_harmonics is None:
         if H_max < 1:
-            raise fail_text("fs_Hz", f"fs_Hz: the mesh frequency is not below the Nyquist frequency "
-                                     f"({N} samples over {R} revolutions, {z} mesh periods each)")
+            raise fail_text(
+                "fs_Hz",
+                f"fs_Hz: the mesh frequency is not below the Nyquist frequency "
+                f"({N} samples over {R} revolutions, {z} mesh periods each)",
+            )
         return H_max
     H = _count("n_harmonics", n_harmonics, 1)
     if H > H_max:
-        raise fail("n_harmonics", H, "", f"only {H_max} mesh harmonics lie at or below the Nyquist "
-                   f"frequency at this sample rate")
+        raise fail(
+            "n_harmonics",
+            H,
+            "",
+            f"only {H_max} mesh harmonics lie at or below the Nyquist frequency at this sample rate",
+        )
     return H
 
 
@@ -159,7 +189,7 @@ def _kurtosis(x: np.ndarray):
         return None, "the signal is constant (to 1e-12 of its magnitude): 4th moment over a zero variance"
     ac = x - np.mean(x)
     m2 = float(np.mean(ac * ac))
-    return float(np.mean(ac ** 4) / (m2 * m2)), None
+    return float(np.mean(ac**4) / (m2 * m2)), None
 
 
 def kurtosis(x) -> float | None:
@@ -207,8 +237,9 @@ def _removed_bins(N: int, R: int, z: int, H: int, n_shaft_orders: int) -> np.nda
     return b[(b >= 0) & (b <= top)]
 
 
-def difference_signal(x, fs_Hz: float, f_mesh_Hz: float, f_shaft_Hz: float,
-                      n_shaft_orders: int = 2, n_harmonics: int | None = None) -> np.ndarray:
+def difference_signal(
+    x, fs_Hz: float, f_mesh_Hz: float, f_shaft_Hz: float, n_shaft_orders: int = 2, n_harmonics: int | None = None
+) -> np.ndarray:
     """The difference signal of FM4: x with the DFT bins of DC, the shaft orders
     1..n_shaft_orders, the mesh harmonics k f_mesh (k = 1..H, H as in :func:`fm0`) and
     their first-order sidebands k f_mesh +- f_shaft set to zero, transformed back (exact
@@ -230,13 +261,16 @@ def _fm4(x, d):
     rd = float(np.sqrt(np.mean(d * d)))
     ra = float(np.sqrt(np.mean((x - np.mean(x)) ** 2)))
     if rd <= _FLAT * max(ra, float(np.max(np.abs(x))), 1e-300):
-        return None, ("the difference signal is at the rounding level: nothing is left after "
-                      "removing the shaft orders, mesh harmonics and first-order sidebands")
-    return float(np.mean(d ** 4) / np.mean(d * d) ** 2), None
+        return None, (
+            "the difference signal is at the rounding level: nothing is left after "
+            "removing the shaft orders, mesh harmonics and first-order sidebands"
+        )
+    return float(np.mean(d**4) / np.mean(d * d) ** 2), None
 
 
-def fm4(x, fs_Hz: float, f_mesh_Hz: float, f_shaft_Hz: float, n_shaft_orders: int = 2,
-        n_harmonics: int | None = None) -> float | None:
+def fm4(
+    x, fs_Hz: float, f_mesh_Hz: float, f_shaft_Hz: float, n_shaft_orders: int = 2, n_harmonics: int | None = None
+) -> float | None:
     """FM4 = kurtosis of the difference signal (:func:`difference_signal`; Stewart 1977,
     Zakrajsek et al. 1993, Samuel & Pines 2005). None when nothing is left of it."""
     x = _signal(x)
@@ -247,11 +281,20 @@ def _sb_check(N, R, z, K, N_sb):
     K = _count("K", K, 1)
     N_sb = _count("N_sb", N_sb, 1)
     if 2 * N_sb >= z:
-        raise fail("N_sb", N_sb, "", f"sidebands must stay closer to their own mesh harmonic than to "
-                   f"the next (2 N_sb < {z} = f_mesh / f_shaft)")
+        raise fail(
+            "N_sb",
+            N_sb,
+            "",
+            f"sidebands must stay closer to their own mesh harmonic than to the next (2 N_sb < {z} = f_mesh / f_shaft)",
+        )
     if 2 * (K * z + N_sb) * R >= N:
-        raise fail("K", K, "", "the sideband band K f_mesh + N_sb f_shaft reaches the Nyquist "
-                   "frequency; lower K or N_sb, or sample faster")
+        raise fail(
+            "K",
+            K,
+            "",
+            "the sideband band K f_mesh + N_sb f_shaft reaches the Nyquist "
+            "frequency; lower K or N_sb, or sample faster",
+        )
     return K, N_sb
 
 
@@ -267,8 +310,7 @@ def _sidebands(A, R, z, K, N_sb):
     return sb, me, 10.0 * math.log10(sb / me), None
 
 
-def sideband_energy(x, fs_Hz: float, f_mesh_Hz: float, f_shaft_Hz: float, K: int = 3,
-                    N_sb: int = 3) -> dict:
+def sideband_energy(x, fs_Hz: float, f_mesh_Hz: float, f_shaft_Hz: float, K: int = 3, N_sb: int = 3) -> dict:
     """Energy (sum of squared single-sided amplitudes) at k f_mesh +- n f_shaft, n = 1..N_sb,
     around the mesh harmonics k = 1..K, and at those harmonics: returns
     {"sideband_energy": ..., "mesh_energy": ... (signal unit^2), "sideband_ratio_dB":
@@ -321,8 +363,17 @@ class GearIndicators:
         return d
 
 
-def gear_indicators(x, fs_Hz: float, f_mesh_Hz: float, f_shaft_Hz: float, K: int = 3, N_sb: int = 3,
-                    n_shaft_orders: int = 2, n_harmonics: int | None = None, unit: str = "") -> GearIndicators:
+def gear_indicators(
+    x,
+    fs_Hz: float,
+    f_mesh_Hz: float,
+    f_shaft_Hz: float,
+    K: int = 3,
+    N_sb: int = 3,
+    n_shaft_orders: int = 2,
+    n_harmonics: int | None = None,
+    unit: str = "",
+) -> GearIndicators:
     """Every indicator of the module docstring for the record x (whole revolutions of the
     shaft at f_shaft_Hz, f_mesh_Hz a whole multiple of it). ``K``, ``N_sb``: mesh harmonics
     and sideband orders of the sideband energy; ``n_shaft_orders``, ``n_harmonics``: what
@@ -345,22 +396,50 @@ def gear_indicators(x, fs_Hz: float, f_mesh_Hz: float, f_shaft_Hz: float, K: int
     why += [("FM4", r)] if r else []
     sb, me, db, r = _sidebands(A, R, z, K, N_sb)
     why += [("sideband_ratio_dB", r)] if r else []
-    return GearIndicators(unit=str(unit), n_samples=int(x.size), n_revolutions=R, fs_Hz=float(fs_Hz),
-                          f_mesh_Hz=float(f_mesh_Hz), f_shaft_Hz=float(f_shaft_Hz),
-                          mean=float(np.mean(x)), ac_rms=float(np.sqrt(np.mean((x - np.mean(x)) ** 2))),
-                          peak_to_peak=float(np.ptp(x)), kurtosis=kur, crest_factor=cf, FM0=f0, FM4=f4,
-                          sideband_energy=sb, mesh_energy=me, sideband_ratio_dB=db, K_mesh_harmonics=K,
-                          N_sidebands=N_sb, FM0_FM4_mesh_harmonics=H, FM4_shaft_orders_removed=ns,
-                          undefined=tuple(why))
+    return GearIndicators(
+        unit=str(unit),
+        n_samples=int(x.size),
+        n_revolutions=R,
+        fs_Hz=float(fs_Hz),
+        f_mesh_Hz=float(f_mesh_Hz),
+        f_shaft_Hz=float(f_shaft_Hz),
+        mean=float(np.mean(x)),
+        ac_rms=float(np.sqrt(np.mean((x - np.mean(x)) ** 2))),
+        peak_to_peak=float(np.ptp(x)),
+        kurtosis=kur,
+        crest_factor=cf,
+        FM0=f0,
+        FM4=f4,
+        sideband_energy=sb,
+        mesh_energy=me,
+        sideband_ratio_dB=db,
+        K_mesh_harmonics=K,
+        N_sidebands=N_sb,
+        FM0_FM4_mesh_harmonics=H,
+        FM4_shaft_orders_removed=ns,
+        undefined=tuple(why),
+    )
 
 
-_UNITS = {"F_m": "N", "a_delta": "m/s^2", "a_y_p": "m/s^2", "a_x_p": "m/s^2", "a_y_g": "m/s^2",
-          "a_x_g": "m/s^2", "a_q": "m/s^2", "delta": "m", "s": "m", "q": "m", "y_p": "m",
-          "x_p": "m", "y_g": "m", "x_g": "m"}
+_UNITS = {
+    "F_m": "N",
+    "a_delta": "m/s^2",
+    "a_y_p": "m/s^2",
+    "a_x_p": "m/s^2",
+    "a_y_g": "m/s^2",
+    "a_x_g": "m/s^2",
+    "a_q": "m/s^2",
+    "delta": "m",
+    "s": "m",
+    "q": "m",
+    "y_p": "m",
+    "x_p": "m",
+    "y_g": "m",
+    "x_g": "m",
+}
 
 
-def result_indicators(result, signal: str = "a_delta", f_shaft_Hz: float | None = None,
-                      **kw) -> GearIndicators:
+def result_indicators(result, signal: str = "a_delta", f_shaft_Hz: float | None = None, **kw) -> GearIndicators:
     """:func:`gear_indicators` of a simulation signal (``result.signals`` or, for names
     starting ``a_``, :func:`dynamics.analysis.acceleration_signals`). ``f_shaft_Hz``
     defaults to the pinion's, omega_p / 2 pi (f_mesh = z_p f_shaft). The kept window must
@@ -369,12 +448,12 @@ def result_indicators(result, signal: str = "a_delta", f_shaft_Hz: float | None 
     of the tooth count (``result.whole_table_periods``)."""
     if signal.startswith("a_"):
         from .analysis import acceleration_signals
+
         sigs = acceleration_signals(result)
     else:
         sigs = result.signals
     if signal not in sigs:
-        raise fail("signal", repr(signal), "", f"not a signal of the result (one of "
-                   f"{', '.join(sorted(sigs))})")
+        raise fail("signal", repr(signal), "", f"not a signal of the result (one of {', '.join(sorted(sigs))})")
     m = result.model
     fsh = f_shaft_Hz if f_shaft_Hz is not None else m.omega_p / (2 * math.pi)
     kw.setdefault("unit", _UNITS.get(signal, ""))
@@ -396,8 +475,11 @@ class SidebandLines:
     orders: np.ndarray
 
     def to_dict(self) -> dict:
-        return {"mesh_Hz": self.mesh_Hz.tolist(), "sideband_Hz": self.sideband_Hz.tolist(),
-                "orders": self.orders.tolist()}
+        return {
+            "mesh_Hz": self.mesh_Hz.tolist(),
+            "sideband_Hz": self.sideband_Hz.tolist(),
+            "orders": self.orders.tolist(),
+        }
 
 
 def sideband_lines(f_mesh_Hz: float, f_shaft_Hz: float, K: int = 3, N: int = 3) -> SidebandLines:

@@ -33,6 +33,7 @@ def segment_coefficients(phi, v, P: float, kind: str = "linear") -> np.ndarray:
     c = np.zeros((len(phi), 4))
     if kind == "cubic":
         from scipy.interpolate import CubicSpline
+
         cs = CubicSpline(x, y, bc_type="periodic")
         c[:] = cs.c[::-1].T
     else:
@@ -47,7 +48,7 @@ def table_mean(phi, v, P: float, kind: str = "linear") -> float:
     phi = np.asarray(phi, float)
     c = segment_coefficients(phi, np.asarray(v, float), P, kind)
     w = np.diff(np.r_[phi, phi[0] + P])
-    return float(np.sum(c[:, 0] * w + c[:, 1] * w ** 2 / 2 + c[:, 2] * w ** 3 / 3 + c[:, 3] * w ** 4 / 4) / P)
+    return float(np.sum(c[:, 0] * w + c[:, 1] * w**2 / 2 + c[:, 2] * w**3 / 3 + c[:, 3] * w**4 / 4) / P)
 
 
 def _eval_coefficients(phx, c, u):

@@ -26,9 +26,19 @@ from pathlib import Path
 #: the files whose content the compiled kernels depend on: the modules that define njit
 #: functions and every module of this package they import (tests/test_kernel_cache.py
 #: checks that the list is complete)
-KERNEL_SOURCES = ("dormand_prince.py", "params.py", "kernel_state.py", "kernel_rhs.py", "kernel_tables.py",
-                  "kernel_rk4.py", "kernel_dp_step.py", "kernel_events.py", "kernel_dopri5.py", "kernels.py",
-                  "kernel_cache.py")
+KERNEL_SOURCES = (
+    "dormand_prince.py",
+    "params.py",
+    "kernel_state.py",
+    "kernel_rhs.py",
+    "kernel_tables.py",
+    "kernel_rk4.py",
+    "kernel_dp_step.py",
+    "kernel_events.py",
+    "kernel_dopri5.py",
+    "kernels.py",
+    "kernel_cache.py",
+)
 
 #: True once the kernels' caches are keyed on ``sources_digest()``
 ACTIVE = False
@@ -89,8 +99,10 @@ def key_on_sources(package: str) -> bool:
         module = importlib.import_module(f"{package}.{name[:-3]}")
         for obj in list(vars(module).values()):
             py_func = getattr(obj, "py_func", None)
-            if (isinstance(getattr(obj, "_cache", None), FunctionCache)
-                    and getattr(py_func, "__module__", None) == module.__name__):
+            if (
+                isinstance(getattr(obj, "_cache", None), FunctionCache)
+                and getattr(py_func, "__module__", None) == module.__name__
+            ):
                 obj._cache = _KernelCache(py_func)
                 n += 1
     ACTIVE = n > 0

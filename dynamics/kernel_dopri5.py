@@ -30,8 +30,30 @@ _PD = DENSE_P
 
 
 @njit(cache=True)
-def dopri5(z0, t_end, t_out, rtol, atol, h0, hmax, hmin, max_steps, zlim, gidx,
-           p, phi, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en):
+def dopri5(
+    z0,
+    t_end,
+    t_out,
+    rtol,
+    atol,
+    h0,
+    hmax,
+    hmin,
+    max_steps,
+    zlim,
+    gidx,
+    p,
+    phi,
+    phx,
+    kx,
+    ex,
+    sw_tv,
+    sw_bl,
+    sw_cl,
+    sw_te,
+    sw_dyn,
+    sw_en,
+):
     """Adaptive Dormand-Prince 5(4) from t = 0 with event location.
 
     The contact modes are frozen during a step (each mode's right-hand side is smooth).
@@ -57,7 +79,7 @@ def dopri5(z0, t_end, t_out, rtol, atol, h0, hmax, hmin, max_steps, zlim, gidx,
     K = np.empty((7, nz))
     z = z0.copy()
     znew = np.empty(nz)
-    zt = np.empty(nz)           # scratch for the event root finder
+    zt = np.empty(nz)  # scratch for the event root finder
     zd = np.empty(nz)
     act = np.zeros(NG, dtype=np.bool_)
     g = np.zeros(NG)
@@ -68,7 +90,7 @@ def dopri5(z0, t_end, t_out, rtol, atol, h0, hmax, hmin, max_steps, zlim, gidx,
     ng = gidx.shape[0]
     t = 0.0
     clip = (sw_tv is not None) or (sw_te is not None)
-    hp = h0                      # step proposed by the error controller
+    hp = h0  # step proposed by the error controller
     tn = _next_node_time(t, p, phi) if clip else 1e300
     si, sm = _segment(0.5 * min(hp, tn), p, phx) if clip else (0, 0)
     if ng > 0:
@@ -86,7 +108,7 @@ def dopri5(z0, t_end, t_out, rtol, atol, h0, hmax, hmin, max_steps, zlim, gidx,
     t_lo = t_out[0] if n_out > 0 else 0.0
     t_hi = t_out[n_out - 1] if n_out > 0 else -1.0
     n_zero = 0
-    ev_rate = 0.0                # moving average of events per step (chatter diagnosis)
+    ev_rate = 0.0  # moving average of events per step (chatter diagnosis)
     status = ST_OK
     skip_events = False
     while t < t_end:
@@ -110,8 +132,9 @@ def dopri5(z0, t_end, t_out, rtol, atol, h0, hmax, hmin, max_steps, zlim, gidx,
         hit_node = clip and (t + h >= tn)
         if clip:
             si, sm = _segment(t + 0.5 * h, p, phx)
-        zn, ks, ws, errt = _dp_stages(t, h, si, sm, _tup(z), k1, w1, p, modes, phx, kx, ex,
-                                      sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en)
+        zn, ks, ws, errt = _dp_stages(
+            t, h, si, sm, _tup(z), k1, w1, p, modes, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en
+        )
         en = 0.0
         for r in range(nerr):
             sc = atol[r] + rtol * max(abs(z[r]), abs(zn[r]))
@@ -121,15 +144,14 @@ def dopri5(z0, t_end, t_out, rtol, atol, h0, hmax, hmin, max_steps, zlim, gidx,
             en = 1e10
         if en > 1.0:
             n_rej += 1
-            hp = h * max(0.2, 0.9 * en ** -0.2)
+            hp = h * max(0.2, 0.9 * en**-0.2)
             if hp < hmin:
                 status = ST_HMIN
                 break
             continue
         # the stage rows feed the dense output (samples, event checks) and the energy
         # quadratures; a step that needs none of them skips the copy
-        if (sw_en is not None or (ng > 0 and not skip_events)
-                or (ko < n_out and t_out[ko] <= t + h * (1.0 + 1e-12))):
+        if sw_en is not None or (ng > 0 and not skip_events) or (ko < n_out and t_out[ko] <= t + h * (1.0 + 1e-12)):
             _dp_store(K, k1, w1, ks, ws, zn, znew, sw_en)
             if sw_en is not None:
                 _dp_energy(z, K, h, znew)
@@ -158,8 +180,32 @@ def dopri5(z0, t_end, t_out, rtol, atol, h0, hmax, hmin, max_steps, zlim, gidx,
                 for q in range(ng):
                     gi = gidx[q]
                     if (g[gi] > 0.0) != act[gi]:
-                        rt = _illinois(t, h, si, sm, z, K, PD, gi, act[gi], thp, gprev[gi], th, g[gi],
-                                       zt, gs, p, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn)
+                        rt = _illinois(
+                            t,
+                            h,
+                            si,
+                            sm,
+                            z,
+                            K,
+                            PD,
+                            gi,
+                            act[gi],
+                            thp,
+                            gprev[gi],
+                            th,
+                            g[gi],
+                            zt,
+                            gs,
+                            p,
+                            phx,
+                            kx,
+                            ex,
+                            sw_tv,
+                            sw_bl,
+                            sw_cl,
+                            sw_te,
+                            sw_dyn,
+                        )
                         roots[gi] = rt
                         if rt < best:
                             best = rt
@@ -173,8 +219,26 @@ def dopri5(z0, t_end, t_out, rtol, atol, h0, hmax, hmin, max_steps, zlim, gidx,
                 h_ev = best * h
                 if h_ev > (1e-15 + 4e-16 * abs(t)):
                     if best < 1.0:
-                        zn, ks, ws, errt = _dp_stages(t, h_ev, si, sm, _tup(z), k1, w1, p, modes, phx, kx,
-                                                      ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en)
+                        zn, ks, ws, errt = _dp_stages(
+                            t,
+                            h_ev,
+                            si,
+                            sm,
+                            _tup(z),
+                            k1,
+                            w1,
+                            p,
+                            modes,
+                            phx,
+                            kx,
+                            ex,
+                            sw_tv,
+                            sw_bl,
+                            sw_cl,
+                            sw_te,
+                            sw_dyn,
+                            sw_en,
+                        )
                         _dp_store(K, k1, w1, ks, ws, zn, znew, sw_en)
                         if sw_en is not None:
                             _dp_energy(z, K, h_ev, znew)
@@ -246,7 +310,7 @@ def dopri5(z0, t_end, t_out, rtol, atol, h0, hmax, hmin, max_steps, zlim, gidx,
             elif ng > 0:
                 _g_arr(t, si, sm, z, gcur, p, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn)
         if not event:
-            fac = 5.0 if en < 1e-10 else min(5.0, max(0.2, 0.9 * en ** -0.2))
+            fac = 5.0 if en < 1e-10 else min(5.0, max(0.2, 0.9 * en**-0.2))
             if clipped:
                 hp = max(hp, h * fac) if fac >= 1.0 else min(hp, h * fac)
             else:

@@ -21,6 +21,7 @@ from .kernel_rhs import _rhs
 from .kernel_state import _lc1, _lc2, _lc3, _lc4, _lc5, _lc6, _put, _tup
 from .kernel_tables import _table_at
 
+
 @njit(cache=True)
 def _dp_stages(t, h, i, m, z, k1, w1, p, modes, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en):
     """Stages 2-7 of Dormand-Prince 5(4) on tuples (k1 = f(t, z) given, FSAL).
@@ -30,14 +31,27 @@ def _dp_stages(t, h, i, m, z, k1, w1, p, modes, phx, kx, ex, sw_tv, sw_bl, sw_cl
     kt, et, dkt, det = _table_at(t + C[2] * h, i, m, p, phx, kx, ex, sw_tv, sw_te)
     k3, F, w3 = _rhs(_lc2(z, h, A3[0], k1, A3[1], k2), kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
     kt, et, dkt, det = _table_at(t + C[3] * h, i, m, p, phx, kx, ex, sw_tv, sw_te)
-    k4, F, w4 = _rhs(_lc3(z, h, A4[0], k1, A4[1], k2, A4[2], k3), kt, et, dkt, det, p, modes,
-                     sw_bl, sw_cl, sw_dyn, sw_en)
+    k4, F, w4 = _rhs(
+        _lc3(z, h, A4[0], k1, A4[1], k2, A4[2], k3), kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en
+    )
     kt, et, dkt, det = _table_at(t + C[4] * h, i, m, p, phx, kx, ex, sw_tv, sw_te)
-    k5, F, w5 = _rhs(_lc4(z, h, A5[0], k1, A5[1], k2, A5[2], k3, A5[3], k4),
-                     kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
+    k5, F, w5 = _rhs(
+        _lc4(z, h, A5[0], k1, A5[1], k2, A5[2], k3, A5[3], k4), kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en
+    )
     kt, et, dkt, det = _table_at(t + h, i, m, p, phx, kx, ex, sw_tv, sw_te)
-    k6, F, w6 = _rhs(_lc5(z, h, A6[0], k1, A6[1], k2, A6[2], k3, A6[3], k4, A6[4], k5), kt, et, dkt, det, p, modes,
-                     sw_bl, sw_cl, sw_dyn, sw_en)
+    k6, F, w6 = _rhs(
+        _lc5(z, h, A6[0], k1, A6[1], k2, A6[2], k3, A6[3], k4, A6[4], k5),
+        kt,
+        et,
+        dkt,
+        det,
+        p,
+        modes,
+        sw_bl,
+        sw_cl,
+        sw_dyn,
+        sw_en,
+    )
     zn = _lc5(z, h, B[0], k1, B[2], k3, B[3], k4, B[4], k5, B[5], k6)
     k7, F, w7 = _rhs(zn, kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
     zero = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
@@ -67,9 +81,7 @@ def _dp_store(K, k1, w1, ks, ws, zn, znew, sw_en):
 def _dp_energy(z, K, h, znew):
     """Energy quadratures: the 5th-order weights of the states (A[6]) on their rates."""
     for r in range(10, z.shape[0]):
-        znew[r] = z[r] + h * (B[0] * K[0, r] + B[2] * K[2, r] + B[3] * K[3, r]
-                              + B[4] * K[4, r] + B[5] * K[5, r])
-
+        znew[r] = z[r] + h * (B[0] * K[0, r] + B[2] * K[2, r] + B[3] * K[3, r] + B[4] * K[4, r] + B[5] * K[5, r])
 
 
 @njit(cache=True)
@@ -85,5 +97,4 @@ def _dense(z, K, h, th, PD, out, nz):
     b5 = PD[5, 0] * th + PD[5, 1] * t2 + PD[5, 2] * t3 + PD[5, 3] * t4
     b6 = PD[6, 0] * th + PD[6, 1] * t2 + PD[6, 2] * t3 + PD[6, 3] * t4
     for i in range(nz):
-        out[i] = z[i] + h * (b0 * K[0, i] + b2 * K[2, i] + b3 * K[3, i] + b4 * K[4, i]
-                             + b5 * K[5, i] + b6 * K[6, i])
+        out[i] = z[i] + h * (b0 * K[0, i] + b2 * K[2, i] + b3 * K[3, i] + b4 * K[4, i] + b5 * K[5, i] + b6 * K[6, i])

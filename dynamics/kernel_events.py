@@ -42,14 +42,20 @@ def _bmode(up, down):
 
 @njit(cache=True)
 def _modes_tuple(act):
-    return (1 if act[0] else 0, 1 if act[1] else 0, _bmode(act[2], act[3]), _bmode(act[4], act[5]),
-            _bmode(act[6], act[7]), _bmode(act[8], act[9]))
-
+    return (
+        1 if act[0] else 0,
+        1 if act[1] else 0,
+        _bmode(act[2], act[3]),
+        _bmode(act[4], act[5]),
+        _bmode(act[6], act[7]),
+        _bmode(act[8], act[9]),
+    )
 
 
 @njit(cache=True)
-def _illinois(t, h, i, m, z, K, PD, gi, act_i, a, fa, bq, fb, zs, gs, p, phx, kx, ex,
-              sw_tv, sw_bl, sw_cl, sw_te, sw_dyn):
+def _illinois(
+    t, h, i, m, z, K, PD, gi, act_i, a, fa, bq, fb, zs, gs, p, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn
+):
     """Crossing of switching function gi on the dense output inside [a, bq] (theta units);
     a is on the current side, bq on the other. Returns the new-side end of the final
     bracket (width <= ~1e-13 s)."""
@@ -98,4 +104,3 @@ def _ev_put(ev, n, t, z, f0, f1):
         ev[n, EV_F0 + r] = f0[r]
         ev[n, EV_F1 + r] = f1[r]
     return ev
-

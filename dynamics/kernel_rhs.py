@@ -24,8 +24,7 @@ import math
 
 from numba import njit
 
-from .params import (P_B, P_BB, P_C0, P_CA, P_CBG, P_CBP, P_CH, P_FS, P_INV0, P_KB, P_ME, P_MG, P_MP,
-                     P_PAPER, P_RS, P_SA)
+from .params import P_B, P_BB, P_C0, P_CA, P_CBG, P_CBP, P_CH, P_FS, P_INV0, P_KB, P_ME, P_MG, P_MP, P_PAPER, P_RS, P_SA
 
 NG = 10  # switching functions: s-b, -s-b, then +-u_j - b_b for y_p, x_p, y_g, x_g
 
@@ -144,17 +143,25 @@ def _rhs(z, k, e, dk, de, p, modes, sw_bl, sw_cl, sw_dyn, sw_en):
     kb = p[P_KB]
     cbp = p[P_CBP]
     cbg = p[P_CBG]
-    dz = (z[5], z[6], z[7], z[8], z[9],
-          (Q0 - cbp * z[5] - kb * f0) / p[P_MP],
-          (Q1 - cbp * z[6] - kb * f1) / p[P_MP],
-          (Q2 - cbg * z[7] - kb * f2) / p[P_MG],
-          (Q3 - cbg * z[8] - kb * f3) / p[P_MG],
-          (p[P_FS] - F) / p[P_ME])
+    dz = (
+        z[5],
+        z[6],
+        z[7],
+        z[8],
+        z[9],
+        (Q0 - cbp * z[5] - kb * f0) / p[P_MP],
+        (Q1 - cbp * z[6] - kb * f1) / p[P_MP],
+        (Q2 - cbg * z[7] - kb * f2) / p[P_MG],
+        (Q3 - cbg * z[8] - kb * f3) / p[P_MG],
+        (p[P_FS] - F) / p[P_ME],
+    )
     if sw_en is not None:
-        w = (p[P_FS] * z[9],
-             cbp * (z[5] * z[5] + z[6] * z[6]) + cbg * (z[7] * z[7] + z[8] * z[8]) + fd * dd,
-             0.5 * dk * (fdv * fdv + fbk * fbk),
-             -k * (fdv + fbk) * de)
+        w = (
+            p[P_FS] * z[9],
+            cbp * (z[5] * z[5] + z[6] * z[6]) + cbg * (z[7] * z[7] + z[8] * z[8]) + fd * dd,
+            0.5 * dk * (fdv * fdv + fbk * fbk),
+            -k * (fdv + fbk) * de,
+        )
     else:
         w = (0.0, 0.0, 0.0, 0.0)
     return dz, F, w
@@ -172,6 +179,5 @@ def _gvals(z, e, p, sw_bl, sw_cl, sw_dyn):
         g1 = -s - b
     if sw_cl is not None:
         bb = p[P_BB]
-        return (g0, g1, z[0] - bb, -z[0] - bb, z[1] - bb, -z[1] - bb,
-                z[2] - bb, -z[2] - bb, z[3] - bb, -z[3] - bb)
+        return (g0, g1, z[0] - bb, -z[0] - bb, z[1] - bb, -z[1] - bb, z[2] - bb, -z[2] - bb, z[3] - bb, -z[3] - bb)
     return (g0, g1, -1.0, -1.0, -1.0, -1.0, -1.0, -1.0, -1.0, -1.0)

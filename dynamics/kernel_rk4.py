@@ -24,6 +24,7 @@ from .kernel_rhs import _rhs
 from .kernel_state import ST_DIVERGED, ST_OK, _lc1, _lc4, _put, _tup
 from .params import P_KC
 
+
 @njit(cache=True)
 def _bounded(z, zlim):
     return abs(z[4]) < zlim and abs(z[0]) < zlim and abs(z[2]) < zlim
@@ -41,10 +42,8 @@ def _hermite10(z0, f0, z1, f1, th, h, dst):
         dst[i] = h00 * z0[i] + h10 * f0[i] + h01 * z1[i] + h11 * f1[i]
 
 
-
 @njit(cache=True)
-def rk4(z0, h, n_steps, t_out, zlim, p, hs, toff, kq, eq, dkq, deq, ends,
-        sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en):
+def rk4(z0, h, n_steps, t_out, zlim, p, hs, toff, kq, eq, dkq, deq, ends, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en):
     """Classical RK4 on the fixed grid h = T_m / N from t = 0, split at table kinks.
 
     (hs, toff, kq, eq, dkq, deq, ends) is one table period's schedule
@@ -108,13 +107,15 @@ def rk4(z0, h, n_steps, t_out, zlim, p, hs, toff, kq, eq, dkq, deq, ends,
         h6 = hq / 6.0
         z1 = _lc4(z, hq, 1 / 6, d1, 1 / 3, d2, 1 / 3, d3, 1 / 6, d4)
         if sw_en is not None:
-            W = (W[0] + h6 * (w1[0] + 2.0 * (w2[0] + w3[0]) + w4[0]),
-                 W[1] + h6 * (w1[1] + 2.0 * (w2[1] + w3[1]) + w4[1]),
-                 W[2] + h6 * (w1[2] + 2.0 * (w2[2] + w3[2]) + w4[2]),
-                 W[3] + h6 * (w1[3] + 2.0 * (w2[3] + w3[3]) + w4[3]))
+            W = (
+                W[0] + h6 * (w1[0] + 2.0 * (w2[0] + w3[0]) + w4[0]),
+                W[1] + h6 * (w1[1] + 2.0 * (w2[1] + w3[1]) + w4[1]),
+                W[2] + h6 * (w1[2] + 2.0 * (w2[2] + w3[2]) + w4[2]),
+                W[3] + h6 * (w1[3] + 2.0 * (w2[3] + w3[3]) + w4[3]),
+            )
         n_sub += 1
         t1 = n_per * T + toff[q]
-        tol_t = tol + 8.9e-16 * t1     # 4 ulp of t: the grids are computed differently
+        tol_t = tol + 8.9e-16 * t1  # 4 ulp of t: the grids are computed differently
         while ko < n_out and t_out[ko] <= t1 + tol_t:
             if t_out[ko] >= t1 - tol_t:
                 _put(out[ko], z1, W, sw_en)

@@ -23,6 +23,7 @@ from numba import njit
 
 from .params import P_DPHI, P_KC, P_OM, P_PER, P_PHI0, P_UNI
 
+
 @njit(cache=True)
 def _segment(tseg, p, phx):
     """Table segment index (in the periodic-extended table) and table-period count at
@@ -60,7 +61,6 @@ def _table_at(t, i, m, p, phx, kx, ex, sw_tv, sw_te):
             e = ex[i, 0] + d * (ex[i, 1] + d * (ex[i, 2] + d * ex[i, 3]))
             de = (ex[i, 1] + d * (2.0 * ex[i, 2] + 3.0 * d * ex[i, 3])) * p[P_OM]
     return k, e, dk, de
-
 
 
 @njit(cache=True)

@@ -74,8 +74,21 @@ from .kernel_rk4 import rk4
 from .kernel_state import ST_BUDGET, ST_DIVERGED, ST_HMIN, ST_OK, _put, _tup
 from .kernel_tables import _segment, _table_at
 
-__all__ = ["rk4", "dopri5", "rhs_at", "NG", "ST_OK", "ST_BUDGET", "ST_HMIN", "ST_DIVERGED",
-           "EV_T", "EV_Z", "EV_F0", "EV_F1", "EV_COLS"]
+__all__ = [
+    "rk4",
+    "dopri5",
+    "rhs_at",
+    "NG",
+    "ST_OK",
+    "ST_BUDGET",
+    "ST_HMIN",
+    "ST_DIVERGED",
+    "EV_T",
+    "EV_Z",
+    "EV_F0",
+    "EV_F1",
+    "EV_COLS",
+]
 
 
 @njit(cache=True)

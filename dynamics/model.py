@@ -94,14 +94,46 @@ from .equations import _accelerations, bearing_f, has_flank_law, mesh_geometry, 
 from .equilibrium import static_equilibrium
 from .interpolant import _eval_coefficients, segment_coefficients, table_mean  # noqa: F401
 from .linear import _linear_matrices, linear_eigenfrequencies, max_linear_rate  # noqa: F401
-from .params import (N_PAR, P_B, P_BB, P_C0, P_CA, P_CBG, P_CBP, P_CH, P_DPHI, P_FS,  # noqa: F401
-                     P_INV0, P_KB, P_KC, P_ME, P_MG, P_MP, P_N, P_OM, P_PAPER, P_PER, P_PHI0, P_RS,
-                     P_SA, P_UNI, _compute_derived, _inv, derived)
+from .params import (  # noqa: F401
+    N_PAR,
+    P_B,
+    P_BB,
+    P_C0,
+    P_CA,
+    P_CBG,
+    P_CBP,
+    P_CH,
+    P_DPHI,
+    P_FS,
+    P_INV0,
+    P_KB,
+    P_KC,
+    P_ME,
+    P_MG,
+    P_MP,
+    P_N,
+    P_OM,
+    P_PAPER,
+    P_PER,
+    P_PHI0,
+    P_RS,
+    P_SA,
+    P_UNI,
+    _compute_derived,
+    _inv,
+    derived,
+)
 from .reference_rhs import rhs_python
 from .table_time import _breaks, _table_eval, rk4_schedule, table_node_times  # noqa: F401
 
-__all__ = ["GearDynamics", "damping_from_ratios", "static_equilibrium",
-           "linear_eigenfrequencies", "rhs_python", "STATE_NAMES"]
+__all__ = [
+    "GearDynamics",
+    "damping_from_ratios",
+    "static_equilibrium",
+    "linear_eigenfrequencies",
+    "rhs_python",
+    "STATE_NAMES",
+]
 
 STATE_NAMES = ("y_p", "x_p", "y_g", "x_g", "q", "vy_p", "vx_p", "vy_g", "vx_g", "vq")
 
@@ -159,37 +191,56 @@ class GearDynamics:
             raise fail_text("c_h", f"c_h = {self.c_h} N s/m: must be >= 0", self.c_h, unit="N s/m")
         cb = self.c_b if isinstance(self.c_b, (tuple, list)) else (self.c_b, self.c_b)
         if len(cb) != 2 or any((not math.isfinite(c)) or c < 0 for c in cb):
-            raise fail_text("c_b", f"c_b = {self.c_b!r} N s/m: must be >= 0 (one value or pinion, gear)",
-                            self.c_b, unit="N s/m")
+            raise fail_text(
+                "c_b", f"c_b = {self.c_b!r} N s/m: must be >= 0 (one value or pinion, gear)", self.c_b, unit="N s/m"
+            )
         object.__setattr__(self, "c_b", (float(cb[0]), float(cb[1])))
         if not (0 < self.alpha < math.pi / 2):
-            raise fail_text("alpha", f"alpha = {self.alpha} rad: must be in (0, pi/2)", self.alpha, unit="rad",
-                            field=Field("rad", 0.0, math.pi / 2, lo_open=True, hi_open=True))
+            raise fail_text(
+                "alpha",
+                f"alpha = {self.alpha} rad: must be in (0, pi/2)",
+                self.alpha,
+                unit="rad",
+                field=Field("rad", 0.0, math.pi / 2, lo_open=True, hi_open=True),
+            )
         if int(self.z_p) != self.z_p or self.z_p < 3:
             raise fail_text("z_p", f"z_p = {self.z_p}: must be a whole number >= 3", self.z_p)
         L = self.table_periods
-        if (isinstance(L, bool) or not isinstance(L, (int, float, np.floating, np.integer))
-                or not math.isfinite(L) or int(L) != L or L < 1):
-            raise fail_text("table_periods", f"table_periods = {L!r}: must be a whole number >= 1 (mesh "
-                                             f"periods spanned by the stiffness tables)", L)
+        if (
+            isinstance(L, bool)
+            or not isinstance(L, (int, float, np.floating, np.integer))
+            or not math.isfinite(L)
+            or int(L) != L
+            or L < 1
+        ):
+            raise fail_text(
+                "table_periods",
+                f"table_periods = {L!r}: must be a whole number >= 1 (mesh periods spanned by the stiffness tables)",
+                L,
+            )
         object.__setattr__(self, "table_periods", int(L))
         P = self.table_period_rad
         phi = np.asarray(self.phi_table, dtype=float).ravel()
         k = np.asarray(self.k_table, dtype=float).ravel()
         if phi.size < 2 or k.shape != phi.shape:
-            raise fail_text("k_table", f"k_table: needs >= 2 points and the shape of phi_table "
-                                       f"({phi.size}), got {k.size}")
-        if not (np.all(np.isfinite(phi)) and np.all(np.diff(phi) > 0) and phi[0] >= 0
-                and phi[-1] < P * (1 + 1e-12)):
-            span = ("one mesh period" if self.table_periods == 1 else
-                    f"one table period of {self.table_periods} mesh periods (table_periods)")
-            raise fail_text("phi_table", f"phi_table: must be strictly increasing inside {span} "
-                                         f"[0, {P:.6g}) rad")
+            raise fail_text(
+                "k_table", f"k_table: needs >= 2 points and the shape of phi_table ({phi.size}), got {k.size}"
+            )
+        if not (np.all(np.isfinite(phi)) and np.all(np.diff(phi) > 0) and phi[0] >= 0 and phi[-1] < P * (1 + 1e-12)):
+            span = (
+                "one mesh period"
+                if self.table_periods == 1
+                else f"one table period of {self.table_periods} mesh periods (table_periods)"
+            )
+            raise fail_text("phi_table", f"phi_table: must be strictly increasing inside {span} [0, {P:.6g}) rad")
         if self.table_periods > 1 and phi[-1] < (self.table_periods - 1) * self.mesh_period_rad * (1 - 1e-12):
-            raise fail_text("phi_table", f"phi_table: ends at {phi[-1]:.6g} rad, but table_periods = "
-                                         f"{self.table_periods} needs a table over [0, {P:.6g}) rad (nodes in "
-                                         f"each of the {self.table_periods} mesh periods; tile a one-period "
-                                         f"table or set table_periods = 1)")
+            raise fail_text(
+                "phi_table",
+                f"phi_table: ends at {phi[-1]:.6g} rad, but table_periods = "
+                f"{self.table_periods} needs a table over [0, {P:.6g}) rad (nodes in "
+                f"each of the {self.table_periods} mesh periods; tile a one-period "
+                f"table or set table_periods = 1)",
+            )
         if phi[-1] >= P:
             phi = phi.copy()
             phi[-1] = np.nextafter(P, 0.0)
@@ -197,8 +248,7 @@ class GearDynamics:
             raise fail_text("k_table", "k_table N/m: must be finite and >= 0", unit="N/m")
         e = np.zeros_like(phi) if self.e_table is None else np.asarray(self.e_table, float).ravel()
         if e.shape != phi.shape or not np.all(np.isfinite(e)):
-            raise fail_text("e_table", f"e_table m: must be finite with the shape of phi_table ({phi.size})",
-                            unit="m")
+            raise fail_text("e_table", f"e_table m: must be finite with the shape of phi_table ({phi.size})", unit="m")
         for name, arr in (("phi_table", phi), ("k_table", k), ("e_table", e)):
             arr = arr.copy()
             arr.setflags(write=False)
@@ -220,16 +270,25 @@ class GearDynamics:
             d = (np.diff(np.r_[phi, phi[0] + P]))[:, None] * np.linspace(0, 1, 9)[None, :]
             low = np.min(kc[:, 0, None] + d * (kc[:, 1, None] + d * (kc[:, 2, None] + d * kc[:, 3, None])))
             if low < 0:
-                raise fail_text("k_table", f"k_table: its periodic cubic spline goes negative "
-                                           f"({low:.4g} N/m) between the rows; use linear interpolation")
+                raise fail_text(
+                    "k_table",
+                    f"k_table: its periodic cubic spline goes negative "
+                    f"({low:.4g} N/m) between the rows; use linear interpolation",
+                )
         if self.k_constant is not None and (not math.isfinite(self.k_constant) or self.k_constant < 0):
-            raise fail_text("k_constant", f"k_constant = {self.k_constant} N/m: must be >= 0", self.k_constant,
-                            unit="N/m")
+            raise fail_text(
+                "k_constant", f"k_constant = {self.k_constant} N/m: must be >= 0", self.k_constant, unit="N/m"
+            )
         if self.centre_distance == "dynamic" and self.C0_m is not None:
             Cn = (self.R_p + self.R_g) / math.cos(self.alpha)
             if abs(self.C0_m - Cn) > 1e-9 * Cn:
-                raise fail_text("C0_m", f"C0_m = {self.C0_m} m: must equal (R_p + R_g)/cos(alpha) "
-                                        f"= {Cn:.9g} m (alpha is the pressure angle at C0)", self.C0_m, unit="m")
+                raise fail_text(
+                    "C0_m",
+                    f"C0_m = {self.C0_m} m: must equal (R_p + R_g)/cos(alpha) "
+                    f"= {Cn:.9g} m (alpha is the pressure angle at C0)",
+                    self.C0_m,
+                    unit="m",
+                )
 
     # ---- derived quantities (pure) ----
     @property
@@ -260,7 +319,7 @@ class GearDynamics:
 
     @property
     def m_e(self) -> float:
-        return 1.0 / (self.R_p ** 2 / self.J_p + self.R_g ** 2 / self.J_g)
+        return 1.0 / (self.R_p**2 / self.J_p + self.R_g**2 / self.J_g)
 
     @property
     def F_s(self) -> float:
@@ -303,6 +362,7 @@ class GearDynamics:
     def with_(self, **changes) -> "GearDynamics":
         """A copy with some fields replaced (dataclasses.replace)."""
         import dataclasses
+
         return dataclasses.replace(self, **changes)
 
 
@@ -310,13 +370,16 @@ def _table_mean(model: GearDynamics, v: np.ndarray) -> float:
     return table_mean(model.phi_table, v, model.table_period_rad, model.interpolation)
 
 
-def damping_from_ratios(zeta_m: float, zeta_b: float, k_mean: float, m_e: float, k_b: float,
-                        m_p: float, m_g: float) -> tuple[float, tuple[float, float]]:
+def damping_from_ratios(
+    zeta_m: float, zeta_b: float, k_mean: float, m_e: float, k_b: float, m_p: float, m_g: float
+) -> tuple[float, tuple[float, float]]:
     """Viscous damping from damping ratios: ``c_h = 2 zeta_m sqrt(k_mean m_e)`` (mesh, on
     the reduced torsional mass m_e) and ``c_b = 2 zeta_b sqrt(k_b m)`` for the pinion's and
     the gear's bearing (m = m_p, m_g); c = 2 zeta sqrt(k m) is the damping that gives a
     single-DOF oscillator the ratio zeta of critical damping. Ratios dimensionless,
     stiffnesses N/m, masses kg; returns (c_h, (c_b_p, c_b_g)) in N s/m. The one home of
     this conversion (scenes and presets call it)."""
-    return (2 * zeta_m * math.sqrt(k_mean * m_e),
-            (2 * zeta_b * math.sqrt(k_b * m_p), 2 * zeta_b * math.sqrt(k_b * m_g)))
+    return (
+        2 * zeta_m * math.sqrt(k_mean * m_e),
+        (2 * zeta_b * math.sqrt(k_b * m_p), 2 * zeta_b * math.sqrt(k_b * m_g)),
+    )

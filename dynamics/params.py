@@ -44,8 +44,31 @@ def _inv(a: float) -> float:
 
 
 # parameter vector layout
-(P_MP, P_MG, P_ME, P_FS, P_KB, P_CBP, P_CBG, P_CH, P_SA, P_CA, P_KC, P_B, P_BB, P_OM,
- P_PER, P_C0, P_RS, P_INV0, P_PAPER, P_UNI, P_DPHI, P_PHI0, P_N) = range(23)
+(
+    P_MP,
+    P_MG,
+    P_ME,
+    P_FS,
+    P_KB,
+    P_CBP,
+    P_CBG,
+    P_CH,
+    P_SA,
+    P_CA,
+    P_KC,
+    P_B,
+    P_BB,
+    P_OM,
+    P_PER,
+    P_C0,
+    P_RS,
+    P_INV0,
+    P_PAPER,
+    P_UNI,
+    P_DPHI,
+    P_PHI0,
+    P_N,
+) = range(23)
 N_PAR = 23
 
 
@@ -58,7 +81,7 @@ def derived(model: GearDynamics):
 
 
 def _compute_derived(model: GearDynamics):
-    P = model.table_period_rad          # par[P_PER]: the period of the tables
+    P = model.table_period_rad  # par[P_PER]: the period of the tables
     phi = np.asarray(model.phi_table, float)
     n = phi.size
     par = np.zeros(N_PAR)

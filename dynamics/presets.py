@@ -23,9 +23,15 @@ _trapezoid = getattr(np, "trapezoid", None) or getattr(np, "trapz")
 __all__ = ["rectangular_stiffness", "paper_pair"]
 
 
-def rectangular_stiffness(n: int = 256, z: int = 30, k_single: float = 2.9e8, k_double: float = 5.0e8,
-                          double_fraction: float = 0.6535, edge_fraction: float = 0.02,
-                          phase_fraction: float = 0.0):
+def rectangular_stiffness(
+    n: int = 256,
+    z: int = 30,
+    k_single: float = 2.9e8,
+    k_double: float = 5.0e8,
+    double_fraction: float = 0.6535,
+    edge_fraction: float = 0.02,
+    phase_fraction: float = 0.0,
+):
     """Periodic smoothed rectangular wave over one mesh period on a uniform table.
 
     Double contact on [phase, phase + double_fraction) of the period; the edges are
@@ -41,12 +47,23 @@ def rectangular_stiffness(n: int = 256, z: int = 30, k_single: float = 2.9e8, k_
     return phi, k_single + (k_double - k_single) * np.clip(ind, 0.0, 1.0)
 
 
-def paper_pair(torque_Nm: float = 40.0, speed_rpm: float = 1200.0, *, n_table: int = 256,
-               tvms: bool = True, backlash_total_m: float | None = None,
-               clearance_total_m: float | None = None, te_amplitude_m: float | None = None,
-               centre_distance: str = "static", zeta_m: float = 0.05, zeta_b: float = 0.02,
-               mesh_damping: str = "off-when-separated", k_table=None, phi_table=None,
-               k_constant: float | None = None) -> GearDynamics:
+def paper_pair(
+    torque_Nm: float = 40.0,
+    speed_rpm: float = 1200.0,
+    *,
+    n_table: int = 256,
+    tvms: bool = True,
+    backlash_total_m: float | None = None,
+    clearance_total_m: float | None = None,
+    te_amplitude_m: float | None = None,
+    centre_distance: str = "static",
+    zeta_m: float = 0.05,
+    zeta_b: float = 0.02,
+    mesh_damping: str = "off-when-separated",
+    k_table=None,
+    phi_table=None,
+    k_constant: float | None = None,
+) -> GearDynamics:
     """The paper's pair (Table 2): m = 3.75 kg, R_b = 70.477 mm, alpha = 20 deg,
     k_b = 2.6e8 N/m, z = 30. ``backlash_total_m`` / ``clearance_total_m`` are total
     plays (the model uses half of each); ``te_amplitude_m`` adds e(phi) = A (1 -
@@ -71,10 +88,27 @@ def paper_pair(torque_Nm: float = 40.0, speed_rpm: float = 1200.0, *, n_table: i
     if te_amplitude_m is not None:
         e = te_amplitude_m * 0.5 * (1 - np.cos(2 * np.pi * phi / P))
     return GearDynamics(
-        m_p=m, m_g=m, J_p=J, J_g=J, R_p=Rb, R_g=Rb, alpha=math.radians(20.0), k_b=kb, c_b=c_b,
-        c_h=c_h, T_p=torque_Nm, omega_p=speed_rpm * 2 * math.pi / 60, z_p=z, phi_table=phi,
-        k_table=k, e_table=e, tvms=tvms,
+        m_p=m,
+        m_g=m,
+        J_p=J,
+        J_g=J,
+        R_p=Rb,
+        R_g=Rb,
+        alpha=math.radians(20.0),
+        k_b=kb,
+        c_b=c_b,
+        c_h=c_h,
+        T_p=torque_Nm,
+        omega_p=speed_rpm * 2 * math.pi / 60,
+        z_p=z,
+        phi_table=phi,
+        k_table=k,
+        e_table=e,
+        tvms=tvms,
         backlash_half_m=None if backlash_total_m is None else backlash_total_m / 2,
         bearing_half_clearance_m=None if clearance_total_m is None else clearance_total_m / 2,
-        te_excitation=te_amplitude_m is not None, centre_distance=centre_distance,
-        mesh_damping=mesh_damping, k_constant=k_constant)
+        te_excitation=te_amplitude_m is not None,
+        centre_distance=centre_distance,
+        mesh_damping=mesh_damping,
+        k_constant=k_constant,
+    )

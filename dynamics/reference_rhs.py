@@ -84,9 +84,17 @@ def rhs_python(t: float, y, model: GearDynamics) -> np.ndarray:
 
     cbp, cbg = model.c_b_pair
     kb = model.k_b
-    return np.array([vyp, vxp, vyg, vxg, vq,
-                     (Q[0] - cbp * vyp - kb * fb(yp)) / model.m_p,
-                     (Q[1] - cbp * vxp - kb * fb(xp)) / model.m_p,
-                     (Q[2] - cbg * vyg - kb * fb(yg)) / model.m_g,
-                     (Q[3] - cbg * vxg - kb * fb(xg)) / model.m_g,
-                     (model.F_s - F) / model.m_e])
+    return np.array(
+        [
+            vyp,
+            vxp,
+            vyg,
+            vxg,
+            vq,
+            (Q[0] - cbp * vyp - kb * fb(yp)) / model.m_p,
+            (Q[1] - cbp * vxp - kb * fb(xp)) / model.m_p,
+            (Q[2] - cbg * vyg - kb * fb(yg)) / model.m_g,
+            (Q[3] - cbg * vxg - kb * fb(xg)) / model.m_g,
+            (model.F_s - F) / model.m_e,
+        ]
+    )

@@ -40,37 +40,37 @@ ENERGY_NAMES = ("W_in", "D", "W_k", "W_e")
 
 @dataclass
 class SimResult:
-    t: np.ndarray                     # sample times (s), uniform, whole mesh periods
-    signals: dict                     # name -> array on t
+    t: np.ndarray  # sample times (s), uniform, whole mesh periods
+    signals: dict  # name -> array on t
     fm_Hz: float
     fs_Hz: float
-    steps: int                        # accepted steps
-    rejected: int                     # dopri5: rejected steps; rk4: sub-steps at table nodes
-    events: int                       # located switching events (adaptive only)
-    wall_s: float                     # integration wall time (compilation excluded)
-    compile_s: float                  # compilation / cache load in this call (0 if warm)
+    steps: int  # accepted steps
+    rejected: int  # dopri5: rejected steps; rk4: sub-steps at table nodes
+    events: int  # located switching events (adaptive only)
+    wall_s: float  # integration wall time (compilation excluded)
+    compile_s: float  # compilation / cache load in this call (0 if warm)
     separation_fraction: float | None  # fraction of samples with |s| <= b; None: the model has no
-                                       # backlash dead zone (a two-sided spring cannot separate)
-    backside_fraction: float          # back-flank contact: fraction of samples with s < -b (backlash),
-                                      # or with a negative mesh force (two-sided spring)
-    bearing_contact_fraction: dict    # "pinion"/"gear": fraction with |y| > b_b or |x| > b_b
+    # backlash dead zone (a two-sided spring cannot separate)
+    backside_fraction: float  # back-flank contact: fraction of samples with s < -b (backlash),
+    # or with a negative mesh force (two-sided spring)
+    bearing_contact_fraction: dict  # "pinion"/"gear": fraction with |y| > b_b or |x| > b_b
     method: str
-    states: np.ndarray                # (N, 10) sampled states
-    energy: dict | None               # accumulated W_in, D, W_k, W_e on t (track_energy)
+    states: np.ndarray  # (N, 10) sampled states
+    energy: dict | None  # accumulated W_in, D, W_k, W_e on t (track_energy)
     n_periods: int
-    stats: dict                       # name -> dict(mean, ac_rms, p2p): mean, RMS about the mean, peak-to-peak
-    periodic_with: int                # smallest p (mesh periods) with a p-periodic tail, 0 if none;
-                                      # with table_periods L > 1 only multiples of L are tried
-    z_end: np.ndarray                 # final state
+    stats: dict  # name -> dict(mean, ac_rms, p2p): mean, RMS about the mean, peak-to-peak
+    periodic_with: int  # smallest p (mesh periods) with a p-periodic tail, 0 if none;
+    # with table_periods L > 1 only multiples of L are tried
+    z_end: np.ndarray  # final state
     switches: tuple = field(default=())
     model: GearDynamics | None = None  # the model that produced it (exact harmonics)
     t_dense: np.ndarray | None = None  # the sample times plus the table nodes and the window end
     states_dense: np.ndarray | None = None  # (len(t_dense), 10) states there
     window_events: np.ndarray | None = None  # (E, kernels.EV_COLS) the switching events dopri5
-                                             # located in the window: time, state, derivative
-                                             # before and after (analysis.event_pieces)
+    # located in the window: time, state, derivative
+    # before and after (analysis.event_pieces)
     _harmonics_memo: dict = field(default_factory=dict, repr=False)
-    table_periods: int = 1            # mesh periods per table period (model.table_periods)
+    table_periods: int = 1  # mesh periods per table period (model.table_periods)
 
     @property
     def event_times(self) -> np.ndarray:
@@ -95,6 +95,7 @@ class SimResult:
     def harmonics_of(self, names, n: int = 10) -> dict:
         """``harmonics`` for several signals in one pass over the window."""
         from .analysis import harmonics
+
         if self.model is None or self.t_dense is None:
             return {name: harmonics(self.signals[name], self.fs_Hz, self.fm_Hz, n) for name in names}
         self._window_pass(names, n)
@@ -112,8 +113,12 @@ class SimResult:
     def _window_pass(self, names, n: int) -> None:
         """Harmonics 1..n and the mean of ``names`` from one window integral, memoised."""
         from .analysis import window_integrals
-        missing = [name for name in names if (name, n) not in self._harmonics_memo
-                   or (name, "mean") not in self._harmonics_memo]
+
+        missing = [
+            name
+            for name in names
+            if (name, n) not in self._harmonics_memo or (name, "mean") not in self._harmonics_memo
+        ]
         if missing:
             coeffs, means = window_integrals(self, missing, n)
             for name in missing:
@@ -123,15 +128,21 @@ class SimResult:
     def spectrum(self, name: str = "F_m"):
         """Single-sided amplitude spectrum (f, A) of signal ``name``."""
         from .analysis import spectrum
+
         return spectrum(self.signals[name], self.fs_Hz)
 
 
 def kernel_switches(model: GearDynamics, track_energy: bool = False) -> tuple:
     """The effect switches as kernel arguments: ``True`` (present) or ``None`` (absent)."""
     on = lambda b: True if b else None  # noqa: E731
-    return (on(model.tvms), on(has_flank_law(model)),
-            on(model.bearing_half_clearance_m is not None), on(model.te_excitation),
-            on(model.centre_distance == "dynamic"), on(track_energy))
+    return (
+        on(model.tvms),
+        on(has_flank_law(model)),
+        on(model.bearing_half_clearance_m is not None),
+        on(model.te_excitation),
+        on(model.centre_distance == "dynamic"),
+        on(track_energy),
+    )
 
 
 def _gidx(model: GearDynamics) -> np.ndarray:
@@ -144,15 +155,16 @@ def _gidx(model: GearDynamics) -> np.ndarray:
 
 
 _WARM: set = set()
-OUTPUT_BYTES_PER_SAMPLE_STATE = 8 * 40   # states plus the ~25 derived signal arrays, float64
+OUTPUT_BYTES_PER_SAMPLE_STATE = 8 * 40  # states plus the ~25 derived signal arrays, float64
 
 
 class SolverError(InputError):
     """The integration could not finish; the message says what was happening."""
 
 
-def rk4_stability_number(model: GearDynamics, steps_per_mesh_period: int,
-                         k: float | None = None) -> tuple[float, float]:
+def rk4_stability_number(
+    model: GearDynamics, steps_per_mesh_period: int, k: float | None = None
+) -> tuple[float, float]:
     """(h * omega_max, omega_max): omega_max is the largest |eigenvalue| (rad/s) of the
     linearised first-order system at the largest table stiffness (mesh and bearing
     springs engaged, both dampers on; ``k``: at this mesh stiffness instead); RK4's
@@ -173,8 +185,9 @@ def resolve_method(model: GearDynamics, method: str) -> str:
     return "dopri5" if nonsmooth else "rk4"
 
 
-def check_rk4_stable(model: GearDynamics, steps_per_mesh_period: int, k: float | None = None,
-                     bound: bool = False) -> None:
+def check_rk4_stable(
+    model: GearDynamics, steps_per_mesh_period: int, k: float | None = None, bound: bool = False
+) -> None:
     """One-line InputError if RK4 is unstable at this step (h omega_max > 2.5,
     :func:`rk4_stability_number`). ``k``: the mesh stiffness of the linearisation instead of
     the table's largest; ``bound``: omega_max is a lower bound (a model without its mesh
@@ -183,11 +196,14 @@ def check_rk4_stable(model: GearDynamics, steps_per_mesh_period: int, k: float |
     if hw > 2.5:
         n_min = int(math.ceil(w / (2.5 * model.mesh_frequency_Hz)))
         eq = ">=" if bound else "="
-        raise fail_text("steps_per_mesh_period",
-                        f"steps_per_mesh_period = {steps_per_mesh_period}: RK4 is unstable "
-                        f"here (h omega_max {eq} {hw:.3g} > 2.5, omega_max {eq} {w:.4g} rad/s of the "
-                        f"linearised model); use >= {n_min} steps per mesh period or "
-                        f"method = dopri5", steps_per_mesh_period)
+        raise fail_text(
+            "steps_per_mesh_period",
+            f"steps_per_mesh_period = {steps_per_mesh_period}: RK4 is unstable "
+            f"here (h omega_max {eq} {hw:.3g} > 2.5, omega_max {eq} {w:.4g} rad/s of the "
+            f"linearised model); use >= {n_min} steps per mesh period or "
+            f"method = dopri5",
+            steps_per_mesh_period,
+        )
 
 
 #: |h lambda| at which Dormand-Prince 5(4) leaves its stability region (about 3.3 on the
@@ -202,8 +218,9 @@ def dopri5_step_budget(t_end_s: float, mesh_frequency_Hz: float) -> int:
     return int(20_000 * (t_end_s * mesh_frequency_Hz + 1)) + 100_000
 
 
-def check_dopri5_budget(model: GearDynamics, duration_s: float, k: float | None = None,
-                        bound: bool = False, max_steps: int | None = None) -> None:
+def check_dopri5_budget(
+    model: GearDynamics, duration_s: float, k: float | None = None, bound: bool = False, max_steps: int | None = None
+) -> None:
     """One-line InputError if dopri5 cannot reach ``duration_s`` within its step budget:
     an explicit method's steps stay below DOPRI5_STABLE_H_OMEGA / omega_max, so it needs
     at least duration_s omega_max / 3.5 steps (omega_max: :func:`rk4_stability_number`'s
@@ -217,11 +234,16 @@ def check_dopri5_budget(model: GearDynamics, duration_s: float, k: float | None 
     need = duration_s * w / DOPRI5_STABLE_H_OMEGA
     if need > budget:
         eq = ">=" if bound else "="
-        raise fail("duration_s", float(duration_s), "s", f"dopri5 cannot reach it within its budget of "
-                   f"{budget} steps: the fastest mode of the linearised model (omega_max {eq} "
-                   f"{w:.4g} rad/s) limits a stable step to {DOPRI5_STABLE_H_OMEGA / w:.3g} s, "
-                   f"so it needs >= {need:.3g} steps (check the bodies' masses and the bearing "
-                   f"stiffness, or shorten duration_s)")
+        raise fail(
+            "duration_s",
+            float(duration_s),
+            "s",
+            f"dopri5 cannot reach it within its budget of "
+            f"{budget} steps: the fastest mode of the linearised model (omega_max {eq} "
+            f"{w:.4g} rad/s) limits a stable step to {DOPRI5_STABLE_H_OMEGA / w:.3g} s, "
+            f"so it needs >= {need:.3g} steps (check the bodies' masses and the bearing "
+            f"stiffness, or shorten duration_s)",
+        )
 
 
 def _run(method, model, z0, t_end, t_out, steps_per_period, rtol, atol_vec, sw, max_steps, zlim):
@@ -237,8 +259,9 @@ def _run(method, model, z0, t_end, t_out, steps_per_period, rtol, atol_vec, sw, 
     h0 = Pt / 256.0
     hmax = Pt / 4.0
     hmin = 1e-9 * Pt
-    return kernels.dopri5(z0, t_end, t_out, rtol, atol_vec, h0, hmax, hmin,
-                          max_steps, zlim, _gidx(model), p, phi, phx, kx, ex, *sw)
+    return kernels.dopri5(
+        z0, t_end, t_out, rtol, atol_vec, h0, hmax, hmin, max_steps, zlim, _gidx(model), p, phi, phx, kx, ex, *sw
+    )
 
 
 def _diagnose(method, counters, t_stop, t_end, max_steps, zlim) -> str:
@@ -246,33 +269,45 @@ def _diagnose(method, counters, t_stop, t_end, max_steps, zlim) -> str:
     status = int(counters[4])
     where = f"t = {t_stop:.6g} s of {t_end:.6g} s"
     if status == kernels.ST_DIVERGED:
-        return (f"dynamics: {method} diverged at {where}: a displacement exceeded {zlim:.3g} m "
-                f"(non-finite or unbounded state); the model is unstable for these parameters "
-                f"(check damping, stiffness and speed), or the step is too large")
+        return (
+            f"dynamics: {method} diverged at {where}: a displacement exceeded {zlim:.3g} m "
+            f"(non-finite or unbounded state); the model is unstable for these parameters "
+            f"(check damping, stiffness and speed), or the step is too large"
+        )
     rate = int(counters[5]) if counters.shape[0] > 5 else 0
-    chatter = (f"chattering contact: {rate} contact events per 1000 steps just before the stop "
-               f"(impacts with vanishing rebound; more mesh or bearing damping ends them)")
+    chatter = (
+        f"chattering contact: {rate} contact events per 1000 steps just before the stop "
+        f"(impacts with vanishing rebound; more mesh or bearing damping ends them)"
+    )
     if status == kernels.ST_HMIN:
         why = chatter if rate >= 50 else "the response is too stiff or is diverging"
         return f"dynamics: {method} step size fell below 1e-9 mesh periods at {where}: {why}"
     why = chatter if rate >= 50 else f"{int(counters[2])} contact events so far"
-    return (f"dynamics: {method} used its whole budget of {max_steps} steps by {where} ({why}); "
-            f"raise max_steps or shorten duration_s")
+    return (
+        f"dynamics: {method} used its whole budget of {max_steps} steps by {where} ({why}); "
+        f"raise max_steps or shorten duration_s"
+    )
 
 
 def compute_signals(model: GearDynamics, t: np.ndarray, Z: np.ndarray) -> dict:
     """Signals from sampled states: displacements, velocities, delta, delta', s, k_h, F_m."""
     ms = mesh_state(model, t, Z[:, :10])
     sig = {name: Z[:, i].copy() for i, name in enumerate(STATE_NAMES)}
-    sig.update(delta=ms["delta"], delta_dot=ms["delta_dot"], s=ms["s"], k_h=ms["k_h"],
-               F_m=ms["F_m"], mode=ms["mode"], b=ms["b"])
+    sig.update(
+        delta=ms["delta"],
+        delta_dot=ms["delta_dot"],
+        s=ms["s"],
+        k_h=ms["k_h"],
+        F_m=ms["F_m"],
+        mode=ms["mode"],
+        b=ms["b"],
+    )
     if model.centre_distance == "dynamic":
         sig["alpha_op"] = np.arctan2(ms["sin_a"], ms["cos_a"])
     return sig
 
 
-def _periodic_with(x: np.ndarray, S: int, M: int, max_p: int = 8, tol: float = 1e-6,
-                   table_periods: int = 1) -> int:
+def _periodic_with(x: np.ndarray, S: int, M: int, max_p: int = 8, tol: float = 1e-6, table_periods: int = 1) -> int:
     """Smallest p in L, 2L, ..., max_p L (L = ``table_periods``, mesh periods per table
     period) with x(t + p T_m) = x(t) over the last max(p, 2) mesh periods to ``tol`` of
     the signal range; 0 if none (non-periodic, not yet settled, or a window shorter than
@@ -289,7 +324,7 @@ def _periodic_with(x: np.ndarray, S: int, M: int, max_p: int = 8, tol: float = 1
         if (p + max(p, 2)) * S > x.size:
             break
         a = x[-span:]
-        b = x[-span - p * S:-p * S]
+        b = x[-span - p * S : -p * S]
         if np.max(np.abs(a - b)) <= tol * rng:
             return p
     return 0
@@ -310,7 +345,7 @@ def periodicity_mismatch(x: np.ndarray, S: int, max_p: int = 8, table_periods: i
         span = max(p, 2) * S
         if (p + max(p, 2)) * S > x.size:
             break
-        found.append((p, float(np.max(np.abs(x[-span:] - x[-span - p * S:-p * S]))) / rng))
+        found.append((p, float(np.max(np.abs(x[-span:] - x[-span - p * S : -p * S]))) / rng))
     if not found:
         return 0, math.inf
     # the smallest period that repeats as well as the best one (multiples of it repeat too)
@@ -318,8 +353,9 @@ def periodicity_mismatch(x: np.ndarray, S: int, max_p: int = 8, table_periods: i
     return next((p, m) for p, m in found if m <= max(2.0 * m_min, 1e-12))
 
 
-def round_to_table_periods(model: GearDynamics, duration_s: float, discard_s: float = 0.0,
-                           min_table_periods: int = 1) -> float:
+def round_to_table_periods(
+    model: GearDynamics, duration_s: float, discard_s: float = 0.0, min_table_periods: int = 1
+) -> float:
     """A duration for which ``simulate(model, duration, discard_s)`` keeps a whole number
     (at least ``min_table_periods``) of table periods: the smallest such window that is
     not shorter than the one ``duration_s`` gives.
@@ -337,8 +373,11 @@ def round_to_table_periods(model: GearDynamics, duration_s: float, discard_s: fl
     if not (math.isfinite(discard_s) and 0 <= discard_s):
         raise fail_text("discard_s", f"discard_s = {discard_s} s: must be >= 0", discard_s, unit="s")
     if int(min_table_periods) != min_table_periods or min_table_periods < 1:
-        raise fail_text("min_table_periods", f"min_table_periods = {min_table_periods}: must be a whole number >= 1",
-                        min_table_periods)
+        raise fail_text(
+            "min_table_periods",
+            f"min_table_periods = {min_table_periods}: must be a whole number >= 1",
+            min_table_periods,
+        )
     fm = model.mesh_frequency_Hz
     L = model.table_periods
     n_d = int(math.ceil(discard_s * fm - 1e-9))
@@ -356,11 +395,22 @@ def signal_stats(x) -> dict[str, float]:
     return dict(mean=float(np.mean(x)), ac_rms=float(np.std(x)), p2p=float(np.ptp(x)))
 
 
-def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, method: str = "auto",
-             steps_per_mesh_period: int = 256, rtol: float = 1e-8, atol=None, y0=None,
-             samples_per_mesh_period: int | None = None, track_energy: bool = False,
-             max_steps: int | None = None, max_output_bytes: float = 2 * 2 ** 30,
-             on_compile=None, dense: bool = True) -> SimResult:
+def simulate(
+    model: GearDynamics,
+    duration_s: float,
+    discard_s: float = 0.0,
+    method: str = "auto",
+    steps_per_mesh_period: int = 256,
+    rtol: float = 1e-8,
+    atol=None,
+    y0=None,
+    samples_per_mesh_period: int | None = None,
+    track_energy: bool = False,
+    max_steps: int | None = None,
+    max_output_bytes: float = 2 * 2**30,
+    on_compile=None,
+    dense: bool = True,
+) -> SimResult:
     """Integrate the model over [0, duration_s] and sample the kept window.
 
     method: "rk4" (fixed step, ``steps_per_mesh_period``), "dopri5" (adaptive, rtol/atol,
@@ -389,11 +439,15 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
     if method not in ("auto", "rk4", "dopri5"):
         raise fail("method", repr(method), "", "must be 'rk4', 'dopri5' or 'auto'")
     if int(steps_per_mesh_period) != steps_per_mesh_period or steps_per_mesh_period < 4:
-        raise fail_text("steps_per_mesh_period", f"steps_per_mesh_period = {steps_per_mesh_period}: must be a "
-                        f"whole number >= 4", steps_per_mesh_period)
+        raise fail_text(
+            "steps_per_mesh_period",
+            f"steps_per_mesh_period = {steps_per_mesh_period}: must be a whole number >= 4",
+            steps_per_mesh_period,
+        )
     if not (0 < rtol < 1):
-        raise fail_text("rtol", f"rtol = {rtol}: must be in (0, 1)", rtol,
-                        field=Field("", 0.0, 1.0, lo_open=True, hi_open=True))
+        raise fail_text(
+            "rtol", f"rtol = {rtol}: must be in (0, 1)", rtol, field=Field("", 0.0, 1.0, lo_open=True, hi_open=True)
+        )
     method = resolve_method(model, method)
     fm = model.mesh_frequency_Hz
     Pt = 1.0 / fm
@@ -401,9 +455,14 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
     t0 = n_d * Pt
     M = int(math.floor((duration_s - t0) * fm + 1e-9))
     if M < 1:
-        raise fail_text("duration_s", f"duration_s = {duration_s} s: must exceed discard_s rounded up "
-                                      f"to whole mesh periods ({t0:.6g} s) by at least one mesh period "
-                                      f"({Pt:.6g} s)", duration_s, unit="s")
+        raise fail_text(
+            "duration_s",
+            f"duration_s = {duration_s} s: must exceed discard_s rounded up "
+            f"to whole mesh periods ({t0:.6g} s) by at least one mesh period "
+            f"({Pt:.6g} s)",
+            duration_s,
+            unit="s",
+        )
     S = int(samples_per_mesh_period or steps_per_mesh_period)
     dt = Pt / S
     # output: the uniform grid of the kept window (M periods, S per period, plus its end
@@ -417,10 +476,15 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
     n_out = t_uni.size + nodes.size
     need = n_out * OUTPUT_BYTES_PER_SAMPLE_STATE
     if need > max_output_bytes:
-        raise fail("duration_s", float(duration_s), "s", f"the kept window of {M} mesh periods "
-                   f"x {S} samples needs about {need / 2 ** 30:.3g} GiB of output (limit "
-                   f"{max_output_bytes / 2 ** 30:.3g} GiB); shorten duration_s - discard_s or "
-                   f"lower the speed")
+        raise fail(
+            "duration_s",
+            float(duration_s),
+            "s",
+            f"the kept window of {M} mesh periods "
+            f"x {S} samples needs about {need / 2**30:.3g} GiB of output (limit "
+            f"{max_output_bytes / 2**30:.3g} GiB); shorten duration_s - discard_s or "
+            f"lower the speed",
+        )
     t_out = np.union1d(t_uni, nodes) if nodes.size else t_uni
     uni = np.searchsorted(t_out, t_uni) if nodes.size else np.arange(t_uni.size)
     t_end = float(t_uni[-1])
@@ -430,10 +494,15 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
         # table's nodes, 11 float64 each
         sched = 88 * (model.table_periods * steps_per_mesh_period + model.phi_table.size)
         if sched > max_output_bytes:
-            raise fail("table_periods", model.table_periods, "", f"the RK4 schedule of one "
-                       f"table period needs about {sched / 2 ** 30:.3g} GiB (limit "
-                       f"{max_output_bytes / 2 ** 30:.3g} GiB); use fewer steps per mesh "
-                       f"period or method = dopri5")
+            raise fail(
+                "table_periods",
+                model.table_periods,
+                "",
+                f"the RK4 schedule of one "
+                f"table period needs about {sched / 2**30:.3g} GiB (limit "
+                f"{max_output_bytes / 2**30:.3g} GiB); use fewer steps per mesh "
+                f"period or method = dopri5",
+            )
     if max_steps is None:
         max_steps = dopri5_step_budget(t_end, fm)
     if method == "dopri5":
@@ -461,8 +530,9 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
     if np.any(atol_vec <= 0):
         raise fail_text("atol", "atol: must be > 0")
     # a displacement this far beyond every physical scale means divergence, not dynamics
-    zlim = 1e4 * (x_ref + (model.backlash_half_m or 0.0) + (model.bearing_half_clearance_m or 0.0)
-                  + float(np.max(np.abs(z0[:5]))))
+    zlim = 1e4 * (
+        x_ref + (model.backlash_half_m or 0.0) + (model.bearing_half_clearance_m or 0.0) + float(np.max(np.abs(z0[:5])))
+    )
 
     sw = kernel_switches(model, track_energy)
     key = (method, sw)
@@ -472,29 +542,43 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
         timer = None
         if on_compile is not None:
             import threading
-            timer = threading.Timer(1.0, on_compile,
-                                    ("compiling solver kernels for this effect set, first run only",))
+
+            timer = threading.Timer(1.0, on_compile, ("compiling solver kernels for this effect set, first run only",))
             timer.daemon = True
             timer.start()
         tc = time.perf_counter()
         try:
-            _run(method, model, z0.copy(), 4 * Pt / steps_per_mesh_period, np.array([0.0]),
-                 steps_per_mesh_period, rtol, atol_vec, sw, 1000, zlim)
+            _run(
+                method,
+                model,
+                z0.copy(),
+                4 * Pt / steps_per_mesh_period,
+                np.array([0.0]),
+                steps_per_mesh_period,
+                rtol,
+                atol_vec,
+                sw,
+                1000,
+                zlim,
+            )
         finally:
             if timer is not None:
                 timer.cancel()
         compile_s = time.perf_counter() - tc
         _WARM.add(key)
     tw = time.perf_counter()
-    out, counters, z_end, t_stop, ev = _run(method, model, z0, t_end, t_out, steps_per_mesh_period,
-                                            rtol, atol_vec, sw, max_steps, zlim)
+    out, counters, z_end, t_stop, ev = _run(
+        method, model, z0, t_end, t_out, steps_per_mesh_period, rtol, atol_vec, sw, max_steps, zlim
+    )
     wall = time.perf_counter() - tw
     ko = int(counters[3])
     if int(counters[4]) != kernels.ST_OK or ko < n_out or not np.all(np.isfinite(out)):
         if int(counters[4]) == kernels.ST_OK:
             if np.all(np.isfinite(out[:ko])):
-                raise RuntimeError(f"dynamics: {method} finished with {ko} of {n_out} output samples "
-                                   f"(output grid not reached: a bug, please report)")
+                raise RuntimeError(
+                    f"dynamics: {method} finished with {ko} of {n_out} output samples "
+                    f"(output grid not reached: a bug, please report)"
+                )
             counters[4] = kernels.ST_DIVERGED
         raise SolverError(_diagnose(method, counters, t_stop, t_end, max_steps, zlim))
     t_win, Z_win = t_uni[:-1], out[uni[:-1]]
@@ -511,20 +595,40 @@ def simulate(model: GearDynamics, duration_s: float, discard_s: float = 0.0, met
         back = float(np.mean(sig["F_m"] < 0.0))
     if model.bearing_half_clearance_m is not None:
         bb = model.bearing_half_clearance_m
-        bc = {"pinion": float(np.mean((np.abs(Z_win[:, 0]) > bb) | (np.abs(Z_win[:, 1]) > bb))),
-              "gear": float(np.mean((np.abs(Z_win[:, 2]) > bb) | (np.abs(Z_win[:, 3]) > bb)))}
+        bc = {
+            "pinion": float(np.mean((np.abs(Z_win[:, 0]) > bb) | (np.abs(Z_win[:, 1]) > bb))),
+            "gear": float(np.mean((np.abs(Z_win[:, 2]) > bb) | (np.abs(Z_win[:, 3]) > bb))),
+        }
     else:
         bc = {"pinion": 1.0, "gear": 1.0}
     stats = {name: signal_stats(sig[name]) for name in ("y_p", "x_p", "y_g", "x_g", "q", "delta", "F_m")}
     energy = None
     if track_energy:
         energy = {name: Z_win[:, 10 + i].copy() for i, name in enumerate(ENERGY_NAMES)}
-    return SimResult(t=t_win, signals=sig, fm_Hz=fm, fs_Hz=S * fm, steps=int(counters[0]),
-                     rejected=int(counters[1]), events=int(counters[2]), wall_s=wall,
-                     compile_s=compile_s, separation_fraction=sep, backside_fraction=back,
-                     bearing_contact_fraction=bc, method=method, states=Z_win[:, :10].copy(),
-                     energy=energy, n_periods=M, stats=stats,
-                     periodic_with=_periodic_with(sig["delta"], S, M, table_periods=model.table_periods),
-                     z_end=z_end[:10].copy(), switches=sw, model=model, t_dense=t_out if dense else None,
-                     states_dense=out[:, :10] if dense else None, window_events=ev,
-                     table_periods=model.table_periods)
+    return SimResult(
+        t=t_win,
+        signals=sig,
+        fm_Hz=fm,
+        fs_Hz=S * fm,
+        steps=int(counters[0]),
+        rejected=int(counters[1]),
+        events=int(counters[2]),
+        wall_s=wall,
+        compile_s=compile_s,
+        separation_fraction=sep,
+        backside_fraction=back,
+        bearing_contact_fraction=bc,
+        method=method,
+        states=Z_win[:, :10].copy(),
+        energy=energy,
+        n_periods=M,
+        stats=stats,
+        periodic_with=_periodic_with(sig["delta"], S, M, table_periods=model.table_periods),
+        z_end=z_end[:10].copy(),
+        switches=sw,
+        model=model,
+        t_dense=t_out if dense else None,
+        states_dense=out[:, :10] if dense else None,
+        window_events=ev,
+        table_periods=model.table_periods,
+    )

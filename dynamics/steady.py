@@ -47,8 +47,7 @@ from .equations import mesh_geometry
 from .model import GearDynamics
 from .simulate import SimResult, simulate
 
-__all__ = ["SteadyState", "steady_state", "section_residuals", "zero_one_test", "classify_sequence",
-           "LABELS"]
+__all__ = ["SteadyState", "steady_state", "section_residuals", "zero_one_test", "classify_sequence", "LABELS"]
 
 LABELS = ("periodic", "quasi-periodic", "chaotic", "unsettled")
 
@@ -117,8 +116,9 @@ def zero_one_test(phi, n_c: int = 100, n_cut: int | None = None) -> float:
     return float(np.median(K))
 
 
-def classify_sequence(X: np.ndarray, observable: np.ndarray, scale: np.ndarray, tol: float,
-                      p_max: int = 8) -> tuple[str, int, float, float | None]:
+def classify_sequence(
+    X: np.ndarray, observable: np.ndarray, scale: np.ndarray, tol: float, p_max: int = 8
+) -> tuple[str, int, float, float | None]:
     """(label, p, residual, K) of a settled section sequence X (K, 10): periodic with the
     smallest p <= p_max whose residual max_k d_k (:func:`section_residuals`) is <= tol
     (residual = that value); otherwise the 0-1 test on ``observable`` (one value per
@@ -138,16 +138,17 @@ def classify_sequence(X: np.ndarray, observable: np.ndarray, scale: np.ndarray, 
 @dataclass
 class SteadyState:
     """A steady state found by :func:`steady_state`."""
-    result: SimResult            # the kept window: whole multiples of p table periods
-    label: str                   # periodic | quasi-periodic | chaotic | unsettled
-    period_table_periods: int    # p (0 unless periodic)
-    period_mesh_periods: int     # p * table_periods
-    residual: float              # section residual of the kept window (period p, else p = 1)
-    distance_estimate: float     # residual / max(1 - rho^p, 0.01) at convergence (inf if none)
-    zero_one_K: float | None     # 0-1 test K (None when periodic)
-    periods_integrated: int      # table periods integrated before the kept window
+
+    result: SimResult  # the kept window: whole multiples of p table periods
+    label: str  # periodic | quasi-periodic | chaotic | unsettled
+    period_table_periods: int  # p (0 unless periodic)
+    period_mesh_periods: int  # p * table_periods
+    residual: float  # section residual of the kept window (period p, else p = 1)
+    distance_estimate: float  # residual / max(1 - rho^p, 0.01) at convergence (inf if none)
+    zero_one_K: float | None  # 0-1 test K (None when periodic)
+    periods_integrated: int  # table periods integrated before the kept window
     converged: bool
-    z_end: np.ndarray            # state at the end of the kept window (whole table periods)
+    z_end: np.ndarray  # state at the end of the kept window (whole table periods)
     integration_wall_s: float = 0.0  # integration wall time of every chunk and the kept window
 
 
@@ -155,21 +156,31 @@ def _chunk(model: GearDynamics, z, n_table: int, sim: dict, samples: int, dense:
     L = model.table_periods
     fm = model.mesh_frequency_Hz
     # +0.5 mesh period: simulate floors the kept window to whole mesh periods
-    return simulate(model, (n_table * L + 0.5) / fm, 0.0, y0=z, samples_per_mesh_period=samples, dense=dense,
-                    **sim)
+    return simulate(model, (n_table * L + 0.5) / fm, 0.0, y0=z, samples_per_mesh_period=samples, dense=dense, **sim)
 
 
 def _sections(res: SimResult, L: int, start: bool = False) -> np.ndarray:
     """The section states of a chunk: every table period after t = 0 (from t = 0 with
     ``start``), and the end state."""
     S = int(round(res.fs_Hz / res.fm_Hz))
-    return np.vstack([res.states[0 if start else S * L::S * L], res.z_end[None, :]])
+    return np.vstack([res.states[0 if start else S * L :: S * L], res.z_end[None, :]])
 
 
-def steady_state(model: GearDynamics, y0=None, *, tol: float = 1e-6, max_periods: int = 1500,
-                 chunk_periods: int = 40, keep_periods: int = 32, p_max: int = 8,
-                 method: str = "auto", steps_per_mesh_period: int = 256, rtol: float = 1e-8,
-                 atol=None, samples_per_mesh_period: int | None = None) -> SteadyState:
+def steady_state(
+    model: GearDynamics,
+    y0=None,
+    *,
+    tol: float = 1e-6,
+    max_periods: int = 1500,
+    chunk_periods: int = 40,
+    keep_periods: int = 32,
+    p_max: int = 8,
+    method: str = "auto",
+    steps_per_mesh_period: int = 256,
+    rtol: float = 1e-8,
+    atol=None,
+    samples_per_mesh_period: int | None = None,
+) -> SteadyState:
     """Integrate from ``y0`` (default: the static equilibrium) in chunks of
     ``chunk_periods`` table periods until the section sequence is periodic with some
     p <= ``p_max`` to ``tol`` (module docstring) or ``max_periods`` table periods are
@@ -177,13 +188,18 @@ def steady_state(model: GearDynamics, y0=None, *, tol: float = 1e-6, max_periods
     multiple of p, sampled at ``samples_per_mesh_period`` (default: the RK4 step count),
     whose result carries the response metrics. Returns a :class:`SteadyState`; its
     ``residual`` is measured on the kept window itself."""
-    for name, v, lo in (("max_periods", max_periods, 1), ("chunk_periods", chunk_periods, 2),
-                        ("keep_periods", keep_periods, 1), ("p_max", p_max, 1)):
+    for name, v, lo in (
+        ("max_periods", max_periods, 1),
+        ("chunk_periods", chunk_periods, 2),
+        ("keep_periods", keep_periods, 1),
+        ("p_max", p_max, 1),
+    ):
         if int(v) != v or v < lo:
             raise fail_text(name, f"{name} = {v}: must be a whole number >= {lo}", v)
     if not (0 < tol < 1):
-        raise fail_text("tol", f"tol = {tol}: must be in (0, 1)", tol,
-                        field=Field("", 0.0, 1.0, lo_open=True, hi_open=True))
+        raise fail_text(
+            "tol", f"tol = {tol}: must be in (0, 1)", tol, field=Field("", 0.0, 1.0, lo_open=True, hi_open=True)
+        )
     L = model.table_periods
     sim = {"method": method, "steps_per_mesh_period": steps_per_mesh_period, "rtol": rtol, "atol": atol}
     z = None if y0 is None else np.asarray(y0, float).ravel().copy()
@@ -218,7 +234,7 @@ def steady_state(model: GearDynamics, y0=None, *, tol: float = 1e-6, max_periods
             if p > 1 and min(lower[:-1]) <= SUBHARMONIC_MARGIN * tol:
                 break  # a decaying transient that nearly repeats after p periods, not a subharmonic
             m = int(min(n, d.size - p))
-            r_then = float(np.max(d[-p - m:-m])) if m > 0 else r_now
+            r_then = float(np.max(d[-p - m : -m])) if m > 0 else r_now
             rho_p = (r_now / r_then) ** (p / m) if (m > 0 and r_then > 0 and r_now > 0) else 0.0
             est = r_now / max(1.0 - rho_p, CONTRACTION_FLOOR)
             if est <= tol:
@@ -236,11 +252,12 @@ def steady_state(model: GearDynamics, y0=None, *, tol: float = 1e-6, max_periods
     kscale = _group_scale(res.states)
     if converged:
         d = section_residuals(Xk, p_found, kscale)
-        return SteadyState(res, "periodic", p_found, p_found * L, float(np.max(d)), dist, None, spent, True,
-                           res.z_end.copy(), wall)
+        return SteadyState(
+            res, "periodic", p_found, p_found * L, float(np.max(d)), dist, None, spent, True, res.z_end.copy(), wall
+        )
     # not periodic within the budget: the second half of the sections, settled as far as it goes
     seq = np.asarray(X)
-    tail = seq[seq.shape[0] // 2:]
+    tail = seq[seq.shape[0] // 2 :]
     obs = mesh_geometry(model, tail)[0]
     label, p, r, k = classify_sequence(tail, obs, scale, tol, p_max)
     d1 = section_residuals(tail, 1, scale)
@@ -249,5 +266,16 @@ def steady_state(model: GearDynamics, y0=None, *, tol: float = 1e-6, max_periods
         if all(b < a for a, b in zip(q, q[1:])) and q[-1] < UNSETTLED_DROP * q[0]:
             label = "unsettled"
     d = section_residuals(Xk, max(p, 1), kscale)
-    return SteadyState(res, label, p, p * L, float(np.max(d)) if d.size else math.inf, math.inf,
-                       k, spent, label == "periodic", res.z_end.copy(), wall)
+    return SteadyState(
+        res,
+        label,
+        p,
+        p * L,
+        float(np.max(d)) if d.size else math.inf,
+        math.inf,
+        k,
+        spent,
+        label == "periodic",
+        res.z_end.copy(),
+        wall,
+    )

@@ -67,7 +67,7 @@ def rk4_schedule(model: GearDynamics, steps_per_period: int, snap: float = 1e-9)
     step boundary."""
     par, phi, phx, kc, ec = derived(model)
     P = par[P_PER]
-    N = int(steps_per_period) * model.table_periods     # steps per table period
+    N = int(steps_per_period) * model.table_periods  # steps per table period
     dph = P / N
     bounds = np.arange(N + 1) * dph
     nodes = np.asarray(phi, float)[_breaks(model, kc) | _breaks(model, ec)]

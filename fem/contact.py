@@ -149,9 +149,14 @@ def _as_flexibility(C) -> np.ndarray:
     return Ct
 
 
-def solve_contact(flexibility, gap0_m, total_force_N: float | None = None,
-                  approach_m: float | None = None, tol: float = 1e-12,
-                  max_iter: int | None = None) -> ContactSolution:
+def solve_contact(
+    flexibility,
+    gap0_m,
+    total_force_N: float | None = None,
+    approach_m: float | None = None,
+    tol: float = 1e-12,
+    max_iter: int | None = None,
+) -> ContactSolution:
     """Solve the frictionless contact LCP by the primal active-set method.
 
     flexibility   (n, n) m/N, or a list of per-body matrices that are summed
@@ -252,8 +257,7 @@ def solve_contact(flexibility, gap0_m, total_force_N: float | None = None,
     return ContactSolution(p.copy(), float(d_cur), gap, active, it)
 
 
-def check_complementarity(sol: ContactSolution, flexibility, gap0_m,
-                          total_force_N: float | None = None) -> dict:
+def check_complementarity(sol: ContactSolution, flexibility, gap0_m, total_force_N: float | None = None) -> dict:
     """Residuals of (1)-(2) at a solution, each scaled to be ~1e-15 when exact:
     min force / max force, min gap / gap scale, max |p_i gap_i| / (P * gap scale),
     and |sum p - P| / P."""
@@ -276,14 +280,21 @@ def check_complementarity(sol: ContactSolution, flexibility, gap0_m,
 # ---------------------------------------------------------------------------
 
 
-def hertz_line_contact(w_N_per_m: float, R1_m: float, R2_m: float, E1_Pa: float, nu1: float,
-                       E2_Pa: float | None = None, nu2: float | None = None) -> tuple[float, float]:
+def hertz_line_contact(
+    w_N_per_m: float,
+    R1_m: float,
+    R2_m: float,
+    E1_Pa: float,
+    nu1: float,
+    E2_Pa: float | None = None,
+    nu2: float | None = None,
+) -> tuple[float, float]:
     """(a, p0): Hertz half-width (m) and peak pressure (Pa) of two cylinders (plane
     strain), a = sqrt(4 w R* / (pi E*)), p0 = 2 w / (pi a). R2 = inf gives a flat."""
     E2 = E1_Pa if E2_Pa is None else E2_Pa
     n2 = nu1 if nu2 is None else nu2
     inv_R = 1.0 / R1_m + (0.0 if math.isinf(R2_m) else 1.0 / R2_m)
-    E_star = 1.0 / ((1 - nu1 ** 2) / E1_Pa + (1 - n2 ** 2) / E2)
+    E_star = 1.0 / ((1 - nu1**2) / E1_Pa + (1 - n2**2) / E2)
     a = math.sqrt(4.0 * w_N_per_m / (math.pi * E_star * inv_R))
     return a, 2.0 * w_N_per_m / (math.pi * a)
 
@@ -312,9 +323,9 @@ class HertzCylinderResult:
     a_fit_m: float
     p0_fit_Pa: float
     p_max_node_Pa: float
-    x_m: np.ndarray           # candidate node positions along the contact
-    pressure_Pa: np.ndarray   # nodal force / tributary length
-    force_N: np.ndarray       # nodal forces (per unit length: thickness 1 m)
+    x_m: np.ndarray  # candidate node positions along the contact
+    pressure_Pa: np.ndarray  # nodal force / tributary length
+    force_N: np.ndarray  # nodal forces (per unit length: thickness 1 m)
     solution: ContactSolution
     flexibility: list
     gap0_m: np.ndarray
@@ -354,8 +365,17 @@ def _cylinder_outline(R: float, x_fine: float, h: float, h_max: float, growth: f
     return stitch([fine, side, (side * np.array([-1.0, 1.0]))[::-1]], closed=True)
 
 
-def _cylinder_body(R: float, E: float, nu: float, x_fine: float, h: float, x_cand: float,
-                   order: int, bore_frac: float, global_m: float | None = None):
+def _cylinder_body(
+    R: float,
+    E: float,
+    nu: float,
+    x_fine: float,
+    h: float,
+    x_cand: float,
+    order: int,
+    bore_frac: float,
+    global_m: float | None = None,
+):
     """Mesh one cylinder, assemble (plane strain, thickness 1 m, bore fixed) and return
     (model, candidate y-dofs sorted by x, their x, their y, tributary lengths, n_elem)."""
     import skfem
@@ -397,9 +417,17 @@ def _cylinder_body(R: float, E: float, nu: float, x_fine: float, h: float, x_can
     return model, ydofs, loc[0], loc[1], trib, int(m.t.shape[1])
 
 
-def hertz_cylinders(R1_m: float = 10e-3, R2_m: float = 10e-3, E_Pa: float = 206e9, nu: float = 0.3,
-                    a_over_R: float = 0.035, elements_per_a: float = 15.0, order: int = 2,
-                    bore_frac: float = 0.25, candidate_half_width: float = 3.0) -> HertzCylinderResult:
+def hertz_cylinders(
+    R1_m: float = 10e-3,
+    R2_m: float = 10e-3,
+    E_Pa: float = 206e9,
+    nu: float = 0.3,
+    a_over_R: float = 0.035,
+    elements_per_a: float = 15.0,
+    order: int = 2,
+    bore_frac: float = 0.25,
+    candidate_half_width: float = 3.0,
+) -> HertzCylinderResult:
     """FE Hertz line contact of two cylinders (plane strain, thickness 1 m).
 
     The load per unit length w is chosen so that the theoretical half-width is
@@ -413,8 +441,8 @@ def hertz_cylinders(R1_m: float = 10e-3, R2_m: float = 10e-3, E_Pa: float = 206e
     Rmin = min(R1_m, R2_m)
     a_t = a_over_R * Rmin
     R_star = 1.0 / (1.0 / R1_m + 1.0 / R2_m)
-    E_star = E_Pa / (2.0 * (1.0 - nu ** 2))
-    w = a_t ** 2 * math.pi * E_star / (4.0 * R_star)
+    E_star = E_Pa / (2.0 * (1.0 - nu**2))
+    w = a_t**2 * math.pi * E_star / (4.0 * R_star)
     a_th, p0_th = hertz_line_contact(w, R1_m, R2_m, E_Pa, nu)
     h = a_th / elements_per_a
     x_fine = (candidate_half_width + 0.5) * a_th
@@ -449,5 +477,20 @@ def hertz_cylinders(R1_m: float = 10e-3, R2_m: float = 10e-3, E_Pa: float = 206e
     pres = sol.force_N / trib
     a_fit, p0_fit = fit_semi_ellipse(x, pres, a_th, p0_th)
     timings["total_s"] = time.perf_counter() - t0
-    return HertzCylinderResult(a_th, p0_th, a_fit, p0_fit, float(pres.max()), x, pres, sol.force_N, sol,
-                               [b1["C"], b2["C"]], g, w, h, (b1["nel"], b2["nel"]), timings)
+    return HertzCylinderResult(
+        a_th,
+        p0_th,
+        a_fit,
+        p0_fit,
+        float(pres.max()),
+        x,
+        pres,
+        sol.force_N,
+        sol,
+        [b1["C"], b2["C"]],
+        g,
+        w,
+        h,
+        (b1["nel"], b2["nel"]),
+        timings,
+    )

@@ -39,8 +39,8 @@ R_LEVEL = math.sqrt(2.0)
 #: mesh_scale levels per order (coarse -> fine, ratio sqrt 2). P1 goes one level
 #: further so that both orders span a similar range of cost.
 LEVELS = {
-    2: tuple(R_LEVEL ** k for k in (3, 2, 1, 0, -1, -2)),
-    1: tuple(R_LEVEL ** k for k in (2, 1, 0, -1, -2, -3)),
+    2: tuple(R_LEVEL**k for k in (3, 2, 1, 0, -1, -2)),
+    1: tuple(R_LEVEL**k for k in (2, 1, 0, -1, -2, -3)),
 }
 DEFAULT_SCALE = 1.0
 
@@ -62,12 +62,18 @@ def richardson(f2, f3, p: float, r: float = R_LEVEL) -> np.ndarray:
     f2, f3 = np.asarray(f2, float), np.asarray(f3, float)
     if not (math.isfinite(p) and p > 0):
         return f3.copy()
-    return f3 + (f3 - f2) / (r ** p - 1.0)
+    return f3 + (f3 - f2) / (r**p - 1.0)
 
 
-def convergence_table(pair: PairSpec | None = None, wear: WearSpec | None = None, gear_index: int = 0,
-                      positions: int = 21, plane: str = "stress", levels: dict | None = None,
-                      progress=None) -> list[dict]:
+def convergence_table(
+    pair: PairSpec | None = None,
+    wear: WearSpec | None = None,
+    gear_index: int = 0,
+    positions: int = 21,
+    plane: str = "stress",
+    levels: dict | None = None,
+    progress=None,
+) -> list[dict]:
     """Run every (order, mesh_scale) level and return one row (dict) per level.
 
     Row keys: order, mesh_scale, load_size_mm, dofs, elements, wall_s, timings,
@@ -84,15 +90,26 @@ def convergence_table(pair: PairSpec | None = None, wear: WearSpec | None = None
     for order in sorted(levels):
         prev: list[np.ndarray] = []
         for scale in levels[order]:
-            r = single_tooth_compliance(pair, gear_index=gear_index, wear=wear, positions=positions,
-                                        order=order, plane=plane, mesh_scale=scale)
+            r = single_tooth_compliance(
+                pair, gear_index=gear_index, wear=wear, positions=positions, order=order, plane=plane, mesh_scale=scale
+            )
             f = r.fem_compliance_um_per_N_per_mm
-            row = {"order": order, "mesh_scale": float(scale), "load_size_mm": LOAD_M * 1e3 * scale,
-                   "dofs": r.ndofs, "elements": r.n_elements, "wall_s": r.wall_s, "timings": dict(r.timings),
-                   "radius_mm": r.radius_mm.tolist(), "compliance": f.tolist(),
-                   "max_change_pct": float("nan"), "observed_order_median": float("nan"),
-                   "observed_order_norm": float("nan"), "extrapolated": None,
-                   "is_default": bool(order == 2 and abs(scale - DEFAULT_SCALE) < 1e-12)}
+            row = {
+                "order": order,
+                "mesh_scale": float(scale),
+                "load_size_mm": LOAD_M * 1e3 * scale,
+                "dofs": r.ndofs,
+                "elements": r.n_elements,
+                "wall_s": r.wall_s,
+                "timings": dict(r.timings),
+                "radius_mm": r.radius_mm.tolist(),
+                "compliance": f.tolist(),
+                "max_change_pct": float("nan"),
+                "observed_order_median": float("nan"),
+                "observed_order_norm": float("nan"),
+                "extrapolated": None,
+                "is_default": bool(order == 2 and abs(scale - DEFAULT_SCALE) < 1e-12),
+            }
             if prev:
                 row["max_change_pct"] = float(np.max(np.abs(f / prev[-1] - 1.0)) * 100.0)
             if len(prev) >= 2:
@@ -133,12 +150,17 @@ def acceptance(rows: list[dict], max_change_pct: float = 0.5) -> dict:
     default = next(r for r in p2 if r["is_default"])
     i = p2.index(default)
     finer = p2[i + 1] if i + 1 < len(p2) else None
-    out = {"finest_p2_change_pct": p2[-1]["max_change_pct"],
-           "default_vs_finer_change_pct": finer["max_change_pct"] if finer else float("nan"),
-           "default_error_vs_extrapolation_pct": default["error_pct_max"],
-           "default_wall_s": default["wall_s"], "default_dofs": default["dofs"]}
-    out["ok"] = bool(out["finest_p2_change_pct"] < max_change_pct
-                     and (finer is None or out["default_vs_finer_change_pct"] < max_change_pct))
+    out = {
+        "finest_p2_change_pct": p2[-1]["max_change_pct"],
+        "default_vs_finer_change_pct": finer["max_change_pct"] if finer else float("nan"),
+        "default_error_vs_extrapolation_pct": default["error_pct_max"],
+        "default_wall_s": default["wall_s"],
+        "default_dofs": default["dofs"],
+    }
+    out["ok"] = bool(
+        out["finest_p2_change_pct"] < max_change_pct
+        and (finer is None or out["default_vs_finer_change_pct"] < max_change_pct)
+    )
     return out
 
 
@@ -162,8 +184,7 @@ def convergence_figure(rows: list[dict], wall_time: bool = True):
             ax.loglog([r[key] for r in lev], [r["error_pct_max"] for r in lev], style, label=f"P{order}")
             for r in lev:
                 if r["is_default"]:
-                    ax.loglog([r[key]], [r["error_pct_max"]], "o", ms=14, mfc="none", mec="k",
-                              label="default level")
+                    ax.loglog([r[key]], [r["error_pct_max"]], "o", ms=14, mfc="none", mec="k", label="default level")
     labels = {"dofs": "degrees of freedom (count)", "wall_s": "wall time, mesh + assemble + factorize + solves (s)"}
     for ax, key in zip(axes, keys):
         ax.set_xlabel(labels[key])
@@ -188,13 +209,16 @@ def format_table(rows: list[dict], wall_time: bool = True) -> str:
     """Plain-text summary table (one line per level); a result file leaves the wall-time
     column out (``wall_time=False``) so the same inputs give the same bytes."""
     wall_head = f" {'wall s':>7}" if wall_time else ""
-    head = (f"{'order':>5} {'scale':>7} {'h_load mm':>9} {'dofs':>8}{wall_head} {'max chg %':>9} "
-            f"{'p median':>8} {'p norm':>7} {'err % (max)':>11}")
+    head = (
+        f"{'order':>5} {'scale':>7} {'h_load mm':>9} {'dofs':>8}{wall_head} {'max chg %':>9} "
+        f"{'p median':>8} {'p norm':>7} {'err % (max)':>11}"
+    )
     lines = [head]
     for r in rows:
         wall = f" {r['wall_s']:7.2f}" if wall_time else ""
-        lines.append(f"{'P%d' % r['order']:>5} {r['mesh_scale']:7.3f} {r['load_size_mm']:9.3f} {r['dofs']:8d}"
-                     f"{wall} {r['max_change_pct']:9.3f} {r['observed_order_median']:8.2f} "
-                     f"{r['observed_order_norm']:7.2f} {r['error_pct_max']:11.3f}"
-                     + ("  <- default" if r["is_default"] else ""))
+        lines.append(
+            f"{'P%d' % r['order']:>5} {r['mesh_scale']:7.3f} {r['load_size_mm']:9.3f} {r['dofs']:8d}"
+            f"{wall} {r['max_change_pct']:9.3f} {r['observed_order_median']:8.2f} "
+            f"{r['observed_order_norm']:7.2f} {r['error_pct_max']:11.3f}" + ("  <- default" if r["is_default"] else "")
+        )
     return "\n".join(lines)

@@ -10,11 +10,8 @@ Self-contained (numpy, scipy, scikit-fem) so that it could be offered upstream."
 
 from __future__ import annotations
 
-
 import numpy as np
 import skfem
-
-
 
 #: candidates per point of the element search (nearest corner centroids)
 _FINDER_CANDIDATES = 8
@@ -58,8 +55,12 @@ class CurvedMeshTri2(skfem.MeshTri2):
             best = np.argmin(v, axis=1)
             out = cand[np.arange(len(best)), best]
             for i in np.flatnonzero(v[np.arange(len(best)), best] > 1e-9):
-                vi = np.concatenate([violation(pts[:, i:i + 1], np.arange(j, min(j + 4096, nel))[None])[0]
-                                     for j in range(0, nel, 4096)])
+                vi = np.concatenate(
+                    [
+                        violation(pts[:, i : i + 1], np.arange(j, min(j + 4096, nel))[None])[0]
+                        for j in range(0, nel, 4096)
+                    ]
+                )
                 if vi.min() > 1e-9:
                     raise ValueError(f"point {pts[:, i].tolist()} is outside of the mesh")
                 out[i] = int(np.argmin(vi))
@@ -76,7 +77,7 @@ def inverted_elements(mesh) -> np.ndarray:
     t = mesh.dofs.element_dofs if isinstance(mesh, skfem.MeshTri2) else mesh.t
     x = np.asarray(mesh.doflocs).T[t.T]  # (nel, 3 or 6, 2)
     e1, e2 = x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]
-    sa = e1[..., 0] * e2[..., 1] - e1[..., 1] * e2[..., 0]   # twice the signed corner area
+    sa = e1[..., 0] * e2[..., 1] - e1[..., 1] * e2[..., 0]  # twice the signed corner area
     bad = sa <= 0
     if x.shape[1] == 6:
         bad |= np.any(_p2_dets(x) <= 0, axis=0)
@@ -87,7 +88,7 @@ def _p2_dets(x: np.ndarray) -> np.ndarray:
     """det J of the 6-node isoparametric map (nodes [v0, v1, v2, m01, m12, m20]; x:
     (nel, 6, 2)) at the corners, the edge mid-points and the centroid: (7, nel)."""
     out = []
-    for xi, eta in ((0, 0), (1, 0), (0, 1), (.5, 0), (.5, .5), (0, .5), (1 / 3, 1 / 3)):
+    for xi, eta in ((0, 0), (1, 0), (0, 1), (0.5, 0), (0.5, 0.5), (0, 0.5), (1 / 3, 1 / 3)):
         l0 = 1.0 - xi - eta
         # dN/dxi, dN/deta for nodes [v0, v1, v2, m01, m12, m20]
         dxi = np.array([-(4 * l0 - 1), 4 * xi - 1, 0.0, 4 * (l0 - xi), 4 * eta, -4 * eta])

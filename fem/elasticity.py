@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field, fields
-
 from typing import Any
 
 import numpy as np
@@ -91,8 +90,15 @@ class ElasticModel:
         return Pm.tocsr()[order]
 
 
-def assemble(mesh, material: Material, thickness_m: float, fixed_facets: np.ndarray,
-             plane: str = "stress", order: int = 2, factorize: bool = True) -> ElasticModel:
+def assemble(
+    mesh,
+    material: Material,
+    thickness_m: float,
+    fixed_facets: np.ndarray,
+    plane: str = "stress",
+    order: int = 2,
+    factorize: bool = True,
+) -> ElasticModel:
     """Assemble K on ``mesh`` with P1/P2 elements, fix the dofs on ``fixed_facets`` and
     factorize (``factorize=False``: no factorization, ``lu`` is None; fem.pair_body
     condenses the matrix itself).
@@ -110,18 +116,17 @@ def assemble(mesh, material: Material, thickness_m: float, fixed_facets: np.ndar
     free = np.setdiff1d(np.arange(basis.N), fixed)
     t1 = time.perf_counter()
     if not factorize:
-        return ElasticModel(m, basis, K.tocsr(), free, fixed, None, thickness_m, plane, order,
-                            {"assemble_s": t1 - t0})
+        return ElasticModel(m, basis, K.tocsr(), free, fixed, None, thickness_m, plane, order, {"assemble_s": t1 - t0})
     Kff = K[free][:, free].tocsc()
     # K_ff is symmetric positive definite: a symmetric fill-reducing ordering of
     # A^T + A without pivoting gives ~40 % fewer factor nonzeros than COLAMD with
     # partial pivoting (gear meshes, 57k dofs: 4.6M vs 7.4M), i.e. faster
     # factorization and multi-right-hand-side solves; no pivoting is stable for SPD.
-    lu = spla.splu(Kff, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                   options={"SymmetricMode": True})
+    lu = spla.splu(Kff, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
     t2 = time.perf_counter()
-    return ElasticModel(m, basis, K.tocsr(), free, fixed, lu, thickness_m, plane, order,
-                        {"assemble_s": t1 - t0, "factorize_s": t2 - t1})
+    return ElasticModel(
+        m, basis, K.tocsr(), free, fixed, lu, thickness_m, plane, order, {"assemble_s": t1 - t0, "factorize_s": t2 - t1}
+    )
 
 
 def traction_load(model: ElasticModel, facets: np.ndarray, traction) -> np.ndarray:

@@ -16,9 +16,9 @@ import gmsh
 import numpy as np
 
 from gearwear.core import interrupts
+
 from .mesh_spec import MeshError, MeshSizes
 from .outline import _vertex_sizes
-
 
 _GMSH_LOCK = threading.RLock()  # gmsh is a process-global singleton: serialise
 
@@ -113,7 +113,9 @@ def _first_line(exc: BaseException) -> str:
 
 
 def _add_size_fields(
-    sizes: MeshSizes, point_tags: dict[str, list[int]], curve_tags: list[int],
+    sizes: MeshSizes,
+    point_tags: dict[str, list[int]],
+    curve_tags: list[int],
     crack_tip: tuple[int, float] | None = None,
 ) -> None:
     """Distance+Threshold per refinement kind, Min with a constant global size.
@@ -175,8 +177,16 @@ def _circle_nodes_floor(r_hub: float, exact_area: float) -> int:
     return int(max(16, math.ceil(n)))
 
 
-def _run_gmsh(build, sizes, fillet_pts, load_pts, order, n_circle, crack: dict | None = None,
-              extrude: tuple[float, np.ndarray] | None = None) -> dict:
+def _run_gmsh(
+    build,
+    sizes,
+    fillet_pts,
+    load_pts,
+    order,
+    n_circle,
+    crack: dict | None = None,
+    extrude: tuple[float, np.ndarray] | None = None,
+) -> dict:
     """Build geometry via ``build()`` (returns {group: [curve tags]}), mesh, extract.
 
     Every curve not listed under a group other than "outer" is "outer".
@@ -209,14 +219,25 @@ def _run_gmsh(build, sizes, fillet_pts, load_pts, order, n_circle, crack: dict |
             if extrude is not None:
                 surface = gmsh.model.getEntities(2)[0][1]
                 depth, fractions = extrude
-                geo.extrude([(2, surface)], 0.0, 0.0, float(depth), numElements=[1] * len(fractions),
-                            heights=[float(f) for f in fractions], recombine=False)
+                geo.extrude(
+                    [(2, surface)],
+                    0.0,
+                    0.0,
+                    float(depth),
+                    numElements=[1] * len(fractions),
+                    heights=[float(f) for f in fractions],
+                    recombine=False,
+                )
                 geo.synchronize()
             if crack is None:
                 _add_size_fields(sizes, point_tags, [c for v in groups.values() for c in v])
             else:
-                _add_size_fields(sizes, point_tags, [c for k, v in groups.items() if k != "crack" for c in v],
-                                 crack_tip=(crack["tip"], crack["tip_size_m"]))
+                _add_size_fields(
+                    sizes,
+                    point_tags,
+                    [c for k, v in groups.items() if k != "crack" for c in v],
+                    crack_tip=(crack["tip"], crack["tip_size_m"]),
+                )
                 surface = gmsh.model.getEntities(2)[0][1]
                 gmsh.model.mesh.embed(1, [crack["line"]], 2, surface)
             gmsh.model.mesh.generate(2 if extrude is None else 3)
@@ -247,7 +268,7 @@ def _untangle_curved() -> None:
     q = np.asarray(gmsh.model.mesh.getElementQualities(tags, "minSJ"))
     if np.all(q > 0):
         return
-    gmsh.option.setNumber("Mesh.HighOrderOptimize", 2)   # elastic + optimization
+    gmsh.option.setNumber("Mesh.HighOrderOptimize", 2)  # elastic + optimization
     gmsh.model.mesh.optimize("HighOrder")
 
 
@@ -328,8 +349,11 @@ def _extract_tets() -> dict:
         raise MeshError(f"gmsh produced 3D element types {[int(t) for t in types]}, expected tetrahedra (4)")
     conn = np.vstack([np.asarray(nt, dtype=np.int64).reshape(-1, 4) for nt in node_tags])
     tags, coords, _ = gmsh.model.mesh.getNodes()
-    return {"conn": conn, "tags": np.asarray(tags, dtype=np.int64),
-            "xyz": np.asarray(coords, dtype=np.float64).reshape(-1, 3)}
+    return {
+        "conn": conn,
+        "tags": np.asarray(tags, dtype=np.int64),
+        "xyz": np.asarray(coords, dtype=np.float64).reshape(-1, 3),
+    }
 
 
 def _add_outline(poly: np.ndarray, mids: np.ndarray | None, closed: bool) -> tuple[list[int], list[int]]:
@@ -359,8 +383,7 @@ def _hub_size(r: float, exact_area: float, sizes: MeshSizes) -> tuple[int, float
     return n_circle, min(float(sizes.global_m), 2 * math.pi * r / n_circle)
 
 
-def _add_arcs(center: int, r: float, a0: float, a1: float, start: int | None,
-              end: int | None, size: float):
+def _add_arcs(center: int, r: float, a0: float, a1: float, start: int | None, end: int | None, size: float):
     """Circle arcs from angle a0 to a1 (either direction), each <= 90 deg."""
     geo = gmsh.model.geo
     n = max(1, int(math.ceil(abs(a1 - a0) / (math.pi / 2) - 1e-12)))

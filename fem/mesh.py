@@ -145,9 +145,22 @@ from .curved_mesh import CurvedMeshTri2, inverted_elements
 from .gmsh_run import _add_arcs, _add_outline, _hub_size, _run_gmsh
 from .mesh_checks import _finish, triangle_quality
 from .mesh_spec import GearMesh, MeshError, MeshInputError, MeshSizes
-from .outline import (_as_mids, _as_points, _as_refine_points, _bulge_area, _check_crack, _check_hub, _check_order,
-                      _check_refine, _check_simple_closed, _cross, _min_dist_to_origin, _origin_inside, _with_mids,
-                      _wrap)
+from .outline import (
+    _as_mids,
+    _as_points,
+    _as_refine_points,
+    _bulge_area,
+    _check_crack,
+    _check_hub,
+    _check_order,
+    _check_refine,
+    _check_simple_closed,
+    _cross,
+    _min_dist_to_origin,
+    _origin_inside,
+    _with_mids,
+    _wrap,
+)
 
 __all__ = [
     "MeshError",
@@ -220,9 +233,7 @@ def mesh_full_gear(
     _check_simple_closed(curve, "outline_xy", scale)
     twice_area = float(np.sum(_cross(poly, np.roll(poly, -1, axis=0)))) + 2.0 * _bulge_area(poly, mids)
     if twice_area <= 0:
-        raise MeshInputError(
-            f"outline_xy must be counter-clockwise (signed area {twice_area / 2!r} m^2 <= 0)"
-        )
+        raise MeshInputError(f"outline_xy must be counter-clockwise (signed area {twice_area / 2!r} m^2 <= 0)")
     if not _origin_inside(curve):
         raise MeshInputError("outline_xy does not enclose the origin (gear must be centred)")
     r = _check_hub(hub_radius_m, _min_dist_to_origin(curve, closed=True))
@@ -250,8 +261,18 @@ def mesh_full_gear(
     return _finish(raw, order, scale, exact, r, "bore", t0, chain=None if mids is None else (poly, mids))
 
 
-def _sector(outline_xy, hub_radius_m, angle_from_rad, angle_to_rad, sizes, refine_points_xy,
-            fillet_points_xy, order, ray_tol_rad, outline_mid_xy):
+def _sector(
+    outline_xy,
+    hub_radius_m,
+    angle_from_rad,
+    angle_to_rad,
+    sizes,
+    refine_points_xy,
+    fillet_points_xy,
+    order,
+    ray_tol_rad,
+    outline_mid_xy,
+):
     """Validated sector geometry: (build, exact area, hub radius, scale, fillet points,
     load points, hub nodes floor, curved chain or None) for :func:`mesh_sector` and
     :func:`mesh_sector_solid`."""
@@ -264,8 +285,7 @@ def _sector(outline_xy, hub_radius_m, angle_from_rad, angle_to_rad, sizes, refin
         raise MeshInputError(f"sector angles must be finite, got {a0!r}, {a1!r}")
     if not (0.0 < a1 - a0 < 2 * math.pi):
         raise MeshInputError(
-            f"sector angles out of order: need 0 < angle_to - angle_from < 2*pi, "
-            f"got angle_from={a0!r}, angle_to={a1!r}"
+            f"sector angles out of order: need 0 < angle_to - angle_from < 2*pi, got angle_from={a0!r}, angle_to={a1!r}"
         )
     scale = float(np.max(np.abs(poly)))
     fillet_pts = _as_refine_points(fillet_points_xy, "fillet_points_xy")
@@ -275,8 +295,7 @@ def _sector(outline_xy, hub_radius_m, angle_from_rad, angle_to_rad, sizes, refin
         ang = math.atan2(p[1], p[0])
         if np.hypot(*p) <= 0 or abs(_wrap(ang - a)) > ray_tol_rad:
             raise MeshInputError(
-                f"{name} point of outline_xy {p.tolist()} is not on the ray at "
-                f"{a!r} rad (its polar angle is {ang!r})"
+                f"{name} point of outline_xy {p.tolist()} is not on the ray at {a!r} rad (its polar angle is {ang!r})"
             )
     mids = _as_mids(outline_mid_xy, poly, False, order)
     curve = _with_mids(poly, mids)
@@ -347,8 +366,17 @@ def mesh_sector(
     t0 = time.perf_counter()
     order = _check_order(order)
     build, exact, r, scale, fillet_pts, load_pts, n_circle, chain = _sector(
-        outline_xy, hub_radius_m, angle_from_rad, angle_to_rad, sizes, refine_points_xy, fillet_points_xy,
-        order, ray_tol_rad, outline_mid_xy)
+        outline_xy,
+        hub_radius_m,
+        angle_from_rad,
+        angle_to_rad,
+        sizes,
+        refine_points_xy,
+        fillet_points_xy,
+        order,
+        ray_tol_rad,
+        outline_mid_xy,
+    )
     raw = _run_gmsh(build, sizes, fillet_pts, load_pts, order, n_circle)
     return _finish(raw, order, scale, exact, r, "hub_arc", t0, chain=chain)
 
@@ -404,12 +432,26 @@ def mesh_sector_solid(
     """
     t0 = time.perf_counter()
     planes = np.asarray(planes_z_m, dtype=float)
-    if planes.ndim != 1 or len(planes) < 2 or planes[0] != 0.0 or np.any(np.diff(planes) <= 0) \
-            or not np.all(np.isfinite(planes)):
+    if (
+        planes.ndim != 1
+        or len(planes) < 2
+        or planes[0] != 0.0
+        or np.any(np.diff(planes) <= 0)
+        or not np.all(np.isfinite(planes))
+    ):
         raise MeshInputError("planes_z_m must increase strictly from 0 (at least two planes)")
     build, exact, r, scale, fillet_pts, load_pts, n_circle, _ = _sector(
-        outline_xy, hub_radius_m, angle_from_rad, angle_to_rad, sizes, refine_points_xy, fillet_points_xy,
-        1, ray_tol_rad, None)
+        outline_xy,
+        hub_radius_m,
+        angle_from_rad,
+        angle_to_rad,
+        sizes,
+        refine_points_xy,
+        fillet_points_xy,
+        1,
+        ray_tol_rad,
+        None,
+    )
     depth = float(planes[-1])
     raw = _run_gmsh(build, sizes, fillet_pts, load_pts, 1, n_circle, extrude=(depth, planes[1:] / depth))
     section = _finish(raw, 1, scale, exact, r, "hub_arc", t0)
@@ -434,8 +476,8 @@ def _tet_mesh(raw: dict, scale: float) -> skfem.MeshTet:
     v = p[t]
     vol = np.einsum("ij,ij->i", np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]), v[:, 3] - v[:, 0])
     t[vol < 0] = t[vol < 0][:, [0, 2, 1, 3]]
-    if np.any(np.abs(vol) <= 1e-15 * scale ** 3):
-        raise MeshError(f"solid mesh has {int(np.sum(np.abs(vol) <= 1e-15 * scale ** 3))} degenerate tetrahedra")
+    if np.any(np.abs(vol) <= 1e-15 * scale**3):
+        raise MeshError(f"solid mesh has {int(np.sum(np.abs(vol) <= 1e-15 * scale**3))} degenerate tetrahedra")
     return skfem.MeshTet(np.ascontiguousarray(p.T), np.ascontiguousarray(t.T), sort_t=False)
 
 
@@ -450,6 +492,7 @@ def _solid_boundaries(mesh: skfem.MeshTet, sec, sec_groups: dict, depth: float, 
     side = bf[~(np.all(np.abs(z) <= tol, axis=0) | np.all(np.abs(z - depth) <= tol, axis=0))]
     # section vertex of each corner (the solid's nodes lie on the section's vertices in x, y)
     from scipy.spatial import cKDTree
+
     tree = cKDTree(sec.p.T)
     corners = mesh.facets[:, side]
     d, iv = tree.query(mesh.p[:2, corners.ravel()].T)
@@ -514,6 +557,5 @@ def write_mesh(gm: GearMesh, path_msh: str | None = None, path_vtu: str | None =
         atomic_write(path_msh, lambda p: meshio.write(p, mm, file_format="gmsh22", binary=False))
     if path_vtu is not None:
         mv = _to_meshio(gm, with_lines=False)
-        mv = meshio.Mesh(mv.points, mv.cells[:1],
-                         cell_data={"quality": [triangle_quality(gm)]})
+        mv = meshio.Mesh(mv.points, mv.cells[:1], cell_data={"quality": [triangle_quality(gm)]})
         atomic_write(path_vtu, lambda p: meshio.write(p, mv, file_format="vtu"))

@@ -11,10 +11,9 @@ import time
 import numpy as np
 import skfem
 
-from .mesh_spec import GearMesh, MeshError
 from .curved_mesh import CurvedMeshTri2, _p2_dets
+from .mesh_spec import GearMesh, MeshError
 from .outline import _cross
-
 
 # Meshes whose worst corner triangle is below this normalised radius ratio are
 # rejected: Frontal-Delaunay gives > 0.3 on sane input, so anything this low
@@ -49,9 +48,7 @@ def _to_skfem(raw: dict, order: int, scale: float):
     v = pts[t[:, :3]]
     sa = _cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0])
     if np.any(sa <= 1e-14 * scale**2):
-        raise MeshError(
-            f"mesh has {int(np.count_nonzero(sa <= 1e-14 * scale ** 2))} degenerate triangles"
-        )
+        raise MeshError(f"mesh has {int(np.count_nonzero(sa <= 1e-14 * scale**2))} degenerate triangles")
 
     if order == 2:
         x = pts[t]  # (nel, 6, 2)
@@ -68,9 +65,7 @@ def _to_skfem(raw: dict, order: int, scale: float):
         mesh = CurvedMeshTri2(np.ascontiguousarray(pts.T), np.ascontiguousarray(t.T))
     else:
         area = float(np.sum(sa) / 2.0)
-        mesh = skfem.MeshTri(
-            np.ascontiguousarray(pts.T), np.ascontiguousarray(t.T), sort_t=False
-        )
+        mesh = skfem.MeshTri(np.ascontiguousarray(pts.T), np.ascontiguousarray(t.T), sort_t=False)
 
     # boundary lines -> facet indices via sorted vertex-pair keys
     f = np.sort(mesh.facets, axis=0).astype(np.int64)
@@ -137,7 +132,7 @@ def _boundary_area(mesh, facets: np.ndarray, mids: np.ndarray | None = None) -> 
 def _bezier(a, c, b, t):
     """Points, first and second derivatives of the quadratic Bezier curves (a, c, b) at t."""
     t = t[:, None]
-    x = (1 - t) ** 2 * a + 2 * t * (1 - t) * c + t ** 2 * b
+    x = (1 - t) ** 2 * a + 2 * t * (1 - t) * c + t**2 * b
     return x, 2 * (1 - t) * (c - a) + 2 * t * (b - c), 2 * (a - 2 * c + b)
 
 
@@ -168,7 +163,7 @@ def _split_edge_defect(mesh, facets: np.ndarray, chain: tuple, scale: float) -> 
     poly, mids = chain
     ne = len(mids)
     a0, b0 = poly[:ne], np.roll(poly, -1, axis=0)[:ne]
-    m0 = np.where(np.isfinite(mids), mids, 0.5 * (a0 + b0))   # a straight edge: m the midpoint
+    m0 = np.where(np.isfinite(mids), mids, 0.5 * (a0 + b0))  # a straight edge: m the midpoint
     c0 = 2.0 * m0 - 0.5 * (a0 + b0)
     f = np.asarray(facets)
     pa, pb = mesh.p[:, mesh.facets[0, f]].T, mesh.p[:, mesh.facets[1, f]].T
@@ -176,9 +171,11 @@ def _split_edge_defect(mesh, facets: np.ndarray, chain: tuple, scale: float) -> 
     # the edge of each facet: the one of (nearest edge midpoint's edge and its two
     # neighbours) its mid-side node lies on, the piece of the curve between its ends
     from scipy.spatial import cKDTree
+
     ts = np.linspace(0.0, 1.0, 17)
-    samples = _bezier(np.repeat(a0, ts.size, 0), np.repeat(c0, ts.size, 0), np.repeat(b0, ts.size, 0),
-                      np.tile(ts, ne))[0]
+    samples = _bezier(np.repeat(a0, ts.size, 0), np.repeat(c0, ts.size, 0), np.repeat(b0, ts.size, 0), np.tile(ts, ne))[
+        0
+    ]
     e0 = cKDTree(samples).query(pm)[1] // ts.size
     best_d = np.full(len(f), np.inf)
     edge = e0.copy()
@@ -193,8 +190,9 @@ def _split_edge_defect(mesh, facets: np.ndarray, chain: tuple, scale: float) -> 
     off = np.maximum(np.maximum(da, db), best_d)
     if np.any(off > 1e-9 * scale):
         k = int(np.argmax(off))
-        raise MeshError(f"an outline node of the mesh is {off[k]:.3g} m off its curve near "
-                        f"{(pm[k] * 1e3).round(3).tolist()} mm")
+        raise MeshError(
+            f"an outline node of the mesh is {off[k]:.3g} m off its curve near {(pm[k] * 1e3).round(3).tolist()} mm"
+        )
     true_mid = _bezier(a, c, b, 0.5 * (ta + tb))[0]
     return _boundary_area(mesh, f) - _boundary_area(mesh, f, mids=true_mid)
 

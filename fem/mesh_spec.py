@@ -82,9 +82,7 @@ class MeshSizes:
         for name in ("fillet_m", "load_m"):
             v = getattr(self, name)
             if v is not None and v > self.global_m:
-                raise MeshInputError(
-                    f"MeshSizes.{name}={v!r} is larger than global_m={self.global_m!r}"
-                )
+                raise MeshInputError(f"MeshSizes.{name}={v!r} is larger than global_m={self.global_m!r}")
 
 
 @dataclass(frozen=True, eq=False)

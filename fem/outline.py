@@ -11,6 +11,7 @@ import math
 import numpy as np
 
 from gearwear.geometry.polyline import project_to_segments
+
 from .mesh_spec import MeshInputError, MeshSizes, _positive
 
 
@@ -59,8 +60,7 @@ def _check_simple_closed(poly: np.ndarray, name: str, scale: float) -> None:
         i = int(np.argmax(seg_len <= tol))
         raise MeshInputError(
             f"{name}: zero-length edge (duplicate consecutive points) at index {i}: "
-            f"{a[i].tolist()}"
-            + (" (do not repeat the first point at the end)" if i == n - 1 else "")
+            f"{a[i].tolist()}" + (" (do not repeat the first point at the end)" if i == n - 1 else "")
         )
     # adjacent edges folding back onto each other (a spike of zero width)
     d0 = b - a
@@ -212,8 +212,9 @@ def _as_mids(mids, poly: np.ndarray, closed: bool, order: int) -> np.ndarray | N
     bad = fin[:, 0] & (off > 0.25 * np.linalg.norm(b - a, axis=1))
     if np.any(bad):
         i = int(np.argmax(bad))
-        raise MeshInputError(f"outline_mid_xy[{i}] = {m[i].tolist()} is more than a quarter of its edge "
-                        "away from the edge's midpoint")
+        raise MeshInputError(
+            f"outline_mid_xy[{i}] = {m[i].tolist()} is more than a quarter of its edge away from the edge's midpoint"
+        )
     return m
 
 
@@ -225,9 +226,9 @@ def _with_mids(poly: np.ndarray, mids: np.ndarray | None) -> np.ndarray:
     rows = [poly[:1]]
     for i in range(ne):
         if np.isfinite(mids[i, 0]):
-            rows.append(mids[i:i + 1])
+            rows.append(mids[i : i + 1])
         if i + 1 < len(poly):
-            rows.append(poly[i + 1:i + 2])
+            rows.append(poly[i + 1 : i + 2])
     return np.vstack(rows)
 
 

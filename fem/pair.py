@@ -146,11 +146,30 @@ from __future__ import annotations
 from .pair_centre_line import centre_line_compliance
 from .pair_cycle import extended_contact_widths, pair_contact
 from .pair_fields import write_fields
-from .pair_model import (ELEMENTS_PER_HALF_WIDTH, EXTENSION_PITCHES, WINDOW_HALF_WIDTHS, PairModel, body_sizes,
-                         pair_model)
+from .pair_model import (
+    ELEMENTS_PER_HALF_WIDTH,
+    EXTENSION_PITCHES,
+    WINDOW_HALF_WIDTHS,
+    PairModel,
+    body_sizes,
+    pair_model,
+)
 from .pair_position import PositionSolution, blank_rotations, solve_position
 from .pair_result import PairFE
 
-__all__ = ["PairFE", "PairModel", "PositionSolution", "pair_contact", "pair_model", "solve_position",
-           "blank_rotations", "body_sizes", "extended_contact_widths", "centre_line_compliance", "write_fields",
-           "ELEMENTS_PER_HALF_WIDTH", "WINDOW_HALF_WIDTHS", "EXTENSION_PITCHES"]
+__all__ = [
+    "PairFE",
+    "PairModel",
+    "PositionSolution",
+    "pair_contact",
+    "pair_model",
+    "solve_position",
+    "blank_rotations",
+    "body_sizes",
+    "extended_contact_widths",
+    "centre_line_compliance",
+    "write_fields",
+    "ELEMENTS_PER_HALF_WIDTH",
+    "WINDOW_HALF_WIDTHS",
+    "EXTENSION_PITCHES",
+]

@@ -74,11 +74,20 @@ from gearwear.geometry.spec import GearSpec, Material
 
 from .elasticity import ElasticModel, assemble
 
-__all__ = ["BodySizes", "GearBody", "CrackedBody", "build_body", "build_cracked_body", "involute_point", "rot",
-           "blank_reference_radius_m", "blank_reading"]
+__all__ = [
+    "BodySizes",
+    "GearBody",
+    "CrackedBody",
+    "build_body",
+    "build_cracked_body",
+    "involute_point",
+    "rot",
+    "blank_reference_radius_m",
+    "blank_reading",
+]
 
-GROWTH = 0.25          # size gradient of every refinement zone (m of size per m of distance)
-BLANK_REFERENCE_MODULES = 2.0    # the blank's reference circle: r_ref = r_f - 2 m (not below the bore)
+GROWTH = 0.25  # size gradient of every refinement zone (m of size per m of distance)
+BLANK_REFERENCE_MODULES = 2.0  # the blank's reference circle: r_ref = r_f - 2 m (not below the bore)
 BLANK_READ_POINTS_PER_TOOTH = 16  # points of the reference circle read per tooth pitch
 
 
@@ -119,8 +128,9 @@ def _walk(a: float, b: float, spacing, keep: np.ndarray) -> list[float]:
     return pts
 
 
-def _sample_flank(profile: ToothProfile, spacing, fine: tuple[float, float, float] | None = None,
-                  keep_s: tuple[float, ...] = ()) -> np.ndarray:
+def _sample_flank(
+    profile: ToothProfile, spacing, fine: tuple[float, float, float] | None = None, keep_s: tuple[float, ...] = ()
+) -> np.ndarray:
     """One right flank (space centre -> tip axis) as a quadratic chain (vertex, arc
     mid-point, vertex, ...; ``geometry.polyline``) with arc steps spacing(s); region
     junctions and the arc positions ``keep_s`` (below the fine range: a crack mouth)
@@ -180,9 +190,9 @@ class GearBody:
     flank_edges: dict
     flank_b: dict
     G: np.ndarray
-    centre_b: np.ndarray       # B positions (x dofs) of the centre-line element nodes
-    centre_dofs: np.ndarray    # their global x dofs
-    dofs: np.ndarray           # (2 m,) global dof of each row of G
+    centre_b: np.ndarray  # B positions (x dofs) of the centre-line element nodes
+    centre_dofs: np.ndarray  # their global x dofs
+    dofs: np.ndarray  # (2 m,) global dof of each row of G
     n_elements: int
     timings: dict = field(default_factory=dict)
     blank_reference_radius_m: float = 0.0
@@ -203,8 +213,10 @@ class GearBody:
         lo, hi = r[e[:, 0]], r[e[:, 2]]
         k = np.clip(np.searchsorted(hi, R, side="left"), 0, len(e) - 1)
         if np.any(R < lo[0] - 1e-12) or np.any(R > hi[-1] + 1e-12):
-            raise ValueError(f"flank point outside the condensed range of tooth {tooth} "
-                             f"({R.min() * 1e3:.4f}..{R.max() * 1e3:.4f} mm)")
+            raise ValueError(
+                f"flank point outside the condensed range of tooth {tooth} "
+                f"({R.min() * 1e3:.4f}..{R.max() * 1e3:.4f} mm)"
+            )
         t = quadratic_parameter(involute_point(self.gear, R), xy[e[k, 0]], xy[e[k, 1]], xy[e[k, 2]])
         w = np.column_stack([(1 - t) * (1 - 2 * t), 4 * t * (1 - t), t * (2 * t - 1)])
         return self.flank_b[tooth][e[k]], w
@@ -224,13 +236,12 @@ class CrackedBody(GearBody):
     flanks (each over the radius range a contact can reach while the cracked tooth is
     engaged) and of tooth 0's centre line, read on the loaded teeth themselves."""
 
-    crack_xy: np.ndarray | None = None   # (mouth, tip) in tooth 0's frame (m)
+    crack_xy: np.ndarray | None = None  # (mouth, tip) in tooth 0's frame (m)
     crack_tip_size_m: float = 0.0
     refined: int = 0
 
 
-def _flank_nodes(mesh, basis, outer: np.ndarray, g: GearSpec, tooth: int, r_lo: float, r_hi: float,
-                 tol_m: float):
+def _flank_nodes(mesh, basis, outer: np.ndarray, g: GearSpec, tooth: int, r_lo: float, r_hi: float, tol_m: float):
     """Nodes of the drive-flank edges of tooth ``tooth`` overlapping [r_lo, r_hi]:
     (radii, coordinates in the tooth's own frame, global x dofs, edges). A vertex is
     on the flank within ``tol_m`` of the involute (Gmsh may split a long outline
@@ -265,7 +276,7 @@ def _flank_nodes(mesh, basis, outer: np.ndarray, g: GearSpec, tooth: int, r_lo: 
     pos[order] = np.arange(len(uniq))
     node_of = pos[inv]
     ne = len(fac)
-    edges = np.column_stack([node_of[:ne], node_of[ne:2 * ne], node_of[2 * ne:]])
+    edges = np.column_stack([node_of[:ne], node_of[ne : 2 * ne], node_of[2 * ne :]])
     edges = edges[np.argsort(np.hypot(*loc[:ne].T))]
     first = first[order]
     return rr[first], loc[first], uniq[order], edges
@@ -281,9 +292,19 @@ def _centre_line_nodes(mesh, basis, y_lo: float, y_hi: float) -> np.ndarray:
     return np.unique(basis.element_dofs[0::2, el])
 
 
-def _mesh_body(gear: GearSpec, material: Material, face_width_m: float, nominal: ToothProfile,
-               sizes: BodySizes, r_lo: float, neighbours: int, plane: str, refined: int = 0,
-               crack: Crack | None = None, crack_tip_size_m: float | None = None):
+def _mesh_body(
+    gear: GearSpec,
+    material: Material,
+    face_width_m: float,
+    nominal: ToothProfile,
+    sizes: BodySizes,
+    r_lo: float,
+    neighbours: int,
+    plane: str,
+    refined: int = 0,
+    crack: Crack | None = None,
+    crack_tip_size_m: float | None = None,
+):
     """Mesh and assemble a gear body: tooth 0's drive flank (and those of teeth
     -refined .. +refined) refined to h_c over the candidate range, teeth up to
     +-neighbours at the near size, the rest at the far size; ``crack`` cut into tooth 0.
@@ -317,8 +338,12 @@ def _mesh_body(gear: GearSpec, material: Material, face_width_m: float, nominal:
         v = right_c[0::2]
         crack_xy = np.array([v[int(np.argmin(np.hypot(*(v - mouth).T)))], tip])
     # tooth 0, the refined neighbours, the near ones, the others
-    kinds = (tooth_outline(right_c, side_near), tooth_outline(right0, side_near), tooth_outline(side_near),
-             tooth_outline(_sample_flank(nominal, far)))
+    kinds = (
+        tooth_outline(right_c, side_near),
+        tooth_outline(right0, side_near),
+        tooth_outline(side_near),
+        tooth_outline(_sample_flank(nominal, far)),
+    )
 
     def tooth(k: int) -> np.ndarray:
         away = min(k, z - k)  # teeth between tooth k and tooth 0
@@ -334,13 +359,28 @@ def _mesh_body(gear: GearSpec, material: Material, face_width_m: float, nominal:
         refine = np.vstack([refine @ rot(2.0 * math.pi * kk / z).T for kk in range(-refined, refined + 1)])
     fil = nominal.xy[nominal.region == FILLET]
     fil = fil[:: max(1, len(fil) // 10)]
-    fillets = np.vstack([np.vstack([fil, fil * mirror]) @ rot(2.0 * math.pi * kk / z).T
-                         for kk in range(-neighbours, neighbours + 1)])
-    msz = MeshSizes(global_m=sizes.global_m, fillet_m=sizes.fillet_m, load_m=hc, load_dist_m=hc,
-                    fillet_dist_m=2 * sizes.fillet_m, growth=GROWTH)
-    gm = mesh_full_gear(outline[0::2], g.hub_radius_m, msz, refine_points_xy=refine, fillet_points_xy=fillets, order=2,
-                        outline_mid_xy=outline[1::2], crack_xy=crack_xy,
-                        crack_tip_size_m=crack_tip_size_m if crack is not None else None)
+    fillets = np.vstack(
+        [np.vstack([fil, fil * mirror]) @ rot(2.0 * math.pi * kk / z).T for kk in range(-neighbours, neighbours + 1)]
+    )
+    msz = MeshSizes(
+        global_m=sizes.global_m,
+        fillet_m=sizes.fillet_m,
+        load_m=hc,
+        load_dist_m=hc,
+        fillet_dist_m=2 * sizes.fillet_m,
+        growth=GROWTH,
+    )
+    gm = mesh_full_gear(
+        outline[0::2],
+        g.hub_radius_m,
+        msz,
+        refine_points_xy=refine,
+        fillet_points_xy=fillets,
+        order=2,
+        outline_mid_xy=outline[1::2],
+        crack_xy=crack_xy,
+        crack_tip_size_m=crack_tip_size_m if crack is not None else None,
+    )
     t1 = time.perf_counter()
     model = assemble(gm.mesh, material, face_width_m, gm.boundaries["bore"], plane=plane, order=2, factorize=False)
     t2 = time.perf_counter()
@@ -356,9 +396,10 @@ def _mesh_body(gear: GearSpec, material: Material, face_width_m: float, nominal:
         for t, (r_a, r_b) in sorted(ranges.items()):
             # refined flanks lie on the involute; the near teeth's outline edges sag by
             # h^2 / (8 rho), rho >= 0.1 r_b here
-            tol = 1e-9 * r_top if abs(t) <= refined else sizes.near_m ** 2 / (0.8 * g.base_radius_m)
-            flank_r[t], flank_xy[t], flank_dofs[t], flank_edges[t] = _flank_nodes(model.mesh, model.basis, outer, g,
-                                                                                   t, r_a, r_b, tol)
+            tol = 1e-9 * r_top if abs(t) <= refined else sizes.near_m**2 / (0.8 * g.base_radius_m)
+            flank_r[t], flank_xy[t], flank_dofs[t], flank_edges[t] = _flank_nodes(
+                model.mesh, model.basis, outer, g, t, r_a, r_b, tol
+            )
         return flank_r, flank_xy, flank_dofs, flank_edges
 
     return gm, model, flanks, crack_xy, {"mesh_s": t1 - t0, "assemble_s": t2 - t1}
@@ -403,8 +444,18 @@ def blank_reading(model: ElasticModel, gear: GearSpec) -> tuple[float, np.ndarra
     return r_ref, np.vstack([np.asarray(r).ravel() for r in rows]) / n
 
 
-def _condensed(cls, gear: GearSpec, sizes: BodySizes, r_lo: float, gm, model: ElasticModel, flank_sets: tuple,
-               centre_y: tuple[float, float], timings: dict, **extra):
+def _condensed(
+    cls,
+    gear: GearSpec,
+    sizes: BodySizes,
+    r_lo: float,
+    gm,
+    model: ElasticModel,
+    flank_sets: tuple,
+    centre_y: tuple[float, float],
+    timings: dict,
+    **extra,
+):
     """The body ``cls`` with G over the flank node sets (radii, coordinates, x dofs,
     edges per tooth) and the nodes of the elements crossing tooth 0's centre line, and
     the blank's reading h = (K^-1 a)_B (:func:`blank_reading`) from the same factorization."""
@@ -416,15 +467,38 @@ def _condensed(cls, gear: GearSpec, sizes: BodySizes, r_lo: float, gm, model: El
     G, h, tim = _condensed_flexibility(model, xd, a)
     where = {int(d): i for i, d in enumerate(xd)}
     flank_b = {t: 2 * np.array([where[int(d)] for d in flank_dofs[t]]) for t in flank_dofs}
-    return cls(gear=gear, flank_r=flank_r, flank_xy=flank_xy, flank_edges=flank_edges, flank_b=flank_b,
-               dofs=np.column_stack([xd, xd + 1]).ravel(), sizes=sizes, r_lo=r_lo, model=model, G=G,
-               centre_b=2 * np.array([where[int(d)] for d in centre]), centre_dofs=centre, n_elements=gm.n_elements,
-               timings={**timings, **tim}, blank_reference_radius_m=r_ref, blank_h=h, **extra)
+    return cls(
+        gear=gear,
+        flank_r=flank_r,
+        flank_xy=flank_xy,
+        flank_edges=flank_edges,
+        flank_b=flank_b,
+        dofs=np.column_stack([xd, xd + 1]).ravel(),
+        sizes=sizes,
+        r_lo=r_lo,
+        model=model,
+        G=G,
+        centre_b=2 * np.array([where[int(d)] for d in centre]),
+        centre_dofs=centre,
+        n_elements=gm.n_elements,
+        timings={**timings, **tim},
+        blank_reference_radius_m=r_ref,
+        blank_h=h,
+        **extra,
+    )
 
 
-def build_body(gear: GearSpec, material: Material, face_width_m: float, nominal: ToothProfile,
-               sizes: BodySizes, r_lo: float, neighbours: int, centre_y: tuple[float, float],
-               plane: str = "stress") -> GearBody:
+def build_body(
+    gear: GearSpec,
+    material: Material,
+    face_width_m: float,
+    nominal: ToothProfile,
+    sizes: BodySizes,
+    r_lo: float,
+    neighbours: int,
+    centre_y: tuple[float, float],
+    plane: str = "stress",
+) -> GearBody:
     """Mesh, assemble and condense one gear body (see the module docstring).
 
     nominal     dense nominal profile of the gear (right flank of tooth 0)
@@ -437,9 +511,20 @@ def build_body(gear: GearSpec, material: Material, face_width_m: float, nominal:
     return _condensed(GearBody, gear, sizes, r_lo, gm, model, flanks(ranges), centre_y, timings)
 
 
-def build_cracked_body(gear: GearSpec, material: Material, face_width_m: float, nominal: ToothProfile,
-                       sizes: BodySizes, ranges: dict, neighbours: int, refined: int, centre_y: tuple[float, float],
-                       crack: Crack, crack_tip_size_m: float, plane: str = "stress") -> CrackedBody:
+def build_cracked_body(
+    gear: GearSpec,
+    material: Material,
+    face_width_m: float,
+    nominal: ToothProfile,
+    sizes: BodySizes,
+    ranges: dict,
+    neighbours: int,
+    refined: int,
+    centre_y: tuple[float, float],
+    crack: Crack,
+    crack_tip_size_m: float,
+    plane: str = "stress",
+) -> CrackedBody:
     """Mesh, assemble and condense a gear body with ``crack`` (geometry.crack) cut into
     tooth 0's loaded fillet, as :func:`build_body` but with the drive flanks of teeth
     -refined .. +refined all sampled like tooth 0's (a contact on any of them is resolved
@@ -447,14 +532,28 @@ def build_cracked_body(gear: GearSpec, material: Material, face_width_m: float, 
     both faces free) and G over those flanks, tooth t over ``ranges[t]`` = (r_a, r_b)
     (m; tooth 0's lower end is the candidate range's r_lo), and tooth 0's centre line."""
     r_lo = ranges[0][0]
-    gm, model, flanks, crack_xy, timings = _mesh_body(gear, material, face_width_m, nominal, sizes, r_lo,
-                                                      neighbours, plane, refined, crack, crack_tip_size_m)
-    return _condensed(CrackedBody, gear, sizes, r_lo, gm, model, flanks(ranges), centre_y, timings,
-                      crack_xy=crack_xy, crack_tip_size_m=crack_tip_size_m, refined=refined)
+    gm, model, flanks, crack_xy, timings = _mesh_body(
+        gear, material, face_width_m, nominal, sizes, r_lo, neighbours, plane, refined, crack, crack_tip_size_m
+    )
+    return _condensed(
+        CrackedBody,
+        gear,
+        sizes,
+        r_lo,
+        gm,
+        model,
+        flanks(ranges),
+        centre_y,
+        timings,
+        crack_xy=crack_xy,
+        crack_tip_size_m=crack_tip_size_m,
+        refined=refined,
+    )
 
 
-def _condensed_flexibility(model, xdofs: np.ndarray, reading: np.ndarray | None = None
-                           ) -> tuple[np.ndarray, np.ndarray | None, dict]:
+def _condensed_flexibility(
+    model, xdofs: np.ndarray, reading: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray | None, dict]:
     """(G, h, timings): G = (K^-1)_BB for B = the x and y dofs of ``xdofs`` (order x0, y0,
     x1, y1, ...) and the rows h = (K^-1 a)_B for the reading functionals a = ``reading``
     (rows over all dofs; None: h is None). By reciprocity (K symmetric)
@@ -483,15 +582,27 @@ def _condensed_flexibility(model, xdofs: np.ndarray, reading: np.ndarray | None 
         raise RuntimeError("SuperLU reordered the condensed system; the Schur block is not trailing")
     t2 = time.perf_counter()
     m = len(Bf)
-    Lbb = lu.L[n - m:, n - m:].toarray()
-    Ubb = lu.U[n - m:, n - m:].toarray()
-    G = sla.solve_triangular(Ubb, sla.solve_triangular(Lbb, np.eye(m), lower=True, unit_diagonal=True,
-                                                       check_finite=False), check_finite=False)
+    Lbb = lu.L[n - m :, n - m :].toarray()
+    Ubb = lu.U[n - m :, n - m :].toarray()
+    G = sla.solve_triangular(
+        Ubb,
+        sla.solve_triangular(Lbb, np.eye(m), lower=True, unit_diagonal=True, check_finite=False),
+        check_finite=False,
+    )
     G = 0.5 * (G + G.T)  # Maxwell-Betti; removes round-off asymmetry (~1e-12)
     h = None
     if reading is not None:
         # the permuted system solves P K P^T (P x) = P a; B is the trailing block
-        h = lu.solve(np.ascontiguousarray(reading[:, model.free][:, order].T))[n - m:].T
+        h = lu.solve(np.ascontiguousarray(reading[:, model.free][:, order].T))[n - m :].T
     t3 = time.perf_counter()
-    return G, h, {"ordering_s": t1 - t0, "factorize_s": t2 - t1, "flexibility_s": t3 - t2, "condensed_dofs": m,
-                  "factor_nnz": int(lu.L.nnz + lu.U.nnz)}
+    return (
+        G,
+        h,
+        {
+            "ordering_s": t1 - t0,
+            "factorize_s": t2 - t1,
+            "flexibility_s": t3 - t2,
+            "condensed_dofs": m,
+            "factor_nnz": int(lu.L.nnz + lu.U.nnz),
+        },
+    )

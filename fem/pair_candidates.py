@@ -43,13 +43,21 @@ import math
 
 import numpy as np
 
-from gearwear.geometry.pair_positions import (NO_SPALL, contact_arc_m, involute_arc_m, involute_gap, rot,
-                                              spall_edge_radii_m, tip_roll_rad, tooth_frames)
+from gearwear.geometry.pair_positions import (
+    NO_SPALL,
+    contact_arc_m,
+    involute_arc_m,
+    involute_gap,
+    rot,
+    spall_edge_radii_m,
+    tip_roll_rad,
+    tooth_frames,
+)
 
 from .pair_model import PairModel
 
-DENSE_GAP_POINTS = 401          # samples of a pair's slave flank for its rigid gap g_k
-ROTATION_STEP_RAD = 1e-7        # central difference of the gaps for the lever arms w_i
+DENSE_GAP_POINTS = 401  # samples of a pair's slave flank for its rigid gap g_k
+ROTATION_STEP_RAD = 1e-7  # central difference of the gaps for the lever arms w_i
 
 
 def _depth(pm: PairModel, gi: int, R: np.ndarray) -> np.ndarray:
@@ -153,22 +161,47 @@ def _candidates(pm: PairModel, d: float, j: int, spalled: tuple = NO_SPALL) -> l
             sel, R, gap, rF, n_loc, e_fix, w = (x[ok] for x in (sel, R, gap, rF, n_loc, e_fix, w))
             # rigid gap of the pair: dense sampling of the slave flank over the window
             u_lo = math.sqrt(max(2 * (s_c - window) / rb, 0.0))
-            u_hi = math.sqrt(2 * min(s_c + window, rb * u_a ** 2 / 2) / rb)
+            u_hi = math.sqrt(2 * min(s_c + window, rb * u_a**2 / 2) / rb)
             Rd = rb * np.sqrt(1.0 + np.linspace(u_lo, u_hi, DENSE_GAP_POINTS) ** 2)
             gd, _, _, _, wd, _ = _lever_arms(pm, slave, Rd, d, spalled)
             with np.errstate(invalid="ignore"):
                 g_pair = float(np.nanmin(np.where(np.isfinite(gd) & (wd > 0), gd / wd, np.inf)))
             # directions in each body's tooth frame: +e on the slave node, -e on the master foot
-            out.append({"slave": slave, "nodes": sel, "R": R, "rF": rF, "gap": gap, "w": w, "g_pair": g_pair,
-                        "dirs": {slave: e_fix @ rot(-gam[slave]).T, master: -n_loc}, "j": j, "d": d,
-                        "teeth": (-j, j)})
+            out.append(
+                {
+                    "slave": slave,
+                    "nodes": sel,
+                    "R": R,
+                    "rF": rF,
+                    "gap": gap,
+                    "w": w,
+                    "g_pair": g_pair,
+                    "dirs": {slave: e_fix @ rot(-gam[slave]).T, master: -n_loc},
+                    "j": j,
+                    "d": d,
+                    "teeth": (-j, j),
+                }
+            )
     if edges is not None:
         ge, Re, _, _ = edges
         gap, rF, n_loc, e_fix, w, ok = _lever_arms(pm, ge, Re, d)  # the edge itself is not in the pit
         ok &= w > 0
         if ok.any():
             Re, gap, rF, n_loc, e_fix, w = (x[ok] for x in (Re, gap, rF, n_loc, e_fix, w))
-            out.append({"slave": ge, "nodes": None, "R": Re, "rF": rF, "gap": gap, "w": w,
-                        "g_pair": float(np.min(gap / w)), "dirs": {ge: e_fix @ rot(-gam[ge]).T, 1 - ge: -n_loc},
-                        "j": j, "d": d, "teeth": (-j, j), "corner": True})
+            out.append(
+                {
+                    "slave": ge,
+                    "nodes": None,
+                    "R": Re,
+                    "rF": rF,
+                    "gap": gap,
+                    "w": w,
+                    "g_pair": float(np.min(gap / w)),
+                    "dirs": {ge: e_fix @ rot(-gam[ge]).T, 1 - ge: -n_loc},
+                    "j": j,
+                    "d": d,
+                    "teeth": (-j, j),
+                    "corner": True,
+                }
+            )
     return out

@@ -60,8 +60,19 @@ def _position_row(pm: PairModel, theta: float, total_N: float, period: int | Non
     dm = solve_contact(Cw, gw, total_force_N=total_N * (1 - eps)).approach_m
     ktan = 2 * eps * total_N / (dp - dm)
     hits = sum(bool(c.get("window_hit")) for c in ps.cand)
-    return (ps.loads_N, ps.gaps_m, ps.half_width_m, ps.ste_m, ktan, len(ps.g), hits, tb - ta,
-            time.perf_counter() - tb, np.array(ps.blank_rotation_rad), np.array(ps.blank_torque_Nm))
+    return (
+        ps.loads_N,
+        ps.gaps_m,
+        ps.half_width_m,
+        ps.ste_m,
+        ktan,
+        len(ps.g),
+        hits,
+        tb - ta,
+        time.perf_counter() - tb,
+        np.array(ps.blank_rotation_rad),
+        np.array(ps.blank_torque_Nm),
+    )
 
 
 def _solve_chunk(spec: dict, items: list, total_N: float) -> list:
@@ -75,12 +86,22 @@ def _solve_chunk(spec: dict, items: list, total_N: float) -> list:
 def _body_meta(pm: PairModel) -> dict:
     """Sizes of the bodies (meta of the result)."""
     gc, cb = next(((gi, b) for gi, b in enumerate(pm.cracked) if b is not None), (None, None))
-    return {"shared_body": pm.bodies[0] is pm.bodies[1], "n_elements": [bd.n_elements for bd in pm.bodies],
-            "ndofs": [bd.ndofs for bd in pm.bodies], "condensed_dofs": [int(bd.G.shape[0]) for bd in pm.bodies],
-            "cracked_body": None if cb is None else
-            {"gear": gc, "n_elements": cb.n_elements, "ndofs": cb.ndofs,
-             "condensed_dofs": int(cb.G.shape[0]), "refined_neighbours": cb.refined,
-             "crack_tip_size_m": cb.crack_tip_size_m}}
+    return {
+        "shared_body": pm.bodies[0] is pm.bodies[1],
+        "n_elements": [bd.n_elements for bd in pm.bodies],
+        "ndofs": [bd.ndofs for bd in pm.bodies],
+        "condensed_dofs": [int(bd.G.shape[0]) for bd in pm.bodies],
+        "cracked_body": None
+        if cb is None
+        else {
+            "gear": gc,
+            "n_elements": cb.n_elements,
+            "ndofs": cb.ndofs,
+            "condensed_dofs": int(cb.G.shape[0]),
+            "refined_neighbours": cb.refined,
+            "crack_tip_size_m": cb.crack_tip_size_m,
+        },
+    }
 
 
 def _model_task(spec: dict, total_N: float, extended: bool) -> tuple:
@@ -89,11 +110,22 @@ def _model_task(spec: dict, total_N: float, extended: bool) -> tuple:
     return (extended_contact_widths(pm, total_N) if extended else None), _body_meta(pm), dict(pm.timings)
 
 
-def pair_contact(pair: PairSpec, wear: WearSpec | None = None, positions: int = 24, torque_Nm: float = 40.0,
-                 clearance_m: float = 0.0, contact_scale: float = 1.0, mesh_scale: float = 1.0,
-                 plane: str = "stress", extended: bool = True, flank: FlankSpec | None = None,
-                 faults: FaultSpec | None = None, executor: Executor | None = None,
-                 chunk_positions: int = 12, progress: Callable[[int, int], None] | None = None) -> PairFE:
+def pair_contact(
+    pair: PairSpec,
+    wear: WearSpec | None = None,
+    positions: int = 24,
+    torque_Nm: float = 40.0,
+    clearance_m: float = 0.0,
+    contact_scale: float = 1.0,
+    mesh_scale: float = 1.0,
+    plane: str = "stress",
+    extended: bool = True,
+    flank: FlankSpec | None = None,
+    faults: FaultSpec | None = None,
+    executor: Executor | None = None,
+    chunk_positions: int = 12,
+    progress: Callable[[int, int], None] | None = None,
+) -> PairFE:
     """FE static transmission error and mesh stiffness at ``positions`` pinion angles
     theta = i (2 pi / z1) / positions (theta = 0 when a pair enters at A), over one
     mesh period, or with ``faults`` over one revolution of the faulty gear
@@ -132,7 +164,7 @@ def pair_contact(pair: PairSpec, wear: WearSpec | None = None, positions: int = 
     # a position is solved again where a slot holding a faulty tooth is a candidate
     cand = np.tile(candidate_slots(mesh, d0, EXTENSION_PITCHES), (periods, 1))
     faulty = np.zeros(cand.shape, dtype=bool)
-    for f in (faults.faults() if faults is not None else []):
+    for f in faults.faults() if faults is not None else []:
         faulty |= np.repeat(faulty_slots(pair, f, periods, j), positions, axis=0) & cand
     redo = np.flatnonzero(faulty.any(axis=1))
     items = [(float(th), None) for th in theta0] + [(float(theta0[r % positions]), int(r // positions)) for r in redo]
@@ -149,7 +181,7 @@ def pair_contact(pair: PairSpec, wear: WearSpec | None = None, positions: int = 
         body_meta, body_tim = _body_meta(pm), {k: v for k, v in pm.timings.items() if k != "model_s"}
     else:
         step = max(1, int(chunk_positions))
-        futures = [executor.submit(_solve_chunk, spec, items[i:i + step], F) for i in range(0, len(items), step)]
+        futures = [executor.submit(_solve_chunk, spec, items[i : i + step], F) for i in range(0, len(items), step)]
         model_future = executor.submit(_model_task, spec, F, extended)
         for fu in futures:
             rows += fu.result()
@@ -161,8 +193,9 @@ def pair_contact(pair: PairSpec, wear: WearSpec | None = None, positions: int = 
     # the healthy period, then (with faults) the revolution with its faulty rows replaced
     columns = (0, 1, 2, 3, 4, 9, 10)
     cols = [np.array([r[i] for r in rows[:positions]]) for i in columns]
-    loads, gaps, hw, ste, ktan, rot_ref, torque = (np.tile(c, (periods, 1)) if c.ndim == 2 else np.tile(c, periods)
-                                                   for c in cols)
+    loads, gaps, hw, ste, ktan, rot_ref, torque = (
+        np.tile(c, (periods, 1)) if c.ndim == 2 else np.tile(c, periods) for c in cols
+    )
     for r, row in zip(redo, rows[positions:]):
         loads[r], gaps[r], hw[r], ste[r], ktan[r], rot_ref[r], torque[r] = (row[i] for i in columns)
     n_cand = [r[5] for r in rows]
@@ -175,27 +208,69 @@ def pair_contact(pair: PairSpec, wear: WearSpec | None = None, positions: int = 
     # theta_i is linear in the load (linear elasticity, n = 0 part: theta_i = T_i / k_blank,i), so
     # the blanks are a constant compliance in series also for the tangent dF / d delta
     ktan_mesh = 1.0 / (1.0 / ktan - blank_ste / F)
-    k_blank = [float(torque[:, i].sum() / rot_ref[:, i].sum()) if np.any(rot_ref[:, i] != 0) else math.inf
-               for i in (0, 1)]
+    k_blank = [
+        float(torque[:, i].sum() / rot_ref[:, i].sum()) if np.any(rot_ref[:, i] != 0) else math.inf for i in (0, 1)
+    ]
     theta = np.arange(positions * periods) * (mesh.mesh_angle_rad / positions)
-    timings = {**body_tim, "model_s": t_model - t_start, "positions_s": t_cycle - t_model,
-               "positions_geometry_s": float(sum(r[7] for r in rows)),
-               "positions_lcp_s": float(sum(r[8] for r in rows)),
-               "extended_s": t_end - t_cycle, "total_s": time.perf_counter() - t_start}
-    meta = {"sizes_m": {k2: getattr(sizes, k2) for k2 in ("contact_m", "near_m", "far_m", "fillet_m", "global_m")},
-            "a_ref_m": a_ref, "window_m": window, "contact_scale": contact_scale,
-            "mesh_scale": mesh_scale, "plane": plane, "order": 2, **body_meta, "clearance_m": clearance_m,
-            "candidates_per_position": [int(min(n_cand)), int(max(n_cand))],
-            "window_hits": int(sum(r[6] for r in rows)), "corner_contact": True, "local_contact": "resolved",
-            "pair_gap_m": gaps, "extended_contact_deg": widths, "mesh_periods": periods,
-            "positions_solved": len(items), "positions_total": positions * periods,
-            "faults": None if faults is None else faults.label(),
-            "blank_reference_radius_m": [float(bd_r) for bd_r in _reference_radii(pair)],
-            "blank_torsional_stiffness_Nm_per_rad": k_blank,
-            "mesh_only_mean_N_per_m": float(np.mean(k_mesh))}
-    return PairFE(pair, mesh, torque_Nm, wear, theta, k, ktan, ste, exc, loads, np.tile(d0, (periods, 1)),
-                  np.tile(mesh.in_path(d0), (periods, 1)), hw, timings, meta, faults, periods,
-                  faulty if faults is not None else None, k_mesh, ktan_mesh, ste_mesh, exc_mesh, rot_ref, torque)
+    timings = {
+        **body_tim,
+        "model_s": t_model - t_start,
+        "positions_s": t_cycle - t_model,
+        "positions_geometry_s": float(sum(r[7] for r in rows)),
+        "positions_lcp_s": float(sum(r[8] for r in rows)),
+        "extended_s": t_end - t_cycle,
+        "total_s": time.perf_counter() - t_start,
+    }
+    meta = {
+        "sizes_m": {k2: getattr(sizes, k2) for k2 in ("contact_m", "near_m", "far_m", "fillet_m", "global_m")},
+        "a_ref_m": a_ref,
+        "window_m": window,
+        "contact_scale": contact_scale,
+        "mesh_scale": mesh_scale,
+        "plane": plane,
+        "order": 2,
+        **body_meta,
+        "clearance_m": clearance_m,
+        "candidates_per_position": [int(min(n_cand)), int(max(n_cand))],
+        "window_hits": int(sum(r[6] for r in rows)),
+        "corner_contact": True,
+        "local_contact": "resolved",
+        "pair_gap_m": gaps,
+        "extended_contact_deg": widths,
+        "mesh_periods": periods,
+        "positions_solved": len(items),
+        "positions_total": positions * periods,
+        "faults": None if faults is None else faults.label(),
+        "blank_reference_radius_m": [float(bd_r) for bd_r in _reference_radii(pair)],
+        "blank_torsional_stiffness_Nm_per_rad": k_blank,
+        "mesh_only_mean_N_per_m": float(np.mean(k_mesh)),
+    }
+    return PairFE(
+        pair,
+        mesh,
+        torque_Nm,
+        wear,
+        theta,
+        k,
+        ktan,
+        ste,
+        exc,
+        loads,
+        np.tile(d0, (periods, 1)),
+        np.tile(mesh.in_path(d0), (periods, 1)),
+        hw,
+        timings,
+        meta,
+        faults,
+        periods,
+        faulty if faults is not None else None,
+        k_mesh,
+        ktan_mesh,
+        ste_mesh,
+        exc_mesh,
+        rot_ref,
+        torque,
+    )
 
 
 def _secant(loads: np.ndarray, gaps: np.ndarray, ste: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -46,9 +46,10 @@ def write_fields(pm: PairModel, positions: list[int], points: int, torque_Nm: fl
     von_mises_Pa, gear). The loaded tooth with the largest load is each body's refined
     tooth 0; the other loaded teeth take their load on their own (coarser) flanks. Where
     the cracked body served, it is drawn with its cracked tooth as tooth 0."""
+    from pathlib import Path
+
     import meshio
     import scipy.sparse.linalg as spla
-    from pathlib import Path
 
     from gearwear.core.atomic import atomic_write
 
@@ -73,8 +74,9 @@ def write_fields(pm: PairModel, positions: list[int], points: int, torque_Nm: fl
             model = body.model
             if getattr(body, "_lu", None) is None:
                 Kff = model.K[model.free][:, model.free].tocsc()
-                body._lu = spla.splu(Kff, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                                     options={"SymmetricMode": True})
+                body._lu = spla.splu(
+                    Kff, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True}
+                )
             f = np.zeros(model.ndofs)
             for c in ps.cand:
                 idx, coef = _reps(body, c, gi, c["teeth"][gi] - tooth0, at_nodes=ct is None)
@@ -91,7 +93,7 @@ def write_fields(pm: PairModel, positions: list[int], points: int, torque_Nm: fl
             sig = Rm @ sig @ Rm.T
             sxx, syy, sxy = sig[:, 0, 0], sig[:, 1, 1], sig[:, 0, 1]
             szz = (pm.pair.materials[gi].poisson_ratio * (sxx + syy)) if pm.plane == "strain" else 0.0 * sxx
-            vm = np.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) + 3 * sxy ** 2)
+            vm = np.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) + 3 * sxy**2)
             pts.append(np.column_stack([p, np.zeros(len(p))]))
             disp.append(np.column_stack([u, np.zeros(len(u))]))
             cells.append(model.basis.element_dofs[0::2].T // 2 + offset)
@@ -99,10 +101,18 @@ def write_fields(pm: PairModel, positions: list[int], points: int, torque_Nm: fl
             gear_id.append(np.full(len(sxx), gi))
             offset += len(p)
         cd = np.vstack(cdata)
-        mesh = meshio.Mesh(np.vstack(pts), [("triangle6", np.vstack(cells).astype(np.int64))],
-                           point_data={"displacement_m": np.vstack(disp)},
-                           cell_data={"sigma_xx_Pa": [cd[:, 0]], "sigma_yy_Pa": [cd[:, 1]], "sigma_xy_Pa": [cd[:, 2]],
-                                      "von_mises_Pa": [cd[:, 3]], "gear": [np.concatenate(gear_id)]})
+        mesh = meshio.Mesh(
+            np.vstack(pts),
+            [("triangle6", np.vstack(cells).astype(np.int64))],
+            point_data={"displacement_m": np.vstack(disp)},
+            cell_data={
+                "sigma_xx_Pa": [cd[:, 0]],
+                "sigma_yy_Pa": [cd[:, 1]],
+                "sigma_xy_Pa": [cd[:, 2]],
+                "von_mises_Pa": [cd[:, 3]],
+                "gear": [np.concatenate(gear_id)],
+            },
+        )
         path = out_dir / f"fields_pos{i}.vtu"
         atomic_write(str(path), lambda tmp: meshio.write(tmp, mesh, file_format="vtu"))
         files.append(path)

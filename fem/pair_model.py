@@ -36,8 +36,12 @@ from gearwear.geometry.flank import FlankSpec, is_nominal, modification_depth_m
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.loading import load_points
 from gearwear.geometry.operating import operating_geometry
-from gearwear.geometry.pair_positions import (base_half_angle_rad, fault_neighbours, lowest_contact_radius_m,
-                                              reach_ranges)
+from gearwear.geometry.pair_positions import (
+    base_half_angle_rad,
+    fault_neighbours,
+    lowest_contact_radius_m,
+    reach_ranges,
+)
 from gearwear.geometry.profile import INVOLUTE, tooth_profile
 from gearwear.geometry.sampling import FINE_SAG_M
 from gearwear.geometry.spec import PairSpec
@@ -45,12 +49,18 @@ from gearwear.geometry.wear import WearSpec, flank_depth, hertz_half_width, key_
 
 from .pair_body import BodySizes, GearBody, build_body, build_cracked_body
 
-__all__ = ["PairModel", "pair_model", "body_sizes", "ELEMENTS_PER_HALF_WIDTH", "WINDOW_HALF_WIDTHS",
-           "EXTENSION_PITCHES"]
+__all__ = [
+    "PairModel",
+    "pair_model",
+    "body_sizes",
+    "ELEMENTS_PER_HALF_WIDTH",
+    "WINDOW_HALF_WIDTHS",
+    "EXTENSION_PITCHES",
+]
 
-ELEMENTS_PER_HALF_WIDTH = 2.5   # h_c = a_ref / 2.5 at contact_scale 1
-WINDOW_HALF_WIDTHS = 3.0        # candidate window: +-3 a_ref of arc length (+ 2 h_c)
-EXTENSION_PITCHES = 0.08        # pairs considered up to 0.08 p_b beyond A and E (corner contact)
+ELEMENTS_PER_HALF_WIDTH = 2.5  # h_c = a_ref / 2.5 at contact_scale 1
+WINDOW_HALF_WIDTHS = 3.0  # candidate window: +-3 a_ref of arc length (+ 2 h_c)
+EXTENSION_PITCHES = 0.08  # pairs considered up to 0.08 p_b beyond A and E (corner contact)
 _BODY_CACHE: "OrderedDict[tuple, GearBody]" = OrderedDict()  # cracked bodies too
 _BODY_CACHE_SIZE = 4
 _BODY_LOCK = threading.RLock()
@@ -66,8 +76,9 @@ def _positive(key: str, value, unit: str = "") -> float:
     return v
 
 
-def body_sizes(pair: PairSpec, torque_Nm: float = 40.0, contact_scale: float = 1.0,
-               mesh_scale: float = 1.0) -> tuple[BodySizes, float]:
+def body_sizes(
+    pair: PairSpec, torque_Nm: float = 40.0, contact_scale: float = 1.0, mesh_scale: float = 1.0
+) -> tuple[BodySizes, float]:
     """Element sizes of the pair bodies and a_ref (m). h_c = a_ref / 2.5 x
     contact_scale, a_ref the Hertz half-width (plane strain) of one pair at the pitch
     point under T / r_b1 on the nominal geometry; the rest scales with the module
@@ -78,8 +89,13 @@ def body_sizes(pair: PairSpec, torque_Nm: float = 40.0, contact_scale: float = 1
     F = torque_Nm / pair.gear(0).base_radius_m
     a_ref = float(hertz_half_width(mg, np.array([mg.pitch_point_m]), F / pair.face_width_m)[0])
     m = pair.module_m
-    return BodySizes(contact_m=a_ref / ELEMENTS_PER_HALF_WIDTH * cs, near_m=0.125 * m * ms, far_m=0.3 * m * ms,
-                     fillet_m=0.05 * m * ms, global_m=0.4 * m * ms), a_ref
+    return BodySizes(
+        contact_m=a_ref / ELEMENTS_PER_HALF_WIDTH * cs,
+        near_m=0.125 * m * ms,
+        far_m=0.3 * m * ms,
+        fillet_m=0.05 * m * ms,
+        global_m=0.4 * m * ms,
+    ), a_ref
 
 
 @dataclass
@@ -93,8 +109,8 @@ class PairModel:
     mesh: MeshGeometry
     bodies: tuple
     wear: WearSpec | None
-    depth: tuple          # per gear: (radius, depth) arrays of the drive flank, or None
-    window_m: float       # candidate half-window (arc length)
+    depth: tuple  # per gear: (radius, depth) arrays of the drive flank, or None
+    window_m: float  # candidate half-window (arc length)
     a_ref_m: float
     sizes: BodySizes
     plane: str
@@ -110,8 +126,16 @@ class PairModel:
 
 
 def _body_key(g, pair, sizes, r_lo, nb, cy, plane):
-    return (replace(g, name=""), g.material, pair.face_width_m, sizes, round(r_lo, 9), nb,
-            tuple(round(c, 9) for c in cy), plane)
+    return (
+        replace(g, name=""),
+        g.material,
+        pair.face_width_m,
+        sizes,
+        round(r_lo, 9),
+        nb,
+        tuple(round(c, 9) for c in cy),
+        plane,
+    )
 
 
 def _cached(key: tuple, build):
@@ -129,8 +153,18 @@ def _cached(key: tuple, build):
         return body, True
 
 
-def _cracked_body(pair: PairSpec, mesh: MeshGeometry, faults: FaultSpec, nominal, sizes: BodySizes, r_lo: float,
-                  nb: int, cy: tuple[float, float], window: float, plane: str):
+def _cracked_body(
+    pair: PairSpec,
+    mesh: MeshGeometry,
+    faults: FaultSpec,
+    nominal,
+    sizes: BodySizes,
+    r_lo: float,
+    nb: int,
+    cy: tuple[float, float],
+    window: float,
+    plane: str,
+):
     """The body of the cracked gear (cached in-process like the healthy ones; the key
     holds the crack, its tip size and the refined teeth)."""
     from .tooth import default_crack_tip_size_m
@@ -147,10 +181,20 @@ def _cracked_body(pair: PairSpec, mesh: MeshGeometry, faults: FaultSpec, nominal
     # a spall on the same gear widens the candidate window by up to its length
     margin = 2.0 * window + (sp.length_m if sp is not None and sp.gear_index == gi else 0.0)
     ranges = reach_ranges(mesh, gi, refined, r_lo, margin, EXTENSION_PITCHES)
-    key = ("cracked", _body_key(g, pair, sizes, r_lo, nb, cy, plane), crack, round(tip_m, 12), refined,
-           tuple((t, round(a, 9), round(b, 9)) for t, (a, b) in sorted(ranges.items())))
-    return _cached(key, lambda: build_cracked_body(g, g.material, pair.face_width_m, nominal, sizes, ranges, nb,
-                                                   refined, cy, crack, tip_m, plane))
+    key = (
+        "cracked",
+        _body_key(g, pair, sizes, r_lo, nb, cy, plane),
+        crack,
+        round(tip_m, 12),
+        refined,
+        tuple((t, round(a, 9), round(b, 9)) for t, (a, b) in sorted(ranges.items())),
+    )
+    return _cached(
+        key,
+        lambda: build_cracked_body(
+            g, g.material, pair.face_width_m, nominal, sizes, ranges, nb, refined, cy, crack, tip_m, plane
+        ),
+    )
 
 
 def _check_inputs(pair: PairSpec, torque_Nm: float, clearance_m: float, plane: str, faults: FaultSpec | None):
@@ -174,16 +218,42 @@ def _sizes(pair: PairSpec, torque_Nm: float, contact_scale: float, mesh_scale: f
     return sizes, a_ref, WINDOW_HALF_WIDTHS * a_ref + 2.0 * sizes.contact_m
 
 
-def _model_spec(pair: PairSpec, wear: WearSpec | None, torque_Nm: float, clearance_m: float, contact_scale: float,
-                mesh_scale: float, plane: str, flank: FlankSpec | None, faults: FaultSpec | None) -> dict[str, Any]:
+def _model_spec(
+    pair: PairSpec,
+    wear: WearSpec | None,
+    torque_Nm: float,
+    clearance_m: float,
+    contact_scale: float,
+    mesh_scale: float,
+    plane: str,
+    flank: FlankSpec | None,
+    faults: FaultSpec | None,
+) -> dict[str, Any]:
     """The pair_model arguments by name (what a worker process needs to rebuild the model)."""
-    return {"pair": pair, "wear": wear, "torque_Nm": torque_Nm, "clearance_m": clearance_m,
-            "contact_scale": contact_scale, "mesh_scale": mesh_scale, "plane": plane, "flank": flank, "faults": faults}
+    return {
+        "pair": pair,
+        "wear": wear,
+        "torque_Nm": torque_Nm,
+        "clearance_m": clearance_m,
+        "contact_scale": contact_scale,
+        "mesh_scale": mesh_scale,
+        "plane": plane,
+        "flank": flank,
+        "faults": faults,
+    }
 
 
-def pair_model(pair: PairSpec, wear: WearSpec | None = None, torque_Nm: float = 40.0, clearance_m: float = 0.0,
-               contact_scale: float = 1.0, mesh_scale: float = 1.0, plane: str = "stress",
-               flank: FlankSpec | None = None, faults: FaultSpec | None = None) -> PairModel:
+def pair_model(
+    pair: PairSpec,
+    wear: WearSpec | None = None,
+    torque_Nm: float = 40.0,
+    clearance_m: float = 0.0,
+    contact_scale: float = 1.0,
+    mesh_scale: float = 1.0,
+    plane: str = "stress",
+    flank: FlankSpec | None = None,
+    faults: FaultSpec | None = None,
+) -> PairModel:
     """Bodies (cached in-process: wear states and faults share them) and exact geometry.
     ``flank``: profile modifications and measured deviations (geometry.flank), gaps like
     the wear. ``faults`` (geometry.faults): a spall is a gap of its tooth only; a crack
@@ -203,9 +273,10 @@ def pair_model(pair: PairSpec, wear: WearSpec | None = None, torque_Nm: float = 
         r_lo = lowest_contact_radius_m(mesh, gi, window, EXTENSION_PITCHES)
         lp = load_points(nominal, np.array([max(r_lo, nominal.form_radius_m), g.tip_radius_m * (1 - 1e-9)]))
         cy = (float(lp.y_axis_m.min()) - 1.0 * pair.module_m * 0.2, float(lp.y_axis_m.max()) + 0.2 * pair.module_m)
-        body, built = _cached(_body_key(g, pair, sizes, r_lo, nb, cy, plane),
-                              lambda: build_body(g, g.material, pair.face_width_m, nominal, sizes, r_lo, nb, cy,
-                                                 plane))
+        body, built = _cached(
+            _body_key(g, pair, sizes, r_lo, nb, cy, plane),
+            lambda: build_body(g, g.material, pair.face_width_m, nominal, sizes, r_lo, nb, cy, plane),
+        )
         if built:
             for k2, v in body.timings.items():
                 tim[f"gear{gi}_{k2}"] = v
@@ -224,5 +295,6 @@ def pair_model(pair: PairSpec, wear: WearSpec | None = None, torque_Nm: float = 
         else:
             depth.append(None)
     tim["model_s"] = time.perf_counter() - t0
-    return PairModel(pair, mesh, tuple(bodies), wear, tuple(depth), window, a_ref, sizes, plane, tim, faults,
-                     tuple(cracked))
+    return PairModel(
+        pair, mesh, tuple(bodies), wear, tuple(depth), window, a_ref, sizes, plane, tim, faults, tuple(cracked)
+    )

@@ -100,8 +100,11 @@ def _reps_memo(body: GearBody, cands: list, gi: int, cracked_tooth: int | None) 
         key = (k, dt) if cracked_tooth is None else k
         if key not in memo:
             c = cands[k]
-            memo[key] = (_reps(body, c, gi, dt) if cracked_tooth is None
-                         else _reps(body, c, gi, c["teeth"][gi] - cracked_tooth, at_nodes=False))
+            memo[key] = (
+                _reps(body, c, gi, dt)
+                if cracked_tooth is None
+                else _reps(body, c, gi, c["teeth"][gi] - cracked_tooth, at_nodes=False)
+            )
         return memo[key]
 
     return rep
@@ -131,7 +134,7 @@ def _flexibility(pm: PairModel, cands: list, cracked: tuple = (None, None)) -> n
                 ia, wa = rep(a, ca["teeth"][gi] - cb["teeth"][gi])
                 ib, wb = rep(b, 0)
                 Gs = body.G[np.ix_(ia.ravel(), ib.ravel())].reshape(ia.shape[0], 6, ib.shape[0], 6)
-                C[off[a]:off[a + 1], off[b]:off[b + 1]] += np.einsum("ia,iajb,jb->ij", wa, Gs, wb)
+                C[off[a] : off[a + 1], off[b] : off[b + 1]] += np.einsum("ia,iajb,jb->ij", wa, Gs, wb)
     return 0.5 * (C + C.T)
 
 
@@ -191,7 +194,7 @@ def solve_position(pm: PairModel, theta: float, total_N: float, period: int | No
     off = 0
     for k, c in zip(slots, cands):
         n = len(c["R"])
-        qc = q[off:off + n]
+        qc = q[off : off + n]
         c["force_N"] = qc / c["w"]
         loads[k] += qc.sum()
         gaps[k] = min(gaps[k], c["g_pair"])
@@ -204,5 +207,19 @@ def solve_position(pm: PairModel, theta: float, total_N: float, period: int | No
             c["window_hit"] = bool(on[0] == 0 and s[0] > s.min() - 1) and (on[0] == 0 or on[-1] == n - 1)
         off += n
     rot_ref, torque = blank_rotations(pm, cands, tuple(cracked))
-    return PositionSolution(float(theta), d, np.asarray(slots), loads, float(sol.approach_m), gaps, hw, cands,
-                            C, g, w, tuple(cracked), rot_ref, torque)
+    return PositionSolution(
+        float(theta),
+        d,
+        np.asarray(slots),
+        loads,
+        float(sol.approach_m),
+        gaps,
+        hw,
+        cands,
+        C,
+        g,
+        w,
+        tuple(cracked),
+        rot_ref,
+        torque,
+    )

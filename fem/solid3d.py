@@ -98,7 +98,7 @@ FACE_LAYER_FRACTION = 0.16
 MAX_LAYER_FRACTION = 1.5
 #: growth of the element sizes away from the refined zones (in-plane and along z)
 GROWTH = 0.3
-Z_POINTS = 4                 # Gauss-Legendre points per element layer (load and average)
+Z_POINTS = 4  # Gauss-Legendre points per element layer (load and average)
 M2_PER_N_TO_UM_PER_N_PER_MM = 1e9
 
 
@@ -118,8 +118,8 @@ class PlaneCheck:
     radius_m: np.ndarray
     stress_um_per_N_per_mm: np.ndarray
     strain_um_per_N_per_mm: np.ndarray
-    average_um_per_N_per_mm: np.ndarray     # 3D, averaged over the face width
-    mid_um_per_N_per_mm: np.ndarray         # 3D, at the mid-plane z = 0
+    average_um_per_N_per_mm: np.ndarray  # 3D, averaged over the face width
+    mid_um_per_N_per_mm: np.ndarray  # 3D, at the mid-plane z = 0
     ndofs_2d: int
     ndofs_3d: int
     n_triangles: int
@@ -132,10 +132,22 @@ class PlaneCheck:
         return self.face_width_m / self.pair.module_m
 
     def rows(self) -> list[dict]:
-        return [{"radius_mm": float(r) * 1e3, "stress": float(s), "strain": float(e), "average_3d": float(a),
-                 "mid_3d": float(c)}
-                for r, s, e, a, c in zip(self.radius_m, self.stress_um_per_N_per_mm, self.strain_um_per_N_per_mm,
-                                         self.average_um_per_N_per_mm, self.mid_um_per_N_per_mm)]
+        return [
+            {
+                "radius_mm": float(r) * 1e3,
+                "stress": float(s),
+                "strain": float(e),
+                "average_3d": float(a),
+                "mid_3d": float(c),
+            }
+            for r, s, e, a, c in zip(
+                self.radius_m,
+                self.stress_um_per_N_per_mm,
+                self.strain_um_per_N_per_mm,
+                self.average_um_per_N_per_mm,
+                self.mid_um_per_N_per_mm,
+            )
+        ]
 
 
 def check_radii(pair: PairSpec, gear_index: int = 0) -> np.ndarray:
@@ -154,8 +166,10 @@ def face_planes(half_width_m: float, first_m: float, largest_m: float, growth: f
     N = ceil(int_0^D dd / h) layers, the planes equidistributing int dd / h, so scaling
     every size by s refines the layers by 1 / s (up to the rounding of N)."""
     if not (half_width_m > 0 and first_m > 0 and largest_m >= first_m and growth > 0):
-        raise ValueError(f"face_planes: need half_width_m > 0, 0 < first_m <= largest_m, growth > 0, got "
-                         f"{half_width_m!r}, {first_m!r}, {largest_m!r}, {growth!r}")
+        raise ValueError(
+            f"face_planes: need half_width_m > 0, 0 < first_m <= largest_m, growth > 0, got "
+            f"{half_width_m!r}, {first_m!r}, {largest_m!r}, {growth!r}"
+        )
     d = np.linspace(0.0, half_width_m, 4001)
     inv_h = 1.0 / np.minimum(first_m + growth * d, largest_m)
     cum = np.concatenate([[0.0], np.cumsum(0.5 * (inv_h[1:] + inv_h[:-1]) * np.diff(d))])
@@ -172,18 +186,24 @@ def sector_solid(pair: PairSpec, gear_index: int, face_width_m: float, mesh_scal
     g = pair.gear(gear_index)
     m, s = pair.module_m, float(mesh_scale)
     flank_m, global_m = FLANK_FRACTION * m * s, GLOBAL_FRACTION * m * s
-    sizes = MeshSizes(global_m=global_m, fillet_m=flank_m, load_m=flank_m, fillet_dist_m=0.3 * m,
-                      load_dist_m=0.3 * m, growth=GROWTH * s)
+    sizes = MeshSizes(
+        global_m=global_m,
+        fillet_m=flank_m,
+        load_m=flank_m,
+        fillet_dist_m=0.3 * m,
+        load_dist_m=0.3 * m,
+        growth=GROWTH * s,
+    )
     base = tooth_profile(g, sag_m=FINE_SAG_M)
     poly = resample_profile(base, {ROOT_LAND: flank_m, FILLET: flank_m, INVOLUTE: flank_m, TIP_LAND: flank_m})
     outline = tooth_outline(poly)
     half = math.pi / g.teeth
     # the whole tooth and its fillets are refined: its flanks' vertices as refinement points
     refine = np.vstack([poly.xy, poly.xy * np.array([-1.0, 1.0])])
-    planes = face_planes(0.5 * face_width_m, FACE_LAYER_FRACTION * m * s, MAX_LAYER_FRACTION * m * s,
-                         GROWTH * s)
-    solid = mesh_sector_solid(outline, g.hub_radius_m, 0.5 * math.pi - half, 0.5 * math.pi + half, sizes, planes,
-                              refine_points_xy=refine)
+    planes = face_planes(0.5 * face_width_m, FACE_LAYER_FRACTION * m * s, MAX_LAYER_FRACTION * m * s, GROWTH * s)
+    solid = mesh_sector_solid(
+        outline, g.hub_radius_m, 0.5 * math.pi - half, 0.5 * math.pi + half, sizes, planes, refine_points_xy=refine
+    )
     inv = np.flatnonzero(poly.region == INVOLUTE)
     chain = np.empty((2 * len(poly.xy) - 1, 2))
     chain[0::2], chain[1::2] = poly.xy, 0.5 * (poly.xy[:-1] + poly.xy[1:])
@@ -197,8 +217,9 @@ def z_rule(planes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return (0.5 * (lo + hi) + 0.5 * (hi - lo) * t).ravel(), (0.5 * (hi - lo) * w).ravel()
 
 
-def plane_check(pair: PairSpec, face_width_m: float | None = None, gear_index: int = 0, radii_m=None,
-                mesh_scale: float = 1.0) -> PlaneCheck:
+def plane_check(
+    pair: PairSpec, face_width_m: float | None = None, gear_index: int = 0, radii_m=None, mesh_scale: float = 1.0
+) -> PlaneCheck:
     """3D and 2D (plane stress, plane strain) compliance of tooth 0 of gear ``gear_index``
     on its sector (module docstring) at ``radii_m`` (default :func:`check_radii`) for face
     width ``face_width_m`` (default the pair's). Element sizes scale with the module and
@@ -214,7 +235,7 @@ def plane_check(pair: PairSpec, face_width_m: float | None = None, gear_index: i
     u = np.sqrt(np.maximum((R / rb) ** 2 - 1.0, 0.0))
     d = rb * u if gear_index == 0 else mg.line_of_action_m - rb * u
     load_N = DEFAULT_TORQUE_NM / pair.gear(0).base_radius_m
-    a = hertz_half_width(mg, d, load_N / pair.face_width_m)   # the paper's load per width at every b
+    a = hertz_half_width(mg, d, load_N / pair.face_width_m)  # the paper's load per width at every b
     lp = load_points(tooth_profile(g, sag_m=FINE_SAG_M), R)
     e_F = -np.column_stack([np.cos(lp.w_rad), np.sin(lp.w_rad)])
 
@@ -237,7 +258,7 @@ def plane_check(pair: PairSpec, face_width_m: float | None = None, gear_index: i
         Q = model.probe(read)
         uc = np.asarray(Q @ U)
         idx = np.arange(n)
-        out2[plane] = (uc[2 * idx, idx] * e_F[:, 0] + uc[2 * idx + 1, idx] * e_F[:, 1])
+        out2[plane] = uc[2 * idx, idx] * e_F[:, 0] + uc[2 * idx + 1, idx] * e_F[:, 1]
         t2[plane] = time.perf_counter() - t0
         ndofs_2d = model.ndofs
 
@@ -245,13 +266,29 @@ def plane_check(pair: PairSpec, face_width_m: float | None = None, gear_index: i
     avg, mid, ndofs_3d = _solve_solid(solid, g.material, pts, forces, read, e_F)
     t_solid = time.perf_counter() - t0
     c = M2_PER_N_TO_UM_PER_N_PER_MM
-    return PlaneCheck(pair=pair, gear_index=gear_index, face_width_m=b, mesh_scale=float(mesh_scale), radius_m=R,
-                      stress_um_per_N_per_mm=out2["stress"] * c, strain_um_per_N_per_mm=out2["strain"] * c,
-                      average_um_per_N_per_mm=avg * c, mid_um_per_N_per_mm=mid * c,
-                      ndofs_2d=int(ndofs_2d), ndofs_3d=int(ndofs_3d), n_triangles=int(sec.n_elements),
-                      n_tetrahedra=solid.n_elements, n_layers=len(solid.planes_z_m) - 1,
-                      timings={"mesh_s": t_mesh, "stress_s": t2["stress"], "strain_s": t2["strain"],
-                               "solid_s": t_solid, "total_s": time.perf_counter() - t_start})
+    return PlaneCheck(
+        pair=pair,
+        gear_index=gear_index,
+        face_width_m=b,
+        mesh_scale=float(mesh_scale),
+        radius_m=R,
+        stress_um_per_N_per_mm=out2["stress"] * c,
+        strain_um_per_N_per_mm=out2["strain"] * c,
+        average_um_per_N_per_mm=avg * c,
+        mid_um_per_N_per_mm=mid * c,
+        ndofs_2d=int(ndofs_2d),
+        ndofs_3d=int(ndofs_3d),
+        n_triangles=int(sec.n_elements),
+        n_tetrahedra=solid.n_elements,
+        n_layers=len(solid.planes_z_m) - 1,
+        timings={
+            "mesh_s": t_mesh,
+            "stress_s": t2["stress"],
+            "strain_s": t2["strain"],
+            "solid_s": t_solid,
+            "total_s": time.perf_counter() - t_start,
+        },
+    )
 
 
 def solid_stiffness(mesh, lam: float, mu: float, chunk: int = 20000) -> tuple[sp.csr_matrix, Basis]:
@@ -271,7 +308,7 @@ def solid_stiffness(mesh, lam: float, mu: float, chunk: int = 20000) -> tuple[sp
     eye = np.eye(3)
     for e0 in range(0, mesh.t.shape[1], chunk):
         sl = slice(e0, min(e0 + chunk, mesh.t.shape[1]))
-        G = np.stack([sb.basis[a][0].grad[:, sl] for a in range(nloc)])   # (a, i, e, q)
+        G = np.stack([sb.basis[a][0].grad[:, sl] for a in range(nloc)])  # (a, i, e, q)
         A = np.einsum("aieq,bjeq,eq->eaibj", G, G, sb.dx[sl], optimize=True)
         D = np.einsum("eaibi->eab", A)
         Ke = lam * A + mu * (A.transpose(0, 1, 4, 3, 2) + D[:, :, None, :, None] * eye[None, None, :, None, :])
@@ -284,8 +321,9 @@ def solid_stiffness(mesh, lam: float, mu: float, chunk: int = 20000) -> tuple[sp
     return K, sb
 
 
-def _solve_solid(solid: SolidMesh, material, pts: np.ndarray, forces: np.ndarray, read: np.ndarray,
-                 e_F: np.ndarray) -> tuple[np.ndarray, np.ndarray, int]:
+def _solve_solid(
+    solid: SolidMesh, material, pts: np.ndarray, forces: np.ndarray, read: np.ndarray, e_F: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, int]:
     """(face-averaged, mid-plane compliance (m^2/N) per radius, dofs) of the 3D half model."""
     lam, mu = lame_parameters(material.youngs_modulus_Pa, material.poisson_ratio)
     K, sb = solid_stiffness(solid.mesh, lam, mu)
@@ -301,7 +339,7 @@ def _solve_solid(solid: SolidMesh, material, pts: np.ndarray, forces: np.ndarray
     for i in range(n):
         # patch point j on the line z: force f_j w_q (1 N/m along the face)
         xyz = np.vstack([np.repeat(pts[i, :, 0], len(zq)), np.repeat(pts[i, :, 1], len(zq)), np.tile(zq, k)])
-        P = sb.probes(xyz).tocsr()   # (npts, N) scalar values
+        P = sb.probes(xyz).tocsr()  # (npts, N) scalar values
         wt = np.tile(wq, k)
         for c in (0, 1):
             F[c::3, i] = P.T @ (np.repeat(forces[i, :, c], len(zq)) * wt)
@@ -309,8 +347,9 @@ def _solve_solid(solid: SolidMesh, material, pts: np.ndarray, forces: np.ndarray
     U[free] = solve_spd(K[free][:, free].tocsr(), F[free], rigid_body_modes(sb.doflocs)[free])
     avg, mid = np.zeros(n), np.zeros(n)
     for i in range(n):
-        line = np.vstack([np.full(len(zq) + 1, read[i, 0]), np.full(len(zq) + 1, read[i, 1]),
-                          np.concatenate([[0.0], zq])])
+        line = np.vstack(
+            [np.full(len(zq) + 1, read[i, 0]), np.full(len(zq) + 1, read[i, 1]), np.concatenate([[0.0], zq])]
+        )
         Q = sb.probes(line).tocsr()
         uF = (Q @ U[0::3, i]) * e_F[i, 0] + (Q @ U[1::3, i]) * e_F[i, 1]
         mid[i] = uF[0]
@@ -345,8 +384,7 @@ def solve_spd(A: sp.csr_matrix, F: np.ndarray, modes: np.ndarray) -> np.ndarray:
     orderings fill 3D P2 matrices badly (144k unknowns: 10 min, 2 cores); the multigrid
     solve takes seconds."""
     if A.shape[0] <= DIRECT_MAX_DOFS:
-        lu = spla.splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                       options={"SymmetricMode": True})
+        lu = spla.splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
         return lu.solve(np.ascontiguousarray(F))
     import pyamg
 
@@ -356,6 +394,7 @@ def solve_spd(A: sp.csr_matrix, F: np.ndarray, modes: np.ndarray) -> np.ndarray:
         res: list[float] = []
         X[:, j] = ml.solve(F[:, j], tol=CG_RTOL, accel="cg", maxiter=2000, residuals=res)
         if res[-1] > CG_RTOL * 10 * res[0]:
-            raise RuntimeError(f"3D solve did not converge: relative residual {res[-1] / res[0]:.2e} "
-                               f"after {len(res)} iterations")
+            raise RuntimeError(
+                f"3D solve did not converge: relative residual {res[-1] / res[0]:.2e} after {len(res)} iterations"
+            )
     return X

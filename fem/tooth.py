@@ -121,13 +121,21 @@ from skfem import Basis, ElementTriP1, asm
 from skfem.models.poisson import laplace
 
 from gearwear.core.validation import fail
-from gearwear.geometry.crack import Crack, crack_mouth_arc
-from gearwear.geometry.loading import load_points
-from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.fem.mesh import GearMesh, MeshError, MeshSizes, inverted_elements, mesh_full_gear
+from gearwear.geometry.crack import Crack, crack_mouth_arc
+from gearwear.geometry.kinematics import MeshGeometry
+from gearwear.geometry.loading import load_points
 from gearwear.geometry.polyline import cumulative_length, project_to_polyline, quadratic_eval, with_midpoints
-from gearwear.geometry.profile import (FILLET, INVOLUTE, ROOT_LAND, TIP_LAND, ToothProfile, ring_outline, tooth_outline,
-                                       tooth_profile)
+from gearwear.geometry.profile import (
+    FILLET,
+    INVOLUTE,
+    ROOT_LAND,
+    TIP_LAND,
+    ToothProfile,
+    ring_outline,
+    tooth_outline,
+    tooth_profile,
+)
 from gearwear.geometry.sampling import FINE_SAG_M, profile_at, region_junctions, resample_profile
 from gearwear.geometry.spec import PairSpec
 from gearwear.geometry.wear import WearSpec, flank_depth, hertz_half_width, key_roll_angles
@@ -152,8 +160,8 @@ LOAD_DIST_M = 1.2e-3
 #: normal load is T / r_b1 (pinion base radius) for either gear.
 DEFAULT_TORQUE_NM = 40.0
 
-OTHER_SPACING = 0.2         # polygon spacing of teeth 1 .. z-1, as a fraction of global_m
-PATCH_POINTS = 48           # Gauss-Chebyshev points per Hertz patch
+OTHER_SPACING = 0.2  # polygon spacing of teeth 1 .. z-1, as a fraction of global_m
+PATCH_POINTS = 48  # Gauss-Chebyshev points per Hertz patch
 # sub-steps per flank edge when measuring arc length on it: a 0.4 mm edge at 14 mm
 # curvature radius is 1e-8 relative longer than its 16 sub-chords
 EDGE_SUBSTEPS = 16
@@ -186,7 +194,7 @@ class ToothFE:
     radius_m: np.ndarray
     roll_rad: np.ndarray
     half_width_m: np.ndarray
-    force_direction: np.ndarray          # (n, 2) unit vectors e_F of the applied force
+    force_direction: np.ndarray  # (n, 2) unit vectors e_F of the applied force
     fem_compliance_um_per_N_per_mm: np.ndarray
     ndofs: int
     n_elements: int
@@ -196,7 +204,7 @@ class ToothFE:
     loaded: ToothProfile | None = None
     crack: Crack | None = None
     crack_tip_size_m: float | None = None
-    crack_mouth_opening_m_per_N: np.ndarray | None = None   # (n,) CMOD per unit load, > 0: open
+    crack_mouth_opening_m_per_N: np.ndarray | None = None  # (n,) CMOD per unit load, > 0: open
 
     @property
     def radius_mm(self) -> np.ndarray:
@@ -213,10 +221,17 @@ class ToothFE:
 
     def rows(self) -> list[dict]:
         """One dict per load position (units in the keys)."""
-        return [{"radius_mm": float(r), "roll_angle_deg": float(u), "hertz_half_width_um": float(a * 1e6),
-                 "fem_compliance_um_per_N_per_mm": float(c)}
-                for r, u, a, c in zip(self.radius_mm, self.roll_angle_deg, self.half_width_m,
-                                      self.fem_compliance_um_per_N_per_mm)]
+        return [
+            {
+                "radius_mm": float(r),
+                "roll_angle_deg": float(u),
+                "hertz_half_width_um": float(a * 1e6),
+                "fem_compliance_um_per_N_per_mm": float(c),
+            }
+            for r, u, a, c in zip(
+                self.radius_mm, self.roll_angle_deg, self.half_width_m, self.fem_compliance_um_per_N_per_mm
+            )
+        ]
 
 
 def mesh_sizes(mesh_scale: float = 1.0) -> MeshSizes:
@@ -229,11 +244,18 @@ def mesh_sizes(mesh_scale: float = 1.0) -> MeshSizes:
     s = float(mesh_scale)
     if not (math.isfinite(s) and s > 0):
         raise fail("mesh_scale", repr(mesh_scale), "", "must be finite and > 0")
-    return MeshSizes(global_m=GLOBAL_M * s, fillet_m=FILLET_M * s, load_m=LOAD_M * s,
-                     fillet_dist_m=FILLET_DIST_M, load_dist_m=LOAD_DIST_M, growth=GROWTH * s)
+    return MeshSizes(
+        global_m=GLOBAL_M * s,
+        fillet_m=FILLET_M * s,
+        load_m=LOAD_M * s,
+        fillet_dist_m=FILLET_DIST_M,
+        load_dist_m=LOAD_DIST_M,
+        growth=GROWTH * s,
+    )
 
 
 # -- geometry ------------------------------------------------------------------------
+
 
 def gear_polygon(loaded, nominal, other) -> np.ndarray:
     """Closed CCW outline: tooth 0 with the ``loaded`` right and ``nominal`` left flank,
@@ -259,12 +281,13 @@ def load_radii(pair: PairSpec, gear_index: int, positions: int, load_N: float) -
     u_a = math.sqrt((g.tip_radius_m / rb) ** 2 - 1.0)
     d_tip = rb * u_a if gear_index == 0 else mg.line_of_action_m - rb * u_a
     a_tip = float(hertz_half_width(mg, np.array([d_tip]), load_N / pair.face_width_m)[0])
-    u_top = math.sqrt(u_a ** 2 - 2.0 * TIP_MARGIN_HALF_WIDTHS * a_tip / rb)
+    u_top = math.sqrt(u_a**2 - 2.0 * TIP_MARGIN_HALF_WIDTHS * a_tip / rb)
     u = np.linspace(u_sap, u_top, int(positions))
     return rb * np.sqrt(1.0 + u * u), u
 
 
 # -- mesh helpers ------------------------------------------------------------------
+
 
 def _flank_nodes(mesh, facets: np.ndarray, flank: ToothProfile, tol: float) -> tuple[np.ndarray, np.ndarray]:
     """Nodes on the flank polyline, sorted root -> tip, and their profile arc parameter
@@ -282,8 +305,14 @@ def _flank_nodes(mesh, facets: np.ndarray, flank: ToothProfile, tol: float) -> t
     return nodes[order], s[order]
 
 
-def morph_to_worn(mesh, boundary_facets: np.ndarray, flank_nodes: np.ndarray, flank_s: np.ndarray,
-                  nominal: ToothProfile, loaded: ToothProfile):
+def morph_to_worn(
+    mesh,
+    boundary_facets: np.ndarray,
+    flank_nodes: np.ndarray,
+    flank_s: np.ndarray,
+    nominal: ToothProfile,
+    loaded: ToothProfile,
+):
     """The nominal mesh with tooth 0's right flank moved onto the worn flank.
 
     ``flank_nodes`` are the mesh nodes (``mesh.doflocs`` indices: vertices and, on a
@@ -316,14 +345,23 @@ def morph_to_worn(mesh, boundary_facets: np.ndarray, flank_nodes: np.ndarray, fl
     out = replace(mesh, doflocs=p)
     bad = inverted_elements(out)
     if np.any(bad):
-        raise MeshError(f"morphing the mesh onto the worn flank inverts {int(np.sum(bad))} elements "
-                        "(wear depth comparable to the element size; use worn_geometry='remesh')")
+        raise MeshError(
+            f"morphing the mesh onto the worn flank inverts {int(np.sum(bad))} elements "
+            "(wear depth comparable to the element size; use worn_geometry='remesh')"
+        )
     return out
 
 
-def hertz_patch_forces(flank: np.ndarray, v_lo: int, v_hi: int, radius_m: np.ndarray,
-                       half_width_m: np.ndarray, force_dir: np.ndarray, load_N: float,
-                       n_points: int = PATCH_POINTS):
+def hertz_patch_forces(
+    flank: np.ndarray,
+    v_lo: int,
+    v_hi: int,
+    radius_m: np.ndarray,
+    half_width_m: np.ndarray,
+    force_dir: np.ndarray,
+    load_N: float,
+    n_points: int = PATCH_POINTS,
+):
     """Quadrature points and point forces of the Hertz patches on the meshed flank.
 
     ``flank`` (m, root -> tip) is the meshed flank as a quadratic chain (its element
@@ -345,8 +383,10 @@ def hertz_patch_forces(flank: np.ndarray, v_lo: int, v_hi: int, radius_m: np.nda
     s_c = np.interp(radius_m, r_poly[sel], s_poly[sel])
     s_k = s_c[:, None] + half_width_m[:, None] * t[None, :]
     if np.any(s_k < s_lo) or np.any(s_k > s_hi):
-        raise ValueError("a Hertz patch leaves the involute part of the flank (load too close to the tip "
-                         "corner or below the form circle)")
+        raise ValueError(
+            "a Hertz patch leaves the involute part of the flank (load too close to the tip "
+            "corner or below the form circle)"
+        )
     xy, tan = quadratic_eval(flank, np.interp(s_k, s_poly, u_poly))
     pts = xy + 1e-9 * np.stack([-tan[..., 1], tan[..., 0]], axis=-1)  # inward = left of the root -> tip tangent
     mag = load_N * (2.0 / np.pi) * w[None, :] * np.ones_like(s_k)
@@ -435,9 +475,17 @@ class ToothMesh:
         return chain, int(on_inv[0]), int(on_inv[-1])
 
 
-def tooth_mesh(pair: PairSpec, gear_index: int = 0, wear: WearSpec | None = None, order: int = 2,
-               mesh_scale: float = 1.0, load_radii_m=None, worn_geometry: str = "morph",
-               crack: Crack | None = None, crack_tip_size_m: float | None = None) -> ToothMesh:
+def tooth_mesh(
+    pair: PairSpec,
+    gear_index: int = 0,
+    wear: WearSpec | None = None,
+    order: int = 2,
+    mesh_scale: float = 1.0,
+    load_radii_m=None,
+    worn_geometry: str = "morph",
+    crack: Crack | None = None,
+    crack_tip_size_m: float | None = None,
+) -> ToothMesh:
     """Mesh the full gear for loads on tooth 0's right flank.
 
     Tooth 0 is sampled at its element size (``load_m`` on the involute and tip land,
@@ -496,13 +544,28 @@ def tooth_mesh(pair: PairSpec, gear_index: int = 0, wear: WearSpec | None = None
     fillets = np.vstack([fil, fil * np.array([-1.0, 1.0])])
     t0 = time.perf_counter()
     if crack is None:
-        gm = mesh_full_gear(outline[::step], g.hub_radius_m, sizes, refine_points_xy=refine,
-                            fillet_points_xy=fillets, order=order, outline_mid_xy=outline[1::2] if quad else None)
+        gm = mesh_full_gear(
+            outline[::step],
+            g.hub_radius_m,
+            sizes,
+            refine_points_xy=refine,
+            fillet_points_xy=fillets,
+            order=order,
+            outline_mid_xy=outline[1::2] if quad else None,
+        )
     else:
         tip_m = default_crack_tip_size_m(crack, mesh_scale) if crack_tip_size_m is None else crack_tip_size_m
-        gm = mesh_full_gear(outline[::step], g.hub_radius_m, sizes, refine_points_xy=refine,
-                            fillet_points_xy=fillets, order=order, outline_mid_xy=outline[1::2] if quad else None,
-                            crack_xy=crack_xy, crack_tip_size_m=tip_m)
+        gm = mesh_full_gear(
+            outline[::step],
+            g.hub_radius_m,
+            sizes,
+            refine_points_xy=refine,
+            fillet_points_xy=fillets,
+            order=order,
+            outline_mid_xy=outline[1::2] if quad else None,
+            crack_xy=crack_xy,
+            crack_tip_size_m=tip_m,
+        )
     t_mesh = time.perf_counter() - t0
 
     # the meshed flank of tooth 0: its nodes sorted root -> tip, with their profile
@@ -510,19 +573,31 @@ def tooth_mesh(pair: PairSpec, gear_index: int = 0, wear: WearSpec | None = None
     # quadratic edges within ~1e-8 m of it, every other node >= one spacing away
     t0 = time.perf_counter()
     mesh = gm.mesh
-    nodes, s_n = _flank_nodes(mesh, gm.boundaries["outer"], loaded if remesh else nominal,
-                              1e-3 * mesh_scale * min(LOAD_M, FILLET_M))
+    nodes, s_n = _flank_nodes(
+        mesh, gm.boundaries["outer"], loaded if remesh else nominal, 1e-3 * mesh_scale * min(LOAD_M, FILLET_M)
+    )
     if crack is not None:  # the open crack mouth is two coincident nodes: keep one on the flank chain
         xy = mesh.doflocs[:, nodes].T
         keep = np.concatenate([[True], np.linalg.norm(np.diff(xy, axis=0), axis=1) > 1e-12 * g.tip_radius_m])
         nodes, s_n = nodes[keep], s_n[keep]
     if worn and not remesh:  # same topology as the nominal model
-        mesh = morph_to_worn(mesh, np.concatenate([gm.boundaries["outer"], gm.boundaries["bore"]]), nodes, s_n,
-                             nominal, loaded)
-    return ToothMesh(mesh=mesh, gear_mesh=gm, nominal=nominal, loaded=loaded, meshed_poly=meshed_poly,
-                     flank_nodes=nodes, flank_node_s=s_n,
-                     worn_geometry=(worn_geometry if worn else "nominal"), mesh_s=t_mesh,
-                     morph_s=time.perf_counter() - t0, crack=crack, crack_xy=crack_xy)
+        mesh = morph_to_worn(
+            mesh, np.concatenate([gm.boundaries["outer"], gm.boundaries["bore"]]), nodes, s_n, nominal, loaded
+        )
+    return ToothMesh(
+        mesh=mesh,
+        gear_mesh=gm,
+        nominal=nominal,
+        loaded=loaded,
+        meshed_poly=meshed_poly,
+        flank_nodes=nodes,
+        flank_node_s=s_n,
+        worn_geometry=(worn_geometry if worn else "nominal"),
+        mesh_s=t_mesh,
+        morph_s=time.perf_counter() - t0,
+        crack=crack,
+        crack_xy=crack_xy,
+    )
 
 
 def default_crack_tip_size_m(crack: Crack, mesh_scale: float = 1.0, fillet_m: float | None = None) -> float:
@@ -557,11 +632,22 @@ def _with_crack_mouth(base: ToothProfile, spacing: dict, quad: bool, crack: Crac
 
 # -- main ---------------------------------------------------------------------------
 
-def single_tooth_compliance(pair: PairSpec, gear_index: int = 0, wear: WearSpec | None = None,
-                            positions: int = 21, order: int = 2, plane: str = "stress",
-                            mesh_scale: float = 1.0, load_N: float | None = None,
-                            worn_geometry: str = "morph", radii_m=None, read_at: str = "radius",
-                            crack: Crack | None = None, crack_tip_size_m: float | None = None) -> ToothFE:
+
+def single_tooth_compliance(
+    pair: PairSpec,
+    gear_index: int = 0,
+    wear: WearSpec | None = None,
+    positions: int = 21,
+    order: int = 2,
+    plane: str = "stress",
+    mesh_scale: float = 1.0,
+    load_N: float | None = None,
+    worn_geometry: str = "morph",
+    radii_m=None,
+    read_at: str = "radius",
+    crack: Crack | None = None,
+    crack_tip_size_m: float | None = None,
+) -> ToothFE:
     """FE compliance of tooth 0 of gear ``gear_index`` (0 pinion, 1 gear) on the full gear.
 
     wear           None / unworn: nominal tooth. Otherwise the loaded (right) flank of
@@ -616,8 +702,17 @@ def single_tooth_compliance(pair: PairSpec, gear_index: int = 0, wear: WearSpec 
     d = rb * u if gear_index == 0 else mg.line_of_action_m - rb * u
     a = hertz_half_width(mg, d, load_N / b)
 
-    tm = tooth_mesh(pair, gear_index, wear, order=order, mesh_scale=mesh_scale, load_radii_m=R,
-                    worn_geometry=worn_geometry, crack=crack, crack_tip_size_m=crack_tip_size_m)
+    tm = tooth_mesh(
+        pair,
+        gear_index,
+        wear,
+        order=order,
+        mesh_scale=mesh_scale,
+        load_radii_m=R,
+        worn_geometry=worn_geometry,
+        crack=crack,
+        crack_tip_size_m=crack_tip_size_m,
+    )
     mesh, gm = tm.mesh, tm.gear_mesh
     lp = load_points(tm.loaded, R)
     e_F = -np.column_stack([np.cos(lp.w_rad), np.sin(lp.w_rad)])
@@ -641,20 +736,41 @@ def single_tooth_compliance(pair: PairSpec, gear_index: int = 0, wear: WearSpec 
     t_solve = time.perf_counter() - t0
 
     to_um_per_N_per_mm = 1e6 * b * 1e3
-    timings = {"mesh_s": tm.mesh_s, "assemble_s": model.timings["assemble_s"] + tm.morph_s,
-               "factorize_s": model.timings["factorize_s"], "solve_s": t_solve}
+    timings = {
+        "mesh_s": tm.mesh_s,
+        "assemble_s": model.timings["assemble_s"] + tm.morph_s,
+        "factorize_s": model.timings["factorize_s"],
+        "solve_s": t_solve,
+    }
     timings["fem_s"] = sum(timings.values())
     timings["total_s"] = time.perf_counter() - t_start
-    return ToothFE(pair=pair, gear_index=gear_index, wear_label=wear.label if wear is not None else "unworn",
-                   order=order, plane=plane, mesh_scale=float(mesh_scale), load_N=float(load_N),
-                   radius_m=R, roll_rad=u, half_width_m=a, force_direction=e_F,
-                   fem_compliance_um_per_N_per_mm=c_m_per_N * to_um_per_N_per_mm,
-                   ndofs=int(model.ndofs), n_elements=int(gm.n_elements),
-                   worn_geometry=tm.worn_geometry, timings=timings, nominal=tm.nominal, loaded=tm.loaded,
-                   crack=crack, crack_tip_size_m=(None if crack is None else float(
-                       default_crack_tip_size_m(crack, mesh_scale) if crack_tip_size_m is None
-                       else crack_tip_size_m)),
-                   crack_mouth_opening_m_per_N=cmod)
+    return ToothFE(
+        pair=pair,
+        gear_index=gear_index,
+        wear_label=wear.label if wear is not None else "unworn",
+        order=order,
+        plane=plane,
+        mesh_scale=float(mesh_scale),
+        load_N=float(load_N),
+        radius_m=R,
+        roll_rad=u,
+        half_width_m=a,
+        force_direction=e_F,
+        fem_compliance_um_per_N_per_mm=c_m_per_N * to_um_per_N_per_mm,
+        ndofs=int(model.ndofs),
+        n_elements=int(gm.n_elements),
+        worn_geometry=tm.worn_geometry,
+        timings=timings,
+        nominal=tm.nominal,
+        loaded=tm.loaded,
+        crack=crack,
+        crack_tip_size_m=(
+            None
+            if crack is None
+            else float(default_crack_tip_size_m(crack, mesh_scale) if crack_tip_size_m is None else crack_tip_size_m)
+        ),
+        crack_mouth_opening_m_per_N=cmod,
+    )
 
 
 def crack_mouth_pair(tm: ToothMesh) -> tuple[int, int, np.ndarray]:
@@ -668,7 +784,7 @@ def crack_mouth_pair(tm: ToothMesh) -> tuple[int, int, np.ndarray]:
     n = np.array([d[1], -d[0]])  # d turned by -90 deg: toward the tooth above the crack
     if n[1] < 0:
         n = -n
-    p = mesh.p[:, :mesh.nvertices]
+    p = mesh.p[:, : mesh.nvertices]
     at = np.flatnonzero(np.linalg.norm(p.T - mouth, axis=1) <= 1e-9 * np.linalg.norm(mouth))
     if len(at) != 2:
         raise RuntimeError(f"the crack mouth has {len(at)} mesh vertices, expected 2 (an open crack)")

@@ -10,7 +10,8 @@ package is the app that wires them (docs/architecture.md).
 The API names load on first use, so importing a sub-package stays cheap.
 """
 
-from importlib.metadata import PackageNotFoundError as _NotInstalled, version as _version
+from importlib.metadata import PackageNotFoundError as _NotInstalled
+from importlib.metadata import version as _version
 from typing import Any
 
 try:  # one source of the version: pyproject.toml, through the installed metadata
@@ -18,13 +19,26 @@ try:  # one source of the version: pyproject.toml, through the installed metadat
 except _NotInstalled:  # a source tree used without installing it
     __version__ = "0+unknown"
 
-_API = ("paper_pair", "pair", "wear", "mesh_stiffness", "verify", "simulate", "sweep", "Scene", "PairSpec",
-        "WearSpec", "InputError", "METHODS")
+_API = (
+    "paper_pair",
+    "pair",
+    "wear",
+    "mesh_stiffness",
+    "verify",
+    "simulate",
+    "sweep",
+    "Scene",
+    "PairSpec",
+    "WearSpec",
+    "InputError",
+    "METHODS",
+)
 
 
 def __getattr__(name: str) -> Any:
     if name in _API:
         from gearwear import api
+
         return getattr(api, name)
     raise AttributeError(f"module 'gearwear' has no attribute {name!r}")
 

@@ -19,7 +19,6 @@ from typing import Any, Mapping, Sequence
 from gearwear.core.validation import InputError
 from gearwear.geometry.spec import PairSpec, default_pair
 from gearwear.geometry.wear import WearSpec
-
 from gearwear.scene.model import SHORT_KEYS, Scene, pair_from_dict, parse_wear_arg, wear_from_dict, wear_table
 from gearwear.stiffness.sources import METHODS, SOURCES
 
@@ -38,8 +37,9 @@ def pair(**keys: Any) -> PairSpec:
     return pair_from_dict({"pair": keys, "material": material})
 
 
-def wear_spec(spec: str | Mapping[str, Any] | WearSpec | None, torque_Nm: float = 40.0,
-              speed_rpm: float = 1200.0) -> WearSpec | None:
+def wear_spec(
+    spec: str | Mapping[str, Any] | WearSpec | None, torque_Nm: float = 40.0, speed_rpm: float = 1200.0
+) -> WearSpec | None:
     """A wear spec from every spelling the command line's ``--wear`` takes: a phase name
     (``"severe"``), a depth (``"25um"``), running hours (``"500h"``), an ``[effects] wear``
     table (``{"max_depth_um": 25}``, ``{"hours": 500}``), a WearSpec, or None (unworn).
@@ -54,8 +54,14 @@ def wear_spec(spec: str | Mapping[str, Any] | WearSpec | None, torque_Nm: float 
 wear = wear_spec  # gw.wear("severe"); functions below take a ``wear`` argument, so they call wear_spec
 
 
-def mesh_stiffness(pair: PairSpec | None = None, method: str = "ishikawa", wear: Any = None,
-                   torque_Nm: float | None = None, clearance_um: float = 0.0, points: int | None = None):
+def mesh_stiffness(
+    pair: PairSpec | None = None,
+    method: str = "ishikawa",
+    wear: Any = None,
+    torque_Nm: float | None = None,
+    clearance_um: float = 0.0,
+    points: int | None = None,
+):
     """k_h over one mesh period: ``method`` ishikawa (paper Eqs. 2-6), energy, iso6336
     (constant, ISO 6336-1 method B) or fem (resolved FE pair contact, ~10 s for 24
     positions). ``torque_Nm``: the pinion torque, required with your own pair (without a
@@ -77,20 +83,29 @@ def mesh_stiffness(pair: PairSpec | None = None, method: str = "ishikawa", wear:
     # the 2D state of the FE and of the analytic tooth beams as a scene's default fem.plane =
     # "auto" picks it (stress below b/m = PLANE_STRAIN_FROM_B_OVER_M, strain from there on)
     wears, clearances = [wear_spec(wear, torque_Nm)], [clearance_um * 1e-6]
-    curves = stiffness_job.compute(p, method, wears, clearances, torque_Nm, n,
-                                   plane=resolved_plane("auto", p.face_width_m, p.module_m))
+    curves = stiffness_job.compute(
+        p, method, wears, clearances, torque_Nm, n, plane=resolved_plane("auto", p.face_width_m, p.module_m)
+    )
     return curves[0].result
 
 
-def verify(pair: PairSpec | None = None, wear: Sequence[Any] = ("unworn", "mild", "severe"),
-           positions: int = 21, convergence: bool = False):
+def verify(
+    pair: PairSpec | None = None,
+    wear: Sequence[Any] = ("unworn", "mild", "severe"),
+    positions: int = 21,
+    convergence: bool = False,
+):
     """FE single-tooth compliance against Ishikawa and the energy method, per wear phase
     (``gearwear.jobs.verify.Verification``; ``.phases[i].fem`` etc. in um/(N/mm))."""
     from gearwear.jobs import verify as verify_job
 
     wears = [wear_spec(w) for w in wear]
-    return verify_job.run(pair or default_pair(), [None if w is None or w.is_unworn else w for w in wears],
-                          positions, convergence=convergence)
+    return verify_job.run(
+        pair or default_pair(),
+        [None if w is None or w.is_unworn else w for w in wears],
+        positions,
+        convergence=convergence,
+    )
 
 
 def simulate(scene: Scene | str | None = None, **overrides: Any):
@@ -105,8 +120,9 @@ def simulate(scene: Scene | str | None = None, **overrides: Any):
     return run(_scene(scene, overrides))  # run() already names errors by scene key
 
 
-def sweep(scene: Scene | str | None, axes: Mapping[str, Sequence[Any]], workers: int | None = None,
-          progress: bool = False) -> list[dict[str, Any]]:
+def sweep(
+    scene: Scene | str | None, axes: Mapping[str, Sequence[Any]], workers: int | None = None, progress: bool = False
+) -> list[dict[str, Any]]:
     """Run a scene over the Cartesian grid of ``axes`` ({dotted key: values}) on local
     processes; one summary dict per point, in grid order."""
     from gearwear.jobs import sweep as sw
@@ -132,5 +148,17 @@ def _scene(scene: Scene | str | None, overrides: Mapping[str, Any]) -> Scene:
     return Scene.load(scene, dotted)
 
 
-__all__ = ["paper_pair", "pair", "wear", "mesh_stiffness", "verify", "simulate", "sweep", "Scene", "PairSpec",
-           "WearSpec", "InputError", "METHODS"]
+__all__ = [
+    "paper_pair",
+    "pair",
+    "wear",
+    "mesh_stiffness",
+    "verify",
+    "simulate",
+    "sweep",
+    "Scene",
+    "PairSpec",
+    "WearSpec",
+    "InputError",
+    "METHODS",
+]

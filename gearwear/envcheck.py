@@ -9,8 +9,7 @@ def main() -> int:
     try:
         import gmsh  # noqa: F401
     except OSError as exc:  # missing shared library
-        print(f"gearwear: gmsh cannot load a system library ({exc}); on Debian/Ubuntu run: {APT_LINE}",
-              file=sys.stderr)
+        print(f"gearwear: gmsh cannot load a system library ({exc}); on Debian/Ubuntu run: {APT_LINE}", file=sys.stderr)
         return 1
     except ImportError as exc:
         print(f"gearwear: gmsh is not installed ({exc}); run `make demo` or `pip install -e .`", file=sys.stderr)

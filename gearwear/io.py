@@ -31,10 +31,9 @@ import zipfile
 from pathlib import Path
 from typing import Any, Callable, Iterable
 
+from gearwear import __version__
 from gearwear.core.atomic import atomic_folder, atomic_write_bytes
 from gearwear.core.validation import InputError
-
-from gearwear import __version__
 
 MANIFEST = "manifest.json"
 TIMING = "timing.json"
@@ -43,16 +42,29 @@ TIMING = "timing.json"
 #: "/" marks a sub-folder). A folder without a manifest is replaced only if it holds
 #: nothing else: outputs committed before manifests existed.
 OUTPUT_NAMES: dict[str, tuple[str, ...]] = {
-    "geometry": ("profile.csv", "profile.csv.json", "tooth.png", "pinion_mesh.vtu", "pinion_mesh.vtu.json",
-                 "summary.json"),
-    "stiffness": ("stiffness_*.csv", "stiffness_*.csv.json", "stiffness.png", "mean_vs_clearance.png",
-                  "stiffness_summary.json", "fields_*/", "harris_map.png", "harris_map.csv"),
+    "geometry": (
+        "profile.csv",
+        "profile.csv.json",
+        "tooth.png",
+        "pinion_mesh.vtu",
+        "pinion_mesh.vtu.json",
+        "summary.json",
+    ),
+    "stiffness": (
+        "stiffness_*.csv",
+        "stiffness_*.csv.json",
+        "stiffness.png",
+        "mean_vs_clearance.png",
+        "stiffness_summary.json",
+        "fields_*/",
+        "harris_map.png",
+        "harris_map.csv",
+    ),
     "verify": ("compliance.png", "convergence.png", "verification.md", "verification.json"),
     "calibrate": ("calibrated_*.csv", "calibrated_*.csv.json"),
     "simulate": ("signals.npz", "signals.csv", "signals.csv.json", "response.png", "spectrum.png", "summary.json"),
     "sweep": ("sweep.csv", "sweep.csv.json", "harmonics_*.png"),
-    "runup": ("runup.csv", "runup.csv.json", "runup_summary.json", "kv.png", "order_map_*.png",
-              "campbell_*.png"),
+    "runup": ("runup.csv", "runup.csv.json", "runup_summary.json", "kv.png", "order_map_*.png", "campbell_*.png"),
     "report paper": ("README.md", "fig[0-9][0-9]_*.png", "trends.json"),
     "report pair": ("README.md", "report.json", "stiffness.png", "ste_load.png", "kv.png"),
     "diagnose": ("diagnosis.json", "features.csv", "features.csv.json", "corner.png", "features.png"),
@@ -61,6 +73,7 @@ OUTPUT_NAMES: dict[str, tuple[str, ...]] = {
 
 
 # -- single files ------------------------------------------------------------------------
+
 
 def write_bytes(path: str | Path, data: bytes) -> Path:
     return atomic_write_bytes(path, data)
@@ -158,14 +171,21 @@ def sidecar(path: str | Path, inputs: Any, method: str, extra: dict | None = Non
 
 def sidecar_bytes(path: str | Path, inputs: Any, method: str, extra: dict | None = None) -> bytes:
     """The bytes :func:`sidecar` writes."""
-    meta = {"file": Path(path).name, "software": "gearwear", "version": __version__,
-            "method": method, "inputs": inputs, "input_sha256": input_hash(inputs)}
+    meta = {
+        "file": Path(path).name,
+        "software": "gearwear",
+        "version": __version__,
+        "method": method,
+        "inputs": inputs,
+        "input_sha256": input_hash(inputs),
+    }
     if extra:
         meta.update(extra)
     return (json_text(meta) + "\n").encode("utf-8")
 
 
 # -- timing ------------------------------------------------------------------------------
+
 
 def is_timing_key(key: str) -> bool:
     return key == "wall_s" or key.endswith("_wall_s") or key in ("compile_s", "build_s", "timings")
@@ -182,6 +202,7 @@ def without_timing(obj: Any) -> Any:
 
 
 # -- provenance --------------------------------------------------------------------------
+
 
 def scene_inputs(scene) -> dict[str, Any]:
     """What a scene contributes to the inputs of a result: the fully resolved scene
@@ -234,6 +255,7 @@ def scene_labels(scene) -> dict[str, Any]:
 
 # -- output folders ----------------------------------------------------------------------
 
+
 def check_out(out: str | None, command: str) -> Path | None:
     """The --out folder, checked before any work: a new folder, an empty one, or one
     gearwear wrote (it is replaced as a whole, :func:`foreign_entry`). Raises a
@@ -246,8 +268,10 @@ def check_out(out: str | None, command: str) -> Path | None:
     real = Path(os.path.realpath(p))
     cwd = Path(os.path.realpath(os.getcwd()))
     if real == cwd or real in cwd.parents:
-        raise InputError(f"--out = {out}: is the current folder or contains it, and the output folder is replaced "
-                         "as a whole; give a sub-folder")
+        raise InputError(
+            f"--out = {out}: is the current folder or contains it, and the output folder is replaced "
+            "as a whole; give a sub-folder"
+        )
     if p.exists() and not p.is_dir():
         raise InputError(f"--out = {out}: exists and is not a folder")
     parent = next((q for q in real.parents if q.exists()), Path("/"))
@@ -265,22 +289,32 @@ def replaceable(out: str | Path, command: str, during: bool = False) -> Callable
     entry gearwear did not write (:func:`foreign_entry`), or a folder whose old content
     could not be deleted (read-only), so that no file of the user's is ever deleted and no
     hidden ``.NAME.*.old`` folder is left behind."""
+
     def check(folder: Path) -> None:
         bad = foreign_entry(folder, command)
         if bad is not None and during:
-            raise InputError(f"--out = {out}: {bad} appeared in it during the run and gearwear did not write it, "
-                             "so the folder was not replaced (this run's results were not kept); move it away "
-                             "and run again")
+            raise InputError(
+                f"--out = {out}: {bad} appeared in it during the run and gearwear did not write it, "
+                "so the folder was not replaced (this run's results were not kept); move it away "
+                "and run again"
+            )
         if bad is not None and read_manifest(folder) is None:
-            raise InputError(f"--out = {out}: exists, is not empty and was not written by gearwear "
-                             f"(no {MANIFEST} of gearwear's; it holds {bad}); give a new or empty folder")
+            raise InputError(
+                f"--out = {out}: exists, is not empty and was not written by gearwear "
+                f"(no {MANIFEST} of gearwear's; it holds {bad}); give a new or empty folder"
+            )
         if bad is not None:
-            raise InputError(f"--out = {out}: holds {bad}, which gearwear did not write, and the folder is replaced "
-                             "as a whole; move it away or give a new or empty folder")
+            raise InputError(
+                f"--out = {out}: holds {bad}, which gearwear did not write, and the folder is replaced "
+                "as a whole; move it away or give a new or empty folder"
+            )
         locked = read_only_entry(folder)
         if locked is not None:
-            raise InputError(f"--out = {out}: {locked} is read-only, so its old content could not be deleted when "
-                             "the folder is replaced as a whole; make it writable or give a new folder")
+            raise InputError(
+                f"--out = {out}: {locked} is read-only, so its old content could not be deleted when "
+                "the folder is replaced as a whole; make it writable or give a new folder"
+            )
+
     return check
 
 
@@ -314,8 +348,10 @@ def read_manifest(folder: Path) -> dict[str, Any] | None:
     if not (isinstance(m, dict) and m.get("software") == "gearwear" and m.get("command") in OUTPUT_NAMES):
         return None
     files = m.get("files")
-    if not isinstance(files, dict) or not all(isinstance(v, dict) and isinstance(v.get("sha256"), str)
-                                              and isinstance(v.get("bytes"), int) for v in files.values()):
+    if not isinstance(files, dict) or not all(
+        isinstance(v, dict) and isinstance(v.get("sha256"), str) and isinstance(v.get("bytes"), int)
+        for v in files.values()
+    ):
         return None
     return m
 
@@ -359,14 +395,24 @@ def manifest(folder: Path, command: str, provenance: dict[str, Any]) -> dict[str
         rel = p.relative_to(folder).as_posix()
         if p.is_file() and rel not in (MANIFEST, TIMING):
             files[rel] = {"sha256": file_sha256(p), "bytes": p.stat().st_size}
-    return {"software": "gearwear", "version": __version__, "command": command,
-            "provenance": provenance, "files": files,
-            "note": f"every file in this folder but {TIMING} (wall times) with its SHA-256; the folder is "
-                    "replaced as a whole when gearwear writes into it again"}
+    return {
+        "software": "gearwear",
+        "version": __version__,
+        "command": command,
+        "provenance": provenance,
+        "files": files,
+        "note": f"every file in this folder but {TIMING} (wall times) with its SHA-256; the folder is "
+        "replaced as a whole when gearwear writes into it again",
+    }
 
 
-def write_folder(out: Path, command: str, provenance: dict[str, Any],
-                 writer: Callable[[Path], Iterable[Path]], timing: dict[str, Any] | None = None) -> list[Path]:
+def write_folder(
+    out: Path,
+    command: str,
+    provenance: dict[str, Any],
+    writer: Callable[[Path], Iterable[Path]],
+    timing: dict[str, Any] | None = None,
+) -> list[Path]:
     """Run ``writer(folder)`` in a fresh temporary folder, add ``timing.json`` and
     ``manifest.json``, and swap the folder in at ``out`` as a whole. Returns the written
     files at their final place. On any error or Ctrl-C nothing at ``out`` changes."""

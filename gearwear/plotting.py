@@ -29,8 +29,14 @@ from matplotlib.figure import Figure
 FLOOR_DB = 100.0
 
 
-def subplots(nrows: int = 1, ncols: int = 1, *, figsize: tuple[float, float] | None = None,
-             layout: Literal["constrained", "compressed", "tight"] | None = None, **subplot_kw):
+def subplots(
+    nrows: int = 1,
+    ncols: int = 1,
+    *,
+    figsize: tuple[float, float] | None = None,
+    layout: Literal["constrained", "compressed", "tight"] | None = None,
+    **subplot_kw,
+):
     """(Figure, axes) like ``pyplot.subplots``; ``figsize`` in inches, ``subplot_kw``
     (sharex, squeeze, ...) go to :meth:`Figure.subplots`."""
     fig = Figure(figsize=figsize, layout=layout)
@@ -47,14 +53,22 @@ def legend_outside(ax, where: Literal["right", "below"] = "right", fontsize: flo
     if not ax.get_legend_handles_labels()[0]:
         return None
     if where == "right":
-        return ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0, fontsize=fontsize,
-                         ncol=ncol, **kw)
+        return ax.legend(
+            loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0, fontsize=fontsize, ncol=ncol, **kw
+        )
     # tick marks, tick labels and their pads ~ 2.2 font sizes, the x label ~ 1.8 more
     size = ax.xaxis.get_label().get_fontsize()
     drop = size * (2.4 + (1.8 if ax.get_xlabel() else 0.0))
     under = offset_copy(ax.transAxes, fig=ax.figure, y=-drop, units="points")
-    return ax.legend(loc="upper center", bbox_to_anchor=(0.5, 0.0), bbox_transform=under, borderaxespad=0.0,
-                     fontsize=fontsize, ncol=ncol, **kw)
+    return ax.legend(
+        loc="upper center",
+        bbox_to_anchor=(0.5, 0.0),
+        bbox_transform=under,
+        borderaxespad=0.0,
+        fontsize=fontsize,
+        ncol=ncol,
+        **kw,
+    )
 
 
 def spectrum_band_Hz(fm_Hz: float, harmonics: int) -> float:
@@ -79,8 +93,11 @@ def merge_coincident(curves: Sequence[tuple[str, np.ndarray, np.ndarray]], tol: 
     for i, (_, x, y) in enumerate(curves):
         for g in groups:
             _, x0, y0 = curves[g[0]]
-            if np.shape(x0) == np.shape(x) and np.array_equal(x0, x) and \
-                    np.all(np.abs(np.asarray(y, float) - np.asarray(y0, float)) <= tol):
+            if (
+                np.shape(x0) == np.shape(x)
+                and np.array_equal(x0, x)
+                and np.all(np.abs(np.asarray(y, float) - np.asarray(y0, float)) <= tol)
+            ):
                 g.append(i)
                 break
         else:
@@ -89,7 +106,7 @@ def merge_coincident(curves: Sequence[tuple[str, np.ndarray, np.ndarray]], tol: 
 
 
 def joined(names: Sequence[str]) -> str:
-    """"a = b = c" for curves drawn once because they coincide; a prefix up to ": " that
+    """ "a = b = c" for curves drawn once because they coincide; a prefix up to ": " that
     all share is written once ("FE: unworn = mild")."""
     heads = {n.split(": ", 1)[0] for n in names}
     if len(names) > 1 and len(heads) == 1 and all(": " in n for n in names):
@@ -153,8 +170,16 @@ def labels_above(ax, xs: Sequence[float], texts: Sequence[str], min_gap: float, 
     number of rows, for the title's pad (:func:`title_pad`)."""
     levels = stagger_levels(xs, min_gap)
     for x, text, level in zip(xs, texts, levels):
-        ax.annotate(text, (x, 1.0), xycoords=ax.get_xaxis_transform(), xytext=(0, 3 + LABEL_ROW_PT * level),
-                    textcoords="offset points", ha="center", va="bottom", **{"fontsize": 7, **text_kw})
+        ax.annotate(
+            text,
+            (x, 1.0),
+            xycoords=ax.get_xaxis_transform(),
+            xytext=(0, 3 + LABEL_ROW_PT * level),
+            textcoords="offset points",
+            ha="center",
+            va="bottom",
+            **{"fontsize": 7, **text_kw},
+        )
     return 1 + max(levels, default=-1)
 
 

@@ -74,7 +74,6 @@ def body_properties(g: GearSpec, face_width_m: float) -> BodyProperties:
     else:
         r_i, r_h, b_s = g.root_radius_m - g.web.rim_thickness_m, g.web.hub_radius_m, g.web.thickness_m
     pi = math.pi
-    area = (A_out - pi * r_i ** 2) * b + pi * (r_i ** 2 - r_h ** 2) * b_s + pi * (r_h ** 2 - r_bore ** 2) * b
-    polar = (I_out - 0.5 * pi * r_i ** 4) * b + 0.5 * pi * (r_i ** 4 - r_h ** 4) * b_s \
-        + 0.5 * pi * (r_h ** 4 - r_bore ** 4) * b
-    return BodyProperties(rho * area, rho * polar, A_out - pi * r_bore ** 2, I_out - 0.5 * pi * r_bore ** 4)
+    area = (A_out - pi * r_i**2) * b + pi * (r_i**2 - r_h**2) * b_s + pi * (r_h**2 - r_bore**2) * b
+    polar = (I_out - 0.5 * pi * r_i**4) * b + 0.5 * pi * (r_i**4 - r_h**4) * b_s + 0.5 * pi * (r_h**4 - r_bore**4) * b
+    return BodyProperties(rho * area, rho * polar, A_out - pi * r_bore**2, I_out - 0.5 * pi * r_bore**4)

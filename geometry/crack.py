@@ -97,11 +97,15 @@ def critical_fillet_point(profile: ToothProfile) -> tuple[float, float, np.ndarr
 
     lo, hi = f(phi0), f(phi1)
     if not (lo > 0.0 >= hi):
-        raise fail("pressure_angle_rad", g.pressure_angle_rad, "rad",
-                   f"the root fillet of {g.name} has no point with its tangent at 30 deg to the centre "
-                   f"line (tangent angle {math.degrees(lo + CRITICAL_TANGENT_ANGLE_RAD):.4g} to "
-                   f"{math.degrees(hi + CRITICAL_TANGENT_ANGLE_RAD):.4g} deg), so there is no ISO 6336-3 "
-                   "critical point for a root crack")
+        raise fail(
+            "pressure_angle_rad",
+            g.pressure_angle_rad,
+            "rad",
+            f"the root fillet of {g.name} has no point with its tangent at 30 deg to the centre "
+            f"line (tangent angle {math.degrees(lo + CRITICAL_TANGENT_ANGLE_RAD):.4g} to "
+            f"{math.degrees(hi + CRITICAL_TANGENT_ANGLE_RAD):.4g} deg), so there is no ISO 6336-3 "
+            "critical point for a root crack",
+        )
     phi_c = brentq(f, phi0, phi1, xtol=1e-16, rtol=1e-15, maxiter=200)
     xy, n = fillet_points(rack, np.array([phi_c]))
     t = np.array([-n[0, 1], n[0, 0]])
@@ -126,12 +130,22 @@ def check_crack(profile: ToothProfile, crack: Crack) -> None:
     outside the allowed range (module docstring)."""
     nu, q = crack.angle_rad, crack.depth_m
     if not (isinstance(nu, (int, float)) and math.isfinite(nu) and 0.0 < nu <= 0.5 * math.pi):
-        raise fail("angle_rad", nu, "rad", f"must be in (0, {0.5 * math.pi:.6g}] rad (inward and downward "
-                   "from the fillet, measured from the tooth centre line)")
+        raise fail(
+            "angle_rad",
+            nu,
+            "rad",
+            f"must be in (0, {0.5 * math.pi:.6g}] rad (inward and downward "
+            "from the fillet, measured from the tooth centre line)",
+        )
     q_max = max_depth_m(profile, nu)
     if not (isinstance(q, (int, float)) and math.isfinite(q) and 0.0 < q <= q_max):
-        raise fail("depth_m", q, "m", f"must be in (0, {q_max:.6g}] m at angle_rad = {nu:.6g} (crack tip on "
-                   "the loaded side of the tooth centre line, outside the bore)")
+        raise fail(
+            "depth_m",
+            q,
+            "m",
+            f"must be in (0, {q_max:.6g}] m at angle_rad = {nu:.6g} (crack tip on "
+            "the loaded side of the tooth centre line, outside the bore)",
+        )
 
 
 def crack_line(profile: ToothProfile, crack: Crack) -> tuple[np.ndarray, np.ndarray]:

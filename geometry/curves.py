@@ -25,11 +25,14 @@ def zone_means(k_N_per_m, zones: dict[str, np.ndarray]) -> dict[str, float]:
     :meth:`CurveStats.zone_means`."""
     k = np.asarray(k_N_per_m, dtype=float)
     double, single = zones["A"] | zones["C"], zones["B"]
-    return {"double": float(k[double].mean()) if double.any() else float("nan"),
-            "single": float(k[single].mean()) if single.any() else float("nan")}
+    return {
+        "double": float(k[double].mean()) if double.any() else float("nan"),
+        "single": float(k[single].mean()) if single.any() else float("nan"),
+    }
 
 
 # -- integrals of a periodic piecewise-linear curve (non-uniform nodes) -----------------
+
 
 def _closed(angle_rad, values, span_rad: float) -> tuple[np.ndarray, np.ndarray]:
     """Nodes and values closed over one span: the first node repeated one span later."""
@@ -77,9 +80,9 @@ def fourier_coefficients(angle_rad, values, span_rad: float, n: int, periods: in
     w_q = 2 pi q / L: only the slope jumps at the nodes count."""
     x, v = _closed(angle_rad, values, span_rad)
     s = np.diff(v) / np.diff(x)
-    jump = np.r_[s[-1], s[:-1]] - s                          # s_(i-1) - s_i at x_i
+    jump = np.r_[s[-1], s[:-1]] - s  # s_(i-1) - s_i at x_i
     w = 2 * np.pi * periods * np.arange(1, n + 1) / span_rad
-    return (np.exp(-1j * np.outer(w, x[:-1])) @ jump) / (span_rad * w ** 2)
+    return (np.exp(-1j * np.outer(w, x[:-1])) @ jump) / (span_rad * w**2)
 
 
 def harmonic_amplitudes(angle_rad, values, span_rad: float, n: int, periods: int = 1) -> np.ndarray:
@@ -178,13 +181,19 @@ class CurveStats:
         by: dict[int, float | None] = {n: None for n in range(0 if n0 == 0 else 1, max(3, n0 + 1) + 1)}
         for n, (a, b) in ((n0 + 1, (0.0, th_E)), (n0, (th_E, P))):
             if b - a > 0:
-                total = sum(interval_integral(self.angle_rad, self.k_N_per_m, self.span_rad, a + m * P, b + m * P)
-                            for m in range(periods))
+                total = sum(
+                    interval_integral(self.angle_rad, self.k_N_per_m, self.span_rad, a + m * P, b + m * P)
+                    for m in range(periods)
+                )
                 by[n] = total / (periods * (b - a))
         shares = self.mesh.zone_shares()
         deg = {n: shares.get(n, 0.0) * period_deg for n in by}
         nan = float("nan")
-        return {"double": nan if by.get(2) is None else by[2], "single": nan if by.get(1) is None else by[1],
-                "double_deg": deg.get(2, 0.0), "single_deg": deg.get(1, 0.0),
-                "by_count": by, "deg_by_count": deg}
-
+        return {
+            "double": nan if by.get(2) is None else by[2],
+            "single": nan if by.get(1) is None else by[1],
+            "double_deg": deg.get(2, 0.0),
+            "single_deg": deg.get(1, 0.0),
+            "by_count": by,
+            "deg_by_count": deg,
+        }

@@ -35,9 +35,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from gearwear.core.validation import Field, fail_range
+
 from .kinematics import MeshGeometry
 from .spec import PairSpec
-from gearwear.core.validation import Field, fail_range
 
 #: deepest accepted spall (m): deeper pits are tooth breakage, not a surface fault
 MAX_SPALL_DEPTH_M = 1e-3
@@ -78,6 +79,7 @@ class CrackFault:
     @property
     def crack(self):
         from .crack import Crack
+
         return Crack(self.depth_m, self.angle_rad)
 
 
@@ -153,8 +155,12 @@ def check_faults(pair: PairSpec, faults: FaultSpec) -> None:
             continue
         z = pair.teeth[f.gear_index]
         if not 0 <= f.tooth < z:
-            raise fail_range(f"{name}.tooth", f.tooth, Field("", 0, z - 1, kind=int),
-                             f"a tooth of the {pair.gear(f.gear_index).name} ({z} teeth)")
+            raise fail_range(
+                f"{name}.tooth",
+                f.tooth,
+                Field("", 0, z - 1, kind=int),
+                f"a tooth of the {pair.gear(f.gear_index).name} ({z} teeth)",
+            )
     s = faults.spall
     if s is None:
         return
@@ -162,8 +168,12 @@ def check_faults(pair: PairSpec, faults: FaultSpec) -> None:
     mesh = MeshGeometry(pair, pair.centre_distance_m)
     d_sap, d_tip = 2.0 * mesh.start_of_active_profile_m[s.gear_index], 2.0 * g.tip_radius_m
     if not (d_sap <= s.start_diameter_m < d_tip):
-        raise fail_range("spall.start_diameter_m", s.start_diameter_m, Field("m", d_sap, d_tip, hi_open=True),
-                         f"the active flank of the {g.name} (SAP to tip)")
+        raise fail_range(
+            "spall.start_diameter_m",
+            s.start_diameter_m,
+            Field("m", d_sap, d_tip, hi_open=True),
+            f"the active flank of the {g.name} (SAP to tip)",
+        )
     if not (0.0 < s.depth_m <= MAX_SPALL_DEPTH_M):
         raise fail_range("spall.depth_m", s.depth_m, Field("m", 0.0, MAX_SPALL_DEPTH_M, lo_open=True))
     rb = g.base_radius_m
@@ -171,5 +181,9 @@ def check_faults(pair: PairSpec, faults: FaultSpec) -> None:
     u_tip = math.sqrt((g.tip_radius_m / rb) ** 2 - 1.0)
     room = 0.5 * rb * (u_tip * u_tip - ua * ua)
     if not (0.0 < s.length_m <= room):
-        raise fail_range("spall.length_m", s.length_m, Field("m", 0.0, room, lo_open=True),
-                         f"the flank from the start diameter to the tip is {room * 1e3:.4g} mm long")
+        raise fail_range(
+            "spall.length_m",
+            s.length_m,
+            Field("m", 0.0, room, lo_open=True),
+            f"the flank from the start diameter to the tip is {room * 1e3:.4g} mm long",
+        )

@@ -41,10 +41,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from gearwear.core.validation import Field, fail, fail_range
+
 from .kinematics import MeshGeometry
 from .spec import PairSpec
 from .wear import MAX_DEPTH_FRACTION
-from gearwear.core.validation import Field, fail, fail_range
 
 SHAPES = ("linear", "parabolic")
 #: the largest relief amount accepted: the tip relief of a gear rarely exceeds 0.02 m_n
@@ -99,7 +100,7 @@ class FlankSpec:
 def roll_length_m(base_radius_m: float, radius_m) -> np.ndarray:
     """L(R) = sqrt(R^2 - r_b^2) (m), the involute's roll length; 0 below the base circle."""
     R = np.asarray(radius_m, dtype=float)
-    return np.sqrt(np.maximum(R * R - base_radius_m ** 2, 0.0))
+    return np.sqrt(np.maximum(R * R - base_radius_m**2, 0.0))
 
 
 def sap_radius_m(pair: PairSpec, gear_index: int) -> float:
@@ -120,7 +121,7 @@ def relief_depth_m(relief: Relief, pair: PairSpec, gear_index: int, kind: str, r
     else:
         LN = float(roll_length_m(rb, sap_radius_m(pair, gear_index)))
         t = np.clip((Ls - L) / (Ls - LN), 0.0, 1.0)
-    return relief.amount_m * t ** p
+    return relief.amount_m * t**p
 
 
 def deviation_depth_m(dev: Deviation, radius_m) -> np.ndarray:
@@ -152,11 +153,14 @@ def modification_on_line_of_action(flank: FlankSpec | None, mesh: MeshGeometry, 
     radius, r_1 = sqrt(r_b1^2 + d^2), r_2 = sqrt(r_b2^2 + (T1T2 - d)^2). Their sum is the
     initial gap of a pair at d (both measured along the common normal, the LOA)."""
     d = np.asarray(d_m, dtype=float)
-    return (modification_depth_m(flank, mesh.pair, 0, mesh.pinion_radius_at(d)),
-            modification_depth_m(flank, mesh.pair, 1, mesh.gear_radius_at(d)))
+    return (
+        modification_depth_m(flank, mesh.pair, 0, mesh.pinion_radius_at(d)),
+        modification_depth_m(flank, mesh.pair, 1, mesh.gear_radius_at(d)),
+    )
 
 
 # -- checks --------------------------------------------------------------------------
+
 
 def half_thickness_m(g, radius_m: float) -> float:
     """Half the nominal arc tooth thickness (m) at a radius on the involute (ISO 21771):
@@ -190,22 +194,33 @@ def check_flank(pair: PairSpec, flank: FlankSpec) -> None:
             if not (0.0 <= rel.amount_m <= MAX_RELIEF_M):
                 raise fail_range(f"{name}.amount_m[{i}]", rel.amount_m, Field("m", 0.0, MAX_RELIEF_M))
             if not (d_sap < rel.start_diameter_m < d_tip):
-                raise fail_range(f"{name}.start_diameter_m[{i}]", rel.start_diameter_m, active,
-                                 f"the active flank of the {g.name} from its SAP to its tip")
+                raise fail_range(
+                    f"{name}.start_diameter_m[{i}]",
+                    rel.start_diameter_m,
+                    active,
+                    f"the active flank of the {g.name} from its SAP to its tip",
+                )
             # the relief is largest at the tip (tip relief) or the SAP (root relief): it may take
             # at most the share of the half tooth thickness there that wear may (geometry.wear)
             r_end = g.tip_radius_m if name == "tip_relief" else 0.5 * d_sap
             limit = MAX_DEPTH_FRACTION * half_thickness_m(g, r_end)
             if rel.amount_m > limit:
-                raise fail_range(f"{name}.amount_m[{i}]", rel.amount_m, Field("m", 0.0, limit),
-                                 f"at most {MAX_DEPTH_FRACTION:.3g} of the {g.name}'s half tooth thickness "
-                                 f"({half_thickness_m(g, r_end) * 1e3:.4g} mm) at the "
-                                 f"{'tip' if name == 'tip_relief' else 'start of active profile'}, where the "
-                                 "relief is largest (more would cut through the tooth)")
+                raise fail_range(
+                    f"{name}.amount_m[{i}]",
+                    rel.amount_m,
+                    Field("m", 0.0, limit),
+                    f"at most {MAX_DEPTH_FRACTION:.3g} of the {g.name}'s half tooth thickness "
+                    f"({half_thickness_m(g, r_end) * 1e3:.4g} mm) at the "
+                    f"{'tip' if name == 'tip_relief' else 'start of active profile'}, where the "
+                    "relief is largest (more would cut through the tooth)",
+                )
         if tip is not None and root is not None and not root.start_diameter_m < tip.start_diameter_m:
-            raise fail_range(f"root_relief.start_diameter_m[{i}]", root.start_diameter_m,
-                             Field("m", d_sap, tip.start_diameter_m, True, True),
-                             "below the start of the tip relief")
+            raise fail_range(
+                f"root_relief.start_diameter_m[{i}]",
+                root.start_diameter_m,
+                Field("m", d_sap, tip.start_diameter_m, True, True),
+                "below the start of the tip relief",
+            )
         if dev is not None:
             _check_deviation(dev, i, g.name, d_sap, d_tip)
 
@@ -222,15 +237,29 @@ def _check_deviation(dev: Deviation, i: int, name: str, d_sap: float, d_tip: flo
         raise fail(key, what, "", "every value must be a finite number")
     if np.any(np.diff(dia) <= 0):
         k = int(np.flatnonzero(np.diff(dia) <= 0)[0]) + 1
-        raise fail(key, what, "", f"diameter_mm must be strictly increasing (row {k + 1}: {dia[k] * 1e3:g} mm "
-                                  f"after {dia[k - 1] * 1e3:g} mm)")
+        raise fail(
+            key,
+            what,
+            "",
+            f"diameter_mm must be strictly increasing (row {k + 1}: {dia[k] * 1e3:g} mm after {dia[k - 1] * 1e3:g} mm)",
+        )
     if dia[-1] <= d_sap or dia[0] >= d_tip:
-        raise fail(key, what, "", f"diameters {dia[0] * 1e3:.6g}-{dia[-1] * 1e3:.6g} mm must overlap the active "
-                                  f"flank of the {name}, {d_sap * 1e3:.6g}-{d_tip * 1e3:.6g} mm")
+        raise fail(
+            key,
+            what,
+            "",
+            f"diameters {dia[0] * 1e3:.6g}-{dia[-1] * 1e3:.6g} mm must overlap the active "
+            f"flank of the {name}, {d_sap * 1e3:.6g}-{d_tip * 1e3:.6g} mm",
+        )
     if np.max(np.abs(dep)) > MAX_RELIEF_M:
         k = int(np.argmax(np.abs(dep)))
-        raise fail(key, what, "", f"deviation_um = {dep[k] * 1e6:g} um in row {k + 1}: must be in "
-                                  f"[{-MAX_RELIEF_M * 1e6:g}, {MAX_RELIEF_M * 1e6:g}] um")
+        raise fail(
+            key,
+            what,
+            "",
+            f"deviation_um = {dep[k] * 1e6:g} um in row {k + 1}: must be in "
+            f"[{-MAX_RELIEF_M * 1e6:g}, {MAX_RELIEF_M * 1e6:g}] um",
+        )
 
 
 def flank_warnings(pair: PairSpec, flank: FlankSpec | None) -> list[str]:
@@ -246,9 +275,11 @@ def flank_warnings(pair: PairSpec, flank: FlankSpec | None) -> list[str]:
         d_sap, d_tip = 2.0 * sap_radius_m(pair, i), 2.0 * g.tip_radius_m
         lo, hi = dev.diameter_m[0], dev.diameter_m[-1]
         if lo > d_sap or hi < d_tip:
-            out.append(f"the measured deviation of the {g.name}{' (' + dev.source + ')' if dev.source else ''} "
-                       f"covers diameters {lo * 1e3:.4g}-{hi * 1e3:.4g} mm of the active flank "
-                       f"{d_sap * 1e3:.4g}-{d_tip * 1e3:.4g} mm; its end values are held beyond")
+            out.append(
+                f"the measured deviation of the {g.name}{' (' + dev.source + ')' if dev.source else ''} "
+                f"covers diameters {lo * 1e3:.4g}-{hi * 1e3:.4g} mm of the active flank "
+                f"{d_sap * 1e3:.4g}-{d_tip * 1e3:.4g} mm; its end values are held beyond"
+            )
     return out
 
 
@@ -271,7 +302,21 @@ def is_nominal(flank: FlankSpec | None) -> bool:
     return flank is None or flank.is_nominal
 
 
-__all__ = ["Relief", "Deviation", "FlankSpec", "SHAPES", "MAX_RELIEF_M", "roll_length_m", "relief_depth_m",
-           "deviation_depth_m", "modification_depth_m", "modification_on_line_of_action", "check_flank",
-           "flank_warnings", "hpstc_diameters_m", "lpstc_diameters_m", "is_nominal", "sap_radius_m"]
-
+__all__ = [
+    "Relief",
+    "Deviation",
+    "FlankSpec",
+    "SHAPES",
+    "MAX_RELIEF_M",
+    "roll_length_m",
+    "relief_depth_m",
+    "deviation_depth_m",
+    "modification_depth_m",
+    "modification_on_line_of_action",
+    "check_flank",
+    "flank_warnings",
+    "hpstc_diameters_m",
+    "lpstc_diameters_m",
+    "is_nominal",
+    "sap_radius_m",
+]

@@ -20,8 +20,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .spec import PairSpec
 from gearwear.core.validation import fail
+
+from .spec import PairSpec
 
 
 @dataclass(frozen=True)
@@ -34,12 +35,20 @@ class MeshGeometry:
     def __post_init__(self):
         rb_sum = sum(g.base_radius_m for g in self.pair.gears)
         if not self.centre_distance_m > rb_sum:
-            raise fail("centre distance", float(self.centre_distance_m * 1e3), "mm",
-                       f"must exceed the sum of base radii {rb_sum * 1e3:.6g} mm")
+            raise fail(
+                "centre distance",
+                float(self.centre_distance_m * 1e3),
+                "mm",
+                f"must exceed the sum of base radii {rb_sum * 1e3:.6g} mm",
+            )
         if self.path_length_m <= 0.0:
-            raise fail("centre distance", float(self.centre_distance_m * 1e3), "mm",
-                       f"the tip circles no longer overlap the line of action (path of contact "
-                       f"{self.path_length_m * 1e3:.4g} mm <= 0); the gears are out of mesh")
+            raise fail(
+                "centre distance",
+                float(self.centre_distance_m * 1e3),
+                "mm",
+                f"the tip circles no longer overlap the line of action (path of contact "
+                f"{self.path_length_m * 1e3:.4g} mm <= 0); the gears are out of mesh",
+            )
 
     # -- scalars -----------------------------------------------------------------
     @property
@@ -62,13 +71,13 @@ class MeshGeometry:
     def path_start_m(self) -> float:
         """d_A: contact starts where the gear's tip circle crosses the LOA."""
         g2 = self.pair.gear(1)
-        return self.line_of_action_m - math.sqrt(g2.tip_radius_m ** 2 - g2.base_radius_m ** 2)
+        return self.line_of_action_m - math.sqrt(g2.tip_radius_m**2 - g2.base_radius_m**2)
 
     @property
     def path_end_m(self) -> float:
         """d_E: contact ends where the pinion's tip circle crosses the LOA."""
         g1 = self.pair.gear(0)
-        return math.sqrt(g1.tip_radius_m ** 2 - g1.base_radius_m ** 2)
+        return math.sqrt(g1.tip_radius_m**2 - g1.base_radius_m**2)
 
     @property
     def path_length_m(self) -> float:
@@ -180,9 +189,11 @@ class MeshGeometry:
         eps = self.contact_ratio
         if eps >= 1.0:
             return []
-        return [f"contact ratio {eps:.3f} < 1: no pair is in contact on the path of contact for "
-                f"{100 * (1 - eps):.1f} % of each mesh period (only tip-corner contact, where a model has it, "
-                "carries the load there; otherwise the mesh stiffness is 0)"]
+        return [
+            f"contact ratio {eps:.3f} < 1: no pair is in contact on the path of contact for "
+            f"{100 * (1 - eps):.1f} % of each mesh period (only tip-corner contact, where a model has it, "
+            "carries the load there; otherwise the mesh stiffness is 0)"
+        ]
 
     def require_overlap(self, method: str) -> None:
         """Refuse ``method`` (a stiffness model that needs a pair on the path at every
@@ -190,10 +201,14 @@ class MeshGeometry:
         eps = self.contact_ratio
         if eps >= 1.0:
             return
-        raise fail("method", repr(method), "",
-                   f"needs a contact ratio >= 1 (a tooth pair on the path of contact at every angle), but it is "
-                   f"{eps:.3f} at centre distance {self.centre_distance_m * 1e3:.6g} mm; the analytic methods "
-                   "(ishikawa, energy) model the gaps")
+        raise fail(
+            "method",
+            repr(method),
+            "",
+            f"needs a contact ratio >= 1 (a tooth pair on the path of contact at every angle), but it is "
+            f"{eps:.3f} at centre distance {self.centre_distance_m * 1e3:.6g} mm; the analytic methods "
+            "(ishikawa, energy) model the gaps",
+        )
 
     def pairs_on_path(self, theta_rad) -> np.ndarray:
         """Theoretical number of tooth pairs on the path of contact at pinion angles

@@ -28,10 +28,10 @@ class LoadPoints:
     """Load application data for a set of contact radii (arrays of equal length, SI)."""
 
     radius_m: np.ndarray
-    x_m: np.ndarray        # half-thickness offset of the contact point from the tooth axis
-    y_m: np.ndarray        # height of the contact point along the tooth axis
-    w_rad: np.ndarray      # load angle between the force and the perpendicular to the axis
-    y_axis_m: np.ndarray   # where the force line crosses the tooth axis
+    x_m: np.ndarray  # half-thickness offset of the contact point from the tooth axis
+    y_m: np.ndarray  # height of the contact point along the tooth axis
+    w_rad: np.ndarray  # load angle between the force and the perpendicular to the axis
+    y_axis_m: np.ndarray  # where the force line crosses the tooth axis
 
 
 def load_points(profile: ToothProfile, radius_m) -> LoadPoints:

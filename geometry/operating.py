@@ -37,9 +37,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from gearwear.core.validation import Field, check_scalar, fail
+
 from .kinematics import MeshGeometry
 from .spec import PairSpec, inv
-from gearwear.core.validation import Field, check_scalar, fail
 
 BACKLASH_FORMS = ("consistent", "printed")
 
@@ -78,8 +79,9 @@ class OperatingGeometry:
         return backlash(self.pair, self.centre_distance_m, self.initial_backlash_m, self.backlash_form)
 
 
-def centre_distance(pair: PairSpec, clearance_m: float = 0.0, torque_Nm: float = 0.0,
-                    bearing_stiffness_N_per_m: float = math.inf) -> float:
+def centre_distance(
+    pair: PairSpec, clearance_m: float = 0.0, torque_Nm: float = 0.0, bearing_stiffness_N_per_m: float = math.inf
+) -> float:
     """Operating centre distance C' (m) from paper Eq. 11, iterated on alpha'."""
     check_scalar("clearance_um", clearance_m * 1e6, Field("um", 0, 1e4))
     check_scalar("torque_Nm", torque_Nm, Field("N m", 0, 1e7))
@@ -107,34 +109,46 @@ def max_clearance_m(pair: PairSpec) -> float:
     line of action (sqrt(a_max^2 - (r_b1 + r_b2)^2) = sqrt(r_a1^2 - r_b1^2) + sqrt(r_a2^2 -
     r_b2^2)): BC = (sqrt(2 a_max^2 - C^2) - C) / 2. A larger clearance puts the gears out of mesh."""
     gears = pair.gears
-    reach = sum(math.sqrt(max(g.tip_radius_m ** 2 - g.base_radius_m ** 2, 0.0)) for g in gears)
+    reach = sum(math.sqrt(max(g.tip_radius_m**2 - g.base_radius_m**2, 0.0)) for g in gears)
     a_max = math.hypot(reach, sum(g.base_radius_m for g in gears))
     C = pair.centre_distance_m
-    return 0.5 * (math.sqrt(2.0 * a_max ** 2 - C ** 2) - C)
+    return 0.5 * (math.sqrt(2.0 * a_max**2 - C**2) - C)
 
 
-def backlash(pair: PairSpec, centre_distance_m: float, initial_backlash_m: float = 0.0,
-             form: str = "consistent") -> float:
+def backlash(
+    pair: PairSpec, centre_distance_m: float, initial_backlash_m: float = 0.0, form: str = "consistent"
+) -> float:
     """Total normal backlash (m) at centre distance C' (paper Eqs. 13-15, see module doc)."""
     if form not in BACKLASH_FORMS:
         raise fail("backlash form", repr(form), "", f"must be one of {', '.join(BACKLASH_FORMS)}")
     rb_sum = sum(g.base_radius_m for g in pair.gears)
     a_w = pair.working_pressure_angle_rad
     # at a_w itself the backlash is exactly j_n0 (acos of the rounded ratio would leave ~1e-13 m)
-    a_op = a_w if centre_distance_m == pair.zero_backlash_centre_distance_m else \
-        math.acos(rb_sum / centre_distance_m)
+    a_op = a_w if centre_distance_m == pair.zero_backlash_centre_distance_m else math.acos(rb_sum / centre_distance_m)
     if form == "consistent":
         return initial_backlash_m + 2.0 * rb_sum * (inv(a_op) - inv(a_w))
     return initial_backlash_m + 2.0 * centre_distance_m * math.cos(a_w) * (inv(a_op) - inv(a_w))
 
 
-def operating_geometry(pair: PairSpec, clearance_m: float = 0.0, torque_Nm: float = 0.0,
-                       bearing_stiffness_N_per_m: float = math.inf, initial_backlash_m: float = 0.0,
-                       backlash_form: str = "consistent") -> OperatingGeometry:
+def operating_geometry(
+    pair: PairSpec,
+    clearance_m: float = 0.0,
+    torque_Nm: float = 0.0,
+    bearing_stiffness_N_per_m: float = math.inf,
+    initial_backlash_m: float = 0.0,
+    backlash_form: str = "consistent",
+) -> OperatingGeometry:
     """All operating quantities of paper Fig. 15 at one bearing clearance."""
     check_scalar("initial_backlash_um", initial_backlash_m * 1e6, Field("um", 0, 1e4))
     if backlash_form not in BACKLASH_FORMS:
         raise fail("backlash_form", repr(backlash_form), "", f"must be one of {', '.join(BACKLASH_FORMS)}")
     Cp = centre_distance(pair, clearance_m, torque_Nm, bearing_stiffness_N_per_m)
-    return OperatingGeometry(pair, clearance_m, torque_Nm, bearing_stiffness_N_per_m,
-                             initial_backlash_m, backlash_form, MeshGeometry(pair, Cp))
+    return OperatingGeometry(
+        pair,
+        clearance_m,
+        torque_Nm,
+        bearing_stiffness_N_per_m,
+        initial_backlash_m,
+        backlash_form,
+        MeshGeometry(pair, Cp),
+    )

@@ -52,9 +52,23 @@ from .faults import FaultSpec, Spall, holds_fault
 from .kinematics import MeshGeometry
 from .spec import GearSpec, PairSpec
 
-__all__ = ["NO_SPALL", "rot", "base_half_angle_rad", "involute_point", "involute_arc_m", "tip_roll_rad",
-           "contact_arc_m", "tooth_frames", "involute_gap", "candidate_slots", "lowest_contact_radius_m",
-           "fault_neighbours", "reach_ranges", "slot_faults", "spall_edge_radii_m"]
+__all__ = [
+    "NO_SPALL",
+    "rot",
+    "base_half_angle_rad",
+    "involute_point",
+    "involute_arc_m",
+    "tip_roll_rad",
+    "contact_arc_m",
+    "tooth_frames",
+    "involute_gap",
+    "candidate_slots",
+    "lowest_contact_radius_m",
+    "fault_neighbours",
+    "reach_ranges",
+    "slot_faults",
+    "spall_edge_radii_m",
+]
 
 #: no tooth of the slot is faulty (per gear: the slot's tooth carries the spall)
 NO_SPALL = (False, False)
@@ -181,8 +195,9 @@ def fault_neighbours(mesh: MeshGeometry, extension_pitches: float) -> int:
     return max(1, int(math.floor(mesh.contact_ratio + 2 * extension_pitches + 1e-9)))
 
 
-def reach_ranges(mesh: MeshGeometry, gi: int, refined: int, r_lo: float, margin_m: float,
-                 extension_pitches: float) -> dict:
+def reach_ranges(
+    mesh: MeshGeometry, gi: int, refined: int, r_lo: float, margin_m: float, extension_pitches: float
+) -> dict:
     """Flank radius range (r_a, r_b) (m) of each tooth t = -refined .. refined of gear gi
     that a contact can reach while tooth 0 is a candidate (within ``extension_pitches``
     p_b of the path). A pinion slot j is tooth -j and a gear slot tooth +j, so tooth t

@@ -23,8 +23,17 @@ from typing import Sequence
 
 import numpy as np
 
-__all__ = ["cumulative_length", "stitch", "project_to_segments", "PolylineProjection", "project_to_polyline",
-           "with_midpoints", "quadratic_eval", "quadratic_points", "quadratic_parameter"]
+__all__ = [
+    "cumulative_length",
+    "stitch",
+    "project_to_segments",
+    "PolylineProjection",
+    "project_to_polyline",
+    "with_midpoints",
+    "quadratic_eval",
+    "quadratic_points",
+    "quadratic_parameter",
+]
 
 
 def cumulative_length(xy: np.ndarray) -> np.ndarray:
@@ -45,8 +54,9 @@ def stitch(pieces: Sequence[np.ndarray], closed: bool = False, rtol: float = 1e-
     out = [parts[0]]
     for k, p in enumerate(parts[1:], start=1):
         if np.hypot(*(p[0] - out[-1][-1])) > tol:
-            raise ValueError(f"stitch: piece {k} starts at {p[0].tolist()}, not at the end "
-                             f"{out[-1][-1].tolist()} of piece {k - 1}")
+            raise ValueError(
+                f"stitch: piece {k} starts at {p[0].tolist()}, not at the end {out[-1][-1].tolist()} of piece {k - 1}"
+            )
         out.append(p[1:])
     xy = np.vstack(out)
     if closed:
@@ -83,8 +93,9 @@ class PolylineProjection:
     s: np.ndarray
 
 
-def project_to_polyline(points: np.ndarray, poly: np.ndarray, max_distance: float = np.inf,
-                        chunk: int = 256) -> PolylineProjection:
+def project_to_polyline(
+    points: np.ndarray, poly: np.ndarray, max_distance: float = np.inf, chunk: int = 256
+) -> PolylineProjection:
     """Orthogonal projection of ``points`` (k, 2) onto the open polyline ``poly`` (n, 2),
     n >= 2 (the first closest segment wins ties). Points farther than ``max_distance``
     from the polyline's bounding box are not projected (distance inf, segment 0, t 0).
@@ -97,10 +108,11 @@ def project_to_polyline(points: np.ndarray, poly: np.ndarray, max_distance: floa
     seg = np.zeros(len(pts), dtype=int)
     t = np.zeros(len(pts))
     dist = np.full(len(pts), np.inf)
-    near = np.flatnonzero(np.all((pts >= poly.min(axis=0) - max_distance) & (pts <= poly.max(axis=0) + max_distance),
-                                 axis=1))
+    near = np.flatnonzero(
+        np.all((pts >= poly.min(axis=0) - max_distance) & (pts <= poly.max(axis=0) + max_distance), axis=1)
+    )
     for i0 in range(0, len(near), chunk):
-        idx = near[i0:i0 + chunk]
+        idx = near[i0 : i0 + chunk]
         tt, dd = project_to_segments(pts[idx, None, :], a[None], b[None])
         k = np.argmin(dd, axis=1)
         rows = np.arange(len(k))
@@ -151,8 +163,7 @@ def quadratic_points(chain: np.ndarray, n_sub: int) -> np.ndarray:
     return quadratic_eval(chain, np.arange(n_edges * n_sub + 1) / n_sub)[0]
 
 
-def quadratic_parameter(p: np.ndarray, a: np.ndarray, m: np.ndarray, b: np.ndarray,
-                        iterations: int = 8) -> np.ndarray:
+def quadratic_parameter(p: np.ndarray, a: np.ndarray, m: np.ndarray, b: np.ndarray, iterations: int = 8) -> np.ndarray:
     """Parameter t in [0, 1] of the point of each quadratic edge (a, m, b) closest to p
     (all (k, 2)): Newton on d/dt |x(t) - p|^2 = 0 from the chord projection."""
     p, a, m, b = (np.asarray(v, dtype=float) for v in (p, a, m, b))

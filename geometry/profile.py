@@ -44,9 +44,10 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from scipy.optimize import brentq
 
+from gearwear.core.validation import InputError, fail, fail_text
+
 from .polyline import stitch
 from .spec import GearSpec, inv
-from gearwear.core.validation import InputError, fail, fail_text
 
 ROOT_LAND, FILLET, INVOLUTE, TIP_LAND = 0, 1, 2, 3
 REGION_NAMES = {ROOT_LAND: "root", FILLET: "fillet", INVOLUTE: "involute", TIP_LAND: "tip"}
@@ -61,9 +62,9 @@ class RackGeometry:
     """Cutter data in rack coordinates (m), derived from a :class:`GearSpec`."""
 
     pitch_radius: float
-    half_thickness: float   # s / 2 on the rolling line
-    tip_line_y: float       # y_t
-    round_radius: float     # rho
+    half_thickness: float  # s / 2 on the rolling line
+    tip_line_y: float  # y_t
+    round_radius: float  # rho
     round_centre: tuple[float, float]  # (x_c, y_c)
     alpha: float
 
@@ -285,13 +286,18 @@ def _check_worn_thickness(nominal: ToothProfile, xy_worn: np.ndarray, h: np.ndar
     if np.any(thick <= 0.0):
         k = int(np.argmin(thick))
         i = int(np.flatnonzero(inside)[k])
-        raise fail("wear depth", float(h[i]) * 1e6, "um",
-                   f"consumes the tooth at radius {R[i] * 1e3:.4g} mm (nominal thickness there "
-                   f"{2e6 * R[i] * beta_left[k]:.1f} um); the depth must stay below the tooth thickness")
+        raise fail(
+            "wear depth",
+            float(h[i]) * 1e6,
+            "um",
+            f"consumes the tooth at radius {R[i] * 1e3:.4g} mm (nominal thickness there "
+            f"{2e6 * R[i] * beta_left[k]:.1f} um); the depth must stay below the tooth thickness",
+        )
 
 
-def tooth_profile(g: GearSpec, sag_m: float = 0.2e-6, n_involute: int | None = None,
-                  n_fillet: int | None = None, extra_roll=()) -> ToothProfile:
+def tooth_profile(
+    g: GearSpec, sag_m: float = 0.2e-6, n_involute: int | None = None, n_fillet: int | None = None, extra_roll=()
+) -> ToothProfile:
     """Generate the right flank of ``g`` with the basic rack.
 
     Points are spaced so that the chord sag of the polyline stays below ``sag_m``
@@ -316,8 +322,13 @@ def tooth_profile(g: GearSpec, sag_m: float = 0.2e-6, n_involute: int | None = N
     if undercut:
         phi1, u_start = _undercut_intersection(rack, rb, psi_b)
     if not u_a > u_start:
-        raise fail("tip_radius_m", ra, "m", f"must exceed the form radius {rb * math.sqrt(1 + u_start ** 2):g} m "
-                   "(the tip circle lies below the start of the involute)")
+        raise fail(
+            "tip_radius_m",
+            ra,
+            "m",
+            f"must exceed the form radius {rb * math.sqrt(1 + u_start**2):g} m "
+            "(the tip circle lies below the start of the involute)",
+        )
     # -- involute, sampled in roll angle with spacing for the sag tolerance
     if n_involute is None:
         # sag = ds^2 / (8 rho_c), ds = rb u du, rho_c = rb u  =>  du = sqrt(8 sag / (rb u))
@@ -346,8 +357,12 @@ def tooth_profile(g: GearSpec, sag_m: float = 0.2e-6, n_involute: int | None = N
     beta_space = math.pi / g.teeth
     beta_root = float(np.arctan2(xy_fil[0, 0], xy_fil[0, 1]))
     if beta_root > beta_space + 1e-12:
-        raise fail("rack_tip_radius_coefficient", g.rack_tip_radius_coefficient, "",
-                   f"the fillets of neighbouring spaces overlap on {g.name} (z = {g.teeth})")
+        raise fail(
+            "rack_tip_radius_coefficient",
+            g.rack_tip_radius_coefficient,
+            "",
+            f"the fillets of neighbouring spaces overlap on {g.name} (z = {g.teeth})",
+        )
     n_root = _points_for_sag(beta_space - beta_root, rf, sag_m)
     xy_root, n_root_arr = _arc(rf, beta_space, beta_root, n_root)
     beta_tip = float(psi_b - (u_a - math.atan(u_a)))
@@ -373,9 +388,18 @@ def tooth_profile(g: GearSpec, sag_m: float = 0.2e-6, n_involute: int | None = N
     xy[j], nn[j] = xy_inv[0], n_inv[0]
     s = _arc_length(g, rack, xy, region, roll, n_root, phi, rb)
     radius = np.hypot(xy[:, 0], xy[:, 1])
-    return ToothProfile(gear=g, xy=xy, normal=nn, s=s, radius=radius, roll=roll, region=region,
-                        form_radius_m=float(rb * math.sqrt(1.0 + u_start ** 2)), undercut=undercut,
-                        depth=np.zeros(len(s)))
+    return ToothProfile(
+        gear=g,
+        xy=xy,
+        normal=nn,
+        s=s,
+        radius=radius,
+        roll=roll,
+        region=region,
+        form_radius_m=float(rb * math.sqrt(1.0 + u_start**2)),
+        undercut=undercut,
+        depth=np.zeros(len(s)),
+    )
 
 
 def _arc_length(g, rack, xy, region, roll, n_root, phi, rb) -> np.ndarray:
@@ -400,11 +424,11 @@ def _arc_length(g, rack, xy, region, roll, n_root, phi, rb) -> np.ndarray:
     seg = (speed * wg[None, :]).sum(axis=1) * np.abs(half)
     s_fil = s_root_end + np.concatenate([[0.0], np.cumsum(seg)])
     n_fillet = len(phi)
-    s[n_root - 1: n_root - 1 + n_fillet] = s_fil
+    s[n_root - 1 : n_root - 1 + n_fillet] = s_fil
     inv_mask = region == INVOLUTE
     u0 = roll[n_root + n_fillet - 2]
     s_joint = s_fil[-1]
-    s[inv_mask] = s_joint + 0.5 * rb * (roll[inv_mask] ** 2 - u0 ** 2)
+    s[inv_mask] = s_joint + 0.5 * rb * (roll[inv_mask] ** 2 - u0**2)
     tip = region == TIP_LAND
     if np.any(tip):
         last_inv = np.flatnonzero(inv_mask)[-1]
@@ -465,9 +489,13 @@ def undercut_error(g: GearSpec, index: int | None = None) -> UndercutError:
     z_min, x_min = undercut_limits(g)
     idx = "" if index is None else f"[{index}]"
     x_up = math.ceil(x_min * 1e4 - 1e-9) / 1e4  # rounded up, so the shift quoted is enough
-    err = fail(f"teeth{idx}", g.teeth, "",
-               f"undercut by the basic rack at profile_shift {g.profile_shift:g} (needs teeth >= {z_min} "
-               f"or profile_shift{idx} >= {x_up:.4f}); allow_undercut = true generates the undercut profile")
+    err = fail(
+        f"teeth{idx}",
+        g.teeth,
+        "",
+        f"undercut by the basic rack at profile_shift {g.profile_shift:g} (needs teeth >= {z_min} "
+        f"or profile_shift{idx} >= {x_up:.4f}); allow_undercut = true generates the undercut profile",
+    )
     out = UndercutError(str(err))
     out.key, out.value, out.unit, out.why = err.key, err.value, err.unit, err.why
     return out
@@ -479,6 +507,7 @@ def _undercut_intersection(rack: RackGeometry, rb: float, psi_b: float):
     Below the crossing the trochoid lies inside the involute (smaller half-angle at
     the same radius) and forms the boundary; above it the involute does.
     """
+
     def gaps(phi: np.ndarray) -> np.ndarray:
         xy, _ = fillet_points(rack, phi)
         R = np.hypot(xy[:, 0], xy[:, 1])
@@ -559,9 +588,13 @@ def fillet_midpoints(nominal: ToothProfile, teeth: int) -> np.ndarray:
     return np.array(out)
 
 
-def gear_outline(nominal: ToothProfile, worn: ToothProfile | None = None,
-                 worn_teeth="all", worn_flank: str = "right",
-                 teeth: range | list[int] | None = None) -> np.ndarray:
+def gear_outline(
+    nominal: ToothProfile,
+    worn: ToothProfile | None = None,
+    worn_teeth="all",
+    worn_flank: str = "right",
+    teeth: range | list[int] | None = None,
+) -> np.ndarray:
     """Outer boundary of the whole gear (or of the listed teeth), counter-clockwise.
 
     ``worn_teeth``: "all", "none", or a list of tooth indices that get the worn flank.

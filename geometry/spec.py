@@ -97,8 +97,10 @@ class GearSpec:
             return 0.5 * self.tip_diameter_m
         if self.tip_alteration_coefficient == 0.0:
             return self.pitch_radius_m + (self.addendum_coefficient + self.profile_shift) * self.module_m
-        return self.pitch_radius_m + (self.addendum_coefficient + self.profile_shift
-                                      + self.tip_alteration_coefficient) * self.module_m
+        return (
+            self.pitch_radius_m
+            + (self.addendum_coefficient + self.profile_shift + self.tip_alteration_coefficient) * self.module_m
+        )
 
     @property
     def root_radius_m(self) -> float:
@@ -158,19 +160,26 @@ class PairSpec:
             raise IndexError(f"gear index {i}: must be 0 (pinion) or 1 (gear)")
         hf = self.dedendum_coefficient
         if self.root_diameter_m is not None:
-            hf = (0.5 * self.module_m * self.teeth[i] - 0.5 * self.root_diameter_m[i]) / self.module_m \
-                + self.profile_shift[i]
+            hf = (
+                0.5 * self.module_m * self.teeth[i] - 0.5 * self.root_diameter_m[i]
+            ) / self.module_m + self.profile_shift[i]
         tip = None if self.tip_diameter_m is None else self.tip_diameter_m[i]
         return GearSpec(
-            teeth=self.teeth[i], module_m=self.module_m, pressure_angle_rad=self.pressure_angle_rad,
+            teeth=self.teeth[i],
+            module_m=self.module_m,
+            pressure_angle_rad=self.pressure_angle_rad,
             addendum_coefficient=self.addendum_coefficient,
             dedendum_coefficient=hf,
             rack_tip_radius_coefficient=self.rack_tip_radius_coefficient,
-            profile_shift=self.profile_shift[i], hub_radius_m=self.hub_radius_m[i],
-            face_width_m=self.face_width_m, allow_undercut=self.allow_undercut,
+            profile_shift=self.profile_shift[i],
+            hub_radius_m=self.hub_radius_m[i],
+            face_width_m=self.face_width_m,
+            allow_undercut=self.allow_undercut,
             name=("pinion", "gear")[i],
             tip_alteration_coefficient=0.0 if tip is not None else self.tip_alteration_coefficient,
-            tip_diameter_m=tip, material=self.materials[i], web=self.webs[i],
+            tip_diameter_m=tip,
+            material=self.materials[i],
+            web=self.webs[i],
         )
 
     @property
@@ -197,8 +206,11 @@ class PairSpec:
         profile shifts (ISO 21771)."""
         if sum(self.profile_shift) == 0.0:
             return self.reference_centre_distance_m
-        return (self.reference_centre_distance_m * math.cos(self.pressure_angle_rad)
-                / math.cos(self.working_pressure_angle_rad))
+        return (
+            self.reference_centre_distance_m
+            * math.cos(self.pressure_angle_rad)
+            / math.cos(self.working_pressure_angle_rad)
+        )
 
     @property
     def centre_distance_m(self) -> float:
@@ -228,7 +240,7 @@ class PairSpec:
     def contact_modulus_Pa(self) -> float:
         """Plane-strain contact modulus E* (Pa) of Hertz line contact:
         1 / E* = (1 - nu1^2) / E1 + (1 - nu2^2) / E2."""
-        return 1.0 / sum((1.0 - m.poisson_ratio ** 2) / m.youngs_modulus_Pa for m in self.materials)
+        return 1.0 / sum((1.0 - m.poisson_ratio**2) / m.youngs_modulus_Pa for m in self.materials)
 
     @property
     def tip_alteration_coefficient(self) -> float:
@@ -239,8 +251,9 @@ class PairSpec:
         (tip shortening); 0 exactly without a net profile shift."""
         if sum(self.profile_shift) == 0.0:
             return 0.0
-        return ((self.zero_backlash_centre_distance_m - self.reference_centre_distance_m) / self.module_m
-                - sum(self.profile_shift))
+        return (self.zero_backlash_centre_distance_m - self.reference_centre_distance_m) / self.module_m - sum(
+            self.profile_shift
+        )
 
     @property
     def gear_ratio(self) -> float:
@@ -267,7 +280,7 @@ def inverse_involute(value: float) -> float:
 
 def _round_in(lo: float, hi: float, digits: int = 4) -> tuple[float, float]:
     """A range rounded inward to ``digits`` decimals, so every value quoted is allowed."""
-    f = 10.0 ** digits
+    f = 10.0**digits
     return math.ceil(lo * f - 1e-9) / f, math.floor(hi * f + 1e-9) / f
 
 
@@ -339,9 +352,13 @@ def check_pair(spec: PairSpec) -> None:
     diameter), undercut, the tip above the true involute start (form radius r_Nf), the
     path of contact, and tip/root interference at the working centre distance a_w."""
     if spec.dedendum_coefficient <= spec.addendum_coefficient:
-        raise fail("dedendum_coefficient", spec.dedendum_coefficient, "",
-                   f"must exceed the addendum coefficient {spec.addendum_coefficient:g} "
-                   "(else the mating tip hits the root: no bottom clearance)")
+        raise fail(
+            "dedendum_coefficient",
+            spec.dedendum_coefficient,
+            "",
+            f"must exceed the addendum coefficient {spec.addendum_coefficient:g} "
+            "(else the mating tip hits the root: no bottom clearance)",
+        )
     a = spec.pressure_angle_rad
     rho = spec.rack_tip_radius_coefficient
     if spec.tip_diameter_m is None:
@@ -356,10 +373,14 @@ def check_pair(spec: PairSpec) -> None:
     if sum(spec.profile_shift) <= sum_min:
         i = 0 if spec.profile_shift[0] <= spec.profile_shift[1] else 1
         x_lo = sum_min - spec.profile_shift[1 - i]
-        raise fail(f"profile_shift[{i}]", spec.profile_shift[i], "",
-                   f"must exceed {math.ceil(x_lo * 1e4) / 1e4:.4f} with profile_shift[{1 - i}] = "
-                   f"{spec.profile_shift[1 - i]:g}: the sum x1 + x2 must exceed {sum_min:.4g} for these teeth "
-                   "(else no working pressure angle: inv(alpha_w) <= 0)")
+        raise fail(
+            f"profile_shift[{i}]",
+            spec.profile_shift[i],
+            "",
+            f"must exceed {math.ceil(x_lo * 1e4) / 1e4:.4f} with profile_shift[{1 - i}] = "
+            f"{spec.profile_shift[1 - i]:g}: the sum x1 + x2 must exceed {sum_min:.4g} for these teeth "
+            "(else no working pressure angle: inv(alpha_w) <= 0)",
+        )
     gears = spec.gears
     if spec.installed_centre_distance_m is not None:
         _check_installed_centre_distance(spec, gears)
@@ -377,20 +398,31 @@ def check_pair(spec: PairSpec) -> None:
             d_hi = 2 * (a_w - mate.tip_radius_m)  # the mate's tip must clear this root
             d_f = spec.root_diameter_m[i]
             if not d_lo < d_f < d_hi:
-                raise fail_range(f"root_diameter_m[{i}]", d_f, Field("m", d_lo, d_hi, lo_open=True, hi_open=True),
-                                 "above the hub, no deeper than the rack with this tip round cuts, "
-                                 "below the circle the "
-                                 "mate's tip reaches at the working centre distance (tip clearance > 0)")
+                raise fail_range(
+                    f"root_diameter_m[{i}]",
+                    d_f,
+                    Field("m", d_lo, d_hi, lo_open=True, hi_open=True),
+                    "above the hub, no deeper than the rack with this tip round cuts, "
+                    "below the circle the "
+                    "mate's tip reaches at the working centre distance (tip clearance > 0)",
+                )
         if rho > rho_max:
-            raise fail("rack_tip_radius_coefficient", rho, "",
-                       f"must be in [0, {rho_max:.4f}] for dedendum {hf:g} and pressure angle "
-                       f"{math.degrees(a):g} deg (larger rounds do not fit the rack tooth)")
+            raise fail(
+                "rack_tip_radius_coefficient",
+                rho,
+                "",
+                f"must be in [0, {rho_max:.4f}] for dedendum {hf:g} and pressure angle "
+                f"{math.degrees(a):g} deg (larger rounds do not fit the rack tooth)",
+            )
         if g.root_radius_m <= 0:
-            raise fail(f"profile_shift[{i}]", g.profile_shift, "",
-                       "puts the root circle at or below the gear centre")
+            raise fail(f"profile_shift[{i}]", g.profile_shift, "", "puts the root circle at or below the gear centre")
         if g.hub_radius_m >= g.root_radius_m:
-            raise fail_range(f"hub_radius_m[{i}]", g.hub_radius_m,
-                             Field("m", 0.0, g.root_radius_m, lo_open=True, hi_open=True), "below the root radius")
+            raise fail_range(
+                f"hub_radius_m[{i}]",
+                g.hub_radius_m,
+                Field("m", 0.0, g.root_radius_m, lo_open=True, hi_open=True),
+                "below the root radius",
+            )
         if g.web is not None:
             _check_web(spec, i, g)
         _check_tip(spec, i, g, mate, a_w)
@@ -404,16 +436,20 @@ def _check_installed_centre_distance(spec: PairSpec, gears: tuple[GearSpec, Gear
     sqrt(r_a2^2 - r_b2^2) (the tip circles stop overlapping on the line of action)."""
     a_w = spec.zero_backlash_centre_distance_m
     rb_sum = sum(g.base_radius_m for g in gears)
-    reach = sum(math.sqrt(max(g.tip_radius_m ** 2 - g.base_radius_m ** 2, 0.0)) for g in gears)
+    reach = sum(math.sqrt(max(g.tip_radius_m**2 - g.base_radius_m**2, 0.0)) for g in gears)
     a_max = math.hypot(reach, rb_sum)
     a = spec.installed_centre_distance_m
     assert a is not None
     if not a_w <= a < a_max:
         lo, hi = _round_in(a_w, a_max, 9)  # m: nm digits, rounded inward so every value quoted is allowed
-        raise fail_range("installed_centre_distance_m", a, Field("m", lo, hi, hi_open=True),
-                         "at least the zero-backlash centre distance of these profile shifts (closer, the flanks "
-                         "would interpenetrate) and below the distance where the tip circles stop overlapping on "
-                         "the line of action (no contact)")
+        raise fail_range(
+            "installed_centre_distance_m",
+            a,
+            Field("m", lo, hi, hi_open=True),
+            "at least the zero-backlash centre distance of these profile shifts (closer, the flanks "
+            "would interpenetrate) and below the distance where the tip circles stop overlapping on "
+            "the line of action (no contact)",
+        )
 
 
 def _check_web(spec: PairSpec, i: int, g: GearSpec) -> None:
@@ -422,18 +458,28 @@ def _check_web(spec: PairSpec, i: int, g: GearSpec) -> None:
     w = g.web
     assert w is not None
     if not 0.0 < w.thickness_m <= spec.face_width_m:
-        raise fail_range(f"web.thickness_m[{i}]", w.thickness_m, Field("m", 0.0, spec.face_width_m, lo_open=True),
-                         "at most the face width")
+        raise fail_range(
+            f"web.thickness_m[{i}]",
+            w.thickness_m,
+            Field("m", 0.0, spec.face_width_m, lo_open=True),
+            "at most the face width",
+        )
     rim_max = g.root_radius_m - g.hub_radius_m
     if not 0.0 < w.rim_thickness_m < rim_max:
-        raise fail_range(f"web.rim_thickness_m[{i}]", w.rim_thickness_m,
-                         Field("m", 0.0, rim_max, lo_open=True, hi_open=True), "the rim lies between the root circle "
-                         "and the bore")
+        raise fail_range(
+            f"web.rim_thickness_m[{i}]",
+            w.rim_thickness_m,
+            Field("m", 0.0, rim_max, lo_open=True, hi_open=True),
+            "the rim lies between the root circle and the bore",
+        )
     r_in = g.root_radius_m - w.rim_thickness_m
     if not g.hub_radius_m < w.hub_radius_m <= r_in:
-        raise fail_range(f"web.hub_radius_m[{i}]", w.hub_radius_m,
-                         Field("m", g.hub_radius_m, r_in, lo_open=True), "between the bore and the rim's inside "
-                         "radius (root radius - rim thickness)")
+        raise fail_range(
+            f"web.hub_radius_m[{i}]",
+            w.hub_radius_m,
+            Field("m", g.hub_radius_m, r_in, lo_open=True),
+            "between the bore and the rim's inside radius (root radius - rim thickness)",
+        )
 
 
 def _check_tip(spec: PairSpec, i: int, g: GearSpec, mate: GearSpec, a_w: float) -> None:
@@ -445,8 +491,12 @@ def _check_tip(spec: PairSpec, i: int, g: GearSpec, mate: GearSpec, a_w: float) 
         d_hi = 2 * min(pointed_tip_radius_m(g), a_w - mate.root_radius_m)
         d_a = spec.tip_diameter_m[i]
         if not (d_lo < d_a <= d_hi):
-            raise fail_range(f"tip_diameter_m[{i}]", d_a, Field("m", d_lo, d_hi, lo_open=True),
-                             "above the base and root circles, not pointed, and clear of the mate's root")
+            raise fail_range(
+                f"tip_diameter_m[{i}]",
+                d_a,
+                Field("m", d_lo, d_hi, lo_open=True),
+                "above the base and root circles, not pointed, and clear of the mate's root",
+            )
         return
     if ra > rb and tip_half_angle_rad(g) > 0:
         return
@@ -457,16 +507,27 @@ def _refuse_tip(spec: PairSpec, i: int, ra: float, rb: float, half_angle: float 
     """Refuse profile_shift[i] for a tip inside the base circle (half_angle None) or a
     pointed tooth, stating the allowed range of the shift."""
     rng = _shift_range(spec, i)
-    why = (f"the tip circle (r_a = {ra * 1e3:.4g} mm) lies inside the base circle (r_b = {rb * 1e3:.4g} mm): "
-           "no involute flank" if half_angle is None else
-           f"gives a pointed tooth (tip thickness {2e3 * ra * half_angle:.3g} mm <= 0)")
+    why = (
+        f"the tip circle (r_a = {ra * 1e3:.4g} mm) lies inside the base circle (r_b = {rb * 1e3:.4g} mm): "
+        "no involute flank"
+        if half_angle is None
+        else f"gives a pointed tooth (tip thickness {2e3 * ra * half_angle:.3g} mm <= 0)"
+    )
     if rng is None:
-        raise fail(f"profile_shift[{i}]", spec.profile_shift[i], "", why + "; no profile shift helps with these "
-                   "teeth and addendum")
+        raise fail(
+            f"profile_shift[{i}]",
+            spec.profile_shift[i],
+            "",
+            why + "; no profile shift helps with these teeth and addendum",
+        )
     lo, hi = _round_in(*rng)
-    raise fail_range(f"profile_shift[{i}]", spec.profile_shift[i], Field("", lo, hi),
-                     why + f" (the range keeps the tip above the base circle and the tooth not pointed, with "
-                     f"profile_shift[{1 - i}] = {spec.profile_shift[1 - i]:g})")
+    raise fail_range(
+        f"profile_shift[{i}]",
+        spec.profile_shift[i],
+        Field("", lo, hi),
+        why + f" (the range keeps the tip above the base circle and the tooth not pointed, with "
+        f"profile_shift[{1 - i}] = {spec.profile_shift[1 - i]:g})",
+    )
 
 
 def _shift_sum_min(spec: PairSpec) -> float:
@@ -486,10 +547,18 @@ def _check_generation(spec: PairSpec, gears: tuple[GearSpec, GearSpec], a_w: flo
             raise undercut_error(g, i)
         r_nf = g.base_radius_m * math.sqrt(1.0 + u_nf * u_nf)
         if not g.tip_radius_m > r_nf:
-            key, value, unit = ((f"tip_diameter_m[{i}]", spec.tip_diameter_m[i], "m") if spec.tip_diameter_m
-                                else (f"profile_shift[{i}]", g.profile_shift, ""))
-            raise fail(key, value, unit, f"puts the tip circle (r_a = {g.tip_radius_m * 1e3:.4f} mm) at or below "
-                       f"the start of the involute (form radius r_Nf = {r_nf * 1e3:.4f} mm): no involute flank")
+            key, value, unit = (
+                (f"tip_diameter_m[{i}]", spec.tip_diameter_m[i], "m")
+                if spec.tip_diameter_m
+                else (f"profile_shift[{i}]", g.profile_shift, "")
+            )
+            raise fail(
+                key,
+                value,
+                unit,
+                f"puts the tip circle (r_a = {g.tip_radius_m * 1e3:.4f} mm) at or below "
+                f"the start of the involute (form radius r_Nf = {r_nf * 1e3:.4f} mm): no involute flank",
+            )
         starts.append(u_nf)
     check_interference(spec, tuple(starts), a_w)  # type: ignore[arg-type]
 
@@ -524,28 +593,42 @@ def check_interference(spec: PairSpec, involute_start_roll: tuple[float, float],
         r_contact = math.hypot(rb[i], reach[i])
         r_nf = math.hypot(rb[i], need)
         free = L - need
-        where = (f"r = {r_contact * 1e3:.4f} mm" if reach[i] >= 0 else
-                 f"{-reach[i] * 1e3:.3f} mm beyond its interference point T{i + 1} on the line of action "
-                 f"(r = {r_contact * 1e3:.4f} mm on the far side of the base circle)")
+        where = (
+            f"r = {r_contact * 1e3:.4f} mm"
+            if reach[i] >= 0
+            else f"{-reach[i] * 1e3:.3f} mm beyond its interference point T{i + 1} on the line of action "
+            f"(r = {r_contact * 1e3:.4f} mm on the far side of the base circle)"
+        )
         fixes = [f"a {names[j]} tip diameter <= {2e3 * math.hypot(rb[j], free):.4f} mm"] if free > 0 else []
         helps = _shifts_that_help(spec, i)
         if helps:
             fixes.append("more profile shift on the " + " or the ".join(names[k] for k in helps))
-        msg = (f"tip/root interference: the {names[j]} tip circle (r_a = {ra[j] * 1e3:.4f} mm) starts contact on the "
-               f"{names[i]} flank at {where}, below the {names[i]}'s involute start (form radius "
-               f"r_Nf = {r_nf * 1e3:.4f} mm), so it cuts into the fillet; needs "
-               + (" or ".join(fixes) if fixes else "another pair (no shorter tip or added shift clears it)"))
+        msg = (
+            f"tip/root interference: the {names[j]} tip circle (r_a = {ra[j] * 1e3:.4f} mm) starts contact on the "
+            f"{names[i]} flank at {where}, below the {names[i]}'s involute start (form radius "
+            f"r_Nf = {r_nf * 1e3:.4f} mm), so it cuts into the fillet; needs "
+            + (" or ".join(fixes) if fixes else "another pair (no shorter tip or added shift clears it)")
+        )
         if spec.tip_diameter_m is not None and free > 0:
             d_hi = 2 * math.hypot(rb[j], free)
-            raise fail_range(f"tip_diameter_m[{j}]", spec.tip_diameter_m[j],
-                             Field("m", 2 * rb[j], d_hi, lo_open=True), msg)
+            raise fail_range(
+                f"tip_diameter_m[{j}]", spec.tip_diameter_m[j], Field("m", 2 * rb[j], d_hi, lo_open=True), msg
+            )
         k = helps[0] if helps else i  # name a shift that helps
         raise fail(f"profile_shift[{k}]", spec.profile_shift[k], "", msg)
     if d_E - d_A <= 0:
-        key, value, unit = (("tip_diameter_m[0]", spec.tip_diameter_m[0], "m") if spec.tip_diameter_m
-                            else ("addendum_coefficient", spec.addendum_coefficient, ""))
-        raise fail(key, value, unit, f"the tip circles do not overlap on the line of action (path of contact "
-                   f"{(d_E - d_A) * 1e3:.4g} mm <= 0): the gears are out of mesh")
+        key, value, unit = (
+            ("tip_diameter_m[0]", spec.tip_diameter_m[0], "m")
+            if spec.tip_diameter_m
+            else ("addendum_coefficient", spec.addendum_coefficient, "")
+        )
+        raise fail(
+            key,
+            value,
+            unit,
+            f"the tip circles do not overlap on the line of action (path of contact "
+            f"{(d_E - d_A) * 1e3:.4g} mm <= 0): the gears are out of mesh",
+        )
 
 
 def _interference_margin(spec: PairSpec, i: int) -> float:

@@ -51,13 +51,13 @@ from dataclasses import dataclass
 from fractions import Fraction
 from functools import lru_cache
 
-
 import numpy as np
+
+from gearwear.core.validation import Field, fail, fail_range, fail_text
 
 from .kinematics import MeshGeometry
 from .profile import INVOLUTE, ToothProfile, tooth_profile
 from .spec import PairSpec
-from gearwear.core.validation import Field, fail, fail_range, fail_text
 
 PHASE_DEPTHS_M = {"unworn": 0.0, "mild": 10e-6, "severe": 30e-6}
 WEAR_MODELS = ("archard", "paper_eq1")
@@ -85,8 +85,8 @@ class WearSpec:
     max_depth_m: float | None = None
     hours: float | None = None
     model: str = "archard"
-    archard_k_m2_per_N: float = 5.3e-16   # Flodin & Andersson (1997), boundary-lubricated steel
-    wear_intensity: float = 1e-8          # I_h of Eq. 1 (dimensionless), assumed
+    archard_k_m2_per_N: float = 5.3e-16  # Flodin & Andersson (1997), boundary-lubricated steel
+    wear_intensity: float = 1e-8  # I_h of Eq. 1 (dimensionless), assumed
     torque_Nm: float = 40.0
     speed_rpm: float = 1200.0
     taper_m: float = 0.2e-3
@@ -109,6 +109,7 @@ class WearSpec:
 
 
 # -- sliding and contact mechanics on the line of action --------------------------
+
 
 def specific_sliding(mesh: MeshGeometry, d) -> tuple[np.ndarray, np.ndarray]:
     """(zeta_1, zeta_2) at LOA positions d (m); zero at the pitch point."""
@@ -143,7 +144,7 @@ def hertz_half_width(mesh: MeshGeometry, d, load_per_width_N_per_m) -> np.ndarra
     """Hertz line-contact half-width a = sqrt(4 w R / (pi E')) (m) at LOA position d."""
     m1, m2 = mesh.pair.materials
     if m1 == m2:  # E* = E / (2 (1 - nu^2)), bit for bit as before per-gear materials
-        e_star = m1.youngs_modulus_Pa / (2.0 * (1.0 - m1.poisson_ratio ** 2))
+        e_star = m1.youngs_modulus_Pa / (2.0 * (1.0 - m1.poisson_ratio**2))
     else:
         e_star = mesh.pair.contact_modulus_Pa
     d = np.asarray(d, dtype=float)
@@ -341,12 +342,17 @@ def depth_limits(mesh: MeshGeometry, spec: WearSpec) -> dict[str, float]:
     # the pinion depth that brings the gear flank to its limit
     via_gear = lim2 * h1 / (h2 * z1 / z2) if h2 > 0 else math.inf
     i = 0 if lim1 <= via_gear else 1
-    out = {"pinion_m": lim1, "gear_m": lim2, "max_depth_m": min(lim1, via_gear), "gear_index": float(i),
-           "radius_m": (R1, R2)[i], "half_thickness_m": (t1, t2)[i]}
+    out = {
+        "pinion_m": lim1,
+        "gear_m": lim2,
+        "max_depth_m": min(lim1, via_gear),
+        "gear_index": float(i),
+        "radius_m": (R1, R2)[i],
+        "half_thickness_m": (t1, t2)[i],
+    }
     per_hour1 = h1 * spec.speed_rpm * 60.0
     per_hour2 = h2 * spec.speed_rpm * 60.0 * z1 / z2
-    out["hours"] = min(lim1 / per_hour1 if per_hour1 > 0 else math.inf,
-                       lim2 / per_hour2 if per_hour2 > 0 else math.inf)
+    out["hours"] = min(lim1 / per_hour1 if per_hour1 > 0 else math.inf, lim2 / per_hour2 if per_hour2 > 0 else math.inf)
     return out
 
 
@@ -362,17 +368,27 @@ def check_wear(mesh: MeshGeometry, spec: WearSpec) -> None:
         return
     name = ("pinion", "gear")[int(lim["gear_index"])]
     frac = Fraction(MAX_DEPTH_FRACTION).limit_denominator(100)
-    where = (f"{frac} of the {name}'s half tooth thickness ({lim['half_thickness_m'] * 1e3:.3f} mm) at "
-             f"r = {lim['radius_m'] * 1e3:.3f} mm, where its flank wears deepest")
+    where = (
+        f"{frac} of the {name}'s half tooth thickness ({lim['half_thickness_m'] * 1e3:.3f} mm) at "
+        f"r = {lim['radius_m'] * 1e3:.3f} mm, where its flank wears deepest"
+    )
     if spec.hours is not None:
         hi = math.floor(lim["hours"] * 1e3) / 1e3
-        raise fail_range("hours", spec.hours, Field("h", 0.0, hi),
-                         f"the wear would reach {depth1 * 1e6:.4g} um on the pinion and {depth2 * 1e6:.4g} um on "
-                         f"the gear, beyond {where}")
+        raise fail_range(
+            "hours",
+            spec.hours,
+            Field("h", 0.0, hi),
+            f"the wear would reach {depth1 * 1e6:.4g} um on the pinion and {depth2 * 1e6:.4g} um on "
+            f"the gear, beyond {where}",
+        )
     hi_m = math.floor(lim["max_depth_m"] * 1e7) / 1e7  # 0.1 um below the limit, so the quoted value is allowed
     if spec.phase is not None:
-        raise fail("phase", repr(spec.phase), "", f"its {depth1 * 1e6:g} um exceed {where} "
-                   f"(at most {hi_m * 1e6:.4g} um for this pair)")
+        raise fail(
+            "phase",
+            repr(spec.phase),
+            "",
+            f"its {depth1 * 1e6:g} um exceed {where} (at most {hi_m * 1e6:.4g} um for this pair)",
+        )
     raise fail_range("max_depth_m", depth1, Field("m", 0.0, hi_m), "the deepest wear accepted is " + where)
 
 
@@ -385,9 +401,11 @@ def wear_warnings(mesh: MeshGeometry, spec: WearSpec | None) -> list[str]:
     severe = PHASE_DEPTHS_M["severe"]
     if max(d1, d2) <= severe:
         return []
-    return [f"wear after {spec.hours:g} h reaches {d1 * 1e6:.4g} um on the pinion and {d2 * 1e6:.4g} um on the gear, "
-            f"beyond the 'severe' phase ({severe * 1e6:g} um): the wear model has no profile feedback, so "
-            "this depth is an extrapolation"]
+    return [
+        f"wear after {spec.hours:g} h reaches {d1 * 1e6:.4g} um on the pinion and {d2 * 1e6:.4g} um on the gear, "
+        f"beyond the 'severe' phase ({severe * 1e6:g} um): the wear model has no profile feedback, so "
+        "this depth is an extrapolation"
+    ]
 
 
 def wear_peaks(mesh: MeshGeometry, spec: WearSpec) -> np.ndarray:
@@ -407,15 +425,17 @@ def key_roll_angles(mesh: MeshGeometry, gear_index: int, spec: WearSpec | None =
     return (mesh.line_of_action_m - d) / mesh.pair.gear(1).base_radius_m
 
 
-def worn_profiles(pair: PairSpec, spec: WearSpec, mesh: MeshGeometry | None = None,
-                  sag_m: float = 0.2e-6) -> tuple[tuple[ToothProfile, ToothProfile], tuple[ToothProfile, ToothProfile]]:
+def worn_profiles(
+    pair: PairSpec, spec: WearSpec, mesh: MeshGeometry | None = None, sag_m: float = 0.2e-6
+) -> tuple[tuple[ToothProfile, ToothProfile], tuple[ToothProfile, ToothProfile]]:
     """((nominal pinion, nominal gear), (worn pinion, worn gear)) loaded flanks.
 
     The wear pattern is computed on the nominal mesh geometry unless ``mesh`` is given.
     """
     mesh = mesh or MeshGeometry(pair, pair.centre_distance_m)
     check_wear(mesh, spec)
-    nominal = tuple(tooth_profile(g, sag_m=sag_m, extra_roll=key_roll_angles(mesh, i, spec))
-                    for i, g in enumerate(pair.gears))
+    nominal = tuple(
+        tooth_profile(g, sag_m=sag_m, extra_roll=key_roll_angles(mesh, i, spec)) for i, g in enumerate(pair.gears)
+    )
     worn = tuple(p.worn(flank_depth(p, i, mesh, spec)) for i, p in enumerate(nominal))
     return nominal, worn  # type: ignore[return-value]

@@ -18,8 +18,9 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "repeatable"))
 def pytest_collection_modifyitems(config, items):
     """Mark ``slow`` the tests listed in tests/slow_tests.txt (measured, tools/slow_tests.py),
     so that ``make check`` (-m "not slow") is the fast tier; ``make test`` runs them all."""
-    import pytest
     from pathlib import Path
+
+    import pytest
 
     listed = Path(__file__).with_name("slow_tests.txt")
     slow = {ln.strip() for ln in listed.read_text().splitlines() if ln.strip() and not ln.startswith("#")}

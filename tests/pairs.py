@@ -22,7 +22,8 @@ from __future__ import annotations
 
 import math
 
-from hypothesis import assume, strategies as st
+from hypothesis import assume
+from hypothesis import strategies as st
 
 from gearwear.core.validation import InputError
 from gearwear.geometry.spec import PairSpec, check_pair, default_pair, inv
@@ -35,20 +36,39 @@ def checked(**kw) -> PairSpec:
     return spec
 
 
-UNEQUAL = checked(teeth=(23, 47), module_m=3e-3, profile_shift=(0.2, -0.1), face_width_m=30e-3,
-                  hub_radius_m=(12.5e-3, 25e-3))
-DRIVER_LARGER = checked(teeth=(47, 23), module_m=3e-3, profile_shift=(-0.1, 0.2), face_width_m=30e-3,
-                        hub_radius_m=(25e-3, 12.5e-3))
-HIGH_CONTACT = checked(teeth=(29, 61), module_m=2e-3, addendum_coefficient=1.25, dedendum_coefficient=1.5,
-                       rack_tip_radius_coefficient=0.25, profile_shift=(0.1, 0.0), face_width_m=16e-3,
-                       hub_radius_m=(15e-3, 25e-3))
-ALPHA25 = checked(teeth=(17, 31), module_m=4e-3, pressure_angle_rad=math.radians(25.0),
-                  rack_tip_radius_coefficient=0.25, profile_shift=(0.3, 0.1), face_width_m=25e-3,
-                  hub_radius_m=(10e-3, 20e-3))
+UNEQUAL = checked(
+    teeth=(23, 47), module_m=3e-3, profile_shift=(0.2, -0.1), face_width_m=30e-3, hub_radius_m=(12.5e-3, 25e-3)
+)
+DRIVER_LARGER = checked(
+    teeth=(47, 23), module_m=3e-3, profile_shift=(-0.1, 0.2), face_width_m=30e-3, hub_radius_m=(25e-3, 12.5e-3)
+)
+HIGH_CONTACT = checked(
+    teeth=(29, 61),
+    module_m=2e-3,
+    addendum_coefficient=1.25,
+    dedendum_coefficient=1.5,
+    rack_tip_radius_coefficient=0.25,
+    profile_shift=(0.1, 0.0),
+    face_width_m=16e-3,
+    hub_radius_m=(15e-3, 25e-3),
+)
+ALPHA25 = checked(
+    teeth=(17, 31),
+    module_m=4e-3,
+    pressure_angle_rad=math.radians(25.0),
+    rack_tip_radius_coefficient=0.25,
+    profile_shift=(0.3, 0.1),
+    face_width_m=25e-3,
+    hub_radius_m=(10e-3, 20e-3),
+)
 
 #: the named non-paper pairs, by name (pytest ids)
-NAMED = {"unequal_23_47": UNEQUAL, "driver_larger_47_23": DRIVER_LARGER,
-         "high_contact_29_61": HIGH_CONTACT, "alpha25_17_31": ALPHA25}
+NAMED = {
+    "unequal_23_47": UNEQUAL,
+    "driver_larger_47_23": DRIVER_LARGER,
+    "high_contact_29_61": HIGH_CONTACT,
+    "alpha25_17_31": ALPHA25,
+}
 #: the same with the paper pair for reference
 WITH_PAPER = {**NAMED, "paper_30_30": default_pair()}
 
@@ -74,9 +94,13 @@ def by_hand_radii(pair: PairSpec, i: int) -> dict[str, float]:
     a_ref = 0.5 * m * sum(pair.teeth)
     a_w = a_ref * math.cos(pair.pressure_angle_rad) / math.cos(by_hand_working_pressure_angle(pair))
     k = (a_w - a_ref) / m - sum(pair.profile_shift)
-    return {"pitch": r, "base": r * math.cos(pair.pressure_angle_rad),
-            "root": r - (pair.dedendum_coefficient - x) * m,
-            "tip": r + (pair.addendum_coefficient + x + k) * m, "a_w": a_w}
+    return {
+        "pitch": r,
+        "base": r * math.cos(pair.pressure_angle_rad),
+        "root": r - (pair.dedendum_coefficient - x) * m,
+        "tip": r + (pair.addendum_coefficient + x + k) * m,
+        "a_w": a_w,
+    }
 
 
 def _undercut_free_shift(z: int, alpha: float, dedendum: float, rho: float) -> float:
@@ -110,9 +134,17 @@ def valid_pairs(draw, max_shift: float = 0.8) -> PairSpec:
     assume(min(root) > 0)
     bores = tuple(draw(st.floats(0.2, 0.7)) * r for r in root)
     b = draw(st.floats(4.0, 20.0)) * m
-    spec = PairSpec(teeth=z, module_m=m, pressure_angle_rad=alpha, face_width_m=b, addendum_coefficient=ha,
-                    dedendum_coefficient=hf, rack_tip_radius_coefficient=rho, profile_shift=tuple(shifts),
-                    hub_radius_m=bores)
+    spec = PairSpec(
+        teeth=z,
+        module_m=m,
+        pressure_angle_rad=alpha,
+        face_width_m=b,
+        addendum_coefficient=ha,
+        dedendum_coefficient=hf,
+        rack_tip_radius_coefficient=rho,
+        profile_shift=tuple(shifts),
+        hub_radius_m=bores,
+    )
     try:
         check_pair(spec)
     except InputError:
@@ -120,5 +152,15 @@ def valid_pairs(draw, max_shift: float = 0.8) -> PairSpec:
     return spec
 
 
-__all__ = ["ALPHA25", "DRIVER_LARGER", "HIGH_CONTACT", "NAMED", "UNEQUAL", "WITH_PAPER", "by_hand_radii",
-           "by_hand_working_pressure_angle", "checked", "valid_pairs"]
+__all__ = [
+    "ALPHA25",
+    "DRIVER_LARGER",
+    "HIGH_CONTACT",
+    "NAMED",
+    "UNEQUAL",
+    "WITH_PAPER",
+    "by_hand_radii",
+    "by_hand_working_pressure_angle",
+    "checked",
+    "valid_pairs",
+]

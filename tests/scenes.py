@@ -18,11 +18,13 @@ def paper_doc(name: str = "paper-default") -> dict[str, Any]:
 
 def with_paper(doc: dict[str, Any], base: str = "paper-default") -> dict[str, Any]:
     """``doc`` over the paper scene (tables merge key by key, other values replace)."""
+
     def merge(a: dict, b: dict) -> dict:
         out = dict(a)
         for k, v in b.items():
             out[k] = merge(out[k], v) if isinstance(v, dict) and isinstance(out.get(k), dict) else v
         return out
+
     return merge(paper_doc(base), doc)
 
 

@@ -32,8 +32,8 @@ from gearwear.geometry.blank import body_properties
 from pairs import DRIVER_LARGER, by_hand_radii, by_hand_working_pressure_angle
 
 PAIR = DRIVER_LARGER
-K_B = 2.6e8          # bearing stiffness, N/m (the paper's)
-TORQUE = 40.0        # on the 47-tooth driver, N m
+K_B = 2.6e8  # bearing stiffness, N/m (the paper's)
+TORQUE = 40.0  # on the 47-tooth driver, N m
 
 
 def _bodies():
@@ -47,13 +47,28 @@ def _model(*, torque=TORQUE, tvms=True, k_constant=None, zeta_m=0.05, zeta_b=0.0
     R_p, R_g = (by_hand_radii(PAIR, i)["base"] for i in (0, 1))
     r = mesh_stiffness(PAIR, points=64, torque_Nm=TORQUE)
     k_mean = k_constant if k_constant is not None else r.mean_N_per_m
-    m_e = 1.0 / (R_p ** 2 / J_p + R_g ** 2 / J_g)
+    m_e = 1.0 / (R_p**2 / J_p + R_g**2 / J_g)
     c_h = 2 * zeta_m * math.sqrt(k_mean * m_e)
     c_b = (2 * zeta_b * math.sqrt(K_B * m_p), 2 * zeta_b * math.sqrt(K_B * m_g))
-    return GearDynamics(m_p=m_p, m_g=m_g, J_p=J_p, J_g=J_g, R_p=R_p, R_g=R_g,
-                        alpha=by_hand_working_pressure_angle(PAIR), k_b=K_B, c_b=c_b, c_h=c_h, T_p=torque,
-                        omega_p=speed_rpm * 2 * math.pi / 60, z_p=PAIR.teeth[0], phi_table=r.angle_rad,
-                        k_table=r.k_N_per_m, tvms=tvms, k_constant=k_constant)
+    return GearDynamics(
+        m_p=m_p,
+        m_g=m_g,
+        J_p=J_p,
+        J_g=J_g,
+        R_p=R_p,
+        R_g=R_g,
+        alpha=by_hand_working_pressure_angle(PAIR),
+        k_b=K_B,
+        c_b=c_b,
+        c_h=c_h,
+        T_p=torque,
+        omega_p=speed_rpm * 2 * math.pi / 60,
+        z_p=PAIR.teeth[0],
+        phi_table=r.angle_rad,
+        k_table=r.k_N_per_m,
+        tvms=tvms,
+        k_constant=k_constant,
+    )
 
 
 def _hand_6x6(model, k):
@@ -71,14 +86,15 @@ def _hand_energy(model, k, Z):
     relative coordinate q = R_p theta_p - R_g theta_g: the rigid rotation carries no strain
     and its kinetic energy is constant without a net torque, so the relative motion's
     kinetic energy is m_e q'^2 / 2 with m_e = 1 / (R_p^2 / J_p + R_g^2 / J_g) (written out)."""
-    m_e = 1.0 / (model.R_p ** 2 / model.J_p + model.R_g ** 2 / model.J_g)
+    m_e = 1.0 / (model.R_p**2 / model.J_p + model.R_g**2 / model.J_g)
     a = model.alpha
     y_p, x_p, y_g, x_g, q = Z[:, :5].T
     v = Z[:, 5:10]
     delta = q + (x_p - x_g) * math.sin(a) + (y_p - y_g) * math.cos(a)
-    kin = 0.5 * (model.m_p * (v[:, 0] ** 2 + v[:, 1] ** 2) + model.m_g * (v[:, 2] ** 2 + v[:, 3] ** 2)
-                 + m_e * v[:, 4] ** 2)
-    return kin + 0.5 * K_B * np.sum(Z[:, :4] ** 2, axis=1) + 0.5 * k * delta ** 2
+    kin = 0.5 * (
+        model.m_p * (v[:, 0] ** 2 + v[:, 1] ** 2) + model.m_g * (v[:, 2] ** 2 + v[:, 3] ** 2) + m_e * v[:, 4] ** 2
+    )
+    return kin + 0.5 * K_B * np.sum(Z[:, :4] ** 2, axis=1) + 0.5 * k * delta**2
 
 
 def test_the_driver_has_more_teeth_and_the_bodies_differ():
@@ -107,8 +123,12 @@ def test_static_equilibrium_mean_mesh_force_and_gear_torque():
     assert m.T_g == pytest.approx(TORQUE * 23 / 47, rel=1e-12)
     assert by_hand_radii(PAIR, 1)["base"] * Fm == pytest.approx(TORQUE * 23 / 47, rel=1e-4)
     a = m.alpha
-    for name, sign, comp in (("y_p", -1, math.cos(a)), ("x_p", -1, math.sin(a)),
-                             ("y_g", 1, math.cos(a)), ("x_g", 1, math.sin(a))):
+    for name, sign, comp in (
+        ("y_p", -1, math.cos(a)),
+        ("x_p", -1, math.sin(a)),
+        ("y_g", 1, math.cos(a)),
+        ("x_g", 1, math.sin(a)),
+    ):
         assert K_B * r.means_of([name])[name] == pytest.approx(sign * F * comp, rel=1e-4)
     assert np.ptp(r.signals["F_m"]) > 0.01 * F  # the varying stiffness does excite the mesh
 
@@ -137,7 +157,7 @@ def test_linear_modes_hand_6x6_and_free_vibration_spectrum():
     for fk in f_hand:
         win = (f > 0.97 * fk) & (f < 1.03 * fk)
         i = int(np.argmax(np.where(win, total, 0)))
-        lo, mid, hi = np.log(total[i - 1:i + 2])
+        lo, mid, hi = np.log(total[i - 1 : i + 2])
         f_peak = f[i] + 0.5 * (lo - hi) / (lo - 2 * mid + hi) * (f[1] - f[0])
         assert f_peak == pytest.approx(fk, rel=5e-3)
     peaks, _ = find_peaks(total, height=0.01 * total.max())

@@ -43,8 +43,10 @@ def _hand_frames(pair, d):
     r = [by_hand_radii(pair, i) for i in (0, 1)]
     alpha = pair.pressure_angle_rad
     L = r[0]["a_w"] * math.sin(by_hand_working_pressure_angle(pair))
-    psi = [pair.module_m * (0.5 * math.pi + 2 * x * math.tan(alpha)) / (2 * ri["pitch"]) + inv(alpha)
-           for x, ri in zip(pair.profile_shift, r)]
+    psi = [
+        pair.module_m * (0.5 * math.pi + 2 * x * math.tan(alpha)) / (2 * ri["pitch"]) + inv(alpha)
+        for x, ri in zip(pair.profile_shift, r)
+    ]
     gam = (psi[0] - d / r[0]["base"], psi[1] - (L - d) / r[1]["base"] - math.pi)
     return [_rot(g) for g in gam], (np.zeros(2), np.array([L, r[0]["base"] + r[1]["base"]])), psi
 
@@ -80,8 +82,14 @@ def test_unequal_pair_fe_cycle():
     """One coarse FE cycle of the 23/47 pair (the two bodies are built once, and the
     position solves below reuse them from the in-process cache; one test function, so that
     pytest-xdist does not build them in both workers). Three independent truths follow."""
-    cycle = pair_contact(UNEQUAL, positions=POSITIONS, torque_Nm=TORQUE, contact_scale=CONTACT_SCALE,
-                         mesh_scale=MESH_SCALE, extended=False)
+    cycle = pair_contact(
+        UNEQUAL,
+        positions=POSITIONS,
+        torque_Nm=TORQUE,
+        contact_scale=CONTACT_SCALE,
+        mesh_scale=MESH_SCALE,
+        extended=False,
+    )
     _check_equilibrium(cycle)
     _check_third_law_and_torque_balance()
     _check_against_ishikawa_and_body_torsion(cycle)
@@ -137,8 +145,11 @@ def _check_against_ishikawa_and_body_torsion(cycle):
     c_body = 0.0
     for i, g in enumerate(UNEQUAL.gears):
         r = by_hand_radii(UNEQUAL, i)
-        c_body += r["base"] ** 2 / (4 * math.pi * g.material.shear_modulus_Pa * b) * (
-            1 / g.hub_radius_m ** 2 - 1 / r["root"] ** 2)
+        c_body += (
+            r["base"] ** 2
+            / (4 * math.pi * g.material.shear_modulus_Pa * b)
+            * (1 / g.hub_radius_m**2 - 1 / r["root"] ** 2)
+        )
     assert 0.1 < c_body * ish.mean_N_per_m < 0.5  # the body matters here: the test says something
     predicted = 1.0 / (1.0 / ish.mean_N_per_m + c_body)
     assert cycle.mean_N_per_m < ish.mean_N_per_m

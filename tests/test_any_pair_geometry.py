@@ -22,8 +22,7 @@ from gearwear.geometry.operating import backlash
 from gearwear.geometry.profile import FILLET, INVOLUTE, TIP_LAND, tooth_profile
 from gearwear.geometry.spec import PairSpec, check_pair, inv
 
-from pairs import DRIVER_LARGER, NAMED, UNEQUAL, WITH_PAPER, by_hand_radii, by_hand_working_pressure_angle, \
-    valid_pairs
+from pairs import DRIVER_LARGER, NAMED, UNEQUAL, WITH_PAPER, by_hand_radii, by_hand_working_pressure_angle, valid_pairs
 
 
 def _by_hand_path(pair: PairSpec, a: float) -> tuple[float, float]:
@@ -37,6 +36,7 @@ def _by_hand_path(pair: PairSpec, a: float) -> tuple[float, float]:
 
 
 # -- identities for any valid pair ---------------------------------------------------------
+
 
 @settings(max_examples=60, deadline=None)
 @given(valid_pairs())
@@ -79,8 +79,9 @@ def test_contact_ratio_is_the_path_from_the_tip_circles_over_the_base_pitch(pair
     assert mesh.contact_ratio == pytest.approx(g_path / pb, rel=1e-9, abs=1e-12)
     L = r[0]["a_w"] * math.sin(ap)
     assert mesh.path_end_m == pytest.approx(math.sqrt(r[0]["tip"] ** 2 - r[0]["base"] ** 2), rel=1e-12)
-    assert mesh.path_start_m == pytest.approx(L - math.sqrt(r[1]["tip"] ** 2 - r[1]["base"] ** 2),
-                                              rel=1e-9, abs=1e-12 * L)
+    assert mesh.path_start_m == pytest.approx(
+        L - math.sqrt(r[1]["tip"] ** 2 - r[1]["base"] ** 2), rel=1e-9, abs=1e-12 * L
+    )
     assert mesh.pitch_point_m == pytest.approx(r[0]["base"] * math.tan(ap), rel=1e-12)
     rw1, rw2 = mesh.operating_pitch_radii_m
     assert rw2 / rw1 == pytest.approx(pair.teeth[1] / pair.teeth[0], rel=1e-12)
@@ -94,8 +95,9 @@ def test_swapping_pinion_and_gear_mirrors_the_mesh(pair):
     same centre distance with the same path of contact and contact ratio; the path runs
     the other way (d -> T1T2 - d) and the pitch point mirrors. A formula that reads one
     gear's radii for the other's breaks this on any unequal pair."""
-    swapped = replace(pair, teeth=pair.teeth[::-1], profile_shift=pair.profile_shift[::-1],
-                      hub_radius_m=pair.hub_radius_m[::-1])
+    swapped = replace(
+        pair, teeth=pair.teeth[::-1], profile_shift=pair.profile_shift[::-1], hub_radius_m=pair.hub_radius_m[::-1]
+    )
     check_pair(swapped)
     m, s = MeshGeometry(pair, pair.centre_distance_m), MeshGeometry(swapped, swapped.centre_distance_m)
     L = m.line_of_action_m
@@ -108,6 +110,7 @@ def test_swapping_pinion_and_gear_mirrors_the_mesh(pair):
 
 
 # -- the named pairs -----------------------------------------------------------------------
+
 
 @pytest.mark.parametrize("name", list(WITH_PAPER))
 @pytest.mark.parametrize("i", [0, 1])

@@ -27,8 +27,7 @@ from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.profile import tooth_profile
 from gearwear.geometry.spec import Material
 
-from pairs import DRIVER_LARGER, NAMED, UNEQUAL, WITH_PAPER, by_hand_radii, by_hand_working_pressure_angle, \
-    valid_pairs
+from pairs import DRIVER_LARGER, NAMED, UNEQUAL, WITH_PAPER, by_hand_radii, by_hand_working_pressure_angle, valid_pairs
 
 STEEL, SOFT = Material(206e9, 0.3, 7850.0), Material(103e9, 0.3, 7850.0)
 
@@ -45,9 +44,9 @@ def _hertz_approach(pair, method, F):
     b = pair.face_width_m
     (E1, n1), (E2, n2) = ((m.youngs_modulus_Pa, m.poisson_ratio) for m in pair.materials)
     if method == "energy":
-        return 2.0 * F / (math.pi * b) * ((1 - n1 ** 2) / E1 + (1 - n2 ** 2) / E2)
+        return 2.0 * F / (math.pi * b) * ((1 - n1**2) / E1 + (1 - n2**2) / E2)
     E = 2 * E1 * E2 / (E1 + E2)
-    return 1.275 * F ** 0.9 / (E ** 0.9 * b ** 0.8)
+    return 1.275 * F**0.9 / (E**0.9 * b**0.8)
 
 
 def _tooth_parts(pair, method, d):
@@ -96,14 +95,17 @@ def _corner_reach_m(mesh: MeshGeometry, approach_m: float) -> tuple[float, float
     L = mesh.line_of_action_m
     rb1, rb2 = (g.base_radius_m for g in mesh.pair.gears)
     out = []
-    for d, rb_corner, rho_corner in ((mesh.path_start_m, rb2, L - mesh.path_start_m),
-                                     (mesh.path_end_m, rb1, mesh.path_end_m)):
+    for d, rb_corner, rho_corner in (
+        (mesh.path_start_m, rb2, L - mesh.path_start_m),
+        (mesh.path_end_m, rb1, mesh.path_end_m),
+    ):
         kappa = 1.0 / d + 1.0 / (L - d)
         out.append(1.1 * rb_corner / rho_corner * math.sqrt(2.0 * approach_m / kappa))
     return out[0], out[1]
 
 
 # -- any pair ---------------------------------------------------------------------------------
+
 
 @settings(max_examples=25, deadline=None)
 @given(valid_pairs())
@@ -163,6 +165,7 @@ def test_period_and_contact_zones_follow_the_contact_ratio(pair):
 
 
 # -- the named pairs --------------------------------------------------------------------------
+
 
 @pytest.mark.parametrize("name", list(NAMED))
 @pytest.mark.parametrize("method", ["ishikawa", "energy"])
@@ -227,7 +230,7 @@ def test_per_gear_materials_hertz_and_tooth_parts():
     and at every angle the STE lies between the all-steel and the all-soft pair's."""
     b = UNEQUAL.face_width_m
     mixed = replace(UNEQUAL, materials=(STEEL, SOFT))
-    hand = 2.0 / (math.pi * b) * ((1 - 0.3 ** 2) / 206e9 + (1 - 0.3 ** 2) / 103e9)
+    hand = 2.0 / (math.pi * b) * ((1 - 0.3**2) / 206e9 + (1 - 0.3**2) / 103e9)
     assert energy.hertz_compliance_linear(mixed.materials, b) == pytest.approx(hand, rel=1e-13, abs=0)
     L, rb1, rb2 = _line(UNEQUAL)
     d = np.linspace(MeshGeometry(UNEQUAL, UNEQUAL.centre_distance_m).path_start_m + 1e-3, L / 2, 5)
@@ -236,9 +239,10 @@ def test_per_gear_materials_hertz_and_tooth_parts():
         c_steel = energy.tooth_compliance(prof, R, STEEL, b).total_m_per_N
         c_soft = energy.tooth_compliance(prof, R, SOFT, b).total_m_per_N
         assert np.allclose(c_soft, 2.0 * c_steel, rtol=1e-12, atol=0)
-    curves = {mats: mesh_stiffness(replace(UNEQUAL, materials=mats), method="energy", points=48,
-                                   corner_contact=False)
-              for mats in ((STEEL, STEEL), (STEEL, SOFT), (SOFT, STEEL), (SOFT, SOFT))}
+    curves = {
+        mats: mesh_stiffness(replace(UNEQUAL, materials=mats), method="energy", points=48, corner_contact=False)
+        for mats in ((STEEL, STEEL), (STEEL, SOFT), (SOFT, STEEL), (SOFT, SOFT))
+    }
     for mats in ((STEEL, SOFT), (SOFT, STEEL)):
         r = curves[mats]
         pair = replace(UNEQUAL, materials=mats)
@@ -247,7 +251,7 @@ def test_per_gear_materials_hertz_and_tooth_parts():
         k = np.argmax(r.pair_load_N[single], axis=1)
         ds = r.pair_d_m[single, k]
         c1, c2 = _tooth_parts(pair, "energy", ds)
-        c_h = 2.0 / (math.pi * b) * sum((1 - m.poisson_ratio ** 2) / m.youngs_modulus_Pa for m in mats)
+        c_h = 2.0 / (math.pi * b) * sum((1 - m.poisson_ratio**2) / m.youngs_modulus_Pa for m in mats)
         assert np.allclose(r.ste_m[single] / r.total_load_N, c1 + c2 + c_h, rtol=1e-4, atol=0)
         assert np.all(curves[(STEEL, STEEL)].ste_m < r.ste_m) and np.all(r.ste_m < curves[(SOFT, SOFT)].ste_m)
     # the two teeth differ, so which gear is soft matters

@@ -51,6 +51,7 @@ def _path(pair, n=201):
 
 # -- specific sliding, any pair --------------------------------------------------------------
 
+
 @settings(max_examples=60, deadline=None)
 @given(valid_pairs())
 def test_specific_sliding_is_the_velocity_ratio_worked_by_hand(pair):
@@ -83,7 +84,7 @@ def _check_archard_by_hand(pair):
     rb1 = by_hand_radii(pair, 0)["base"]
     w = spec.torque_Nm / rb1 / pair.face_width_m
     # away from every A + k p_b and E - k p_b by more than the largest Hertz half-width
-    E_star = 1.0 / sum((1 - m.poisson_ratio ** 2) / m.youngs_modulus_Pa for m in pair.materials)
+    E_star = 1.0 / sum((1 - m.poisson_ratio**2) / m.youngs_modulus_Pa for m in pair.materials)
     a_max = math.sqrt(4 * w * (mesh.line_of_action_m / 4) / (math.pi * E_star))
     steps = np.concatenate([A + pb * np.arange(0, 4), E - pb * np.arange(0, 4)])
     keep = np.min(np.abs(d[:, None] - steps[None, :]), axis=1) > 1.5 * a_max
@@ -120,6 +121,7 @@ def test_archard_depth_by_hand_on_the_named_pairs(name):
 
 
 # -- the named pairs ---------------------------------------------------------------------------
+
 
 @pytest.mark.parametrize("name", list(NAMED))
 @pytest.mark.parametrize("how", [dict(hours=50.0), dict(phase="severe"), dict(hours=50.0, model="paper_eq1")])

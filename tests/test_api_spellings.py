@@ -30,8 +30,20 @@ def _cli(argv, capsys):
 @pytest.mark.parametrize("scene", SCENES, ids=["paper", "shifted_driver_more_teeth"])
 @pytest.mark.parametrize("wear", WEARS)
 def test_simulate_takes_every_wear_spelling_of_the_cli(scene, wear, capsys):
-    cli = _cli(["simulate", scene, "--wear", wear, "--set", "solver.duration_s=0.1",
-                "--set", "solver.discard_s=0.05", "--json"], capsys)
+    cli = _cli(
+        [
+            "simulate",
+            scene,
+            "--wear",
+            wear,
+            "--set",
+            "solver.duration_s=0.1",
+            "--set",
+            "solver.discard_s=0.05",
+            "--json",
+        ],
+        capsys,
+    )
     api = gw.simulate(scene, wear=wear, solver__duration_s=0.1, solver__discard_s=0.05).summary()
     for k in (1, 2, 3):
         assert api["harmonics"]["F_m_N"][k - 1] == pytest.approx(cli["harmonics"]["F_m_N"][k - 1], rel=1e-12)
@@ -48,10 +60,25 @@ def test_mesh_stiffness_takes_every_wear_spelling_of_the_cli(wear, capsys):
 
 
 def test_simulate_short_flags_are_keywords(capsys):
-    cli = _cli(["simulate", SCENES[1], "--torque-Nm", "90", "--clearance-um", "20", "--set", "solver.duration_s=0.1",
-                "--set", "solver.discard_s=0.05", "--json"], capsys)
-    api = gw.simulate(SCENES[1], torque_Nm=90, clearance_um=20, solver__duration_s=0.1,
-                      solver__discard_s=0.05).summary()
+    cli = _cli(
+        [
+            "simulate",
+            SCENES[1],
+            "--torque-Nm",
+            "90",
+            "--clearance-um",
+            "20",
+            "--set",
+            "solver.duration_s=0.1",
+            "--set",
+            "solver.discard_s=0.05",
+            "--json",
+        ],
+        capsys,
+    )
+    api = gw.simulate(
+        SCENES[1], torque_Nm=90, clearance_um=20, solver__duration_s=0.1, solver__discard_s=0.05
+    ).summary()
     assert api["harmonics"]["F_m_N"][:3] == pytest.approx(cli["harmonics"]["F_m_N"][:3], rel=1e-12)
 
 

@@ -16,8 +16,10 @@ from gearwear.scene.assumptions import for_command, scene_assumptions
 from gearwear.scene.model import scene_from_dict, set_key
 
 #: the least a scene gives: its pair and its operating point
-MINIMAL = {"pair": {"teeth": [23, 47], "module_mm": 3.0, "face_width_mm": 30.0},
-           "operating": {"speed_rpm": 1500, "torque_Nm": 120}}
+MINIMAL = {
+    "pair": {"teeth": [23, 47], "module_mm": 3.0, "face_width_mm": 30.0},
+    "operating": {"speed_rpm": 1500, "torque_Nm": 120},
+}
 
 
 def cli(*args, cwd=None):
@@ -31,17 +33,32 @@ def _keys(items):
 def test_a_minimal_scene_lists_every_default_it_rests_on():
     sc = scene_from_dict({**MINIMAL, "effects": {"wear": {"hours": 100}}})
     keys = _keys(scene_assumptions(sc))
-    assert {"pair.pressure_angle_deg", "pair.addendum_coefficient", "pair.dedendum_coefficient",
-            "pair.rack_tip_radius_coefficient", "pair.profile_shift", "pair.hub_radius_mm", "pair.centre_distance_mm",
-            "material.youngs_modulus_GPa", "material.poisson_ratio", "material.density_kg_per_m3",
-            "bodies.mass_kg", "bodies.inertia_kg_m2", "bodies.bearing_damping_ratio", "bodies.mesh_damping_ratio",
-            "effects.mesh_stiffness", "effects.wear.model", "effects.wear.archard_k_m2_per_N",
-            "effects.wear.taper_mm"} <= keys
+    assert {
+        "pair.pressure_angle_deg",
+        "pair.addendum_coefficient",
+        "pair.dedendum_coefficient",
+        "pair.rack_tip_radius_coefficient",
+        "pair.profile_shift",
+        "pair.hub_radius_mm",
+        "pair.centre_distance_mm",
+        "material.youngs_modulus_GPa",
+        "material.poisson_ratio",
+        "material.density_kg_per_m3",
+        "bodies.mass_kg",
+        "bodies.inertia_kg_m2",
+        "bodies.bearing_damping_ratio",
+        "bodies.mesh_damping_ratio",
+        "effects.mesh_stiffness",
+        "effects.wear.model",
+        "effects.wear.archard_k_m2_per_N",
+        "effects.wear.taper_mm",
+    } <= keys
     # what a command does not use, it does not list: the stiffness uses no bodies or damping
     stiff = _keys(for_command(sc, "stiffness"))
     assert "bodies.mass_kg" not in stiff and "bodies.mesh_damping_ratio" not in stiff
     assert "material.youngs_modulus_GPa" in stiff and "material.youngs_modulus_GPa" not in _keys(
-        for_command(sc, "geometry"))
+        for_command(sc, "geometry")
+    )
 
 
 def test_the_built_in_paper_scenes_state_their_bodies_and_pair():
@@ -61,8 +78,12 @@ def test_each_listed_value_is_what_the_run_used(command):
     from gearwear.jobs.geometry import compute
     from gearwear.jobs.simulate import run, stiffness_input
 
-    doc = {**MINIMAL, "bodies": {"bearing_stiffness_N_per_m": 5e8},
-           "effects": {"mesh_stiffness": {"source": "analytic"}}, "solver": {"duration_s": 0.04, "discard_s": 0.02}}
+    doc = {
+        **MINIMAL,
+        "bodies": {"bearing_stiffness_N_per_m": 5e8},
+        "effects": {"mesh_stiffness": {"source": "analytic"}},
+        "solver": {"duration_s": 0.04, "discard_s": 0.02},
+    }
     sc = scene_from_dict(doc)
     given = json.loads(json.dumps(doc))
     for a in for_command(sc, command):
@@ -86,8 +107,10 @@ def test_each_listed_value_is_what_the_run_used(command):
 
 def test_cli_prints_lists_and_records_the_assumptions(tmp_path):
     scene = tmp_path / "mine.toml"
-    scene.write_text('[pair]\nteeth = [23, 47]\nmodule_mm = 3.0\nface_width_mm = 30.0\n'
-                     '[operating]\nspeed_rpm = 1500\ntorque_Nm = 120\n')
+    scene.write_text(
+        '[pair]\nteeth = [23, 47]\nmodule_mm = 3.0\nface_width_mm = 30.0\n'
+        '[operating]\nspeed_rpm = 1500\ntorque_Nm = 120\n'
+    )
     r = cli("geometry", str(scene), "--no-mesh", "--out", str(tmp_path / "g"))
     assert r.returncode == 0, r.stderr
     lines = [ln for ln in r.stdout.splitlines() if ln.startswith("assumed: ")]
@@ -107,10 +130,15 @@ def test_dynamics_without_bearing_stiffness_is_refused_before_any_work(tmp_path)
     """The bearing stiffness sets the lateral modes and spans 1e7-1e10 N/m between designs: the
     dynamic commands require it (one line, exit 2, nothing written); geometry and stiffness do not."""
     scene = tmp_path / "mine.toml"
-    scene.write_text('[pair]\nteeth = [23, 47]\nmodule_mm = 3.0\nface_width_mm = 30.0\n'
-                     '[operating]\nspeed_rpm = 1500\ntorque_Nm = 120\n')
-    for args in (["simulate", str(scene)], ["sweep", str(scene), "--set", "operating.speed_rpm=1000,2000"],
-                 ["runup", str(scene), "--set", "operating.speed_rpm=1000:2000:3"]):
+    scene.write_text(
+        '[pair]\nteeth = [23, 47]\nmodule_mm = 3.0\nface_width_mm = 30.0\n'
+        '[operating]\nspeed_rpm = 1500\ntorque_Nm = 120\n'
+    )
+    for args in (
+        ["simulate", str(scene)],
+        ["sweep", str(scene), "--set", "operating.speed_rpm=1000,2000"],
+        ["runup", str(scene), "--set", "operating.speed_rpm=1000:2000:3"],
+    ):
         r = cli(*args, "--out", str(tmp_path / "o"))
         assert r.returncode == 2 and r.stderr.count("\n") == 1, r.stderr
         assert r.stderr.startswith("gearwear: error: bodies.bearing_stiffness_N_per_m: missing")
@@ -125,4 +153,4 @@ def test_a_scene_without_its_pair_says_what_a_scene_needs(tmp_path):
     assert r.returncode == 2 and r.stderr.startswith("gearwear: error: pair: missing; a scene names its own gear pair")
     scene.write_text("[pair]\nteeth = [23, 47]\nmodul_mm = 3\n")
     r = cli("geometry", str(scene))
-    assert "pair.modul_mm: unknown key; did you mean pair.module_mm?" in r.stderr   # the typo before "missing"
+    assert "pair.modul_mm: unknown key; did you mean pair.module_mm?" in r.stderr  # the typo before "missing"

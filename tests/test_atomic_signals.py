@@ -43,6 +43,7 @@ def _signal_at_line(k: int):
         if os.path.realpath(frame.f_code.co_filename) == ATOMIC_FILE:
             return local(frame, event, arg)
         return None
+
     return tracer, fired
 
 
@@ -82,12 +83,12 @@ def test_a_signal_at_any_line_leaves_old_or_new_and_nothing_hidden(tmp_path, kin
         try:
             write(target)
             sys.settrace(None)
-            os.sched_yield()   # a pending handler runs at the latest here
+            os.sched_yield()  # a pending handler runs at the latest here
         except KeyboardInterrupt:
             interrupted = True
         finally:
             sys.settrace(None)
-        if not fired[0]:   # k is past the last line of the write: every line was hit
+        if not fired[0]:  # k is past the last line of the write: every line was hit
             assert not interrupted
             break
         interrupted_runs += interrupted
@@ -101,4 +102,4 @@ def test_a_signal_at_any_line_leaves_old_or_new_and_nothing_hidden(tmp_path, kin
         assert content in allowed, f"signal at line event {k}: {content}"
         if not interrupted:
             assert content == allowed[0]
-    assert k > 10 and interrupted_runs > 5   # the trace reached the code and the signals landed
+    assert k > 10 and interrupted_runs > 5  # the trace reached the code and the signals landed

@@ -43,15 +43,26 @@ BORES_MM = ((12.5, 25.0), (18.0, 40.0), (24.0, 55.0))
 
 
 def with_bores(bores_mm):
-    return checked(teeth=UNEQUAL.teeth, module_m=UNEQUAL.module_m, profile_shift=UNEQUAL.profile_shift,
-                   face_width_m=UNEQUAL.face_width_m, hub_radius_m=tuple(b * 1e-3 for b in bores_mm))
+    return checked(
+        teeth=UNEQUAL.teeth,
+        module_m=UNEQUAL.module_m,
+        profile_shift=UNEQUAL.profile_shift,
+        face_width_m=UNEQUAL.face_width_m,
+        hub_radius_m=tuple(b * 1e-3 for b in bores_mm),
+    )
 
 
 @functools.lru_cache(maxsize=None)
 def cycle(bores_mm):
     """A coarse FE cycle of the 23/47 pair with these bores (once per test process)."""
-    return pair_contact(with_bores(bores_mm), positions=POSITIONS, torque_Nm=TORQUE, contact_scale=CONTACT_SCALE,
-                        mesh_scale=MESH_SCALE, extended=False)
+    return pair_contact(
+        with_bores(bores_mm),
+        positions=POSITIONS,
+        torque_Nm=TORQUE,
+        contact_scale=CONTACT_SCALE,
+        mesh_scale=MESH_SCALE,
+        extended=False,
+    )
 
 
 def by_hand(g):
@@ -68,7 +79,7 @@ def annulus_k(g) -> float:
     _, _, r_ref, G = by_hand(g)
     if r_ref <= g.hub_radius_m:
         return math.inf
-    return 4 * math.pi * G * g.face_width_m / (1 / g.hub_radius_m ** 2 - 1 / r_ref ** 2)
+    return 4 * math.pi * G * g.face_width_m / (1 / g.hub_radius_m**2 - 1 / r_ref**2)
 
 
 @pytest.mark.parametrize("bores_mm", BORES_MM[1:], ids=lambda b: f"bores_{b[0]:g}_{b[1]:g}mm")
@@ -141,7 +152,7 @@ def test_mesh_only_does_not_hold_the_blank_torsion():
         kappa = (3 - nu) / (1 + nu)
         kappa_terms += (1 + kappa) / (8 * math.pi * G * g.face_width_m) * math.log(ref[gi] / thick[gi])
         g_thick = with_bores(thick).gear(gi)
-        torsion += rb ** 2 * (1 / annulus_k(g_thick) - 1 / annulus_k(g))
+        torsion += rb**2 * (1 / annulus_k(g_thick) - 1 / annulus_k(g))
     # cycle-mean compliances (1 / k is additive per position, its mean too)
     dc_mesh = float(np.mean(1 / a.mesh_k_N_per_m) - np.mean(1 / b.mesh_k_N_per_m))
     dc_fixed = float(np.mean(1 / a.k_N_per_m) - np.mean(1 / b.k_N_per_m))
@@ -167,8 +178,17 @@ def test_thin_rim_has_no_blank_term():
     # what the FE-based sources hand on: the mesh-only curve with "excluded", reported beside the bore-fixed one
     from gearwear.jobs.stiffness import Curve, fem_curve
 
-    r = fem_curve(pair, POSITIONS, TORQUE, 0.0, None, blank_torsion="excluded", contact_scale=CONTACT_SCALE,
-                  mesh_scale=MESH_SCALE, extended=False)
+    r = fem_curve(
+        pair,
+        POSITIONS,
+        TORQUE,
+        0.0,
+        None,
+        blank_torsion="excluded",
+        contact_scale=CONTACT_SCALE,
+        mesh_scale=MESH_SCALE,
+        extended=False,
+    )
     assert np.array_equal(r.k_N_per_m, fe.mesh_k_N_per_m) and np.array_equal(r.ste_m, fe.mesh_ste_m)
     s = Curve("excluded", "fem", None, 0.0, r).summary()
     # the same mean, summed in another order (the curve statistics integrate the piecewise-linear
@@ -183,11 +203,13 @@ def test_thin_rim_has_no_blank_term():
 
 
 def test_blank_torsion_key_only_with_the_fe_sources():
-    from gearwear.scene.model import scene_from_dict
     from gearwear.jobs.simulate import blank_torsion
+    from gearwear.scene.model import scene_from_dict
 
-    base = {"pair": {"teeth": [23, 47], "module_mm": 3.0, "face_width_mm": 30.0},
-            "operating": {"speed_rpm": 1500, "torque_Nm": 120}}
+    base = {
+        "pair": {"teeth": [23, 47], "module_mm": 3.0, "face_width_mm": 30.0},
+        "operating": {"speed_rpm": 1500, "torque_Nm": 120},
+    }
     for src in ("analytic", "constant"):
         with pytest.raises(InputError, match="blank_torsion"):
             scene_from_dict({**base, "effects": {"mesh_stiffness": {"source": src, "blank_torsion": "excluded"}}})

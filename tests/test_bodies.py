@@ -13,7 +13,8 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from scipy.integrate import quad
 
 from gearwear.core.validation import InputError
@@ -25,13 +26,27 @@ from gearwear.scene.model import scene_from_dict
 from scenes import with_paper
 
 #: the user pair of issue 22: z 23/47, m 3 mm, x +0.2/-0.1, b 30 mm, bores 12.5/25 mm
-USER = {"pair": {"teeth": [23, 47], "module_mm": 3.0, "profile_shift": [0.2, -0.1], "face_width_mm": 30.0,
-                 "hub_radius_mm": [12.5, 25.0]},
-        "operating": {"speed_rpm": 1500, "torque_Nm": 120}}
+USER = {
+    "pair": {
+        "teeth": [23, 47],
+        "module_mm": 3.0,
+        "profile_shift": [0.2, -0.1],
+        "face_width_mm": 30.0,
+        "hub_radius_mm": [12.5, 25.0],
+    },
+    "operating": {"speed_rpm": 1500, "torque_Nm": 120},
+}
 #: the driver has more teeth
-REVERSED = {"pair": {"teeth": [47, 23], "module_mm": 3.0, "profile_shift": [-0.1, 0.2], "face_width_mm": 30.0,
-                     "hub_radius_mm": [25.0, 12.5]},
-            "operating": {"speed_rpm": 734, "torque_Nm": 245}}
+REVERSED = {
+    "pair": {
+        "teeth": [47, 23],
+        "module_mm": 3.0,
+        "profile_shift": [-0.1, 0.2],
+        "face_width_mm": 30.0,
+        "hub_radius_mm": [25.0, 12.5],
+    },
+    "operating": {"speed_rpm": 734, "torque_Nm": 245},
+}
 
 
 def _spec(doc) -> PairSpec:
@@ -46,8 +61,8 @@ def test_polygon_moment_of_a_regular_polygon_is_the_closed_form(n, R, phase):
     a = phase + 2 * math.pi * np.arange(n) / n
     xy = np.column_stack([R * np.cos(a), R * np.sin(a)])
     t = 2 * math.pi / n
-    assert polygon_polar_moment(xy) == pytest.approx(n * R ** 4 * math.sin(t) * (2 + math.cos(t)) / 12, rel=1e-12)
-    assert polygon_area(xy) == pytest.approx(n * R ** 2 * math.sin(t) / 2, rel=1e-12)
+    assert polygon_polar_moment(xy) == pytest.approx(n * R**4 * math.sin(t) * (2 + math.cos(t)) / 12, rel=1e-12)
+    assert polygon_area(xy) == pytest.approx(n * R**2 * math.sin(t) / 2, rel=1e-12)
 
 
 @settings(max_examples=30, deadline=None)
@@ -56,8 +71,9 @@ def test_polygon_moment_obeys_the_parallel_axis_theorem(dx, dy, w, h):
     """A w x h rectangle centred at (dx, dy): J_O = A (w^2 + h^2) / 12 + A (dx^2 + dy^2)."""
     xy = np.array([[-w / 2, -h / 2], [w / 2, -h / 2], [w / 2, h / 2], [-w / 2, h / 2]]) + [dx, dy]
     A = w * h
-    assert polygon_polar_moment(xy) == pytest.approx(A * (w * w + h * h) / 12 + A * (dx * dx + dy * dy),
-                                                     rel=1e-12, abs=1e-15)
+    assert polygon_polar_moment(xy) == pytest.approx(
+        A * (w * w + h * h) / 12 + A * (dx * dx + dy * dy), rel=1e-12, abs=1e-15
+    )
 
 
 def _hand_blank(g, face_width_m: float, density: float) -> tuple[float, float]:
@@ -71,10 +87,12 @@ def _hand_blank(g, face_width_m: float, density: float) -> tuple[float, float]:
     def psi(r):
         return g.pitch_thickness_m / (2 * rp) + inv(g.pressure_angle_rad) - inv(math.acos(rb / max(r, rb)))
 
-    A = (math.pi * rf ** 2 + g.teeth * quad(lambda r: 2 * psi(r) * r, rf, ra, limit=200)[0]
-         - math.pi * g.hub_radius_m ** 2)
-    I = (math.pi * rf ** 4 / 2 + g.teeth * quad(lambda r: 2 * psi(r) * r ** 3, rf, ra, limit=200)[0]
-         - math.pi * g.hub_radius_m ** 4 / 2)
+    A = math.pi * rf**2 + g.teeth * quad(lambda r: 2 * psi(r) * r, rf, ra, limit=200)[0] - math.pi * g.hub_radius_m**2
+    I = (
+        math.pi * rf**4 / 2
+        + g.teeth * quad(lambda r: 2 * psi(r) * r**3, rf, ra, limit=200)[0]
+        - math.pi * g.hub_radius_m**4 / 2
+    )
     return density * face_width_m * A, density * face_width_m * I
 
 
@@ -112,9 +130,10 @@ def test_a_web_removes_exactly_its_annulus():
     check_pair(webbed)
     solid, thin = body_properties(g, pair.face_width_m), body_properties(webbed.gear(1), pair.face_width_m)
     r_i, r_h, db = g.root_radius_m - 8e-3, 40e-3, pair.face_width_m - 10e-3
-    assert solid.mass_kg - thin.mass_kg == pytest.approx(7850 * db * math.pi * (r_i ** 2 - r_h ** 2), rel=1e-12)
+    assert solid.mass_kg - thin.mass_kg == pytest.approx(7850 * db * math.pi * (r_i**2 - r_h**2), rel=1e-12)
     assert solid.inertia_kg_m2 - thin.inertia_kg_m2 == pytest.approx(
-        7850 * db * math.pi * (r_i ** 4 - r_h ** 4) / 2, rel=1e-12)
+        7850 * db * math.pi * (r_i**4 - r_h**4) / 2, rel=1e-12
+    )
 
 
 def test_a_web_is_a_scene_table_and_is_checked_against_its_blank():
@@ -134,15 +153,17 @@ def test_given_masses_are_used_and_a_given_mass_keeps_the_blank_radius_of_gyrati
     assert sc.bodies.mass_kg == (1.0, 4.0) and sc.bodies.inertia_from == "blank radius of gyration"
     for i in (0, 1):
         assert sc.bodies.inertia_kg_m2[i] / sc.bodies.mass_kg[i] == pytest.approx(
-            blank.inertia_kg_m2[i] / blank.mass_kg[i], rel=1e-14)
+            blank.inertia_kg_m2[i] / blank.mass_kg[i], rel=1e-14
+        )
     paper = scene_from_dict(with_paper({}))
     assert paper.bodies.mass_kg == (3.75, 3.75) and paper.bodies.inertia_kg_m2 == (0.010546875, 0.010546875)
 
 
 def test_density_that_would_change_nothing_is_refused():
     with pytest.raises(InputError) as e:
-        scene_from_dict({**USER, "material": {"density_kg_per_m3": 2700},
-                         "bodies": {"mass_kg": 1.0, "inertia_kg_m2": 1e-3}})
+        scene_from_dict(
+            {**USER, "material": {"density_kg_per_m3": 2700}, "bodies": {"mass_kg": 1.0, "inertia_kg_m2": 1e-3}}
+        )
     assert str(e.value).startswith("material.density_kg_per_m3 = 2700 kg/m^3: not used")
 
 
@@ -153,9 +174,12 @@ def test_the_dynamics_feel_the_density():
 
     out = []
     for rho in (2700.0, 20000.0):
-        doc = {**USER, "material": {"density_kg_per_m3": rho},
-               "bodies": {"bearing_stiffness_N_per_m": 5e8},
-               "effects": {"mesh_stiffness": {"source": "analytic"}},
-               "solver": {"duration_s": 0.05, "discard_s": 0.03}}
+        doc = {
+            **USER,
+            "material": {"density_kg_per_m3": rho},
+            "bodies": {"bearing_stiffness_N_per_m": 5e8},
+            "effects": {"mesh_stiffness": {"source": "analytic"}},
+            "solver": {"duration_s": 0.05, "discard_s": 0.03},
+        }
         out.append(run(scene_from_dict(doc)).summary()["harmonics"]["F_m_N"])
     assert max(abs(a / b - 1) for a, b in zip(out[0][:3], out[1][:3])) > 1e-3

@@ -15,11 +15,11 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from gearwear.stiffness import calibration as calibrate
-from gearwear.stiffness import tables
 from gearwear.core.validation import InputError
 from gearwear.geometry.spec import default_pair
 from gearwear.geometry.wear import WearSpec
+from gearwear.stiffness import calibration as calibrate
+from gearwear.stiffness import tables
 
 POINTS = 120
 
@@ -43,8 +43,11 @@ def fe_runs(monkeypatch):
         return calibrate.Calibration(pair, wear, (fe, fe), (corr, corr), 0.0, 0.0)
 
     monkeypatch.setattr(calibrate, "run_fe", run_fe)
-    monkeypatch.setattr(calibrate, "pair_correction",
-                        lambda *a, **k: calibrate.PairCorrection(1.0, 0.97, 0.0, 0.0, 0.0, 3.4e8, 3.4e8, 0.0))
+    monkeypatch.setattr(
+        calibrate,
+        "pair_correction",
+        lambda *a, **k: calibrate.PairCorrection(1.0, 0.97, 0.0, 0.0, 0.0, 3.4e8, 3.4e8, 0.0),
+    )
     return runs
 
 
@@ -75,15 +78,15 @@ def test_cold_then_hit(cache, fe_runs, capsys):
 
 
 def test_stale_code_is_not_reused(cache, fe_runs, monkeypatch, capsys):
-    monkeypatch.setattr(calibrate, "code_fingerprint", lambda: "1" * 64)   # the code the table was made with
+    monkeypatch.setattr(calibrate, "code_fingerprint", lambda: "1" * 64)  # the code the table was made with
     old = table()
-    monkeypatch.setattr(calibrate, "code_fingerprint", lambda: "2" * 64)   # the calibration code changed
+    monkeypatch.setattr(calibrate, "code_fingerprint", lambda: "2" * 64)  # the calibration code changed
     new = table()
     assert len(fe_runs) == 2 and not new.from_cache
     assert old.meta["input_sha256"] != new.meta["input_sha256"]
     assert new.meta["inputs"]["code_sha256"] == "2" * 64
     assert len(list(cache.glob("*.csv"))) == 2
-    assert capsys.readouterr().err == ""    # another key: a plain miss, nothing to report
+    assert capsys.readouterr().err == ""  # another key: a plain miss, nothing to report
 
 
 def _damage(csv, edit):
@@ -91,21 +94,28 @@ def _damage(csv, edit):
     csv.write_text(edit(lines))
 
 
-@pytest.mark.parametrize("edit, reason", [
-    (lambda ls: "\n".join(ls[:41]) + "\n", "is truncated (40 of {rows} rows)"),
-    (lambda ls: "\n".join(ls[:41]) + "\n" + ls[41][:9], "is truncated (40 of {rows} rows, the last one cut)"),
-    (lambda ls: "\n".join(ls[:9] + ["garbage"] + ls[10:]), "has an unreadable line 10 ('garbage')"),
-    (lambda ls: "\n".join(ls[:5] + [ls[5].replace(ls[5].split(",")[1], "nan")] + ls[6:]),
-     "has a non-finite k_N_per_m (nan) on line 6"),
-    (lambda ls: "\n".join(ls[:5] + [ls[5].replace(ls[5].split(",")[1], "0")] + ls[6:]),
-     "has k_N_per_m = 0 on line 6 with"),
-    (lambda ls: "\n".join(ls[:-1] + ls[1:]), "has {twice} rows, expected {rows}"),
-    (lambda ls: "\n".join(["angle,k"] + ls[1:]), "has no valid header line"),
-])
+@pytest.mark.parametrize(
+    "edit, reason",
+    [
+        (lambda ls: "\n".join(ls[:41]) + "\n", "is truncated (40 of {rows} rows)"),
+        (lambda ls: "\n".join(ls[:41]) + "\n" + ls[41][:9], "is truncated (40 of {rows} rows, the last one cut)"),
+        (lambda ls: "\n".join(ls[:9] + ["garbage"] + ls[10:]), "has an unreadable line 10 ('garbage')"),
+        (
+            lambda ls: "\n".join(ls[:5] + [ls[5].replace(ls[5].split(",")[1], "nan")] + ls[6:]),
+            "has a non-finite k_N_per_m (nan) on line 6",
+        ),
+        (
+            lambda ls: "\n".join(ls[:5] + [ls[5].replace(ls[5].split(",")[1], "0")] + ls[6:]),
+            "has k_N_per_m = 0 on line 6 with",
+        ),
+        (lambda ls: "\n".join(ls[:-1] + ls[1:]), "has {twice} rows, expected {rows}"),
+        (lambda ls: "\n".join(["angle,k"] + ls[1:]), "has no valid header line"),
+    ],
+)
 def test_bad_entry_is_recomputed_with_one_line(cache, fe_runs, capsys, edit, reason):
     good = table()
     key, csv = entry(cache)
-    reason = reason.format(rows=len(good.k_N_per_m), twice=2 * len(good.k_N_per_m))   # the rows its sidecar records
+    reason = reason.format(rows=len(good.k_N_per_m), twice=2 * len(good.k_N_per_m))  # the rows its sidecar records
     _damage(csv, edit)
     assert tables.lookup(calibrate.table_inputs(default_pair(), None, 0.0, 40.0, POINTS, 21))[0] is None
     again = table()
@@ -114,7 +124,7 @@ def test_bad_entry_is_recomputed_with_one_line(cache, fe_runs, capsys, edit, rea
     assert err.endswith("; recomputing\n") and err.count("\n") == 1
     assert len(fe_runs) == 2 and not again.from_cache
     assert np.array_equal(again.k_N_per_m, good.k_N_per_m)
-    hit = table()                      # the entry was rewritten and is valid again
+    hit = table()  # the entry was rewritten and is valid again
     assert hit.from_cache and len(fe_runs) == 2 and capsys.readouterr().err == ""
 
 
@@ -123,13 +133,15 @@ def test_bytes_not_matching_the_sidecar(cache, fe_runs, capsys):
     key, csv = entry(cache)
     lines = csv.read_text().split("\n")
     k = lines[3].split(",")
-    k[1] = repr(float(k[1]) * 1.1)       # still a valid table, but not the one stored
+    k[1] = repr(float(k[1]) * 1.1)  # still a valid table, but not the one stored
     lines[3] = ",".join(k)
     csv.write_text("\n".join(lines))
     messages = []
     again = table(notify=messages.append)
-    assert messages == [f"cache entry {key[:8]}... (unworn, 0 um) does not match the csv_sha256 of its "
-                        "sidecar (changed after it was stored); recomputing"]
+    assert messages == [
+        f"cache entry {key[:8]}... (unworn, 0 um) does not match the csv_sha256 of its "
+        "sidecar (changed after it was stored); recomputing"
+    ]
     assert not again.from_cache and len(fe_runs) == 2 and capsys.readouterr().err == ""
 
 
@@ -152,7 +164,7 @@ def test_sidecar_problems(cache, fe_runs):
     csv.unlink()
     assert tables.lookup(inputs) == (None, "has a sidecar but no data")
     (cache / f"{key}.csv.json").unlink()
-    assert tables.lookup(inputs) == (None, None)     # no entry at all: a plain miss
+    assert tables.lookup(inputs) == (None, None)  # no entry at all: a plain miss
 
 
 def test_refresh_and_lazy_calibration(cache, fe_runs):
@@ -163,7 +175,7 @@ def test_refresh_and_lazy_calibration(cache, fe_runs):
         return calibrate.run_fe(default_pair(), None)
 
     table(calibration=lazy)
-    table(calibration=lazy)          # a hit: the FE stage is never asked for
+    table(calibration=lazy)  # a hit: the FE stage is never asked for
     assert made == [1] and len(fe_runs) == 1
     assert not table(refresh=True).from_cache and len(fe_runs) == 2
 
@@ -179,32 +191,50 @@ def test_cache_folder_that_is_a_file(tmp_path, monkeypatch, fe_runs):
     with pytest.raises(InputError, match=r"^GEARWEAR_CACHE = .*/not-a-folder/sub: cannot be created \(") as exc:
         table()
     assert "\n" not in str(exc.value)
-    assert fe_runs == []              # raised before any computation
+    assert fe_runs == []  # raised before any computation
 
 
 def test_cli_cache_folder_that_is_a_file(tmp_path):
     f = tmp_path / "not-a-folder"
     f.write_text("x")
     env = {**os.environ, "GEARWEAR_CACHE": str(f)}
-    r = subprocess.run([sys.executable, "-m", "gearwear.cli", "calibrate", "--points", "48"],
-                       capture_output=True, text=True, env=env, timeout=120)
+    r = subprocess.run(
+        [sys.executable, "-m", "gearwear.cli", "calibrate", "--points", "48"],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=120,
+    )
     assert r.returncode == 2 and r.stdout == ""
     assert r.stderr == f"gearwear: error: GEARWEAR_CACHE = {f}: is a file, not a folder\n"
 
 
 def test_fingerprint_follows_the_source():
     mods = calibrate.code_modules()
-    for m in ("gearwear.stiffness.calibration", "gearwear.stiffness.tables", "gearwear.stiffness.comparison",
-              "gearwear.io", "gearwear.fem.pair",
-              "gearwear.fem.tooth", "gearwear.fem.pair_body", "gearwear.fem.contact", "gearwear.fem.elasticity",
-              "gearwear.fem.mesh", "gearwear.analytic.tvms", "gearwear.analytic.ishikawa", "gearwear.geometry.wear",
-              "gearwear.geometry.profile", "gearwear.geometry.kinematics", "gearwear.core.validation"):
+    for m in (
+        "gearwear.stiffness.calibration",
+        "gearwear.stiffness.tables",
+        "gearwear.stiffness.comparison",
+        "gearwear.io",
+        "gearwear.fem.pair",
+        "gearwear.fem.tooth",
+        "gearwear.fem.pair_body",
+        "gearwear.fem.contact",
+        "gearwear.fem.elasticity",
+        "gearwear.fem.mesh",
+        "gearwear.analytic.tvms",
+        "gearwear.analytic.ishikawa",
+        "gearwear.geometry.wear",
+        "gearwear.geometry.profile",
+        "gearwear.geometry.kinematics",
+        "gearwear.core.validation",
+    ):
         assert m in mods
     assert list(mods) == sorted(mods)
     assert not [m for m in mods if m == "gearwear" or m.startswith(("gearwear.dynamics", "gearwear.cli.app"))]
     base = calibrate.fingerprint(mods)
     assert base == calibrate.code_fingerprint() and len(base) == 64
-    assert calibrate.fingerprint(reversed(mods)) == base              # order-independent
+    assert calibrate.fingerprint(reversed(mods)) == base  # order-independent
     read = calibrate._source_bytes
     # one changed byte in any one file changes the fingerprint
     for changed in ("gearwear.fem.pair", "gearwear.stiffness.tables", "gearwear.geometry.wear"):
@@ -223,21 +253,32 @@ def test_fingerprint_does_not_depend_on_where_the_files_are(tmp_path):
 
 def test_dependencies_follow_imports_inside_functions():
     """Relative imports at one and two levels, and an import inside a function, are followed."""
-    src = {"gearwear.stiffness.calibration": b"from . import tables\ndef f():\n    from gearwear.fem import pair\n",
-           "gearwear.stiffness.tables": b"from .. import io\n", "gearwear.io": b"from . import __version__\n"}
+    src = {
+        "gearwear.stiffness.calibration": b"from . import tables\ndef f():\n    from gearwear.fem import pair\n",
+        "gearwear.stiffness.tables": b"from .. import io\n",
+        "gearwear.io": b"from . import __version__\n",
+    }
     deps = calibrate.dependencies("gearwear.stiffness.calibration", read=lambda m: src.get(m, b""))
-    assert deps == ("gearwear.fem", "gearwear.fem.pair", "gearwear.io", "gearwear.stiffness",
-                    "gearwear.stiffness.calibration", "gearwear.stiffness.tables")
+    assert deps == (
+        "gearwear.fem",
+        "gearwear.fem.pair",
+        "gearwear.io",
+        "gearwear.stiffness",
+        "gearwear.stiffness.calibration",
+        "gearwear.stiffness.tables",
+    )
 
 
 def test_a_computed_table_that_fails_the_checks_is_not_stored_silently(cache):
-    tab = tables.StiffnessTable(np.linspace(0, 0.1, 8), np.full(8, np.nan), np.zeros(8), np.zeros(8),
-                                np.ones(8, dtype=int), {})
+    tab = tables.StiffnessTable(
+        np.linspace(0, 0.1, 8), np.full(8, np.nan), np.zeros(8), np.zeros(8), np.ones(8, dtype=int), {}
+    )
     with pytest.raises(ValueError, match="the computed table has a non-finite k_N_per_m"):
         tables.store(tab, {"kind": "test", "points": 8}, "test")
 
 
 # -- an entry that is not a regular file ------------------------------------------------------
+
 
 def _within(seconds, fn):
     """fn() run in a thread that must finish within ``seconds``: a read that waited on a FIFO
@@ -283,7 +324,7 @@ def test_a_table_entry_that_is_not_a_regular_file_is_recomputed(cache, fe_runs, 
     assert err.startswith(f"gearwear: cache entry {key[:8]}... (unworn, 0 um) ") and err.count("\n") == 1, err
     assert err.endswith("; recomputing\n") and ("is a" in err or "cannot be read" in err), err
     assert not again.from_cache and np.array_equal(again.k_N_per_m, good.k_N_per_m)
-    assert table().from_cache and csv.is_file() and not csv.is_symlink()   # stored again, over the damage
+    assert table().from_cache and csv.is_file() and not csv.is_symlink()  # stored again, over the damage
 
 
 @pytest.fixture(scope="module")

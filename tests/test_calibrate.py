@@ -10,9 +10,9 @@ from concurrent.futures import Executor, Future
 import numpy as np
 import pytest
 
+from gearwear.geometry.spec import default_pair, replace_checked
 from gearwear.stiffness import calibration as calibrate
 from gearwear.stiffness import tables
-from gearwear.geometry.spec import default_pair, replace_checked
 
 
 @pytest.fixture(scope="module")
@@ -22,9 +22,9 @@ def cal():
 
 def test_correction_fits_and_checks(cal):
     for c in cal.corrections:
-        assert np.all(c.ratio > 1.0)               # the full-gear FE body is softer than Weber's clamp
+        assert np.all(c.ratio > 1.0)  # the full-gear FE body is softer than Weber's clamp
         assert c.fit_residual < 0.01 and c.check_residual < 0.01
-    assert cal.fe[1] is cal.fe[0]                   # identical gears share one FE run
+    assert cal.fe[1] is cal.fe[0]  # identical gears share one FE run
 
 
 class _InlineExecutor(Executor):
@@ -93,8 +93,10 @@ def test_the_table_states_its_own_error_against_the_pair_fe(tmp_path, monkeypatc
     fe = pair_contact(pair, positions=calibrate.PAIR_POSITIONS, torque_Nm=40.0)
     # the FE angles are uniform nodes of the table (the breakpoints come on top of them)
     P = 2 * np.pi / pair.teeth[0]
-    at = [int(np.argmin(np.abs(tab.angle_rad - a))) for a in np.arange(calibrate.PAIR_POSITIONS) * P /
-          calibrate.PAIR_POSITIONS]
+    at = [
+        int(np.argmin(np.abs(tab.angle_rad - a)))
+        for a in np.arange(calibrate.PAIR_POSITIONS) * P / calibrate.PAIR_POSITIONS
+    ]
     assert np.allclose(tab.angle_rad[at], fe.angle_rad, rtol=0, atol=1e-12)
     k_tab = tab.k_N_per_m[at]
     err = np.abs(k_tab / fe.k_N_per_m - 1.0)
@@ -103,7 +105,7 @@ def test_the_table_states_its_own_error_against_the_pair_fe(tmp_path, monkeypatc
     assert stated["max"] == pytest.approx(err.max(), rel=1e-9)
     # zones are the analytic stage's (where one or two pairs carry load); the max over both is the max
     assert max(v for k, v in stated.items() if k in ("single", "double") and v is not None) == stated["max"]
-    assert stated["rms"] == pytest.approx(np.sqrt(np.mean(err ** 2)), rel=1e-9)
+    assert stated["rms"] == pytest.approx(np.sqrt(np.mean(err**2)), rel=1e-9)
     assert single.any()
 
 
@@ -111,6 +113,7 @@ def test_calibrated_mean_is_below_analytic(cal):
     pair = default_pair()
     corr = tuple(c.grid() for c in cal.corrections)
     from gearwear.analytic.tvms import mesh_stiffness
+
     raw = mesh_stiffness(pair, points=90)
     fixed = mesh_stiffness(pair, points=90, correction=corr)
     assert fixed.mean_N_per_m < raw.mean_N_per_m
@@ -126,8 +129,13 @@ def test_verify_cli_json(tmp_path):
     assert r.returncode == 0, r.stderr
     js = json.loads(r.stdout)
     ph = js["phases"]["severe"]
-    for key in ("radius_mm", "roll_angle_deg", "fem_compliance_um_per_N_per_mm",
-                "ishikawa_compliance_um_per_N_per_mm", "wall_s"):
+    for key in (
+        "radius_mm",
+        "roll_angle_deg",
+        "fem_compliance_um_per_N_per_mm",
+        "ishikawa_compliance_um_per_N_per_mm",
+        "wall_s",
+    ):
         assert key in ph
     assert len(ph["radius_mm"]) == 5 and all(c > 0 for c in ph["fem_compliance_um_per_N_per_mm"])
     assert (tmp_path / "verification.md").exists() and (tmp_path / "compliance.png").exists()
@@ -135,6 +143,7 @@ def test_verify_cli_json(tmp_path):
 
 def test_calibrate_cli_uses_cache(tmp_path):
     import os
+
     env = {**os.environ, "GEARWEAR_CACHE": str(tmp_path / "cache")}
     first = run("calibrate", "--points", "48", "--json", env=env)
     assert first.returncode == 0, first.stderr

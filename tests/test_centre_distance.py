@@ -18,10 +18,20 @@ from gearwear.geometry.operating import backlash
 from gearwear.scene.model import scene_from_dict
 
 PAIRS = {
-    "23-47": {"teeth": [23, 47], "module_mm": 3.0, "profile_shift": [0.2, -0.1], "face_width_mm": 30.0,
-              "hub_radius_mm": [12.5, 25.0]},
-    "driver-47": {"teeth": [47, 23], "module_mm": 3.0, "profile_shift": [-0.1, 0.2], "face_width_mm": 30.0,
-                  "hub_radius_mm": [25.0, 12.5]},
+    "23-47": {
+        "teeth": [23, 47],
+        "module_mm": 3.0,
+        "profile_shift": [0.2, -0.1],
+        "face_width_mm": 30.0,
+        "hub_radius_mm": [12.5, 25.0],
+    },
+    "driver-47": {
+        "teeth": [47, 23],
+        "module_mm": 3.0,
+        "profile_shift": [-0.1, 0.2],
+        "face_width_mm": 30.0,
+        "hub_radius_mm": [25.0, 12.5],
+    },
 }
 
 
@@ -30,8 +40,11 @@ def _inv(a):
 
 
 def _doc(pair, **extra):
-    return {"pair": {**pair, **extra}, "operating": {"speed_rpm": 1500, "torque_Nm": 120},
-            "bodies": {"bearing_stiffness_N_per_m": 5e8}}
+    return {
+        "pair": {**pair, **extra},
+        "operating": {"speed_rpm": 1500, "torque_Nm": 120},
+        "bodies": {"bearing_stiffness_N_per_m": 5e8},
+    }
 
 
 @pytest.mark.parametrize("name", PAIRS)
@@ -52,8 +65,10 @@ def test_the_backlash_it_opens_is_the_hand_formula(name):
     assert pair.zero_backlash_centre_distance_m == pytest.approx(a_w, rel=1e-13)
     assert backlash(pair, pair.centre_distance_m) == pytest.approx(2 * rb_sum * (_inv(alpha_p) - _inv(aw)), rel=1e-9)
     # and the contact ratio shortens as the centres move apart
-    assert MeshGeometry(pair, pair.centre_distance_m).contact_ratio < \
-        MeshGeometry(pair, pair.zero_backlash_centre_distance_m).contact_ratio
+    assert (
+        MeshGeometry(pair, pair.centre_distance_m).contact_ratio
+        < MeshGeometry(pair, pair.zero_backlash_centre_distance_m).contact_ratio
+    )
 
 
 def test_geometry_stiffness_and_dynamics_run_at_the_same_centre_distance():
@@ -70,6 +85,7 @@ def test_geometry_stiffness_and_dynamics_run_at_the_same_centre_distance():
     assert model.C0_m == pytest.approx(0.1056, rel=1e-15)
     assert model.alpha == pytest.approx(mesh.pressure_angle_rad, rel=1e-15)
     from gearwear.analytic.tvms import mesh_stiffness
+
     k = mesh_stiffness(sc.pair, points=64, torque_Nm=120.0)
     assert k.mesh.centre_distance_m == pytest.approx(0.1056, rel=1e-15)
     assert k.contact_ratio == pytest.approx(mesh.contact_ratio, rel=1e-12)
@@ -78,12 +94,17 @@ def test_geometry_stiffness_and_dynamics_run_at_the_same_centre_distance():
 def test_without_backlash_the_dynamics_warn_that_the_opened_backlash_is_not_modelled():
     from gearwear.jobs.simulate import operating_notes
 
-    sc = scene_from_dict({**_doc(PAIRS["23-47"], centre_distance_mm=105.6),
-                          "effects": {"mesh_stiffness": {"source": "analytic"}}})
+    sc = scene_from_dict(
+        {**_doc(PAIRS["23-47"], centre_distance_mm=105.6), "effects": {"mesh_stiffness": {"source": "analytic"}}}
+    )
     notes = operating_notes(sc)["warnings"]
     assert any(n.startswith("pair.centre_distance_mm opens") and "[effects.backlash]" in n for n in notes)
-    sc = scene_from_dict({**_doc(PAIRS["23-47"], centre_distance_mm=105.6),
-                          "effects": {"mesh_stiffness": {"source": "analytic"}, "backlash": {"initial_um": 0}}})
+    sc = scene_from_dict(
+        {
+            **_doc(PAIRS["23-47"], centre_distance_mm=105.6),
+            "effects": {"mesh_stiffness": {"source": "analytic"}, "backlash": {"initial_um": 0}},
+        }
+    )
     assert not any(n.startswith("pair.centre_distance_mm opens") for n in operating_notes(sc)["warnings"])
 
 

@@ -16,9 +16,18 @@ def test_geometry_json_without_file_is_the_paper_pair():
     r = run("geometry", "--no-mesh", "--json", "--torque-Nm", "0")
     assert r.returncode == 0, r.stderr
     s = json.loads(r.stdout)
-    for key in ("contact_ratio", "base_radius_mm", "pitch_radius_mm", "tip_radius_mm", "root_radius_mm",
-                "centre_distance_mm", "operating_pressure_angle_deg", "backlash_um", "contact_line_length_mm",
-                "max_wear_depth_um"):
+    for key in (
+        "contact_ratio",
+        "base_radius_mm",
+        "pitch_radius_mm",
+        "tip_radius_mm",
+        "root_radius_mm",
+        "centre_distance_mm",
+        "operating_pressure_angle_deg",
+        "backlash_um",
+        "contact_line_length_mm",
+        "max_wear_depth_um",
+    ):
         assert key in s
     assert s["base_radius_mm"] == pytest.approx(75 * math.cos(math.radians(20)), rel=1e-12)
     assert s["centre_distance_mm"] == 150.0 and s["backlash_um"] == 0.0
@@ -63,11 +72,14 @@ def test_bad_input_files_give_one_line_and_write_nothing(tmp_path, toml, message
     assert not out.exists()
 
 
-@pytest.mark.parametrize("args,message", [
-    (["--clearance-um", "-5"], "--clearance-um = -5 um: must be in [0, 10000] um"),
-    (["--wear", "12000um"], "effects.wear.max_depth_um = 12000 um: must be in [0, "),
-    (["--wear", "heavy"], "--wear = 'heavy'"),
-])
+@pytest.mark.parametrize(
+    "args,message",
+    [
+        (["--clearance-um", "-5"], "--clearance-um = -5 um: must be in [0, 10000] um"),
+        (["--wear", "12000um"], "effects.wear.max_depth_um = 12000 um: must be in [0, "),
+        (["--wear", "heavy"], "--wear = 'heavy'"),
+    ],
+)
 def test_bad_cli_options(tmp_path, args, message):
     out = tmp_path / "out"
     r = run("geometry", "--no-mesh", "--out", str(out), *args)
@@ -95,12 +107,15 @@ def test_stiffness_cli_overlays_and_json(tmp_path):
     assert (out / "cl" / "mean_vs_clearance.png").exists()
 
 
-@pytest.mark.parametrize("args,message", [
-    (["--points", "4"], "--points = 4"),
-    (["--torque-Nm", "0"], "--torque-Nm = 0 N m"),
-    (["--wear", "12000um"], "effects.wear.max_depth_um = 12000 um: must be in [0, "),
-    (["--method", "magic"], "--method = 'magic'"),
-])
+@pytest.mark.parametrize(
+    "args,message",
+    [
+        (["--points", "4"], "--points = 4"),
+        (["--torque-Nm", "0"], "--torque-Nm = 0 N m"),
+        (["--wear", "12000um"], "effects.wear.max_depth_um = 12000 um: must be in [0, "),
+        (["--method", "magic"], "--method = 'magic'"),
+    ],
+)
 def test_stiffness_bad_input(tmp_path, args, message):
     r = run("stiffness", "--out", str(tmp_path / "o"), *args)
     assert r.returncode == 2
@@ -112,8 +127,11 @@ def test_same_inputs_give_the_same_bytes(tmp_path):
     for k in (1, 2):
         r = run("stiffness", "--wear", "mild", "--points", "64", "--out", str(tmp_path / f"r{k}"))
         assert r.returncode == 0, r.stderr
-    for name in ("stiffness_ishikawa_mild_clearance0um.csv", "stiffness_ishikawa_mild_clearance0um.csv.json",
-                 "stiffness.png"):
+    for name in (
+        "stiffness_ishikawa_mild_clearance0um.csv",
+        "stiffness_ishikawa_mild_clearance0um.csv.json",
+        "stiffness.png",
+    ):
         assert (tmp_path / "r1" / name).read_bytes() == (tmp_path / "r2" / name).read_bytes(), name
 
 

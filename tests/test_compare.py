@@ -10,12 +10,12 @@ import numpy as np
 import pytest
 
 from gearwear.analytic import energy, ishikawa
-from gearwear.stiffness.comparison import pair_vs_analytic, tooth_vs_analytic
 from gearwear.fem.pair import pair_contact
 from gearwear.fem.tooth import single_tooth_compliance
 from gearwear.geometry.profile import tooth_profile
 from gearwear.geometry.spec import default_pair
 from gearwear.geometry.wear import WearSpec
+from gearwear.stiffness.comparison import pair_vs_analytic, tooth_vs_analytic
 
 
 @pytest.fixture(scope="module")
@@ -36,10 +36,16 @@ def test_ishikawa_column_units(pair, nominal):
     ref_e = energy.tooth_compliance(prof, nominal.fe.radius_m, pair.materials[0], pair.face_width_m).total_m_per_N
     assert np.allclose(nominal.energy_um_per_N_per_mm, ref_e * 1e6 * pair.face_width_m * 1e3, rtol=1e-3)
     row = nominal.rows()[10]
-    assert set(row) >= {"radius_mm", "roll_angle_deg", "fem_compliance_um_per_N_per_mm",
-                        "ishikawa_um_per_N_per_mm", "difference_percent"}
+    assert set(row) >= {
+        "radius_mm",
+        "roll_angle_deg",
+        "fem_compliance_um_per_N_per_mm",
+        "ishikawa_um_per_N_per_mm",
+        "difference_percent",
+    }
     assert row["difference_percent"] == pytest.approx(
-        100 * (row["fem_compliance_um_per_N_per_mm"] / row["ishikawa_um_per_N_per_mm"] - 1), rel=1e-12)
+        100 * (row["fem_compliance_um_per_N_per_mm"] / row["ishikawa_um_per_N_per_mm"] - 1), rel=1e-12
+    )
 
 
 def test_within_30_percent_of_ishikawa_at_pitch_point(pair, nominal):

@@ -18,6 +18,7 @@ from gearwear.geometry.crack import Crack, crack_line, critical_fillet_point, ma
 from gearwear.geometry.loading import load_points
 from gearwear.geometry.polyline import project_to_polyline
 from gearwear.geometry.profile import FILLET, INVOLUTE, TIP_LAND, RackGeometry, fillet_points, tooth_profile
+
 from scenes import paper_pair_from
 
 NU_45 = math.radians(45.0)
@@ -31,6 +32,7 @@ def paper():
 
 
 # -- geometry -------------------------------------------------------------------------
+
 
 def test_critical_point_tangent_is_30_deg_by_finite_differences(paper):
     _, prof = paper
@@ -71,9 +73,14 @@ def test_crack_line_convention_and_limits(paper):
     q_max = max_depth_m(prof, NU_45)
     assert q_max == pytest.approx(x / math.sin(NU_45), rel=1e-12)  # tip on the centre line
     assert crack_line(prof, Crack(q_max, NU_45))[1][0] == pytest.approx(0.0, abs=1e-15)
-    for bad, key in ((Crack(0.0, NU_45), "depth_m"), (Crack(-1e-3, NU_45), "depth_m"),
-                     (Crack(1.001 * q_max, NU_45), "depth_m"), (Crack(float("nan"), NU_45), "depth_m"),
-                     (Crack(1e-3, 0.0), "angle_rad"), (Crack(1e-3, 1.6), "angle_rad")):
+    for bad, key in (
+        (Crack(0.0, NU_45), "depth_m"),
+        (Crack(-1e-3, NU_45), "depth_m"),
+        (Crack(1.001 * q_max, NU_45), "depth_m"),
+        (Crack(float("nan"), NU_45), "depth_m"),
+        (Crack(1e-3, 0.0), "angle_rad"),
+        (Crack(1e-3, 1.6), "angle_rad"),
+    ):
         with pytest.raises(InputError, match=key) as exc:
             crack_line(prof, bad)
         assert "\n" not in str(exc.value) and "must be in" in str(exc.value)
@@ -116,8 +123,14 @@ def test_depth_to_zero_gives_intact_tooth(paper, radii, model):
 def test_compliance_rises_monotonically_with_depth(paper, radii, model):
     pair, prof = paper
     depths = np.array([0.25, 0.5, 1.0, 2.0, 4.0, 6.0]) * 1e-3
-    c = np.array([model.tooth_compliance(prof, radii, pair.materials[0], pair.face_width_m,
-                                         crack=Crack(q, NU_45)).total_m_per_N for q in depths])
+    c = np.array(
+        [
+            model.tooth_compliance(
+                prof, radii, pair.materials[0], pair.face_width_m, crack=Crack(q, NU_45)
+            ).total_m_per_N
+            for q in depths
+        ]
+    )
     c0 = model.tooth_compliance(prof, radii, pair.materials[0], pair.face_width_m).total_m_per_N
     assert np.all(c[0] > c0)
     assert np.all(np.diff(c, axis=0) > 0)
@@ -142,9 +155,9 @@ def test_bending_at_tip_matches_hand_integration(paper):
     hx = np.interp(y, yf[o], xf[o])
     t = np.where((y >= y_q) & (hx > h_q), h_q + hx, 2 * hx)
     w, xF, yF = lp.w_rad[0], lp.x_m[0], lp.y_m[0]
-    f = (math.cos(w) * (yF - y) - math.sin(w) * xF) ** 2 / (E * t ** 3 * b / 12)
+    f = (math.cos(w) * (yF - y) - math.sin(w) * xF) ** 2 / (E * t**3 * b / 12)
     hand = float(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(y)))
-    intact = np.sum(0.5 * ((f * t ** 3 / (2 * hx) ** 3)[1:] + (f * t ** 3 / (2 * hx) ** 3)[:-1]) * np.diff(y))
+    intact = np.sum(0.5 * ((f * t**3 / (2 * hx) ** 3)[1:] + (f * t**3 / (2 * hx) ** 3)[:-1]) * np.diff(y))
     assert hand > 1.01 * intact  # the crack matters in this case
     en = energy.tooth_compliance(prof, R, pair.materials[0], b, crack=crack).bending_m_per_N[0]
     ish = ishikawa.tooth_compliance(prof, R, pair.materials[0], b, n_slices=20_000, crack=crack).bending_m_per_N[0]
@@ -166,7 +179,7 @@ def test_reduced_section_breaks_are_where_the_loss_is_not_smooth(paper):
 # -- FE: the crack as a cut with free faces --------------------------------------------
 
 FE_DEPTHS_MM = (0.05, 0.5, 1.0, 2.0)
-TIP_SIZES_M = (0.2e-3, 0.05e-3, 0.0125e-3)   # refinement ratio 4
+TIP_SIZES_M = (0.2e-3, 0.05e-3, 0.0125e-3)  # refinement ratio 4
 
 
 @pytest.fixture(scope="module")
@@ -180,8 +193,9 @@ def fe_runs(paper):
     out = {"intact": single_tooth_compliance(pair, **run)}
     for q in FE_DEPTHS_MM:
         out[q] = single_tooth_compliance(pair, crack=Crack(q * 1e-3, NU_45), **run)
-    out["tip"] = [single_tooth_compliance(pair, crack=Crack(1e-3, NU_45), crack_tip_size_m=h, **run)
-                  for h in TIP_SIZES_M]
+    out["tip"] = [
+        single_tooth_compliance(pair, crack=Crack(1e-3, NU_45), crack_tip_size_m=h, **run) for h in TIP_SIZES_M
+    ]
     return out
 
 
@@ -198,8 +212,10 @@ def test_fe_converges_under_crack_tip_refinement(fe_runs):
     c = np.array([r.fem_compliance_um_per_N_per_mm for r in fe_runs["tip"]])
     d1, d2 = np.abs(c[1] - c[0]), np.abs(c[2] - c[1])
     order = np.log(d1 / d2) / np.log(4.0)
-    print(f"\ncrack-tip refinement (1 mm crack; tip {[h * 1e3 for h in TIP_SIZES_M]} mm): "
-          f"relative differences {(d1 / c[2]).tolist()} then {(d2 / c[2]).tolist()}, observed order {order.tolist()}")
+    print(
+        f"\ncrack-tip refinement (1 mm crack; tip {[h * 1e3 for h in TIP_SIZES_M]} mm): "
+        f"relative differences {(d1 / c[2]).tolist()} then {(d2 / c[2]).tolist()}, observed order {order.tolist()}"
+    )
     assert np.all(d2 < d1)
     assert np.all(d2 / c[2] < 1e-3)
 
@@ -212,8 +228,10 @@ def test_fe_tends_to_intact_as_depth_goes_to_zero(fe_runs):
 
 
 def test_fe_compliance_rises_with_depth(fe_runs):
-    c = np.array([fe_runs["intact"].fem_compliance_um_per_N_per_mm]
-                 + [fe_runs[q].fem_compliance_um_per_N_per_mm for q in (0.5, 1.0, 2.0)])
+    c = np.array(
+        [fe_runs["intact"].fem_compliance_um_per_N_per_mm]
+        + [fe_runs[q].fem_compliance_um_per_N_per_mm for q in (0.5, 1.0, 2.0)]
+    )
     print(f"\nFE compliance um/(N/mm), intact, 0.5, 1, 2 mm (rows) x SAP, mid, top:\n{c}")
     assert np.all(np.diff(c, axis=0) > 0)
 
@@ -254,13 +272,15 @@ def test_fe_over_analytic_increase_is_reported(paper, fe_runs):
     for model in (energy, ishikawa):
         a0 = model.tooth_compliance(prof, R, pair.materials[0], pair.face_width_m).total_m_per_N
         for q in (0.5, 1.0, 2.0):
-            a = model.tooth_compliance(prof, R, pair.materials[0], pair.face_width_m,
-                                       crack=Crack(q * 1e-3, NU_45)).total_m_per_N
+            a = model.tooth_compliance(
+                prof, R, pair.materials[0], pair.face_width_m, crack=Crack(q * 1e-3, NU_45)
+            ).total_m_per_N
             d_an = (a - a0) * 1e9 * pair.face_width_m  # m/N -> um/(N/mm)
             d_fe = fe_runs[q].fem_compliance_um_per_N_per_mm - fe0
             ratio = d_fe / d_an
-            lines.append(f"{model.__name__.rsplit('.', 1)[-1]:9s} q = {q} mm: "
-                         f"FE/analytic increase {ratio.round(3).tolist()}")
+            lines.append(
+                f"{model.__name__.rsplit('.', 1)[-1]:9s} q = {q} mm: FE/analytic increase {ratio.round(3).tolist()}"
+            )
             assert np.all(ratio > 0)
     print("\nradii mm " + str((R * 1e3).round(3).tolist()) + "\n" + "\n".join(lines))
 
@@ -274,9 +294,11 @@ def test_mesher_rejects_bad_crack_input_and_is_deterministic(paper):
     ang = np.linspace(0, 2 * np.pi, n, endpoint=False)
     square = np.column_stack([np.cos(ang), np.sin(ang)]) * 0.05  # a polygon "gear"
     sizes = MeshSizes(global_m=5e-3)
-    for crack_xy, match in (([[0.049, 0.0], [0.04, 0.0]], "not an outline point"),
-                            ([square[0], [0.06, 0.0]], "not inside"),
-                            ([square[0], [0.005, 0.0]], "not inside")):  # in the bore
+    for crack_xy, match in (
+        ([[0.049, 0.0], [0.04, 0.0]], "not an outline point"),
+        ([square[0], [0.06, 0.0]], "not inside"),
+        ([square[0], [0.005, 0.0]], "not inside"),
+    ):  # in the bore
         with pytest.raises(MeshError, match=match):
             mesh_full_gear(square, 0.01, sizes, order=1, crack_xy=np.array(crack_xy))
     with pytest.raises(MeshError, match="crack_tip_size_m"):

@@ -19,10 +19,10 @@ import pytest
 from scipy import stats
 
 from gearwear.cli import app as cli
+from gearwear.core.validation import InputError
 from gearwear.diagnose import job as dj
 from gearwear.diagnose import posterior as dp
 from gearwear.diagnose import surrogate as ds
-from gearwear.core.validation import InputError
 from gearwear.diagnose.features import fourier_fit, read_measurement, time_series_features
 from gearwear.scene.model import load_scene_dict
 
@@ -51,6 +51,7 @@ DESIGN, HOLDOUT = 32, 32
 
 # -- features --------------------------------------------------------------------------
 
+
 def test_fourier_fit_recovers_a_closed_form_series_at_any_sampling():
     """Mean, amplitudes and phases of a band-limited series, sampled at a non-integer number of
     samples per period and unevenly: least squares is exact (1e-12)."""
@@ -77,18 +78,21 @@ def test_time_series_features_use_the_last_whole_periods():
     assert max(vals[("y_p_um", k)] for k in (1, 2, 4, 5, 6, 7, 8, 9, 10)) < 1e-12
 
 
-@pytest.mark.parametrize("text, where", [
-    ("time_s,y_p_um\n0,1\n0.001,abc\n", "row 3, column y_p_um: 'abc' is not a number"),
-    ("time_s,y_p_um,z_um\n0,1,2\n", "row 1, column z_um: unknown column"),
-    ("time_s,y_p_um\n0,1\n0,2\n", "row 3, column time_s: 0 does not increase"),
-    ("time_s,y_p_um\n0,1\n0.0001,2\n", "column time_s: the record spans 0.0001 s, less than one mesh period"),
-    ("time_s,y_p_um\n" + "".join(f"{i / 6000},{i}\n" for i in range(40)), "cannot resolve 10 mesh harmonics"),
-    ("signal,harmonic,amplitude\nF_m_N,11,1\n", "row 2, column harmonic: 11 must be a whole number in [1, 10]"),
-    ("signal,harmonic,amplitude\nF_m_N,2,-1\n", "row 2, column amplitude: -1 must be >= 0"),
-    ("signal,harmonic,amplitude\nq_um,2,1\n", "row 2, column signal: 'q_um' is not a measurable signal"),
-    ("signal,harmonic,amplitude\nF_m_N,2,1\nF_m_N,2,3\n", "row 3: repeats F_m_N harmonic 2"),
-    ("", "is empty"),
-])
+@pytest.mark.parametrize(
+    "text, where",
+    [
+        ("time_s,y_p_um\n0,1\n0.001,abc\n", "row 3, column y_p_um: 'abc' is not a number"),
+        ("time_s,y_p_um,z_um\n0,1,2\n", "row 1, column z_um: unknown column"),
+        ("time_s,y_p_um\n0,1\n0,2\n", "row 3, column time_s: 0 does not increase"),
+        ("time_s,y_p_um\n0,1\n0.0001,2\n", "column time_s: the record spans 0.0001 s, less than one mesh period"),
+        ("time_s,y_p_um\n" + "".join(f"{i / 6000},{i}\n" for i in range(40)), "cannot resolve 10 mesh harmonics"),
+        ("signal,harmonic,amplitude\nF_m_N,11,1\n", "row 2, column harmonic: 11 must be a whole number in [1, 10]"),
+        ("signal,harmonic,amplitude\nF_m_N,2,-1\n", "row 2, column amplitude: -1 must be >= 0"),
+        ("signal,harmonic,amplitude\nq_um,2,1\n", "row 2, column signal: 'q_um' is not a measurable signal"),
+        ("signal,harmonic,amplitude\nF_m_N,2,1\nF_m_N,2,3\n", "row 3: repeats F_m_N harmonic 2"),
+        ("", "is empty"),
+    ],
+)
 def test_bad_measurement_files_name_file_row_and_column(tmp_path, text, where):
     p = tmp_path / "m.csv"
     p.write_text(text)
@@ -99,8 +103,9 @@ def test_bad_measurement_files_name_file_row_and_column(tmp_path, text, where):
 
 # -- posterior, Fisher information, error model: closed forms ----------------------------
 
+
 def _linear_gaussian(A, b, y, sd):
-    return lambda th: -0.5 * np.sum(((th @ A.T + b) - y) ** 2 / sd ** 2, axis=1)
+    return lambda th: -0.5 * np.sum(((th @ A.T + b) - y) ** 2 / sd**2, axis=1)
 
 
 @pytest.mark.parametrize("scale", [1.0, 1e-3])
@@ -113,7 +118,7 @@ def test_grid_posterior_equals_the_linear_gaussian_closed_form(scale):
     sd = np.array([0.5, 0.8, 0.4]) * scale
     y = A @ truth + np.array([0.3, -0.2, 0.1]) * scale
     cov = np.linalg.inv(A.T @ (A / sd[:, None] ** 2))
-    mu = cov @ (A.T @ (y / sd ** 2))
+    mu = cov @ (A.T @ (y / sd**2))
     post = dp.grid_posterior(_linear_gaussian(A, 0.0, y, sd), [0, 0], [10, 10], 101)
     s = dp.summarise(post, ["a", "b"], [0, 0], [10, 10])
     for j, n in enumerate("ab"):
@@ -123,7 +128,7 @@ def test_grid_posterior_equals_the_linear_gaussian_closed_form(scale):
         assert abs(e["hi95"] - (mu[j] + 1.959964 * sj)) < 5e-3 * sj
     assert s["correlation"][0, 1] == pytest.approx(cov[0, 1] / math.sqrt(cov[0, 0] * cov[1, 1]), abs=2e-3)
     if scale < 1:
-        assert len(post.stages) > 1   # the zoom found the narrow posterior
+        assert len(post.stages) > 1  # the zoom found the narrow posterior
 
 
 def test_interval_at_a_prior_bound_is_the_truncated_normal():
@@ -143,8 +148,9 @@ def test_fisher_widths_of_a_linear_model():
     cov = np.linalg.inv(J.T @ (J / var[:, None]))
     w = dp.fisher_widths(J, var, [10.0, 20.0])
     np.testing.assert_allclose(w["marginal"], 2 * 1.959964 * np.sqrt(np.diag(cov)) / [10.0, 20.0], rtol=1e-12)
-    np.testing.assert_allclose(w["conditional"], 2 * 1.959964 / np.sqrt(np.diag(J.T @ (J / var[:, None])))
-                               / [10.0, 20.0], rtol=1e-12)
+    np.testing.assert_allclose(
+        w["conditional"], 2 * 1.959964 / np.sqrt(np.diag(J.T @ (J / var[:, None]))) / [10.0, 20.0], rtol=1e-12
+    )
     flat = dp.fisher_widths(np.column_stack([J[:, 0], np.zeros(3)]), var, [1.0, 1.0])
     assert np.isinf(flat["marginal"]).all() and np.isinf(flat["conditional"][1])
 
@@ -156,10 +162,11 @@ def test_error_multiplicity_is_exact_for_one_common_error():
     n, s, sigma = 7, 0.3, 0.5
     m = ds.error_multiplicity(n)
     y = np.linspace(9.0, 11.0, n)
-    post = dp.grid_posterior(lambda th: -0.5 * np.sum((th[:, :1] - y) ** 2, axis=1) / (sigma ** 2 + m * s ** 2),
-                             [0.0], [20.0], 2001)
+    post = dp.grid_posterior(
+        lambda th: -0.5 * np.sum((th[:, :1] - y) ** 2, axis=1) / (sigma**2 + m * s**2), [0.0], [20.0], 2001
+    )
     sd = (post.quantile(0, 0.975) - post.quantile(0, 0.025)) / (2 * 1.959964)
-    assert sd == pytest.approx(math.sqrt(s ** 2 + sigma ** 2 / n), rel=1e-3)
+    assert sd == pytest.approx(math.sqrt(s**2 + sigma**2 / n), rel=1e-3)
 
 
 def test_local_error_and_calibration():
@@ -179,10 +186,11 @@ def test_design_coordinates_invert():
     u = ds.UNKNOWNS["wear"]
     x = np.array([0.0, 0.3, 10.0, 39.9, 40.0])
     np.testing.assert_allclose(u.from_unit(u.to_unit(x, 0.0, 40.0), 0.0, 40.0), x, rtol=1e-14, atol=1e-14)
-    assert u.to_unit(10.0, 0.0, 40.0) == pytest.approx(0.5)   # half the design below a quarter of the range
+    assert u.to_unit(10.0, 0.0, 40.0) == pytest.approx(0.5)  # half the design below a quarter of the range
 
 
 # -- the forward model and a tiny surrogate --------------------------------------------
+
 
 @pytest.fixture(scope="module")
 def world(tmp_path_factory):
@@ -209,8 +217,8 @@ def test_clearance_with_bearings_in_contact_shifts_the_means_by_half_and_leaves_
     b, _ = ds.simulate_point(world["raw"], world["name"], {"wear": 12.0, "clearance": 30.0}, None, K)
     n = 8 * K
     assert np.max(np.abs(a[:n] - b[:n])) < 1e-9 * np.max(np.abs(a[:n]))
-    np.testing.assert_allclose(b[n:n + 2] - a[n:n + 2], -15.0, atol=1e-9)
-    assert b[n + 2] == pytest.approx(a[n + 2], rel=1e-12)   # the mean mesh force is the torque's
+    np.testing.assert_allclose(b[n : n + 2] - a[n : n + 2], -15.0, atol=1e-9)
+    assert b[n + 2] == pytest.approx(a[n + 2], rel=1e-12)  # the mean mesh force is the torque's
 
 
 def test_bearing_harmonics_are_the_mesh_force_through_a_fixed_transfer_function(world):
@@ -224,7 +232,7 @@ def test_bearing_harmonics_are_the_mesh_force_through_a_fixed_transfer_function(
     m = r.model
     c = window_fourier(r, ["y_p", "x_p", "F_m"], K)
     w = 2 * np.pi * r.fm_Hz * np.arange(1, K + 1)
-    H = 1 / (m.k_b - m.m_p * w ** 2 + 1j * m.c_b_pair[0] * w)
+    H = 1 / (m.k_b - m.m_p * w**2 + 1j * m.c_b_pair[0] * w)
     np.testing.assert_allclose(c["y_p"], -math.cos(m.alpha) * H * c["F_m"], rtol=1e-5)
     np.testing.assert_allclose(c["x_p"], -math.sin(m.alpha) * H * c["F_m"], rtol=1e-5)
 
@@ -239,8 +247,13 @@ def test_window_fourier_agrees_with_a_fit_of_the_samples(world):
     from gearwear.jobs.simulate import build_model, stiffness_input
 
     sc = ds.scene_at(world["raw"], world["name"], {"wear": 20.0, "clearance": 5.0})
-    r = simulate(build_model(sc, stiffness_input(sc)), sc.solver["duration_s"], sc.solver["discard_s"],
-                 rtol=sc.solver["rtol"], samples_per_mesh_period=1024)
+    r = simulate(
+        build_model(sc, stiffness_input(sc)),
+        sc.solver["duration_s"],
+        sc.solver["discard_s"],
+        rtol=sc.solver["rtol"],
+        samples_per_mesh_period=1024,
+    )
     c = window_fourier(r, ["y_p", "delta"], K)
     for name in ("y_p", "delta"):
         _, fit = fourier_fit(r.t - r.t[0], r.signals[name], r.fm_Hz, K)
@@ -269,10 +282,20 @@ def test_blind_coarse(world):
     sur, rng = world["sur"], np.random.default_rng(2024)
     inside, widths = 0, []
     for i in range(6):
-        truth = {"wear": float(rng.uniform(*ds.default_range(ds.UNKNOWNS["wear"], world["raw"]))),
-                 "clearance": float(rng.uniform(0, 50))}
-        vals = dj.synthetic_features(world["raw"], world["name"], truth, K, ["y_p_um", "x_p_um", "F_m_N"], True,
-                                     0.02, np.random.default_rng(100 + i))
+        truth = {
+            "wear": float(rng.uniform(*ds.default_range(ds.UNKNOWNS["wear"], world["raw"]))),
+            "clearance": float(rng.uniform(0, 50)),
+        }
+        vals = dj.synthetic_features(
+            world["raw"],
+            world["name"],
+            truth,
+            K,
+            ["y_p_um", "x_p_um", "F_m_N"],
+            True,
+            0.02,
+            np.random.default_rng(100 + i),
+        )
         ft = dj.fit(sur, vals, 0.02, 0.005)
         e = ft.summary["estimates"]
         inside += all(e[u.name]["lo95"] <= truth[u.short] <= e[u.name]["hi95"] for u in sur.unknowns)
@@ -288,16 +311,18 @@ def test_unidentifiable_clearance_is_reported_so_and_a_time_series_resolves_it(w
     truth inside."""
     sur = world["sur"]
     truth = {"wear": 22.0, "clearance": 31.0}
-    harm = dj.synthetic_features(world["raw"], world["name"], truth, K, ["y_p_um", "F_m_N"], False, 0.02,
-                                 np.random.default_rng(5))
+    harm = dj.synthetic_features(
+        world["raw"], world["name"], truth, K, ["y_p_um", "F_m_N"], False, 0.02, np.random.default_rng(5)
+    )
     ft = dj.fit(sur, harm, 0.02, 0.005)
     v = dj.verdict(ft, 0.02, 0.005)
     e = ft.summary["estimates"]["clearance_um"]
     assert v["identifiable"]["clearance_um"] is False and e["interval_fraction_of_prior"] > 0.85
     assert "clearance_um cannot be resolved" in v["verdict"]
     assert "mean of" in v["details"]["clearance_um"]["would_resolve"]["measurement"]
-    ts = dj.synthetic_features(world["raw"], world["name"], truth, K, ["y_p_um", "F_m_N"], True, 0.02,
-                               np.random.default_rng(5))
+    ts = dj.synthetic_features(
+        world["raw"], world["name"], truth, K, ["y_p_um", "F_m_N"], True, 0.02, np.random.default_rng(5)
+    )
     ft2 = dj.fit(sur, ts, 0.02, 0.005)
     e2 = ft2.summary["estimates"]["clearance_um"]
     assert dj.verdict(ft2, 0.02, 0.005)["identifiable"]["clearance_um"] is True
@@ -315,8 +340,11 @@ def test_cache_hit_and_damaged_entries(world, tmp_path):
     inputs = spec.inputs()
     key = ds.tables.table_key(inputs)
     src = world["cache"] / f"{key}.npz"
-    for damage, reason in (("byte", "does not match the npz_sha256"), ("sidecar", "has no sidecar"),
-                           ("other", "belongs to other inputs")):
+    for damage, reason in (
+        ("byte", "does not match the npz_sha256"),
+        ("sidecar", "has no sidecar"),
+        ("other", "belongs to other inputs"),
+    ):
         folder = tmp_path / damage
         folder.mkdir()
         data = bytearray(src.read_bytes())
@@ -334,6 +362,7 @@ def test_cache_hit_and_damaged_entries(world, tmp_path):
 
 # -- the command -------------------------------------------------------------------------
 
+
 def _run(capsys, *argv):
     code = cli.main(list(argv))
     out, err = capsys.readouterr()
@@ -341,8 +370,16 @@ def _run(capsys, *argv):
 
 
 def _measurement(world, path):
-    vals = dj.synthetic_features(world["raw"], world["name"], {"wear": 15.0, "clearance": 20.0}, K, ["y_p_um"],
-                                 False, 0.02, np.random.default_rng(3))
+    vals = dj.synthetic_features(
+        world["raw"],
+        world["name"],
+        {"wear": 15.0, "clearance": 20.0},
+        K,
+        ["y_p_um"],
+        False,
+        0.02,
+        np.random.default_rng(3),
+    )
     path.write_text("signal,harmonic,amplitude\n" + "".join(f"{s},{k},{v!r}\n" for (s, k), v in vals.items()))
     return path
 
@@ -367,9 +404,23 @@ def test_plan_ranks_measurements(world, tmp_path, capsys, monkeypatch):
     """At the scene's own operating point (the cached surrogate): harmonics alone cannot
     separate the clearance, a displacement time series (its mean) can."""
     monkeypatch.setenv("GEARWEAR_CACHE", str(world["cache"]))
-    code, out, err = _run(capsys, "diagnose", "--plan", str(world["scene"]), "--design-points", str(DESIGN),
-                          "--speeds-rpm", "1200", "--torques-Nm", "40", "--workers", "1", "--json",
-                          "--out", str(tmp_path / "p"))
+    code, out, err = _run(
+        capsys,
+        "diagnose",
+        "--plan",
+        str(world["scene"]),
+        "--design-points",
+        str(DESIGN),
+        "--speeds-rpm",
+        "1200",
+        "--torques-Nm",
+        "40",
+        "--workers",
+        "1",
+        "--json",
+        "--out",
+        str(tmp_path / "p"),
+    )
     assert code == 0, err
     rows = {r["measurement"]: r for r in json.loads(out)["rows"]}
     assert not rows["F_m_N harmonics"]["resolves"]["clearance_um"]
@@ -377,18 +428,24 @@ def test_plan_ranks_measurements(world, tmp_path, capsys, monkeypatch):
     assert (tmp_path / "p" / "plan.csv").exists()
 
 
-@pytest.mark.parametrize("args, message", [
-    (["--unknowns", "wear,foo"], "--unknowns = wear,foo: 'foo' is not one"),
-    (["--wear-range-um", "5:1"], "--wear-range-um = 5:1 um: must be LO:HI"),
-    (["--clearance-range-um", "abc"], "--clearance-range-um = abc: must be LO:HI in um"),
-    (["--wear-range-um", "0:5000"], "--wear-range-um = 0:5000 um: at 5000 um the scene is refused"),
-    (["--set", "effects.wear.max_depth_um=3"], "--set effects.wear.max_depth_um: sets wear_max_depth_um, an unknown"),
-    (["--noise-pct", "0"], "--noise-pct = 0 %: must be in [0.01, 100] %"),
-    (["--design-points", "100"], "--design-points = 100: must be a power of two"),
-    (["--plan", "--measured", "x.csv"], "--measured x.csv: not used with --plan"),
-    ([], "--measured: missing"),
-    (["--measured", "nope.csv"], "--measured nope.csv: no such file"),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--unknowns", "wear,foo"], "--unknowns = wear,foo: 'foo' is not one"),
+        (["--wear-range-um", "5:1"], "--wear-range-um = 5:1 um: must be LO:HI"),
+        (["--clearance-range-um", "abc"], "--clearance-range-um = abc: must be LO:HI in um"),
+        (["--wear-range-um", "0:5000"], "--wear-range-um = 0:5000 um: at 5000 um the scene is refused"),
+        (
+            ["--set", "effects.wear.max_depth_um=3"],
+            "--set effects.wear.max_depth_um: sets wear_max_depth_um, an unknown",
+        ),
+        (["--noise-pct", "0"], "--noise-pct = 0 %: must be in [0.01, 100] %"),
+        (["--design-points", "100"], "--design-points = 100: must be a power of two"),
+        (["--plan", "--measured", "x.csv"], "--measured x.csv: not used with --plan"),
+        ([], "--measured: missing"),
+        (["--measured", "nope.csv"], "--measured nope.csv: no such file"),
+    ],
+)
 def test_bad_inputs_one_line_exit_2_nothing_written(tmp_path, capsys, monkeypatch, args, message):
     monkeypatch.chdir(tmp_path)
     monkeypatch.setenv("GEARWEAR_CACHE", str(tmp_path / "cache"))

@@ -30,8 +30,8 @@ def test_order_conditions():
     a, b, c = _a_matrix(), np.asarray(dp.B), np.asarray(dp.C[:6])
     assert np.allclose(a.sum(axis=1), c, rtol=0, atol=1e-15)
     assert abs(b.sum() - 1) < 1e-15
-    for q in range(5):                      # quadrature order 5: sum b_s c_s^q = 1 / (q + 1)
-        assert abs(b @ c ** q - 1 / (q + 1)) < 1e-15
+    for q in range(5):  # quadrature order 5: sum b_s c_s^q = 1 / (q + 1)
+        assert abs(b @ c**q - 1 / (q + 1)) < 1e-15
     assert abs(sum(dp.E)) < 1e-16
     # the dense output ends at z_new: sum over the powers of P equals B (with b_7 = 0)
     assert np.allclose(dp.P.sum(axis=1), np.append(b, 0.0), rtol=0, atol=1e-15)

@@ -5,8 +5,15 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from gearwear.dynamics import (compute_signals, energy_balance, harmonics, paper_pair, rhs_python,
-                      simulate, static_equilibrium)
+from gearwear.dynamics import (
+    compute_signals,
+    energy_balance,
+    harmonics,
+    paper_pair,
+    rhs_python,
+    simulate,
+    static_equilibrium,
+)
 
 
 def _rel(h, href):
@@ -14,19 +21,26 @@ def _rel(h, href):
 
 
 def test_harmonics_match_scipy_dop853_smooth_case():
-    m = paper_pair(n_table=64)                 # TVMS (smoothed rectangular wave), no clearances
+    m = paper_pair(n_table=64)  # TVMS (smoothed rectangular wave), no clearances
     P = 1.0 / m.mesh_frequency_Hz
     rk = simulate(m, 10 * P, 2 * P, method="rk4", steps_per_mesh_period=256)
     dp = simulate(m, 10 * P, 2 * P, method="dopri5", rtol=1e-9)
     x = m.F_s / m.k_mean
     atol = np.r_[np.full(5, 1e-12 * x), np.full(5, 1e-12 * x * 2e4)]
-    sol = solve_ivp(lambda t, y: rhs_python(t, y, m), (0.0, rk.t[-1]), static_equilibrium(m),
-                    method="DOP853", rtol=1e-10, atol=atol, t_eval=rk.t)
+    sol = solve_ivp(
+        lambda t, y: rhs_python(t, y, m),
+        (0.0, rk.t[-1]),
+        static_equilibrium(m),
+        method="DOP853",
+        rtol=1e-10,
+        atol=atol,
+        t_eval=rk.t,
+    )
     assert sol.success
     ref = compute_signals(m, rk.t, sol.y.T)
     for name in ("F_m", "delta"):
         href = harmonics(ref[name], rk.fs_Hz, rk.fm_Hz, 10)
-        assert np.all(href > 1e-3 * href.max())           # all ten harmonics are present
+        assert np.all(href > 1e-3 * href.max())  # all ten harmonics are present
         for r in (rk, dp):
             err = _rel(harmonics(r.signals[name], r.fs_Hz, r.fm_Hz, 10), href)
             assert err.max() < 0.005, (name, r.method, err)
@@ -34,18 +48,26 @@ def test_harmonics_match_scipy_dop853_smooth_case():
         assert _rel(harmonics(dp.signals[name], dp.fs_Hz, dp.fm_Hz, 10), href).max() < 1e-5
 
 
-@pytest.mark.parametrize("case", [
-    dict(torque_Nm=5.0, speed_rpm=4000, backlash_total_m=50e-6),
-    dict(torque_Nm=5.0, speed_rpm=6000, backlash_total_m=100e-6, te_amplitude_m=10e-6,
-         clearance_total_m=20e-6),
-    dict(torque_Nm=5.0, speed_rpm=6000, backlash_total_m=100e-6, te_amplitude_m=10e-6,
-         clearance_total_m=20e-6, centre_distance="dynamic"),
-])
+@pytest.mark.parametrize(
+    "case",
+    [
+        dict(torque_Nm=5.0, speed_rpm=4000, backlash_total_m=50e-6),
+        dict(torque_Nm=5.0, speed_rpm=6000, backlash_total_m=100e-6, te_amplitude_m=10e-6, clearance_total_m=20e-6),
+        dict(
+            torque_Nm=5.0,
+            speed_rpm=6000,
+            backlash_total_m=100e-6,
+            te_amplitude_m=10e-6,
+            clearance_total_m=20e-6,
+            centre_distance="dynamic",
+        ),
+    ],
+)
 @pytest.mark.parametrize("method", ["rk4", "dopri5"])
 def test_energy_balance_closes_with_parametric_work(case, method):
     m = paper_pair(**case)
     r = simulate(m, 0.03, 0.0, method=method, rtol=1e-9, track_energy=True)
-    assert r.separation_fraction > 0.05                 # the gap really opens
+    assert r.separation_fraction > 0.05  # the gap really opens
     eb = energy_balance(r, m)
     assert eb["relative_residual"] < 1e-3, eb
     # the parametric work of the time-varying stiffness is a real part of the balance
@@ -76,8 +98,7 @@ def test_event_location_reaches_1e6_on_mesh_force_harmonics():
         assert _rel(harmonics(r.signals["F_m"], r.fs_Hz, r.fm_Hz, 4), href).max() < 1e-6
     # fixed-step RK4 at the same (and 4x the) resolution is far from it
     for N in (256, 1024):
-        r = simulate(m, 20 * P, 4 * P, method="rk4", steps_per_mesh_period=N,
-                     samples_per_mesh_period=256)
+        r = simulate(m, 20 * P, 4 * P, method="rk4", steps_per_mesh_period=N, samples_per_mesh_period=256)
         assert _rel(harmonics(r.signals["F_m"], r.fs_Hz, r.fm_Hz, 4), href).max() > 1e-4
 
 
@@ -85,8 +106,7 @@ def _observed_order(m, Ns, ref_h):
     P = 1.0 / m.mesh_frequency_Hz
     errs = []
     for N in Ns:
-        r = simulate(m, 20 * P, 4 * P, method="rk4", steps_per_mesh_period=N,
-                     samples_per_mesh_period=64)
+        r = simulate(m, 20 * P, 4 * P, method="rk4", steps_per_mesh_period=N, samples_per_mesh_period=64)
         errs.append(_rel(harmonics(r.signals["F_m"], r.fs_Hz, r.fm_Hz, 4), ref_h).max())
     slope = -np.polyfit(np.log(Ns), np.log(errs), 1)[0]
     return slope, errs
@@ -103,7 +123,7 @@ def test_rk4_loses_its_order_at_contact_events():
         href = harmonics(ref.signals["F_m"], ref.fs_Hz, ref.fm_Hz, 4)
         if name == "events":
             assert ref.separation_fraction > 0.1
-        Nsm = Ns // 4 if name == "smooth" else Ns           # stay above round-off when smooth
+        Nsm = Ns // 4 if name == "smooth" else Ns  # stay above round-off when smooth
         orders[name], errs = _observed_order(m, Nsm, href)
     assert orders["smooth"] > 3.5
     assert orders["events"] < 2.5, orders
@@ -143,13 +163,13 @@ def test_first_contact_time_is_located_exactly():
     r2 = simulate(m, 6 * P, 0.0, method="dopri5", rtol=1e-12, y0=y1)
     assert r1.events >= 10 and r1.separation_fraction > 0.05 and r1.backside_fraction > 0
     # before contact: exact straight-line flight
-    assert np.allclose(r1.signals["q"][:shift + 1], v0 * r1.t[:shift + 1], rtol=1e-12, atol=1e-18)
+    assert np.allclose(r1.signals["q"][: shift + 1], v0 * r1.t[: shift + 1], rtol=1e-12, atol=1e-18)
     n = r1.t.size - shift
     # end of the first contact (the teeth leave each other again)
     leave = int(np.nonzero(np.diff(r2.signals["mode"][:n]))[0][1])
     for name in ("q", "F_m", "y_p", "x_g"):
         # (sample 0 is the contact instant itself, where the damper force jumps)
-        a, c = r1.signals[name][shift + 1:], r2.signals[name][1:n]
+        a, c = r1.signals[name][shift + 1 :], r2.signals[name][1:n]
         scale = np.max(np.abs(c))
         assert np.max(np.abs(a - c)[:leave]) < 1e-10 * scale, name
-        assert np.max(np.abs(a - c)) < 1e-7 * scale, name     # after ~20 impacts
+        assert np.max(np.abs(a - c)) < 1e-7 * scale, name  # after ~20 impacts

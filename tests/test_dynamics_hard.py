@@ -5,8 +5,7 @@ window (which holds for periodic and non-periodic runs alike)."""
 import numpy as np
 import pytest
 
-from gearwear.dynamics import paper_pair, simulate
-from gearwear.dynamics import kernels
+from gearwear.dynamics import kernels, paper_pair, simulate
 from gearwear.dynamics.analysis import energy_balance, mechanical_energy
 
 
@@ -29,8 +28,10 @@ def _trajectory_error(a, ref):
     """Largest difference over the window of delta, F_m, y_p and x_g, each relative to
     the largest |value| of the reference."""
     assert np.array_equal(a.t, ref.t)
-    return max(float(np.max(np.abs(a.signals[n] - ref.signals[n])) / np.max(np.abs(ref.signals[n])))
-               for n in ("delta", "F_m", "y_p", "x_g"))
+    return max(
+        float(np.max(np.abs(a.signals[n] - ref.signals[n])) / np.max(np.abs(ref.signals[n])))
+        for n in ("delta", "F_m", "y_p", "x_g")
+    )
 
 
 def _converges(m, periods, tol):
@@ -65,13 +66,13 @@ def test_light_load_near_resonance_separates_and_hits_the_back_flank():
     # 5 N m, 100 um total backlash, f_m = 3 kHz (between the 1.3 kHz bearing and the 4.1 kHz
     # mesh mode), 10 um wear excitation (severe wear): tooth separation and back-flank impacts
     m = paper_pair(torque_Nm=5.0, speed_rpm=6000, backlash_total_m=100e-6, te_amplitude_m=10e-6)
-    _converges(m, 10, 1e-6)             # measured 1.4e-9 (2x table: 1.0e-10)
+    _converges(m, 10, 1e-6)  # measured 1.4e-9 (2x table: 1.0e-10)
     r = simulate(m, 0.05, 0.02)
     _finite_bounded(r)
     assert r.method == "dopri5" and r.events > 50
     assert r.separation_fraction > 0.1
     assert r.backside_fraction > 0.0
-    assert r.signals["s"].min() < -m.backlash_half_m       # the back flank was reached
+    assert r.signals["s"].min() < -m.backlash_half_m  # the back flank was reached
     # the same pair without wear excitation and at the design load never separates
     r40 = simulate(paper_pair(torque_Nm=40.0, backlash_total_m=100e-6), 0.05, 0.02)
     assert r40.separation_fraction == 0.0 and r40.events == 0
@@ -79,12 +80,12 @@ def test_light_load_near_resonance_separates_and_hits_the_back_flank():
 
 def test_bearing_clearance_100um_rattles():
     m = paper_pair(torque_Nm=5.0, speed_rpm=6000, clearance_total_m=100e-6, te_amplitude_m=10e-6)
-    _converges(m, 20, 1e-6)             # measured 9.8e-11 (2x table: 3.0e-12)
+    _converges(m, 20, 1e-6)  # measured 9.8e-11 (2x table: 3.0e-12)
     r = simulate(m, 0.05, 0.02)
     _finite_bounded(r)
     assert r.events > 50
     for side in ("pinion", "gear"):
-        assert 0.0 < r.bearing_contact_fraction[side] < 1.0      # crosses its dead zone
+        assert 0.0 < r.bearing_contact_fraction[side] < 1.0  # crosses its dead zone
     # at the design load the centres stay pressed into the clearance (Eq. 11 corner)
     r40 = simulate(paper_pair(clearance_total_m=100e-6), 0.05, 0.02)
     assert r40.bearing_contact_fraction == {"pinion": 1.0, "gear": 1.0}
@@ -103,8 +104,8 @@ def test_zero_damping_one_second_stays_bounded():
     _finite_bounded(r, bound_m=200e-6)
     eb = energy_balance(r, m)
     assert eb["dissipated"] == 0.0
-    assert eb["relative_residual"] < 1e-3, eb               # measured 1.9e-4
-    assert abs(eb["parametric_work"]) > 1e-3 * abs(eb["input_work"])   # the stiffness does work
+    assert eb["relative_residual"] < 1e-3, eb  # measured 1.9e-4
+    assert abs(eb["parametric_work"]) > 1e-3 * abs(eb["input_work"])  # the stiffness does work
     E = mechanical_energy(m, r.t, r.states)
     blocks = np.array_split(np.arange(len(E)), 10)
     e_max = np.array([E[b].max() for b in blocks])
@@ -121,7 +122,7 @@ def test_contact_ratio_below_one_with_zero_stiffness_gaps(backlash):
     # single pair for 90 % of the mesh period, no pair at all (k = 0) for 10 %
     phi = np.arange(256) * (2 * np.pi / 30) / 256
     u = phi / phi[1] / 256
-    k = 2.9e8 * np.clip(np.minimum(u / 0.02, (0.9 - u) / 0.02), 0.0, 1.0)   # linear ramps
+    k = 2.9e8 * np.clip(np.minimum(u / 0.02, (0.9 - u) / 0.02), 0.0, 1.0)  # linear ramps
     assert np.sum(k == 0.0) >= 20
     m = paper_pair(k_table=k, phi_table=phi, backlash_total_m=backlash)
     # RK4 256 -> 512: 3.9e-5 -> 2.5e-6 (4th order); with backlash the flights across the
@@ -131,14 +132,15 @@ def test_contact_ratio_below_one_with_zero_stiffness_gaps(backlash):
     _finite_bounded(r)
     assert np.min(r.signals["k_h"]) == 0.0
     if backlash is not None:
-        assert r.separation_fraction > 0.05         # the teeth fly across the gap
+        assert r.separation_fraction > 0.05  # the teeth fly across the gap
 
 
 def test_20000_rpm_all_effects_finite():
-    m = paper_pair(speed_rpm=20000, backlash_total_m=50e-6, clearance_total_m=20e-6,
-                   te_amplitude_m=5e-6, centre_distance="dynamic")
+    m = paper_pair(
+        speed_rpm=20000, backlash_total_m=50e-6, clearance_total_m=20e-6, te_amplitude_m=5e-6, centre_distance="dynamic"
+    )
     assert m.mesh_frequency_Hz == pytest.approx(10000.0)
-    _converges(m, 10, 1e-8)             # measured 8.1e-11, 2x table the same (round-off)
+    _converges(m, 10, 1e-8)  # measured 8.1e-11, 2x table the same (round-off)
     r = simulate(m, 0.02, 0.01)
     _finite_bounded(r)
 
@@ -146,8 +148,7 @@ def test_20000_rpm_all_effects_finite():
 def test_rk4_all_effects_and_specialisation():
     """Step count and one compiled specialisation per effect set (speed is measured in
     benchmarks/bench_dynamics.py, never asserted)."""
-    m = paper_pair(backlash_total_m=50e-6, clearance_total_m=20e-6, te_amplitude_m=5e-6,
-                   centre_distance="dynamic")
+    m = paper_pair(backlash_total_m=50e-6, clearance_total_m=20e-6, te_amplitude_m=5e-6, centre_distance="dynamic")
     r = simulate(m, 1.0, 0.5, method="rk4")
     assert r.steps == 153600 - 1 or r.steps == 153600
     plain = simulate(paper_pair(tvms=False), 0.01, 0.0, method="rk4")

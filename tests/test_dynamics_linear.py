@@ -8,9 +8,16 @@ import pytest
 from scipy.linalg import eigh
 from scipy.signal import find_peaks
 
-from gearwear.dynamics import (GearDynamics, harmonics, linear_eigenfrequencies, paper_pair, simulate,
-                      spectrum, static_equilibrium)
 from gearwear.core.validation import InputError
+from gearwear.dynamics import (
+    GearDynamics,
+    harmonics,
+    linear_eigenfrequencies,
+    paper_pair,
+    simulate,
+    spectrum,
+    static_equilibrium,
+)
 
 DEG20 = math.radians(20.0)
 
@@ -19,7 +26,7 @@ def test_settles_to_static_deflection_constant_stiffness():
     k = 4.0e8
     m = paper_pair(tvms=False, k_constant=k)
     F = 40.0 / m.R_p
-    r = simulate(m, 0.3, 0.29, y0=np.zeros(10))          # start from rest, undeformed
+    r = simulate(m, 0.3, 0.29, y0=np.zeros(10))  # start from rest, undeformed
     assert r.method == "rk4"
     tail = slice(-256, None)
     rel = lambda a, b: np.max(np.abs(np.asarray(a) - b)) / abs(b)  # noqa: E731
@@ -36,14 +43,17 @@ def test_settles_to_static_deflection_constant_stiffness():
 
 def _hand_5x5(m_p, m_g, J_p, J_g, R_p, R_g, a, k, kb):
     """Reduced coordinates (y_p, x_p, y_g, x_g, q), written out element by element."""
-    me = 1.0 / (R_p ** 2 / J_p + R_g ** 2 / J_g)
+    me = 1.0 / (R_p**2 / J_p + R_g**2 / J_g)
     c, s = math.cos(a), math.sin(a)
-    K = np.array([
-        [kb + k * c * c, k * c * s, -k * c * c, -k * c * s, k * c],
-        [k * c * s, kb + k * s * s, -k * c * s, -k * s * s, k * s],
-        [-k * c * c, -k * c * s, kb + k * c * c, k * c * s, -k * c],
-        [-k * c * s, -k * s * s, k * c * s, kb + k * s * s, -k * s],
-        [k * c, k * s, -k * c, -k * s, k]])
+    K = np.array(
+        [
+            [kb + k * c * c, k * c * s, -k * c * c, -k * c * s, k * c],
+            [k * c * s, kb + k * s * s, -k * c * s, -k * s * s, k * s],
+            [-k * c * c, -k * c * s, kb + k * c * c, k * c * s, -k * c],
+            [-k * c * s, -k * s * s, k * c * s, kb + k * s * s, -k * s],
+            [k * c, k * s, -k * c, -k * s, k],
+        ]
+    )
     M = np.diag([m_p, m_p, m_g, m_g, me])
     return np.sqrt(eigh(K, M, eigvals_only=True)) / (2 * math.pi)
 
@@ -54,14 +64,14 @@ def _hand_6x6(m_p, m_g, J_p, J_g, R_p, R_g, a, k, kb):
     K = np.diag([kb, kb, kb, kb, 0.0, 0.0]) + k * np.outer(g, g)
     M = np.diag([m_p, m_p, m_g, m_g, J_p, J_g])
     lam = eigh(K, M, eigvals_only=True)
-    assert abs(lam[0]) < 1e-6 * lam[-1]          # rigid-body rotation
+    assert abs(lam[0]) < 1e-6 * lam[-1]  # rigid-body rotation
     return np.sqrt(lam[1:]) / (2 * math.pi)
 
 
 @pytest.mark.parametrize("unequal", [False, True])
 def test_eigenfrequencies_match_hand_assembled(unequal):
     m = paper_pair()
-    if unequal:      # a 2:1-ish pair with different bodies (catches R_g / T_g typos)
+    if unequal:  # a 2:1-ish pair with different bodies (catches R_g / T_g typos)
         m = m.with_(m_g=6.0, J_g=0.03, R_g=0.1, T_p=40.0)
     f = linear_eigenfrequencies(m)
     args = (m.m_p, m.m_g, m.J_p, m.J_g, m.R_p, m.R_g, m.alpha, m.k_mean, m.k_b)
@@ -89,7 +99,7 @@ def test_free_vibration_spectral_peaks_match_eigenfrequencies():
         w = (f > 0.97 * fk) & (f < 1.03 * fk)
         i = np.argmax(np.where(w, total, 0))
         # parabolic refinement on the log spectrum
-        a, b, c = np.log(total[i - 1:i + 2])
+        a, b, c = np.log(total[i - 1 : i + 2])
         fpk = f[i] + 0.5 * (a - c) / (a - 2 * b + c) * (f[1] - f[0])
         assert abs(fpk - fk) / fk < 0.005, (fk, fpk)
         assert total[i] > 100 * np.median(total)
@@ -99,6 +109,7 @@ def test_free_vibration_spectral_peaks_match_eigenfrequencies():
     # undamped, no excitation: the energy is conserved (adaptive solver; RK4 at 256 steps
     # per mesh period has its own numerical damping, (w h)^6 / 144 per step)
     from gearwear.dynamics import mechanical_energy
+
     ra = simulate(m, 0.05, 0.0, y0=y0, method="dopri5", rtol=1e-10)
     E = mechanical_energy(m, ra.t, ra.states)
     assert np.ptp(E) / E.mean() < 1e-6
@@ -106,7 +117,7 @@ def test_free_vibration_spectral_peaks_match_eigenfrequencies():
 
 def test_spectrum_and_harmonics_scaling():
     fs, fm = 25600.0, 600.0
-    t = np.arange(2560) / fs                 # 60 mesh periods
+    t = np.arange(2560) / fs  # 60 mesh periods
     x = 0.3 + 2.0 * np.sin(2 * np.pi * fm * t + 0.4) + 0.5 * np.cos(2 * np.pi * 3 * fm * t)
     f, A = spectrum(x, fs)
     assert A[0] == pytest.approx(0.3, abs=1e-12)
@@ -121,7 +132,7 @@ def _max_rel(a, b):
 
 
 def test_zero_magnitude_effects_reproduce_the_plain_scene():
-    base = paper_pair()                                   # TVMS only
+    base = paper_pair()  # TVMS only
     rb = simulate(base, 0.05, 0.02, method="rk4")
     names = ("y_p", "x_p", "y_g", "x_g", "F_m", "delta")
     # bearing clearance of zero

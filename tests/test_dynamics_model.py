@@ -7,15 +7,15 @@ import math
 import numpy as np
 import pytest
 
-from gearwear.dynamics import kernel_switches, paper_pair, rhs_python, simulate, static_equilibrium
-from gearwear.dynamics import kernels
+from gearwear.dynamics import kernel_switches, kernels, paper_pair, rhs_python, simulate, static_equilibrium
 from gearwear.dynamics.model import _accelerations, derived, mesh_state
 
 CASES = {
     "tvms": dict(),
     "all-static": dict(backlash_total_m=50e-6, clearance_total_m=20e-6, te_amplitude_m=5e-6),
-    "all-dynamic": dict(backlash_total_m=50e-6, clearance_total_m=20e-6, te_amplitude_m=5e-6,
-                        centre_distance="dynamic"),
+    "all-dynamic": dict(
+        backlash_total_m=50e-6, clearance_total_m=20e-6, te_amplitude_m=5e-6, centre_distance="dynamic"
+    ),
     "paper-damping": dict(backlash_total_m=50e-6, mesh_damping="paper"),
     "dynamic-no-backlash": dict(centre_distance="dynamic"),
 }
@@ -25,8 +25,8 @@ def _random_states(m, n, rng):
     z0 = static_equilibrium(m)
     b = (m.backlash_half_m or 0.0) + 2e-6
     Z = np.empty((n, 10))
-    Z[:, :4] = z0[:4] + rng.uniform(-1, 1, (n, 4)) * 20e-6     # across the bearing dead zones
-    Z[:, 4] = z0[4] + rng.uniform(-2.5, 0.5, n) * b              # drive, gap and back flank
+    Z[:, :4] = z0[:4] + rng.uniform(-1, 1, (n, 4)) * 20e-6  # across the bearing dead zones
+    Z[:, 4] = z0[4] + rng.uniform(-2.5, 0.5, n) * b  # drive, gap and back flank
     Z[:, 5:] = rng.normal(0, 0.05, (n, 5))
     return Z
 
@@ -50,7 +50,7 @@ def test_three_right_hand_sides_agree(name):
         assert np.allclose(a, dp[5:], rtol=1e-9, atol=1e-9 * scale)
         seen.add(int(mesh_state(m, np.array([t]), z[None])["mode"][0]))
     if m.backlash_half_m is not None:
-        assert {-1, 0, 1} <= seen                                 # all three flank modes hit
+        assert {-1, 0, 1} <= seen  # all three flank modes hit
 
 
 def _with_collinear_nodes(m, phi, k):
@@ -71,7 +71,7 @@ def test_uniform_fast_path_equals_searchsorted_path(offset):
     k = np.interp(phi, np.r_[base.phi_table, P], np.r_[base.k_table, base.k_table[0]])
     m = base.with_(phi_table=phi, k_table=k)
     m2 = _with_collinear_nodes(m, phi, k)
-    assert derived(m)[0][19] == 1.0 and derived(m2)[0][19] == 0.0   # uniform / searchsorted
+    assert derived(m)[0][19] == 1.0 and derived(m2)[0][19] == 0.0  # uniform / searchsorted
     r = simulate(m, 0.02, 0.01, method="rk4", steps_per_mesh_period=512)
     r2 = simulate(m2, 0.02, 0.01, method="rk4", steps_per_mesh_period=512)
     assert np.max(np.abs(r2.signals["F_m"] - r.signals["F_m"])) < 1e-9 * np.ptp(r.signals["F_m"])
@@ -93,12 +93,12 @@ def test_flank_law_and_paper_damping_difference():
     s = ms["s"]
     assert s[0] > b and abs(s[1]) <= b and s[2] < -b
     assert list(ms["mode"]) == [1, 0, -1]
-    assert ms["F_m"][1] == 0.0                         # no force through the gap
+    assert ms["F_m"][1] == 0.0  # no force through the gap
     dd = ms["delta_dot"]
     assert np.allclose(dd, 0.1 * G[4])
     mp = m.with_(mesh_damping="paper")
     msp = mesh_state(mp, t, Z)
-    assert msp["F_m"][1] == pytest.approx(m.c_h * dd[1])   # literal Eq. 19: damper across the gap
+    assert msp["F_m"][1] == pytest.approx(m.c_h * dd[1])  # literal Eq. 19: damper across the gap
     assert np.allclose(msp["F_m"][[0, 2]], ms["F_m"][[0, 2]])
     k = ms["k_h"]
     assert ms["F_m"][0] == pytest.approx(m.c_h * dd[0] + k[0] * (s[0] - b))
@@ -110,7 +110,7 @@ def test_dynamic_centre_distance_geometry():
     Rs = m.R_p + m.R_g
     inv = lambda a: math.tan(a) - a  # noqa: E731
     z = np.zeros(10)
-    z[3] = 30e-6                                     # gear pushed away along the centre line
+    z[3] = 30e-6  # gear pushed away along the centre line
     ms = mesh_state(m, np.zeros(1), z[None])
     C = m.C0 + 30e-6
     a = math.acos(Rs / C)

@@ -33,13 +33,12 @@ def tiled(m, L, fault=None):
     phi = (m.phi_table[None, :] + P * np.arange(L)[:, None]).ravel()
     k = np.tile(m.k_table, L)
     if fault is not None:
-        k[:m.k_table.size] *= 1.0 - fault
+        k[: m.k_table.size] *= 1.0 - fault
     return m.with_(phi_table=phi, k_table=k, e_table=np.tile(m.e_table, L), table_periods=L)
 
 
 def _rel(a, b, names=("F_m", "delta", "vq", "y_p")):
-    return max(float(np.max(np.abs(a.signals[n] - b.signals[n])) / np.max(np.abs(b.signals[n])))
-               for n in names)
+    return max(float(np.max(np.abs(a.signals[n] - b.signals[n])) / np.max(np.abs(b.signals[n]))) for n in names)
 
 
 # ---- the model ------------------------------------------------------------------------
@@ -49,7 +48,7 @@ def test_table_period_and_its_uses():
     assert m1.table_periods == 1 and m1.table_period_rad == m1.mesh_period_rad
     assert mL.table_period_rad == pytest.approx(2 * math.pi, rel=1e-15)
     assert mL.table_period_s == pytest.approx(2 * math.pi / m1.omega_p, rel=1e-15)
-    assert mL.mesh_frequency_Hz == m1.mesh_frequency_Hz          # physical, unchanged
+    assert mL.mesh_frequency_Hz == m1.mesh_frequency_Hz  # physical, unchanged
     assert mL.k_mean == pytest.approx(m1.k_mean, rel=1e-14)
     assert mL.e_mean == pytest.approx(m1.e_mean, rel=1e-14)
     # node times: the same set as the one-period table's
@@ -76,8 +75,8 @@ def test_table_periods_is_validated(bad):
 def test_one_period_table_with_several_table_periods_is_refused():
     m = paper_pair(n_table=64)
     with pytest.raises(InputError, match="phi_table.*table_periods = 30"):
-        m.with_(table_periods=30)                   # a one-mesh-period table: forgot to tile
-    with pytest.raises(InputError, match="phi_table"):    # beyond the table period
+        m.with_(table_periods=30)  # a one-mesh-period table: forgot to tile
+    with pytest.raises(InputError, match="phi_table"):  # beyond the table period
         tiled(m, 3).with_(table_periods=2)
     assert tiled(m, 3).table_periods == 3 and m.with_(table_periods=1.0).table_periods == 1
 
@@ -93,16 +92,16 @@ def test_round_to_table_periods():
         assert M - 30 < max(math.floor((dur - n_d / fm) * fm + 1e-9), 1)
     assert round_to_table_periods(m, 0.01, 0.0, min_table_periods=3) * fm == pytest.approx(90.5)
     m1 = paper_pair(n_table=64)
-    assert round_to_table_periods(m1, 0.1, 0.05) * fm == pytest.approx(60.5)   # L = 1: same window
+    assert round_to_table_periods(m1, 0.1, 0.05) * fm == pytest.approx(60.5)  # L = 1: same window
 
 
 def test_periodic_with_reports_multiples_of_the_table_period():
     S, L = 16, 5
     t = np.arange(40 * S) / S
-    one = np.sin(2 * np.pi * t)                                # 1-periodic
-    slow = one + 1e-3 * np.sin(2 * np.pi * t / L)              # L-periodic
-    assert _periodic_with(one, S, 40) == 1 and _periodic_with(slow, S, 40) == L   # L = 1: as before
-    assert _periodic_with(one, S, 40, table_periods=L) == L     # never fewer than L
+    one = np.sin(2 * np.pi * t)  # 1-periodic
+    slow = one + 1e-3 * np.sin(2 * np.pi * t / L)  # L-periodic
+    assert _periodic_with(one, S, 40) == 1 and _periodic_with(slow, S, 40) == L  # L = 1: as before
+    assert _periodic_with(one, S, 40, table_periods=L) == L  # never fewer than L
     assert _periodic_with(slow, S, 40, table_periods=L) == L
     assert _periodic_with(slow[: (2 * L - 1) * S], S, 2 * L - 1, table_periods=L) == 0  # too short
     assert _periodic_with(np.ones(10 * S), S, 10, table_periods=L) == L
@@ -126,14 +125,15 @@ def test_tiled_table_gives_the_one_period_response(method, kw):
 
 # ---- RK4 order on a multi-period table -------------------------------------------------
 def test_rk4_fourth_order_on_a_faulted_multi_period_table():
-    m = tiled(paper_pair(n_table=97), 30, fault=0.1)          # 97 nodes per period: no step divides it
+    m = tiled(paper_pair(n_table=97), 30, fault=0.1)  # 97 nodes per period: no step divides it
     S = 16
     ref = simulate(m, 0.1, 0.05, method="dopri5", rtol=1e-11, samples_per_mesh_period=S)
 
     def err(N):
         r = simulate(m, 0.1, 0.05, method="rk4", steps_per_mesh_period=N, samples_per_mesh_period=S)
-        return max(float(np.max(np.abs(r.signals[n] - ref.signals[n])) / np.ptp(ref.signals[n]))
-                   for n in ("F_m", "delta"))
+        return max(
+            float(np.max(np.abs(r.signals[n] - ref.signals[n])) / np.ptp(ref.signals[n])) for n in ("F_m", "delta")
+        )
 
     e = [err(N) for N in (128, 256, 512)]
     orders = [math.log2(e[i] / e[i + 1]) for i in range(2)]
@@ -145,20 +145,24 @@ def test_rk4_fourth_order_on_a_faulted_multi_period_table():
 def _sidebands(m):
     """Steady state over two pinion revolutions: the F_m and a_delta amplitudes at
     f_m k +- n f_shaft (n = 1..3) over the amplitude at k f_m, k = 1..3."""
-    disc = 0.3                                               # 180 mesh periods of transient
+    disc = 0.3  # 180 mesh periods of transient
     r = simulate(m, round_to_table_periods(m, disc + 0.1, disc), disc, method="rk4")
     assert r.whole_table_periods and r.n_periods == 60
-    assert r.periodic_with == m.table_periods                # settled, honest periodicity
+    assert r.periodic_with == m.table_periods  # settled, honest periodicity
     f_sh = m.omega_p / (2 * math.pi)
     out = {}
     sig = dict(F_m=r.signals["F_m"], a_delta=acceleration_signals(r)["a_delta"])
     for name, x in sig.items():
-        A = np.abs(np.fft.rfft(x)) / x.size * 2                # rectangular window
+        A = np.abs(np.fft.rfft(x)) / x.size * 2  # rectangular window
         df = r.fs_Hz / x.size
-        assert abs(f_sh / df - round(f_sh / df)) < 1e-9           # shaft orders on bins
-        b = lambda f: A[int(round(f / df))]                    # noqa: E731
-        out[name] = np.array([[max(b(k * r.fm_Hz + n * f_sh), b(k * r.fm_Hz - n * f_sh)) / b(k * r.fm_Hz)
-                               for n in (1, 2, 3)] for k in (1, 2, 3)])
+        assert abs(f_sh / df - round(f_sh / df)) < 1e-9  # shaft orders on bins
+        b = lambda f: A[int(round(f / df))]  # noqa: E731
+        out[name] = np.array(
+            [
+                [max(b(k * r.fm_Hz + n * f_sh), b(k * r.fm_Hz - n * f_sh)) / b(k * r.fm_Hz) for n in (1, 2, 3)]
+                for k in (1, 2, 3)
+            ]
+        )
     return out
 
 

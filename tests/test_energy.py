@@ -9,11 +9,16 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from gearwear.analytic.energy import (beam_compliance, foundation_compliance, hertz_compliance_linear,
-                             sainsot_coefficients, tooth_compliance)
+from gearwear.analytic.energy import (
+    beam_compliance,
+    foundation_compliance,
+    hertz_compliance_linear,
+    sainsot_coefficients,
+    tooth_compliance,
+)
 from gearwear.analytic.iso6336 import iso6336_stiffness
-from gearwear.geometry.loading import half_thickness_at_height, load_points, root_section
 from gearwear.geometry.kinematics import MeshGeometry
+from gearwear.geometry.loading import half_thickness_at_height, load_points, root_section
 from gearwear.geometry.profile import INVOLUTE, tooth_profile
 from gearwear.geometry.spec import Material, default_pair
 
@@ -39,15 +44,16 @@ def test_prismatic_tooth_is_timoshenko_cantilever():
     E, G = STEEL.youngs_modulus_Pa, STEEL.shear_modulus_Pa
     I, A = (2 * t) ** 3 * B / 12, 2 * t * B
     # extra breaks inside the span must not matter
-    bend, shear, axial = beam_compliance(_prismatic(t), [y_M, y_M + 0.3 * L, y_M + L], t, y_M + L, 0.0,
-                                         STEEL, B, n_gauss=4)
-    assert bend[0] == pytest.approx(L ** 3 / (3 * E * I), rel=1e-10)
+    bend, shear, axial = beam_compliance(
+        _prismatic(t), [y_M, y_M + 0.3 * L, y_M + L], t, y_M + L, 0.0, STEEL, B, n_gauss=4
+    )
+    assert bend[0] == pytest.approx(L**3 / (3 * E * I), rel=1e-10)
     assert shear[0] == pytest.approx(1.2 * L / (G * A), rel=1e-10)
     assert axial[0] == 0.0
     # several load heights at once (partial pieces of different lengths)
     Ls = np.array([0.1, 0.3, 0.5, 0.77, 1.0]) * L
     bend, shear, _ = beam_compliance(_prismatic(t), [y_M, y_M + 0.3 * L, y_M + L], t, y_M + Ls, 0.0, STEEL, B)
-    np.testing.assert_allclose(bend, Ls ** 3 / (3 * E * I), rtol=1e-10)
+    np.testing.assert_allclose(bend, Ls**3 / (3 * E * I), rtol=1e-10)
     np.testing.assert_allclose(shear, 1.2 * Ls / (G * A), rtol=1e-10)
 
 
@@ -64,6 +70,7 @@ def test_tapered_tooth_against_adaptive_quadrature():
     """Smooth non-uniform x(y), oblique load off the axis: the moment expansion agrees
     with direct adaptive integration of the defining integrals."""
     y_M = 0.068
+
     def x(y):
         return 5e-3 - 0.25 * (np.asarray(y) - y_M) + 40.0 * (np.asarray(y) - y_M) ** 2
 
@@ -74,10 +81,15 @@ def test_tapered_tooth_against_adaptive_quadrature():
     bend, shear, axial = beam_compliance(x, [y_M, 0.072, 0.080], x_F, y_F, w, STEEL, B)
     for i in range(3):
         a, s = math.cos(w[i]), math.sin(w[i])
-        kb = quad(lambda y: (a * (y_F[i] - y) - s * x_F[i]) ** 2 / (E * (2 * x(y)) ** 3 * B / 12),
-                  y_M, y_F[i], epsabs=0, epsrel=1e-13)[0]
-        ks = quad(lambda y: 1.2 * a ** 2 / (G * 2 * x(y) * B), y_M, y_F[i], epsabs=0, epsrel=1e-13)[0]
-        ka = quad(lambda y: s ** 2 / (E * 2 * x(y) * B), y_M, y_F[i], epsabs=0, epsrel=1e-13)[0]
+        kb = quad(
+            lambda y: (a * (y_F[i] - y) - s * x_F[i]) ** 2 / (E * (2 * x(y)) ** 3 * B / 12),
+            y_M,
+            y_F[i],
+            epsabs=0,
+            epsrel=1e-13,
+        )[0]
+        ks = quad(lambda y: 1.2 * a**2 / (G * 2 * x(y) * B), y_M, y_F[i], epsabs=0, epsrel=1e-13)[0]
+        ka = quad(lambda y: s**2 / (E * 2 * x(y) * B), y_M, y_F[i], epsabs=0, epsrel=1e-13)[0]
         assert bend[i] == pytest.approx(kb, rel=1e-11)
         assert shear[i] == pytest.approx(ks, rel=1e-11)
         assert axial[i] == pytest.approx(ka, rel=1e-11)
@@ -93,6 +105,7 @@ def test_real_profile_against_adaptive_quadrature(paper):
     lp = load_points(prof, R)
     y_M, _ = root_section(prof)
     E, G = STEEL.youngs_modulus_Pa, STEEL.shear_modulus_Pa
+
     def x(y):
         return float(half_thickness_at_height(prof, np.array([y]))[0])
 
@@ -100,12 +113,16 @@ def test_real_profile_against_adaptive_quadrature(paper):
         a, s = math.cos(lp.w_rad[i]), math.sin(lp.w_rad[i])
         verts = np.unique(prof.xy[:, 1][(prof.xy[:, 1] > y_M) & (prof.xy[:, 1] < lp.y_m[i])])
         opts = dict(points=verts, limit=4 * len(verts) + 50, epsabs=0, epsrel=1e-12)
-        kb = quad(lambda y: (a * (lp.y_m[i] - y) - s * lp.x_m[i]) ** 2 / (E * (2 * x(y)) ** 3 * B / 12),
-                  y_M, lp.y_m[i], **opts)[0]
+        kb = quad(
+            lambda y: (a * (lp.y_m[i] - y) - s * lp.x_m[i]) ** 2 / (E * (2 * x(y)) ** 3 * B / 12),
+            y_M,
+            lp.y_m[i],
+            **opts,
+        )[0]
         kA = quad(lambda y: 1.0 / (2 * x(y) * B), y_M, lp.y_m[i], **opts)[0]
         assert c.bending_m_per_N[i] == pytest.approx(kb, rel=1e-9)
-        assert c.shear_m_per_N[i] == pytest.approx(1.2 * a ** 2 / G * kA, rel=1e-9)
-        assert c.axial_m_per_N[i] == pytest.approx(s ** 2 / E * kA, rel=1e-9)
+        assert c.shear_m_per_N[i] == pytest.approx(1.2 * a**2 / G * kA, rel=1e-9)
+        assert c.axial_m_per_N[i] == pytest.approx(s**2 / E * kA, rel=1e-9)
 
 
 def test_gauss_convergence(paper):
@@ -142,16 +159,16 @@ def test_worn_tooth_more_compliant(paper):
 
 def test_sainsot_coefficients_by_hand():
     h, th = 2.0, 0.1
-    L = -5.574e-5 / th ** 2 - 1.9986e-3 * h ** 2 - 2.3015e-4 * h / th + 4.7702e-3 / th + 0.0271 * h + 6.8045
-    M = 60.111e-5 / th ** 2 + 28.100e-3 * h ** 2 - 83.431e-4 * h / th - 9.9256e-3 / th + 0.1624 * h + 0.9086
-    P = -50.952e-5 / th ** 2 + 185.50e-3 * h ** 2 + 0.0538e-4 * h / th + 53.300e-3 / th + 0.2895 * h + 0.9236
-    Q = -6.2042e-5 / th ** 2 + 9.0889e-3 * h ** 2 - 4.0964e-4 * h / th + 7.8297e-3 / th - 0.1472 * h + 0.6904
+    L = -5.574e-5 / th**2 - 1.9986e-3 * h**2 - 2.3015e-4 * h / th + 4.7702e-3 / th + 0.0271 * h + 6.8045
+    M = 60.111e-5 / th**2 + 28.100e-3 * h**2 - 83.431e-4 * h / th - 9.9256e-3 / th + 0.1624 * h + 0.9086
+    P = -50.952e-5 / th**2 + 185.50e-3 * h**2 + 0.0538e-4 * h / th + 53.300e-3 / th + 0.2895 * h + 0.9236
+    Q = -6.2042e-5 / th**2 + 9.0889e-3 * h**2 - 4.0964e-4 * h / th + 7.8297e-3 / th - 0.1472 * h + 0.6904
     c = sainsot_coefficients(h, th)
     for key, val in zip("LMPQ", (L, M, P, Q)):
         assert float(c[key]) == pytest.approx(val, rel=1e-12)
     # and the compliance formula with them: u_f / S_f = 0.4, w = 20 deg
     w = math.radians(20.0)
-    expect = math.cos(w) ** 2 / (206e9 * B) * (L * 0.4 ** 2 + M * 0.4 + P * (1 + Q * math.tan(w) ** 2))
+    expect = math.cos(w) ** 2 / (206e9 * B) * (L * 0.4**2 + M * 0.4 + P * (1 + Q * math.tan(w) ** 2))
     got = foundation_compliance(w, 4e-3, 10e-3, h, th, STEEL, B)
     assert float(got) == pytest.approx(expect, rel=1e-12)
 
@@ -173,7 +190,7 @@ def test_foundation_inputs_and_fit_range_flag(paper):
 
 def test_hertz_linear():
     k = 1.0 / hertz_compliance_linear(STEEL, B)
-    assert k == pytest.approx(math.pi * 206e9 * B / (4 * (1 - 0.3 ** 2)), rel=1e-15)
+    assert k == pytest.approx(math.pi * 206e9 * B / (4 * (1 - 0.3**2)), rel=1e-15)
 
 
 def test_pitch_point_stiffness_in_literature_and_iso_range(paper):

@@ -30,16 +30,16 @@ SUBCLASS_SITES = {
 #: the raise ValueError left in the layers: internal invariants, not user inputs (file, message start)
 INTERNAL_VALUE_ERRORS = {
     ("core/validation.py", "fail_text: the message must start"),  # a caller's bug, not an input
-    ("geometry/sampling.py", "unexpected region sequence"),      # a profile the code itself built
-    ("geometry/polyline.py", "stitch: no pieces"),                # polyline helpers fed by the mesher
+    ("geometry/sampling.py", "unexpected region sequence"),  # a profile the code itself built
+    ("geometry/polyline.py", "stitch: no pieces"),  # polyline helpers fed by the mesher
     ("geometry/polyline.py", "stitch: piece"),
     ("geometry/polyline.py", "stitch: the pieces do not close"),
     ("geometry/polyline.py", "project_to_polyline: the polyline needs"),
     ("geometry/polyline.py", "a quadratic chain needs"),
     ("geometry/spec.py", "inverse involute of negative value"),  # callers pass computed involutes
-    ("geometry/profile.py", "depth has shape"),                   # depths computed on the profile itself
-    ("analytic/energy.py", "breaks_m must be a strictly increasing"),   # breaks from the profile
-    ("analytic/energy.py", "load heights must lie in"),           # the user's radii are checked first
+    ("geometry/profile.py", "depth has shape"),  # depths computed on the profile itself
+    ("analytic/energy.py", "breaks_m must be a strictly increasing"),  # breaks from the profile
+    ("analytic/energy.py", "load heights must lie in"),  # the user's radii are checked first
 }
 
 
@@ -89,7 +89,7 @@ def test_no_layer_builds_an_input_error_by_hand():
             if name not in classes:
                 continue
             if rel == "core/validation.py" and name == "InputError":
-                continue   # the contract itself
+                continue  # the contract itself
             if (rel, name) in SUBCLASS_SITES:
                 seen.add((rel, name))
                 continue
@@ -109,8 +109,13 @@ def test_every_fail_text_message_starts_with_its_key():
             start = _message_start(text)
             if isinstance(key, ast.Constant) and key.value is None:
                 continue
-            want = key.value if isinstance(key, ast.Constant) else "{" + key.id + "}" if isinstance(key, ast.Name) \
+            want = (
+                key.value
+                if isinstance(key, ast.Constant)
+                else "{" + key.id + "}"
+                if isinstance(key, ast.Name)
                 else None
+            )
             if want is None or start is None or not start.startswith(want):
                 bad.append(f"{rel}:{node.lineno}: key {ast.unparse(key)} vs message {ast.unparse(text)[:60]}")
     assert n > 40
@@ -126,16 +131,20 @@ def test_raise_value_error_only_for_internal_invariants():
                 known = [k for k in INTERNAL_VALUE_ERRORS if k[0] == rel and start and start.startswith(k[1])]
                 found.add(known[0] if known else (rel, f"{start!r} (line {node.lineno})"))
     new = found - INTERNAL_VALUE_ERRORS
-    assert not new, (f"raise ValueError in a layer: a user-reachable input goes through fail/fail_text, an "
-                     f"internal invariant goes into INTERNAL_VALUE_ERRORS with its reason: {sorted(new)}")
+    assert not new, (
+        f"raise ValueError in a layer: a user-reachable input goes through fail/fail_text, an "
+        f"internal invariant goes into INTERNAL_VALUE_ERRORS with its reason: {sorted(new)}"
+    )
     assert found == INTERNAL_VALUE_ERRORS, INTERNAL_VALUE_ERRORS - found
 
 
 # ---- at run time: the fields are set, and renamed() uses them ----
 
+
 @pytest.fixture(scope="module")
 def model():
     from gearwear.dynamics import paper_pair
+
     return paper_pair()
 
 
@@ -181,7 +190,7 @@ def test_a_renamed_dynamics_error_names_the_users_key_in_the_users_unit(model):
 
 def test_a_renamed_dynamics_range_error_rescales_its_range(model):
     err = _raised(lambda: model.with_(alpha=2.0))
-    assert str(err) == "alpha = 2.0 rad: must be in (0, pi/2)"          # the layer's own words
+    assert str(err) == "alpha = 2.0 rad: must be in (0, pi/2)"  # the layer's own words
     out = renamed(err, {"alpha": ("pair.pressure_angle_deg", 180 / math.pi, "deg")})
     assert str(out) == "pair.pressure_angle_deg = 114.592 deg: must be in (0, 90) deg"
     assert out.field == Field("deg", 0.0, 90.0, lo_open=True, hi_open=True)

@@ -49,8 +49,13 @@ def coarse_fe(monkeypatch):
     from gearwear.fem import pair_model as fe_model
 
     sizes = fe_model.body_sizes
-    monkeypatch.setattr(fe_model, "body_sizes", lambda pair, torque_Nm=40.0, contact_scale=1.0, mesh_scale=1.0:
-                        sizes(pair, torque_Nm, 2.0 * contact_scale, 1.5 * mesh_scale))
+    monkeypatch.setattr(
+        fe_model,
+        "body_sizes",
+        lambda pair, torque_Nm=40.0, contact_scale=1.0, mesh_scale=1.0: sizes(
+            pair, torque_Nm, 2.0 * contact_scale, 1.5 * mesh_scale
+        ),
+    )
 
 
 def test_fem_takes_the_spall_over_one_revolution(capsys, coarse_fe):
@@ -73,8 +78,20 @@ def test_fem_takes_the_root_crack_through_stiffness_and_simulate(capsys, coarse_
     `simulate` with effects.mesh_stiffness.source = "fem" reports the condition indicators
     with shaft-order sidebands far above the healthy noise floor (below -150 dB,
     test_fault_sidebands_stand_far_above_the_healthy_noise_floor)."""
-    doc = _json(capsys, ["stiffness", str(EXAMPLES / "root_crack.toml"), "--method", "fem", "--json",
-                         "--fields", "20", "--out", str(tmp_path / "st")])
+    doc = _json(
+        capsys,
+        [
+            "stiffness",
+            str(EXAMPLES / "root_crack.toml"),
+            "--method",
+            "fem",
+            "--json",
+            "--fields",
+            "20",
+            "--out",
+            str(tmp_path / "st"),
+        ],
+    )
     healthy = _json(capsys, ["stiffness", "--method", "fem", "--json"])
     assert doc["mesh_periods"] == 30 and doc["faults"] == "crack2mm@g0t0"
     assert doc["ste_peak_to_peak_um"] > healthy["ste_peak_to_peak_um"] + 0.1
@@ -118,7 +135,18 @@ def test_fault_sidebands_stand_far_above_the_healthy_noise_floor(capsys):
 
 
 def test_flank_with_a_constant_stiffness_is_refused(capsys):
-    assert main(["simulate", "paper-default", "--set", "flank.tip_relief={amount_um=5, start_diameter_mm=152}",
-                 "--set", 'effects.mesh_stiffness.source="constant"']) == 2
+    assert (
+        main(
+            [
+                "simulate",
+                "paper-default",
+                "--set",
+                "flank.tip_relief={amount_um=5, start_diameter_mm=152}",
+                "--set",
+                'effects.mesh_stiffness.source="constant"',
+            ]
+        )
+        == 2
+    )
     err = capsys.readouterr().err
     assert "[flank]" in err and "effects.mesh_stiffness.source" in err and err.count("\n") == 1

@@ -32,9 +32,15 @@ def design(u) -> PairSpec:
     z1 = int(round(12 + 68 * u[0]))
     z2 = min(int(round(z1 * (1 + 3 * u[1]))), 150)
     m = 1e-3 * (1 + 9 * u[2])
-    spec = PairSpec(teeth=(z1, z2), module_m=m, pressure_angle_rad=math.radians(14.5 + 10.5 * u[3]),
-                    face_width_m=m * (3 + 12 * u[6]), profile_shift=(-0.5 + 1.5 * u[4], -0.5 + 1.5 * u[5]),
-                    rack_tip_radius_coefficient=0.2 + 0.18 * u[7], hub_radius_m=(1e-9, 1e-9))
+    spec = PairSpec(
+        teeth=(z1, z2),
+        module_m=m,
+        pressure_angle_rad=math.radians(14.5 + 10.5 * u[3]),
+        face_width_m=m * (3 + 12 * u[6]),
+        profile_shift=(-0.5 + 1.5 * u[4], -0.5 + 1.5 * u[5]),
+        rack_tip_radius_coefficient=0.2 + 0.18 * u[7],
+        hub_radius_m=(1e-9, 1e-9),
+    )
     frac = 0.2 + 0.6 * u[6]
     return PairSpec(**{**spec.__dict__, "hub_radius_m": tuple(frac * g.root_radius_m for g in spec.gears)})
 
@@ -61,10 +67,10 @@ def test_the_pair_fe_meshes_and_solves(index, pair):
     from gearwear.fem.pair import pair_contact, pair_model
 
     rb1 = pair.gear(0).base_radius_m
-    T = 200e3 * pair.face_width_m * rb1          # 200 N/mm line load
+    T = 200e3 * pair.face_width_m * rb1  # 200 N/mm line load
     r = pair_contact(pair, positions=4, torque_Nm=T, extended=False)
     F = T / rb1
     assert np.all(np.abs(r.pair_load_N.sum(axis=1) / F - 1.0) < 1e-12)
     assert np.all(np.isfinite(r.k_N_per_m)) and np.all(r.k_N_per_m > 0)
-    for body in pair_model(pair, torque_Nm=T).bodies:     # the cached bodies: no second meshing
+    for body in pair_model(pair, torque_Nm=T).bodies:  # the cached bodies: no second meshing
         assert not np.any(inverted_elements(body.model.mesh))

@@ -8,11 +8,16 @@ import math
 import numpy as np
 import pytest
 
-from gearwear.fem.contact import (check_complementarity, fit_semi_ellipse, hertz_cylinders, hertz_line_contact,
-                         solve_contact)
-
+from gearwear.fem.contact import (
+    check_complementarity,
+    fit_semi_ellipse,
+    hertz_cylinders,
+    hertz_line_contact,
+    solve_contact,
+)
 
 # -- the solver on problems solved by hand ------------------------------------------
+
 
 def test_two_springs_one_contact_by_hand():
     # spring 1 touches, spring 2 has a gap g2: small load -> spring 1 alone
@@ -121,12 +126,13 @@ def test_hertz_closed_form_identities():
     w, R1, R2, E, nu = 1e6, 0.01, 0.03, 206e9, 0.3
     a, p0 = hertz_line_contact(w, R1, R2, E, nu)
     Rs = 1 / (1 / R1 + 1 / R2)
-    Es = E / (2 * (1 - nu ** 2))
+    Es = E / (2 * (1 - nu**2))
     assert a == pytest.approx(math.sqrt(4 * w * Rs / (math.pi * Es)), rel=1e-15)
     assert math.pi * a * p0 / 2 == pytest.approx(w, rel=1e-15)
 
 
 # -- Hertz line contact of two elastic cylinders (FE) -------------------------------
+
 
 @pytest.fixture(scope="module")
 def cylinders_p1():

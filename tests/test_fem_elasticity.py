@@ -23,7 +23,7 @@ G = E / (2 * (1 + NU))
 def hooke(eps_xx, eps_yy, gam_xy, plane):
     """Stresses from engineering strains, written from E and nu directly."""
     if plane == "stress":
-        f = E / (1 - NU ** 2)
+        f = E / (1 - NU**2)
         return f * (eps_xx + NU * eps_yy), f * (eps_yy + NU * eps_xx), G * gam_xy
     f = E / ((1 + NU) * (1 - 2 * NU))
     return f * ((1 - NU) * eps_xx + NU * eps_yy), f * ((1 - NU) * eps_yy + NU * eps_xx), G * gam_xy
@@ -34,8 +34,7 @@ def compliance_strains(sxx, syy, txy, plane):
     nu (sxx + syy)) eps_xx = [(1 - nu^2) sxx - nu (1 + nu) syy] / E."""
     if plane == "stress":
         return (sxx - NU * syy) / E, (syy - NU * sxx) / E, txy / G
-    return (((1 - NU ** 2) * sxx - NU * (1 + NU) * syy) / E,
-            ((1 - NU ** 2) * syy - NU * (1 + NU) * sxx) / E, txy / G)
+    return (((1 - NU**2) * sxx - NU * (1 + NU) * syy) / E, ((1 - NU**2) * syy - NU * (1 + NU) * sxx) / E, txy / G)
 
 
 def irregular_rectangle(L=0.02, H=0.01, n=(8, 5), seed=0, amp=0.3):
@@ -121,15 +120,18 @@ def test_traction_patch_test_plane_stress_vs_strain(order):
     right = m.facets_satisfying(lambda x: np.isclose(x[0], L), boundaries_only=True)
     left = m.facets_satisfying(lambda x: np.isclose(x[0], 0.0), boundaries_only=True)
     bottom = m.facets_satisfying(lambda x: np.isclose(x[1], 0.0), boundaries_only=True)
-    for plane, (exx_want, eyy_want) in {"stress": (T / E, -NU * T / E),
-                                        "strain": ((1 - NU ** 2) * T / E, -NU * (1 + NU) * T / E)}.items():
+    for plane, (exx_want, eyy_want) in {
+        "stress": (T / E, -NU * T / E),
+        "strain": ((1 - NU**2) * T / E, -NU * (1 + NU) * T / E),
+    }.items():
         model = assemble(m, STEEL, b, left, plane=plane, order=order)
         F = traction_load(model, right, lambda x, y: np.stack([np.full_like(x, T), np.zeros_like(x)]))
         # resultant of the consistent load = b T H
         assert F[0::2].sum() == pytest.approx(b * T * H, rel=1e-12)
         assert abs(F[1::2].sum()) < 1e-9 * b * T * H
-        fix = np.concatenate([model.basis.get_dofs(facets=left).all("u^1"),
-                              model.basis.get_dofs(facets=bottom).all("u^2")])
+        fix = np.concatenate(
+            [model.basis.get_dofs(facets=left).all("u^1"), model.basis.get_dofs(facets=bottom).all("u^2")]
+        )
         free = np.setdiff1d(np.arange(model.ndofs), fix)
         U = np.zeros(model.ndofs)
         U[free] = spla.spsolve(model.K[free][:, free].tocsc(), F[free])
@@ -144,7 +146,7 @@ def test_lame_constants():
     lam, mu = lame(STEEL, "strain")
     assert lam == pytest.approx(E * NU / ((1 + NU) * (1 - 2 * NU)), rel=1e-14) and mu == pytest.approx(G, rel=1e-14)
     lam_s, mu_s = lame(STEEL, "stress")
-    assert lam_s == pytest.approx(E * NU / (1 - NU ** 2), rel=1e-14) and mu_s == pytest.approx(G, rel=1e-14)
+    assert lam_s == pytest.approx(E * NU / (1 - NU**2), rel=1e-14) and mu_s == pytest.approx(G, rel=1e-14)
     with pytest.raises(ValueError):
         lame(STEEL, "axisymmetric")
 
@@ -152,7 +154,7 @@ def test_lame_constants():
 # -- cantilever ----------------------------------------------------------------------
 
 L_B, C_B, P_B = 0.100, 0.005, 1000.0  # length, half-depth (h = 10 mm), end load (N per m thickness)
-I_B = 2 * C_B ** 3 / 3                # second moment per unit thickness, m^4 / m
+I_B = 2 * C_B**3 / 3  # second moment per unit thickness, m^4 / m
 
 
 def tg_displacement(x, y):
@@ -161,10 +163,13 @@ def tg_displacement(x, y):
     tau = P (c^2 - y^2) / (2 I) (resultant P), built in at x = l with
     u = v = dv/dx = 0 at (l, 0). Exact plane-stress solution."""
     P, l, c, I = P_B, L_B, C_B, I_B
-    u = (-P * x ** 2 * y / (2 * E * I) - NU * P * y ** 3 / (6 * E * I) + P * y ** 3 / (6 * I * G)
-         + (P * l ** 2 / (2 * E * I) - P * c ** 2 / (2 * I * G)) * y)
-    v = (NU * P * x * y ** 2 / (2 * E * I) + P * x ** 3 / (6 * E * I) - P * l ** 2 * x / (2 * E * I)
-         + P * l ** 3 / (3 * E * I))
+    u = (
+        -P * x**2 * y / (2 * E * I)
+        - NU * P * y**3 / (6 * E * I)
+        + P * y**3 / (6 * I * G)
+        + (P * l**2 / (2 * E * I) - P * c**2 / (2 * I * G)) * y
+    )
+    v = NU * P * x * y**2 / (2 * E * I) + P * x**3 / (6 * E * I) - P * l**2 * x / (2 * E * I) + P * l**3 / (3 * E * I)
     return u, v
 
 
@@ -175,7 +180,7 @@ def beam_mesh():
 
 
 def _end_traction(x, y):
-    return np.stack([np.zeros_like(x), P_B / (2 * I_B) * (C_B ** 2 - y ** 2)])
+    return np.stack([np.zeros_like(x), P_B / (2 * I_B) * (C_B**2 - y**2)])
 
 
 def test_cantilever_exact_elasticity_solution(beam_mesh):
@@ -194,7 +199,7 @@ def test_cantilever_exact_elasticity_solution(beam_mesh):
     U_ex = np.where(np.arange(model.ndofs) % 2 == 0, u_ex, v_ex)
     U = solve_with_prescribed(model, U_ex[model.fixed], F)
     tip = np.asarray(model.probe(np.array([[0.0, 0.0]])) @ U)
-    assert tip[1] == pytest.approx(P_B * L_B ** 3 / (3 * E * I_B), rel=1e-5)
+    assert tip[1] == pytest.approx(P_B * L_B**3 / (3 * E * I_B), rel=1e-5)
     assert np.max(np.abs(U - U_ex)) < 1e-5 * np.max(np.abs(U_ex))
 
 
@@ -210,13 +215,14 @@ def test_cantilever_full_clamp_vs_timoshenko_beam(beam_mesh):
     model = assemble(m, STEEL, 1.0, clamp, plane="stress", order=2)
     U = model.solve(traction_load(model, free_end, _end_traction))
     tip = float((model.probe(np.array([[0.0, 0.0]])) @ U)[1])
-    bending = P_B * L_B ** 3 / (3 * E * I_B)
+    bending = P_B * L_B**3 / (3 * E * I_B)
     timoshenko = bending + P_B * L_B / (5 / 6 * G * 2 * C_B)
     assert tip == pytest.approx(timoshenko, rel=0.01)
     assert tip > bending * 1.004
 
 
 # -- symmetry ------------------------------------------------------------------------
+
 
 def mirrored_mesh(seed=3):
     """Irregular mesh of [-L, L] x [0, H]: an irregular half mesh and its mirror
@@ -244,7 +250,7 @@ def test_mirror_symmetry_rectangle(order):
     base = m.facets_satisfying(lambda x: np.isclose(x[1], 0.0), boundaries_only=True)
     top = m.facets_satisfying(lambda x: np.isclose(x[1], 0.01), boundaries_only=True)
     model = assemble(m, STEEL, 0.01, base, order=order)
-    F = traction_load(model, top, lambda x, y: np.stack([2e6 * x / 0.01, -50e6 * np.exp(-(x / 0.004) ** 2)]))
+    F = traction_load(model, top, lambda x, y: np.stack([2e6 * x / 0.01, -50e6 * np.exp(-((x / 0.004) ** 2))]))
     U = model.solve(F)
     rng = np.random.default_rng(0)
     pts = np.column_stack([rng.uniform(0.0005, 0.0095, 30), rng.uniform(0.0005, 0.0095, 30)])
@@ -261,8 +267,8 @@ def test_gear_tooth_radial_load_is_symmetric():
     pressure on the tip land of tooth 0 (symmetric about the tooth axis, x = 0):
     the displacement field is mirror-symmetric to within the discretisation error
     (0.5 % of the largest displacement), and the axis points move radially."""
-    from gearwear.fem.tooth import gear_polygon, mesh_sizes
     from gearwear.fem.mesh import mesh_full_gear
+    from gearwear.fem.tooth import gear_polygon, mesh_sizes
     from gearwear.geometry.profile import FILLET, INVOLUTE, ROOT_LAND, TIP_LAND, tooth_profile
     from gearwear.geometry.sampling import resample_profile
     from gearwear.geometry.spec import default_pair
@@ -271,10 +277,14 @@ def test_gear_tooth_radial_load_is_symmetric():
     g = pair.gear(0)
     sizes = mesh_sizes(2.0)
     prof = tooth_profile(g, sag_m=1e-9)
-    poly = resample_profile(prof, {ROOT_LAND: sizes.fillet_m, FILLET: sizes.fillet_m, INVOLUTE: sizes.load_m,
-                                   TIP_LAND: sizes.load_m}, midpoints=True)
-    other = resample_profile(prof, {r: 0.2 * sizes.global_m for r in (ROOT_LAND, FILLET, INVOLUTE, TIP_LAND)},
-                             midpoints=True)
+    poly = resample_profile(
+        prof,
+        {ROOT_LAND: sizes.fillet_m, FILLET: sizes.fillet_m, INVOLUTE: sizes.load_m, TIP_LAND: sizes.load_m},
+        midpoints=True,
+    )
+    other = resample_profile(
+        prof, {r: 0.2 * sizes.global_m for r in (ROOT_LAND, FILLET, INVOLUTE, TIP_LAND)}, midpoints=True
+    )
     outline = gear_polygon(poly, poly, other)  # vertex, edge mid-point, vertex, ...
     gm = mesh_full_gear(outline[0::2], g.hub_radius_m, sizes, order=2, outline_mid_xy=outline[1::2])
     mesh = gm.mesh
@@ -304,6 +314,7 @@ def test_gear_tooth_radial_load_is_symmetric():
 
 
 # -- probes -------------------------------------------------------------------------
+
 
 @pytest.mark.parametrize("order", [1, 2])
 def test_probe_interleaves_components(order):
@@ -347,8 +358,12 @@ def curved_disc():
 
     th = np.linspace(0.0, 2 * np.pi, N_DISC, endpoint=False)
     mid = th + np.pi / N_DISC
-    gm = mesh_full_gear(R_DISC * np.column_stack([np.cos(th), np.sin(th)]), R_BORE, MeshSizes(global_m=1.5e-3),
-                        outline_mid_xy=R_DISC * np.column_stack([np.cos(mid), np.sin(mid)]))
+    gm = mesh_full_gear(
+        R_DISC * np.column_stack([np.cos(th), np.sin(th)]),
+        R_BORE,
+        MeshSizes(global_m=1.5e-3),
+        outline_mid_xy=R_DISC * np.column_stack([np.cos(mid), np.sin(mid)]),
+    )
     assert isinstance(gm.mesh, skfem.MeshTri2)
     return gm
 
@@ -373,9 +388,9 @@ def test_curved_mesh_mid_side_nodes_are_on_the_circle(curved_disc):
     assert np.max(np.abs(np.hypot(*mids) - R_DISC)) < 1e-12 * R_DISC
     chord = m.p[:, m.facets[:, f]].mean(axis=1)
     assert np.allclose(R_DISC - np.hypot(*chord), sag, rtol=1e-9)  # the chord centres are not the nodes
-    polygon = 0.5 * N_DISC * R_DISC ** 2 * np.sin(2 * np.pi / N_DISC)
+    polygon = 0.5 * N_DISC * R_DISC**2 * np.sin(2 * np.pi / N_DISC)
     bulges = N_DISC * 2 / 3 * (2 * R_DISC * np.sin(np.pi / N_DISC)) * sag
-    exact = polygon + bulges - np.pi * R_BORE ** 2
+    exact = polygon + bulges - np.pi * R_BORE**2
     assert curved_disc.exact_area_m2 == pytest.approx(exact, rel=1e-12)
     assert curved_disc.area_m2 == pytest.approx(exact, rel=1e-8)  # the bore's P2 chords: 1e-8 by design
 

@@ -61,8 +61,10 @@ def test_periods_without_the_faulty_tooth_are_the_healthy_period_to_the_bit(heal
     for name in ("k_N_per_m", "ste_m", "k_tangent_N_per_m", "excitation_m"):
         rows = getattr(r, name).reshape(30, POINTS)
         assert all(np.array_equal(rows[n], getattr(healthy, name)) for n in range(2, 29)), name
-    assert np.array_equal(r.pair_load_N.reshape(30, POINTS, -1)[2:29],
-                          np.broadcast_to(healthy.pair_load_N, (27, *healthy.pair_load_N.shape)))
+    assert np.array_equal(
+        r.pair_load_N.reshape(30, POINTS, -1)[2:29],
+        np.broadcast_to(healthy.pair_load_N, (27, *healthy.pair_load_N.shape)),
+    )
     # the faulty tooth's pair is marked where it is a candidate, in periods 0, 1 and 29 only
     marked = np.flatnonzero(r.faulty_pair.reshape(30, POINTS, -1).any(axis=(1, 2)))
     assert marked.tolist() == [0, 1, 29]
@@ -186,7 +188,15 @@ def test_positions_on_a_process_pool_give_the_serial_result_to_the_bit():
     serial = pair_contact(PAIR, **kw)
     with ProcessPoolExecutor(2, mp_context=multiprocessing.get_context("spawn")) as ex:
         pooled = pair_contact(PAIR, executor=ex, chunk_positions=6, **kw)
-    for name in ("k_N_per_m", "k_tangent_N_per_m", "ste_m", "excitation_m", "pair_load_N", "half_width_m",
-                 "faulty_pair", "angle_rad"):
+    for name in (
+        "k_N_per_m",
+        "k_tangent_N_per_m",
+        "ste_m",
+        "excitation_m",
+        "pair_load_N",
+        "half_width_m",
+        "faulty_pair",
+        "angle_rad",
+    ):
         assert np.array_equal(getattr(serial, name), getattr(pooled, name)), name
     assert serial.meta["positions_solved"] == pooled.meta["positions_solved"] > 8

@@ -9,13 +9,14 @@ import math
 import numpy as np
 import pytest
 
+from gearwear.core.validation import InputError
 from gearwear.fem.contact import check_complementarity, solve_contact
-from gearwear.stiffness.comparison import pair_consistency, weber_approach_m
 from gearwear.fem.pair import pair_contact, pair_model, solve_position, write_fields
 from gearwear.geometry.spec import default_pair
-from scenes import paper_pair_from
-from gearwear.core.validation import InputError
 from gearwear.geometry.wear import WearSpec
+from gearwear.stiffness.comparison import pair_consistency, weber_approach_m
+
+from scenes import paper_pair_from
 
 COARSE = 2.0
 
@@ -161,7 +162,7 @@ def test_single_contact_against_single_tooth_fe_and_weber(pair):
     for r in rows:
         assert r["c1_m_per_N"] == pytest.approx(r["c1_tooth_m_per_N"], rel=0.01)
         assert r["c2_m_per_N"] == pytest.approx(r["c2_tooth_m_per_N"], rel=0.01)
-        k_pair = 1.0 / r["c_pair_m_per_N"]                     # F / STE of the pair FE
+        k_pair = 1.0 / r["c_pair_m_per_N"]  # F / STE of the pair FE
         k_series = 1.0 / (r["c1_tooth_m_per_N"] + r["c2_tooth_m_per_N"] + r["weber_stress_m_per_N"])
         assert -0.04 < k_pair / k_series - 1.0 < 0.0, (k_pair, k_series)
         lo, hi = sorted((r["weber_strain_m_per_N"], r["weber_stress_m_per_N"]))
@@ -170,8 +171,7 @@ def test_single_contact_against_single_tooth_fe_and_weber(pair):
 
 @pytest.mark.slow
 def test_unequal_profile_shifted_pair():
-    pair = paper_pair_from({"pair": {"teeth": [21, 37], "profile_shift": [0.25, -0.10],
-                                    "hub_radius_mm": [30.0, 40.0]}})
+    pair = paper_pair_from({"pair": {"teeth": [21, 37], "profile_shift": [0.25, -0.10], "hub_radius_mm": [30.0, 40.0]}})
     r = pair_contact(pair, positions=8, contact_scale=COARSE, extended=False)
     F = r.total_load_N
     assert not r.meta["shared_body"]
@@ -195,8 +195,8 @@ def test_fields_vtu(tmp_path, pair):
 
 def test_weber_formula_by_hand():
     F, h1, h2, R, E, nu, b = 500.0, 3.5e-3, 3.2e-3, 12e-3, 206e9, 0.3, 0.02
-    a = math.sqrt(4 * (F / b) * R / (math.pi * E / (2 * (1 - nu ** 2))))
-    ref = 2 * F * (1 - nu ** 2) / (math.pi * E * b) * (math.log(2 * h1 / a) + math.log(2 * h2 / a) - nu / (1 - nu))
+    a = math.sqrt(4 * (F / b) * R / (math.pi * E / (2 * (1 - nu**2))))
+    ref = 2 * F * (1 - nu**2) / (math.pi * E * b) * (math.log(2 * h1 / a) + math.log(2 * h2 / a) - nu / (1 - nu))
     assert weber_approach_m(F, h1, h2, R, E, nu, b) == pytest.approx(ref, rel=1e-14)
     a_s = math.sqrt(4 * (F / b) * R / (math.pi * E / 2))
     ref_s = 2 * F / (math.pi * E * b) * (math.log(2 * h1 / a_s) + math.log(2 * h2 / a_s) - nu)
@@ -205,8 +205,12 @@ def test_weber_formula_by_hand():
 
 
 def test_bad_inputs(pair):
-    for kw, key in (({"positions": 1}, "positions"), ({"torque_Nm": -1.0}, "torque_Nm"),
-                    ({"contact_scale": 0.0}, "contact_scale"), ({"plane": "shell"}, "plane"),
-                    ({"clearance_m": -1e-6}, "clearance_m")):
+    for kw, key in (
+        ({"positions": 1}, "positions"),
+        ({"torque_Nm": -1.0}, "torque_Nm"),
+        ({"contact_scale": 0.0}, "contact_scale"),
+        ({"plane": "shell"}, "plane"),
+        ({"clearance_m": -1e-6}, "clearance_m"),
+    ):
         with pytest.raises(InputError, match=key):
             pair_contact(pair, **kw)

@@ -4,11 +4,11 @@ default."""
 
 import pytest
 
-from gearwear.scene.assumptions import for_command
 from gearwear.cli import main
 from gearwear.core.validation import InputError
-from gearwear.scene.model import scene_from_dict
+from gearwear.scene.assumptions import for_command
 from gearwear.scene.checks import dynamics_fem_plane, fem_plane, resolved_dict
+from gearwear.scene.model import scene_from_dict
 
 from scenes import with_paper
 
@@ -25,8 +25,8 @@ def test_default_and_given():
     from gearwear.scene.checks import PLANE_STRAIN_FROM_B_OVER_M
 
     assert resolved_dict(scene().doc)["fem"] == {"plane": "auto"}
-    assert fem_plane(scene().doc, True, "gearwear verify") == "stress"            # b/m = 4
-    wide = scene(pair={"face_width_mm": 5.0 * PLANE_STRAIN_FROM_B_OVER_M})       # b/m = 4.3
+    assert fem_plane(scene().doc, True, "gearwear verify") == "stress"  # b/m = 4
+    wide = scene(pair={"face_width_mm": 5.0 * PLANE_STRAIN_FROM_B_OVER_M})  # b/m = 4.3
     assert fem_plane(wide.doc, True, "gearwear verify") == "strain"
     s = scene(fem={"plane": "strain"})
     assert fem_plane(s.doc, True, "gearwear verify") == "strain"
@@ -50,12 +50,15 @@ def test_refused_where_no_fe_model_runs():
     # the dynamics use it with an analytic or FE mesh-stiffness source, and with a constant
     # taken from the analytic mean; not with a user table or a given constant
     with pytest.raises(InputError, match="not used"):
-        dynamics_fem_plane(scene(fem={"plane": "strain"},
-                                 effects={"mesh_stiffness": {"source": "constant", "value_N_per_m": 3e8}}).doc)
+        dynamics_fem_plane(
+            scene(fem={"plane": "strain"}, effects={"mesh_stiffness": {"source": "constant", "value_N_per_m": 3e8}}).doc
+        )
     for src in ("fem", "calibrated", "analytic"):
-        assert dynamics_fem_plane(scene(fem={"plane": "strain"},
-                                        effects={"mesh_stiffness": {"source": src}}).doc) == "strain"
-    assert dynamics_fem_plane(s.doc) == "strain"          # no [effects] mesh_stiffness: the analytic mean
+        assert (
+            dynamics_fem_plane(scene(fem={"plane": "strain"}, effects={"mesh_stiffness": {"source": src}}).doc)
+            == "strain"
+        )
+    assert dynamics_fem_plane(s.doc) == "strain"  # no [effects] mesh_stiffness: the analytic mean
     assert dynamics_fem_plane(scene(effects={"mesh_stiffness": {"source": "calibrated"}}).doc) == "stress"
     # absent, nothing to refuse
     assert dynamics_fem_plane(scene().doc) == "stress"
@@ -102,10 +105,11 @@ def test_assumed_where_an_fe_result_uses_the_default():
     keys = lambda s, cmd: [a.key for a in for_command(s, cmd)]  # noqa: E731
     assert "fem.plane" in keys(scene(), "verify")
     assert "fem.plane" in keys(scene(), "stiffness-fem")
-    assert "fem.plane" in keys(scene(), "stiffness")            # the analytic tooth beams use it
-    assert "fem.plane" not in keys(scene(), "stiffness-iso")    # ISO 6336 alone has no 2D state
+    assert "fem.plane" in keys(scene(), "stiffness")  # the analytic tooth beams use it
+    assert "fem.plane" not in keys(scene(), "stiffness-iso")  # ISO 6336 alone has no 2D state
     assert "fem.plane" not in keys(scene(fem={"plane": "stress"}), "verify")
-    assert "fem.plane" in keys(scene(), "simulate")             # a constant from the analytic mean
-    assert "fem.plane" not in keys(scene(effects={"mesh_stiffness": {"source": "constant",
-                                                                     "value_N_per_m": 3e8}}), "simulate")
+    assert "fem.plane" in keys(scene(), "simulate")  # a constant from the analytic mean
+    assert "fem.plane" not in keys(
+        scene(effects={"mesh_stiffness": {"source": "constant", "value_N_per_m": 3e8}}), "simulate"
+    )
     assert "fem.plane" in keys(scene(effects={"mesh_stiffness": {"source": "calibrated"}}), "simulate")

@@ -8,8 +8,14 @@ import math
 import numpy as np
 import pytest
 
-from gearwear.fem.convergence import (acceptance, convergence_table, format_table, observed_order, plot_convergence,
-                             richardson)
+from gearwear.fem.convergence import (
+    acceptance,
+    convergence_table,
+    format_table,
+    observed_order,
+    plot_convergence,
+    richardson,
+)
 from gearwear.fem.tooth import load_radii, single_tooth_compliance, tooth_mesh
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.spec import default_pair
@@ -30,8 +36,7 @@ def nominal(pair):
 
 @pytest.fixture(scope="module")
 def worn(pair):
-    return {ph: single_tooth_compliance(pair, wear=WearSpec(phase=ph), mesh_scale=COARSE)
-            for ph in ("mild", "severe")}
+    return {ph: single_tooth_compliance(pair, wear=WearSpec(phase=ph), mesh_scale=COARSE) for ph in ("mild", "severe")}
 
 
 @pytest.fixture(scope="module")
@@ -150,6 +155,7 @@ def test_load_radii_reach_below_tip(pair):
 
 
 # -- convergence ------------------------------------------------------------------------
+
 
 def test_richardson_recovers_a_known_expansion():
     h = np.array([1.0, 1 / math.sqrt(2), 0.5])

@@ -45,6 +45,7 @@ RAW_KEY = re.compile(r"^[A-Za-z_]\w*(\.\w+)+$")
 
 # -- the checks ----------------------------------------------------------------------------
 
+
 def drawn(fig):
     """The renderer of the figure drawn on an Agg canvas (layout done), drawn once."""
     if not isinstance(fig.canvas, FigureCanvasAgg):
@@ -149,7 +150,7 @@ def overprinted_texts(fig) -> list[str]:
     boxes += [(f"legend {i}", leg.get_window_extent(renderer)) for i, leg in enumerate(_legends(fig))]
     bad = []
     for i, (na, a) in enumerate(boxes):
-        for nb, b in boxes[i + 1:]:
+        for nb, b in boxes[i + 1 :]:
             w = min(a.x1, b.x1) - max(a.x0, b.x0)
             h = min(a.y1, b.y1) - max(a.y0, b.y0)
             if w > 1 and h > 1:
@@ -221,16 +222,22 @@ def spectrum_short_of(ax, fm_Hz: float, K: int) -> str | None:
 
 def problems(fig) -> list[str]:
     """Every check that applies to any figure."""
-    return (hidden_legend_entries(fig) + legends_over_data(fig) + overprinted_texts(fig) + bad_axis_labels(fig)
-            + too_deep_log_scales(fig))
+    return (
+        hidden_legend_entries(fig)
+        + legends_over_data(fig)
+        + overprinted_texts(fig)
+        + bad_axis_labels(fig)
+        + too_deep_log_scales(fig)
+    )
 
 
 # -- small real runs and synthetic results ----------------------------------------------------
 
+
 @cache
 def simulation():
-    from gearwear.scene.model import builtin_scene_dict, scene_from_dict
     from gearwear.jobs.simulate import run
+    from gearwear.scene.model import builtin_scene_dict, scene_from_dict
 
     return run(scene_from_dict(builtin_scene_dict("paper-wear-severe"), name="paper-wear-severe"))
 
@@ -239,10 +246,22 @@ def phases_of(doc: dict) -> list:
     from gearwear.jobs.verify import PhaseResult
 
     a = np.asarray
-    return [PhaseResult(name, a(p["radius_mm"]), a(p["roll_angle_deg"]), a(p["fem_compliance_um_per_N_per_mm"]),
-                        a(p["ishikawa_compliance_um_per_N_per_mm"]), a(p["energy_compliance_um_per_N_per_mm"]),
-                        0.0, 0.0, 0.0, 0, 0)
-            for name, p in sorted(doc["phases"].items(), key=lambda kv: ("unworn", "mild", "severe").index(kv[0]))]
+    return [
+        PhaseResult(
+            name,
+            a(p["radius_mm"]),
+            a(p["roll_angle_deg"]),
+            a(p["fem_compliance_um_per_N_per_mm"]),
+            a(p["ishikawa_compliance_um_per_N_per_mm"]),
+            a(p["energy_compliance_um_per_N_per_mm"]),
+            0.0,
+            0.0,
+            0.0,
+            0,
+            0,
+        )
+        for name, p in sorted(doc["phases"].items(), key=lambda kv: ("unworn", "mild", "severe").index(kv[0]))
+    ]
 
 
 def verification(equal: bool = False):
@@ -256,16 +275,24 @@ def verification(equal: bool = False):
 
 
 def stiffness_curves(example: str, wears=None, clearances_m=None, points: int = 180):
-    from gearwear.scene.model import load_scene
     from gearwear.jobs.stiffness import compute
+    from gearwear.scene.model import load_scene
 
     sc = load_scene(str(EXAMPLES / example)) if example.endswith(".toml") else None
     if sc is None:
         from gearwear.scene.model import builtin_scene_dict, scene_from_dict
+
         sc = scene_from_dict(builtin_scene_dict(example), name=example)
-    curves = compute(sc.pair, "ishikawa", wears if wears is not None else [sc.wear],
-                     clearances_m if clearances_m is not None else [sc.clearance_m], sc.operating.torque_Nm, points,
-                     flank=sc.flank, faults=sc.faults)
+    curves = compute(
+        sc.pair,
+        "ishikawa",
+        wears if wears is not None else [sc.wear],
+        clearances_m if clearances_m is not None else [sc.clearance_m],
+        sc.operating.torque_Nm,
+        points,
+        flank=sc.flank,
+        faults=sc.faults,
+    )
     return sc, curves
 
 
@@ -285,8 +312,15 @@ def sweep_results(values, others=None):
     results = []
     for i, p in enumerate(grid(axes)):
         x = i / max(len(values) - 1, 1)
-        results.append({"point": p, "harmonics": {"F_m_N": [50 * (1 + 0.05 * x) / k for k in range(1, 11)],
-                                                  "delta_um": [0.5 * (1 - 0.03 * x) / k for k in range(1, 11)]}})
+        results.append(
+            {
+                "point": p,
+                "harmonics": {
+                    "F_m_N": [50 * (1 + 0.05 * x) / k for k in range(1, 11)],
+                    "delta_um": [0.5 * (1 - 0.03 * x) / k for k in range(1, 11)],
+                },
+            }
+        )
     return axes, results
 
 
@@ -295,8 +329,8 @@ def runup():
     """A three-speed run-up both ways of the backlash example (real, ~2 s): 1500 rpm from rest
     settles period 2, and 2100 rpm is above f_m = 1036 Hz, a linear mode."""
     from gearwear.jobs import runup as runup_job
-    from gearwear.scene.model import load_scene_dict
     from gearwear.jobs.sweep import parse_axis
+    from gearwear.scene.model import load_scene_dict
 
     data, name = load_scene_dict(str(EXAMPLES / "runup_backlash.toml"))
     speed, others = runup_job.split_speed_axis([parse_axis("operating.speed_rpm=1500:2100:3")])
@@ -311,26 +345,52 @@ def runup_with_every_state():
     """The run-up with its rows relabelled: one of every steady state a run-up reports."""
     points, chains, others, summ = runup()
     chains = copy.deepcopy(chains)
-    states = [("periodic", 2), ("periodic", 3), ("quasi-periodic", 0), ("chaotic", 0), ("unsettled", 0),
-              ("periodic", 1)]
+    states = [
+        ("periodic", 2),
+        ("periodic", 3),
+        ("quasi-periodic", 0),
+        ("chaotic", 0),
+        ("unsettled", 0),
+        ("periodic", 1),
+    ]
     for i, (r, (label, p)) in enumerate(zip((r for c in chains for r in c.rows), states)):
         r["label"], r["period_mesh_periods"] = label, p
-        r["K_v"] += 0.3 * i      # apart: up and down share a K_v where they follow one branch
+        r["K_v"] += 0.3 * i  # apart: up and down share a K_v where they follow one branch
     return points, chains, others, summ
 
 
 def pair_report_doc() -> dict:
     ang = np.linspace(0, 12, 49)
-    k = {"ishikawa": 4.4e8 + 0.8e8 * np.cos(ang), "energy": 4.1e8 + 0.7e8 * np.cos(ang),
-         "iso6336": np.full_like(ang, 4.6e8), "fem": 4.0e8 + 0.9e8 * np.cos(ang)}
+    k = {
+        "ishikawa": 4.4e8 + 0.8e8 * np.cos(ang),
+        "energy": 4.1e8 + 0.7e8 * np.cos(ang),
+        "iso6336": np.full_like(ang, 4.6e8),
+        "fem": 4.0e8 + 0.9e8 * np.cos(ang),
+    }
     speeds = np.linspace(2000, 8000, 9)
-    return {"operating": {"torque_Nm": 60.0},
-            "stiffness": [{"method": m, "label": m, "angle_deg": ang.tolist(), "k_N_per_m": v.tolist(),
-                           "mean_N_per_m": float(v.mean())} for m, v in k.items()],
-            "load_map": {"torque_Nm": [30.0, 60.0, 120.0], "scene_torque_Nm": 60.0,
-                         "ste_peak_to_peak_um": {"nominal flank": [0.4, 0.8, 1.6]}},
-            "runup": {"speeds_rpm": speeds.tolist(), "K_v": (1 + 0.1 * np.sin(speeds / 900)).tolist(),
-                      "iso6336": {"K_v": (1 + speeds / 1e4).tolist(), "n_E1_driver_rpm": 6000.0}}}
+    return {
+        "operating": {"torque_Nm": 60.0},
+        "stiffness": [
+            {
+                "method": m,
+                "label": m,
+                "angle_deg": ang.tolist(),
+                "k_N_per_m": v.tolist(),
+                "mean_N_per_m": float(v.mean()),
+            }
+            for m, v in k.items()
+        ],
+        "load_map": {
+            "torque_Nm": [30.0, 60.0, 120.0],
+            "scene_torque_Nm": 60.0,
+            "ste_peak_to_peak_um": {"nominal flank": [0.4, 0.8, 1.6]},
+        },
+        "runup": {
+            "speeds_rpm": speeds.tolist(),
+            "K_v": (1 + 0.1 * np.sin(speeds / 900)).tolist(),
+            "iso6336": {"K_v": (1 + speeds / 1e4).tolist(), "n_E1_driver_rpm": 6000.0},
+        },
+    }
 
 
 class _Run:
@@ -341,11 +401,18 @@ class _Run:
 
         fm, S, M = 600.0, 64, 40
         t = np.arange(S * M) / (S * fm)
-        sig = {n: scale * sum(np.cos(2 * np.pi * k * fm * t) / k for k in range(1, 11)) * u
-               for n, u in (("y_p", 1e-7), ("x_p", 5e-8), ("delta", 3e-7), ("F_m", 50.0))}
-        self.result = SimpleNamespace(t=t, signals=sig, fs_Hz=S * fm, fm_Hz=fm,
-                                      spectrum=lambda n: spectrum(sig[n] - sig[n].mean(), S * fm),
-                                      harmonics=lambda n, K: np.array([scale / k for k in range(1, K + 1)]))
+        sig = {
+            n: scale * sum(np.cos(2 * np.pi * k * fm * t) / k for k in range(1, 11)) * u
+            for n, u in (("y_p", 1e-7), ("x_p", 5e-8), ("delta", 3e-7), ("F_m", 50.0))
+        }
+        self.result = SimpleNamespace(
+            t=t,
+            signals=sig,
+            fs_Hz=S * fm,
+            fm_Hz=fm,
+            spectrum=lambda n: spectrum(sig[n] - sig[n].mean(), S * fm),
+            harmonics=lambda n, K: np.array([scale / k for k in range(1, K + 1)]),
+        )
 
 
 def paper_report_results() -> dict:
@@ -360,11 +427,14 @@ def paper_report_results() -> dict:
         return SimpleNamespace(angle_rad=ang, k_N_per_m=s * (4e8 + 1e8 * np.cos(30 * ang)), mean_N_per_m=s * 4e8)
 
     cl = np.linspace(0, 100, 5)
-    return {"tabs_wear": {p: tab(1 - 0.05 * i) for i, p in enumerate(PHASES)},
-            "sims_wear": {p: _Run(1 + 0.2 * i) for i, p in enumerate(PHASES)},
-            "tabs_cl": {c: tab(1 - 0.001 * c) for c in CLEARANCES_UM},
-            "sims_cl": {c: _Run(1 + 0.004 * c) for c in CLEARANCES_UM},
-            "cl_fine": cl, "geo": [operating_geometry(pair, c * 1e-6, 40.0, 2.6e8, 50e-6) for c in cl]}
+    return {
+        "tabs_wear": {p: tab(1 - 0.05 * i) for i, p in enumerate(PHASES)},
+        "sims_wear": {p: _Run(1 + 0.2 * i) for i, p in enumerate(PHASES)},
+        "tabs_cl": {c: tab(1 - 0.001 * c) for c in CLEARANCES_UM},
+        "sims_cl": {c: _Run(1 + 0.004 * c) for c in CLEARANCES_UM},
+        "cl_fine": cl,
+        "geo": [operating_geometry(pair, c * 1e-6, 40.0, 2.6e8, 50e-6) for c in cl],
+    }
 
 
 def diagnosis(monkeypatch):
@@ -378,32 +448,50 @@ def diagnosis(monkeypatch):
     p = np.exp(-0.5 * (((X - 17) / 2) ** 2 + ((Y - 28) / 9) ** 2))
     unknowns = [UNKNOWNS["wear"], UNKNOWNS["clearance"]]
     est = {u.name: {"value": v, "lo95": v - 5, "hi95": v + 5} for u, v in zip(unknowns, (17.0, 28.0))}
-    ft = SimpleNamespace(names=[u.name for u in unknowns], sur=SimpleNamespace(unknowns=unknowns),
-                         post=GridPosterior(ax, p / p.sum(), []), summary={"estimates": est})
-    rows = [{"signal": s, "harmonic": k, "measured": a / max(k, 0.5), "fitted": 1.02 * a / max(k, 0.5),
-             "sigma_noise": 0.01 * a,
-             "sigma_surrogate": 0.01 * a} for s, a in (("y_p_um", 0.1), ("F_m_N", 100.0)) for k in range(0, 11)]
+    ft = SimpleNamespace(
+        names=[u.name for u in unknowns],
+        sur=SimpleNamespace(unknowns=unknowns),
+        post=GridPosterior(ax, p / p.sum(), []),
+        summary={"estimates": est},
+    )
+    rows = [
+        {
+            "signal": s,
+            "harmonic": k,
+            "measured": a / max(k, 0.5),
+            "fitted": 1.02 * a / max(k, 0.5),
+            "sigma_noise": 0.01 * a,
+            "sigma_surrogate": 0.01 * a,
+        }
+        for s, a in (("y_p_um", 0.1), ("F_m_N", 100.0))
+        for k in range(0, 11)
+    ]
     monkeypatch.setattr(diagnose_plots, "feature_rows", lambda _: rows)
     return ft
 
 
 # -- the registry: every figure function the CLI writes ----------------------------------------
 
+
 def _simulate(name):
     from gearwear.jobs import simulate_io
+
     return {"response.png": simulate_io.figure, "spectrum.png": simulate_io.spectrum_figure}[name](simulation())
 
 
 def _verify(equal=False):
     from gearwear.jobs.verify import figures
+
     return figures(verification(equal))["compliance.png"]
 
 
 def _convergence():
     from gearwear.fem.convergence import convergence_figure
 
-    rows = [dict(order=o, dofs=d, wall_s=w, error_pct_max=e, is_default=(o == 2 and d == 4000))
-            for o, d, w, e in ((1, 1000, 0.1, 4.0), (1, 4000, 0.3, 1.0), (2, 1000, 0.2, 0.4), (2, 4000, 0.6, 0.05))]
+    rows = [
+        dict(order=o, dofs=d, wall_s=w, error_pct_max=e, is_default=(o == 2 and d == 4000))
+        for o, d, w, e in ((1, 1000, 0.1, 4.0), (1, 4000, 0.3, 1.0), (2, 1000, 0.2, 0.4), (2, 4000, 0.6, 0.05))
+    ]
     return convergence_figure(rows, wall_time=False)
 
 
@@ -424,6 +512,7 @@ def _harris():
 
 def _tooth(example, wear):
     from gearwear.jobs.geometry import tooth_figure
+
     return tooth_figure(geometry(example, wear))
 
 
@@ -446,16 +535,19 @@ def _runup(kind, direction="up", every_state=False):
 
 def _pair_report(name):
     from gearwear.reports import pair as report_pair
+
     return report_pair.FIGURES[name](pair_report_doc())
 
 
 def _paper_report():
     from gearwear.reports.paper import figures
+
     return list(figures(paper_report_results()).items())
 
 
 def _diagnose(name, monkeypatch):
     from gearwear.diagnose import plots as diagnose_plots
+
     return getattr(diagnose_plots, name)(diagnosis(monkeypatch))
 
 
@@ -492,11 +584,12 @@ FIGURES = {
 @pytest.mark.parametrize("name", sorted(FIGURES))
 def test_every_figure_shows_every_legend_entry_off_the_data_with_labels_in_words(name, monkeypatch):
     made = FIGURES[name](monkeypatch)
-    for sub, fig in (made if isinstance(made, list) else [(name, made)]):
+    for sub, fig in made if isinstance(made, list) else [(name, made)]:
         assert problems(fig) == [], sub
 
 
 # -- the checks see what they are for ---------------------------------------------------------
+
 
 def test_the_checks_catch_a_bad_figure():
     from gearwear.plotting import subplots
@@ -504,9 +597,9 @@ def test_the_checks_catch_a_bad_figure():
     x = np.linspace(0, 1, 50)
     fig, ax = subplots(1, 1, figsize=(5, 3))
     ax.plot(x, x, label="unworn")
-    ax.plot(x, x.copy(), label="mild")                 # the same curve again, not said
-    ax.semilogy(x, np.r_[1.0, np.full(49, 1e-12)])     # rounding noise on a log axis
-    ax.legend(loc="upper left")                         # on the curve's start
+    ax.plot(x, x.copy(), label="mild")  # the same curve again, not said
+    ax.semilogy(x, np.r_[1.0, np.full(49, 1e-12)])  # rounding noise on a log axis
+    ax.legend(loc="upper left")  # on the curve's start
     ax.set_xlabel("effects.bearing_clearance.clearance_um")
     ax.set_ylabel("F_m_N")
     assert hidden_legend_entries(fig) == ["'unworn' under 'mild'", "'mild' under 'unworn'"]
@@ -521,6 +614,7 @@ def test_the_checks_catch_a_bad_figure():
 
 
 # -- 1. spectra ----------------------------------------------------------------------------
+
 
 def test_spectra_cover_the_reported_harmonics_above_a_floor_tied_to_the_signal():
     from gearwear.jobs import simulate_io
@@ -546,6 +640,7 @@ def test_spectra_cover_the_reported_harmonics_above_a_floor_tied_to_the_signal()
 
 # -- 2. coinciding curves --------------------------------------------------------------------
 
+
 def test_equal_curves_are_drawn_once_and_named_with_equals():
     from gearwear.jobs.verify import figures
 
@@ -554,11 +649,12 @@ def test_equal_curves_are_drawn_once_and_named_with_equals():
     labels = [ln.get_label() for ln in _lines(top)]
     # three methods, each one line: unworn = mild exactly, severe within a fraction of a percent
     assert len(labels) == 3 and all(lab.split(" (")[0].endswith("unworn = mild = severe") for lab in labels)
-    assert all("within" in lab for lab in labels)   # severe differs a little from the unworn: the label says so
+    assert all("within" in lab for lab in labels)  # severe differs a little from the unworn: the label says so
     assert len(fig.axes[0].get_legend().get_texts()) == 3
 
 
 # -- 3. run-up: legend, mode lines, steady states -----------------------------------------------
+
 
 def test_runup_marks_every_steady_state_and_names_the_mode_speeds():
     from gearwear.jobs import runup as runup_job
@@ -574,14 +670,18 @@ def test_runup_marks_every_steady_state_and_names_the_mode_speeds():
     assert not any("period 1" in t for t in texts)
     # the speeds where f_m meets a linear mode: full-height lines, each named by its frequency
     points, _, _, summ = runup()
-    inside = [f for n, f in zip(summ["points"][0]["mode_speeds_rpm"]["k1"], points[0].eigenfrequencies_Hz)
-              if 1500 <= n <= 2100]
+    inside = [
+        f
+        for n, f in zip(summ["points"][0]["mode_speeds_rpm"]["k1"], points[0].eigenfrequencies_Hz)
+        if 1500 <= n <= 2100
+    ]
     names = [t.get_text() for t in ax.texts]
     assert sorted(names) == sorted({f"{f:.0f} Hz" for f in inside})
     assert runup_job.steady_state_name({"label": "periodic", "period_mesh_periods": 30}, 30) is None
 
 
 # -- 4. sweep labels from the schema ------------------------------------------------------------
+
 
 def test_every_scene_key_has_an_axis_label_in_words_with_its_unit():
     from gearwear.scene.reference import json_schema, key_label
@@ -612,8 +712,8 @@ def test_every_scene_key_has_an_axis_label_in_words_with_its_unit():
 
 
 def test_sweep_axes_start_at_zero_and_state_the_relative_range():
-    from gearwear.scene.reference import key_label
     from gearwear.jobs.sweep import Axis, figures
+    from gearwear.scene.reference import key_label
 
     axes, results = sweep_results(np.linspace(0, 100, 11))
     fig = figures(axes, results)["harmonics_F_m_N.png"]
@@ -621,15 +721,17 @@ def test_sweep_axes_start_at_zero_and_state_the_relative_range():
         assert ax.get_ylim()[0] == 0
         assert ax.get_xlabel() == key_label("effects.bearing_clearance.clearance_um")
         assert ax.get_ylabel() == "mesh force F_m, harmonic k (N)"
-        assert ax.get_title() == f"k = {k + 1}: range 4.9 % of the mean"   # 0.05 / 1.025 of the mean
+        assert ax.get_title() == f"k = {k + 1}: range 4.9 % of the mean"  # 0.05 / 1.025 of the mean
     # any swept key gets its words: a damping ratio
     other = [Axis("bodies.mesh_damping_ratio", (0.02, 0.05))]
     res = [{"point": {"bodies.mesh_damping_ratio": v}, "harmonics": {"F_m_N": [1.0] * 10}} for v in (0.02, 0.05)]
-    assert figures(other, res)["harmonics_F_m_N.png"].axes[0].get_xlabel() == "bodies: mesh damping ratio " \
-                                                                              "(dimensionless)"
+    assert (
+        figures(other, res)["harmonics_F_m_N.png"].axes[0].get_xlabel() == "bodies: mesh damping ratio (dimensionless)"
+    )
 
 
 # -- 5. tooth.png -------------------------------------------------------------------------------
+
 
 def test_each_gear_has_its_own_axes_and_an_unworn_flank_says_so():
     from gearwear.jobs.geometry import key_radii_mm, tooth_figure
@@ -642,15 +744,16 @@ def test_each_gear_has_its_own_axes_and_an_unworn_flank_says_so():
         lo, hi = ax.get_xlim()
         assert lo <= min(key_radii_mm(res, i).values()) and max(key_radii_mm(res, i).values()) <= hi
         assert sorted(t.get_text() for t in ax.texts) == sorted(key_radii_mm(res, i))
-    assert wear_p.get_xlim()[1] < wear_g.get_xlim()[0]      # 19 and 45 teeth: radii apart, each on its own axis
+    assert wear_p.get_xlim()[1] < wear_g.get_xlim()[0]  # 19 and 45 teeth: radii apart, each on its own axis
     assert outline_p.get_ylim()[1] < outline_g.get_ylim()[0]
     unworn = tooth_figure(geometry(None, None))
     for ax in unworn.axes[2:]:
         assert "unworn: no wear" in [t.get_text() for t in ax.texts]
-        assert all(np.ptp(ln.get_xdata()) == 0 for ln in _lines(ax))   # no wear curve: the marked radii only
+        assert all(np.ptp(ln.get_xdata()) == 0 for ln in _lines(ax))  # no wear curve: the marked radii only
 
 
 # -- 6. Harris map ------------------------------------------------------------------------------
+
 
 def test_the_harris_title_states_the_relief():
     from gearwear.geometry.flank import FlankSpec, Relief
@@ -658,14 +761,18 @@ def test_the_harris_title_states_the_relief():
 
     title = _harris().axes[0].get_title().replace("\n", " ")
     assert "tip relief on both gears: C_a = 8.5 um, linear, from d = 151.83 mm" in title
-    per_gear = FlankSpec(tip_relief=(Relief(5e-6, 0.15, "parabolic"), None),
-                         root_relief=(Relief(4e-6, 0.145), Relief(6e-6, 0.146)))
-    assert relief_text(per_gear) == ("tip relief on the pinion: C_a = 5 um, parabolic, from d = 150 mm; "
-                                     "root relief on the pinion: C_f = 4 um, linear, from d = 145 mm; "
-                                     "root relief on the gear: C_f = 6 um, linear, from d = 146 mm")
+    per_gear = FlankSpec(
+        tip_relief=(Relief(5e-6, 0.15, "parabolic"), None), root_relief=(Relief(4e-6, 0.145), Relief(6e-6, 0.146))
+    )
+    assert relief_text(per_gear) == (
+        "tip relief on the pinion: C_a = 5 um, parabolic, from d = 150 mm; "
+        "root relief on the pinion: C_f = 4 um, linear, from d = 145 mm; "
+        "root relief on the gear: C_f = 6 um, linear, from d = 146 mm"
+    )
 
 
 # -- 7. Campbell diagram ---------------------------------------------------------------------------
+
 
 def test_the_campbell_diagram_shows_the_subharmonic_of_a_period_2_response():
     from gearwear.jobs import runup as runup_job
@@ -677,9 +784,9 @@ def test_the_campbell_diagram_shows_the_subharmonic_of_a_period_2_response():
     fm = row["fm_Hz"]
     f, A = runup_job.campbell_spectrum(row)
     i = int(np.argmin(abs(f - fm / 2)))
-    assert f[i] == pytest.approx(fm / 2, rel=1e-12)            # an exact bin: the kept window is whole periods
+    assert f[i] == pytest.approx(fm / 2, rel=1e-12)  # an exact bin: the kept window is whole periods
     assert f.max() >= (runup_job.N_HARMONICS + 0.5) * fm - row["spectrum_df_Hz"]
-    between = A[(f > 0.1 * fm) & (f < 0.4 * fm)]                 # below f_m / 2: nothing but noise
+    between = A[(f > 0.1 * fm) & (f < 0.4 * fm)]  # below f_m / 2: nothing but noise
     assert A[i] > 1e-3 * A.max() and A[i] > 1e4 * between.max()
     # the figure's colour map holds that line at f_m / 2 in the 1500 rpm column
     fig = runup_job.campbell_figure(points, chains, others, "up")
@@ -698,9 +805,9 @@ def test_the_campbell_diagram_shows_the_subharmonic_of_a_period_2_response():
 def test_peak_hold_keeps_a_one_bin_line_on_coarse_rows():
     from gearwear.jobs.runup import peak_hold
 
-    f = np.arange(1, 1001) * 10.0          # bins of 10 Hz
+    f = np.arange(1, 1001) * 10.0  # bins of 10 Hz
     A = np.full(f.size, 1e-9)
-    A[499] = 1.0                           # one line at 5 kHz
-    rows = peak_hold(f, A, np.linspace(0, 20000, 41))   # 500 Hz rows, the upper half beyond the bins
+    A[499] = 1.0  # one line at 5 kHz
+    rows = peak_hold(f, A, np.linspace(0, 20000, 41))  # 500 Hz rows, the upper half beyond the bins
     assert rows[10] == 1.0 and np.sum(rows == 1.0) == 1
     assert np.all(np.isnan(rows[21:])) and np.all(rows[:20][np.arange(20) != 10] == 1e-9)

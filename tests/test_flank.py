@@ -25,6 +25,7 @@ from gearwear.geometry.faults import FaultSpec, Spall, spall_gap_m
 from gearwear.geometry.flank import Deviation, FlankSpec, Relief, hpstc_diameters_m
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.scene.model import scene_from_dict
+
 from scenes import paper_pair_from, with_paper
 
 PAIR = paper_pair_from({})
@@ -48,7 +49,7 @@ def test_tip_relief_te_at_near_zero_load_is_the_hand_worked_kinematics(shape, po
     flank = FlankSpec(tip_relief=(Relief(CA, d1, shape), Relief(CA, d2, shape)))
     r = mesh_stiffness(PAIR, points=720, torque_Nm=LIGHT_NM, flank=flank)
     hand = _hand_triangle(r.angle_rad, power)
-    peak = CA / 2 ** power
+    peak = CA / 2**power
     assert np.max(hand) == pytest.approx(peak, rel=5e-3)  # the grid passes the apex
     assert np.max(np.abs(r.ste_m - hand)) < 0.02 * peak
 
@@ -98,6 +99,7 @@ def test_measured_deviation_sampling_a_relief_reproduces_it():
     d1, d2 = hpstc_diameters_m(MESH)
     relief = Relief(CA, d1)
     from gearwear.geometry.flank import relief_depth_m
+
     dia = np.linspace(140e-3, 2 * PAIR.gear(0).tip_radius_m, 400)
     h = relief_depth_m(relief, PAIR, 0, "tip", dia / 2)
     dev = Deviation(tuple(dia), tuple(h))
@@ -114,7 +116,7 @@ def test_spall_gap_is_bridged_by_the_mating_flank():
     d0 = MESH.pitch_point_m
     length = 0.5e-3
     u0 = d0 / rb
-    s0 = 0.5 * rb * u0 ** 2 - 0.5 * length  # the spall centred on the pitch point
+    s0 = 0.5 * rb * u0**2 - 0.5 * length  # the spall centred on the pitch point
     ua = math.sqrt(2 * s0 / rb)
     spall = Spall(0, 0, 2 * rb * math.hypot(1, ua), length, 30e-6)
     L = MESH.line_of_action_m
@@ -166,13 +168,21 @@ def test_fault_on_the_gear_spans_the_gear_revolution():
     assert rows[0] // 64 == 5
 
 
-@pytest.mark.parametrize("table,key", [
-    ({"tip_relief": {"amount_um": 20, "start_diameter_mm": 170}}, "flank.tip_relief.start_diameter_mm"),
-    ({"tip_relief": {"amount_um": 20, "start_diameter_mm": 140}}, "flank.tip_relief.start_diameter_mm"),
-    ({"tip_relief": {"amount_um": 2000, "start_diameter_mm": 155}}, "flank.tip_relief.amount_um"),
-    ({"tip_relief": {"amount_um": 20, "start_diameter_mm": 155},
-      "root_relief": {"amount_um": 20, "start_diameter_mm": 156}}, "flank.root_relief.start_diameter_mm"),
-])
+@pytest.mark.parametrize(
+    "table,key",
+    [
+        ({"tip_relief": {"amount_um": 20, "start_diameter_mm": 170}}, "flank.tip_relief.start_diameter_mm"),
+        ({"tip_relief": {"amount_um": 20, "start_diameter_mm": 140}}, "flank.tip_relief.start_diameter_mm"),
+        ({"tip_relief": {"amount_um": 2000, "start_diameter_mm": 155}}, "flank.tip_relief.amount_um"),
+        (
+            {
+                "tip_relief": {"amount_um": 20, "start_diameter_mm": 155},
+                "root_relief": {"amount_um": 20, "start_diameter_mm": 156},
+            },
+            "flank.root_relief.start_diameter_mm",
+        ),
+    ],
+)
 def test_bad_flank_tables_are_refused_in_one_line(table, key):
     with pytest.raises(InputError) as exc:
         scene_from_dict(with_paper({"flank": table}))
@@ -180,11 +190,14 @@ def test_bad_flank_tables_are_refused_in_one_line(table, key):
     assert msg.startswith(key) and "\n" not in msg and ("mm" in msg or "um" in msg), msg
 
 
-@pytest.mark.parametrize("spall,key", [
-    ({"tooth": 30, "start_diameter_mm": 150, "length_mm": 1, "depth_um": 20}, "faults.spall.tooth"),
-    ({"start_diameter_mm": 100, "length_mm": 1, "depth_um": 20}, "faults.spall.start_diameter_mm"),
-    ({"start_diameter_mm": 158, "length_mm": 5, "depth_um": 20}, "faults.spall.length_mm"),
-])
+@pytest.mark.parametrize(
+    "spall,key",
+    [
+        ({"tooth": 30, "start_diameter_mm": 150, "length_mm": 1, "depth_um": 20}, "faults.spall.tooth"),
+        ({"start_diameter_mm": 100, "length_mm": 1, "depth_um": 20}, "faults.spall.start_diameter_mm"),
+        ({"start_diameter_mm": 158, "length_mm": 5, "depth_um": 20}, "faults.spall.length_mm"),
+    ],
+)
 def test_bad_spalls_are_refused_in_one_line(spall, key):
     with pytest.raises(InputError) as exc:
         scene_from_dict(with_paper({"faults": {"spall": spall}}))
@@ -201,8 +214,13 @@ def test_root_crack_softens_only_its_tooth_pair_and_grows_with_depth():
     healthy = mesh_stiffness(PAIR, points=90, torque_Nm=40.0, breakpoints=False)
     k_min = []
     for depth in (1e-6, 0.5e-3, 1e-3, 2e-3):
-        r = mesh_stiffness(PAIR, points=90, torque_Nm=40.0, breakpoints=False,
-                           faults=FaultSpec(crack=CrackFault(0, 0, depth, math.radians(45))))
+        r = mesh_stiffness(
+            PAIR,
+            points=90,
+            torque_Nm=40.0,
+            breakpoints=False,
+            faults=FaultSpec(crack=CrackFault(0, 0, depth, math.radians(45))),
+        )
         k = r.k_N_per_m.reshape(30, 90)
         # tooth 0 enters at period 0 and leaves within period 1 (contact ratio 1.65); tip-corner
         # contact reaches into the neighbouring periods 29 (approach) and 2 (exit)

@@ -18,6 +18,7 @@ from gearwear.core.validation import InputError
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.profile import form_radius_m, tooth_profile
 from gearwear.geometry.spec import PairSpec
+
 from scenes import paper_pair_from
 
 ALPHA = math.radians(20.0)
@@ -58,6 +59,7 @@ def tip_radius(z, x, k, ha=1.0, m=M):
 
 # -- 1. tip circle inside the base circle; pointed teeth -----------------------------------
 
+
 def test_tip_inside_base_circle_is_one_line_with_the_shift_range():
     pair = {"teeth": [8, 30], "profile_shift": [-1.5, 0], "allow_undercut": True, "hub_radius_mm": [5, 40]}
     msg = refused(pair)
@@ -76,6 +78,7 @@ def test_tip_inside_base_circle_is_one_line_with_the_shift_range():
         _, _, k = working(8, 30, x, 0.0)
         ra = tip_radius(8, x, k)
         return (math.pi / 2 + 2 * x * math.tan(ALPHA)) / 8 + inv(ALPHA) - inv(math.acos(rb / ra))
+
     assert half_tip(hi) >= 0 > half_tip(hi + 2e-4)
 
 
@@ -88,6 +91,7 @@ def test_pointed_tooth_states_the_allowed_shift():
 
 # -- 2. undercut ---------------------------------------------------------------------------
 
+
 def test_undercut_refusal_names_the_scene_keys_and_the_limits():
     msg = refused({"teeth": [12, 30], "hub_radius_mm": [10, 40]})
     # ISO limit with the rack tip round rho* = 0.38: no undercut while
@@ -96,19 +100,24 @@ def test_undercut_refusal_names_the_scene_keys_and_the_limits():
     z_min = math.ceil(2 * depth / math.sin(ALPHA) ** 2)
     x_min = depth - 6 * math.sin(ALPHA) ** 2
     assert z_min == 18
-    m = re.fullmatch(r"pair\.teeth\[0\] = 12: undercut by the basic rack at profile_shift 0 \(needs pair\.teeth >= "
-                     r"(\d+) or pair\.profile_shift\[0\] >= ([\d.]+)\); pair\.allow_undercut = true generates the "
-                     r"undercut profile", msg)
+    m = re.fullmatch(
+        r"pair\.teeth\[0\] = 12: undercut by the basic rack at profile_shift 0 \(needs pair\.teeth >= "
+        r"(\d+) or pair\.profile_shift\[0\] >= ([\d.]+)\); pair\.allow_undercut = true generates the "
+        r"undercut profile",
+        msg,
+    )
     assert m, msg
     assert int(m.group(1)) == z_min
     assert x_min <= float(m.group(2)) < x_min + 1e-4
     # the quoted shift is enough
-    p = paper_pair_from({"pair": {"teeth": [12, 30], "profile_shift": [float(m.group(2)), 0.0],
-                                 "hub_radius_mm": [10, 40]}})
+    p = paper_pair_from(
+        {"pair": {"teeth": [12, 30], "profile_shift": [float(m.group(2)), 0.0], "hub_radius_mm": [10, 40]}}
+    )
     assert not tooth_profile(p.gear(0)).undercut
 
 
 # -- 3. tip/root interference --------------------------------------------------------------
+
 
 def test_classical_rack_limit_z_min_17():
     """A pinion meshing with a rack (here a 1000-tooth gear) interferes below
@@ -123,7 +132,7 @@ def test_classical_rack_limit_z_min_17():
     # 18 teeth, not undercut: contact starts above the form circle cut by the rack's flank end
     pair = paper_pair_from({"pair": {"teeth": [18, 1000], "hub_radius_mm": [10, 40]}})
     r1, C = 0.5 * M * 18, 0.5 * M * 1018
-    y_T = -(1.25 - 0.38 * (1 - math.sin(ALPHA))) * M      # lower end of the rack's straight flank
+    y_T = -(1.25 - 0.38 * (1 - math.sin(ALPHA))) * M  # lower end of the rack's straight flank
     roll_F = r1 * math.sin(ALPHA) + y_T / math.sin(ALPHA)  # r_b u_F, from T1 along the line of action
     d_A = C * math.sin(ALPHA) - math.sqrt((r2 + M) ** 2 - (r2 * math.cos(ALPHA)) ** 2)
     assert 0 < roll_F < d_A
@@ -161,7 +170,7 @@ def test_interference_boundary_on_the_mates_tip_diameter():
     T1T2 = (r1 + r2) * math.sin(ALPHA)
     ra2_max = math.hypot(rb2, T1T2 - roll_F)
     assert 2e3 * ra2_max == pytest.approx(208.57, abs=0.01)
-    assert "tip/root interference" in refused({"teeth": [z1, z2], **rack})   # the default gear tip, 210 mm
+    assert "tip/root interference" in refused({"teeth": [z1, z2], **rack})  # the default gear tip, 210 mm
     d_ok = 2 * ra2_max * 0.999 * 1e3
     pair = paper_pair_from({"pair": {"teeth": [z1, z2], "tip_diameter_mm": [75.0, d_ok], **rack}})
     assert form_radius_m(pair.gear(0)) == pytest.approx(r_form, abs=1e-12)
@@ -171,7 +180,7 @@ def test_interference_boundary_on_the_mates_tip_diameter():
     msg = refused({"teeth": [z1, z2], "tip_diameter_mm": [75.0, d_bad], **rack})
     assert msg.startswith(f"pair.tip_diameter_mm[1] = {d_bad:g} mm: must be in ")
     assert f"r_Nf = {r_form * 1e3:.4f} mm" in msg
-    r_contact = math.hypot(rb1, T1T2 - math.sqrt((d_bad / 2e3) ** 2 - rb2 ** 2))
+    r_contact = math.hypot(rb1, T1T2 - math.sqrt((d_bad / 2e3) ** 2 - rb2**2))
     assert f"r = {r_contact * 1e3:.4f} mm" in msg
     assert f"<= {2e3 * ra2_max:.4f} mm" in msg
     assert quoted_range(msg)[1] == pytest.approx(2e3 * ra2_max, abs=1e-3)
@@ -180,15 +189,25 @@ def test_interference_boundary_on_the_mates_tip_diameter():
 def test_five_tooth_pair_with_undercut_is_refused(capsys):
     from gearwear.cli import main
 
-    rc = main(["stiffness", "--set", "pair.teeth=[5,5]", "--set", "pair.allow_undercut=true",
-               "--set", "pair.hub_radius_mm=[3,3]", "--json"])
+    rc = main(
+        [
+            "stiffness",
+            "--set",
+            "pair.teeth=[5,5]",
+            "--set",
+            "pair.allow_undercut=true",
+            "--set",
+            "pair.hub_radius_mm=[3,3]",
+            "--json",
+        ]
+    )
     err = capsys.readouterr().err.strip().splitlines()
     assert rc == 2 and len(err) == 1
     assert err[0].startswith("gearwear: error: pair.profile_shift[0] = 0: tip/root interference")
     # by hand: T1T2 = 2 r sin(alpha) = 8.55 mm, and the tip circle meets the line of action
     # sqrt(r_a^2 - r_b^2) = 12.97 mm from T2, i.e. 4.42 mm beyond T1
     r, rb, ra = 12.5e-3, 12.5e-3 * math.cos(ALPHA), 17.5e-3
-    beyond = math.sqrt(ra ** 2 - rb ** 2) - 2 * r * math.sin(ALPHA)
+    beyond = math.sqrt(ra**2 - rb**2) - 2 * r * math.sin(ALPHA)
     assert f"{beyond * 1e3:.3f} mm beyond its interference point T1" in err[0]
 
 
@@ -211,6 +230,7 @@ def test_form_radius_is_the_generated_involute_start():
 
 # -- 4. ISO 21771 tip shortening -----------------------------------------------------------
 
+
 @pytest.mark.parametrize("teeth,shift", [((21, 37), (0.25, -0.10)), ((20, 40), (0.6, 0.4)), ((25, 31), (0.3, -0.3))])
 def test_tip_shortening_keeps_the_bottom_clearance(teeth, shift):
     (z1, z2), (x1, x2) = teeth, shift
@@ -231,8 +251,11 @@ def test_tip_shortening_keeps_the_bottom_clearance(teeth, shift):
     assert tooth_profile(g1).radius.max() == pytest.approx(g1.tip_radius_m, abs=1e-12)
     mesh = MeshGeometry(pair, pair.centre_distance_m)
     alpha_w = math.acos((g1.base_radius_m + g2.base_radius_m) / a_w)
-    path = (math.sqrt(g1.tip_radius_m ** 2 - g1.base_radius_m ** 2) + math.sqrt(g2.tip_radius_m ** 2 -
-            g2.base_radius_m ** 2) - a_w * math.sin(alpha_w))
+    path = (
+        math.sqrt(g1.tip_radius_m**2 - g1.base_radius_m**2)
+        + math.sqrt(g2.tip_radius_m**2 - g2.base_radius_m**2)
+        - a_w * math.sin(alpha_w)
+    )
     assert mesh.contact_ratio == pytest.approx(path / (math.pi * M * math.cos(ALPHA)), rel=1e-12)
 
 
@@ -265,8 +288,15 @@ def test_given_tip_and_root_diameters():
     assert prof.form_radius_m == pytest.approx(math.hypot(g1.base_radius_m, roll), abs=1e-12)
 
 
-@pytest.mark.parametrize("key,value", [("tip_diameter_mm", [175.0, 160.0]), ("tip_diameter_mm", [140.0, 160.0]),
-                                       ("root_diameter_mm", [141.0, 137.5]), ("root_diameter_mm", [120.0, 137.5])])
+@pytest.mark.parametrize(
+    "key,value",
+    [
+        ("tip_diameter_mm", [175.0, 160.0]),
+        ("tip_diameter_mm", [140.0, 160.0]),
+        ("root_diameter_mm", [141.0, 137.5]),
+        ("root_diameter_mm", [120.0, 137.5]),
+    ],
+)
 def test_given_diameters_out_of_range(key, value):
     msg = refused({key: value})
     assert msg.startswith(f"pair.{key}[0] = {value[0]:g} mm: must be in ")
@@ -281,9 +311,20 @@ def test_given_diameters_out_of_range(key, value):
 
 # -- 5. contact ratio above 2 and below 1 in the summaries -----------------------------------
 
-HIGH_CR = ["--set", "pair.teeth=[60,60]", "--set", "pair.pressure_angle_deg=14.5",
-           "--set", "pair.addendum_coefficient=1.4", "--set", "pair.dedendum_coefficient=1.7",
-           "--set", "pair.rack_tip_radius_coefficient=0.1", "--set", "pair.allow_undercut=true"]
+HIGH_CR = [
+    "--set",
+    "pair.teeth=[60,60]",
+    "--set",
+    "pair.pressure_angle_deg=14.5",
+    "--set",
+    "pair.addendum_coefficient=1.4",
+    "--set",
+    "pair.dedendum_coefficient=1.7",
+    "--set",
+    "pair.rack_tip_radius_coefficient=0.1",
+    "--set",
+    "pair.allow_undercut=true",
+]
 
 
 def _json_run(argv, capsys):
@@ -304,7 +345,7 @@ def test_stiffness_json_above_a_contact_ratio_of_two(capsys):
     assert 2.9 < d["contact_ratio"] < 3
     assert d["single_zone_mean_N_per_m"] is None
     zm = d["zone_means_N_per_m"]
-    assert zm["1"] is None and zm["2"] > 0 and zm["3"] > zm["2"]   # three pairs share the load: stiffer
+    assert zm["1"] is None and zm["2"] > 0 and zm["3"] > zm["2"]  # three pairs share the load: stiffer
     assert d["double_zone_mean_N_per_m"] == zm["2"]
     eps, period = d["contact_ratio"], 6.0
     assert d["zone_lengths_deg"]["3"] == pytest.approx((eps - 2) * period, rel=1e-9)
@@ -326,8 +367,9 @@ def test_contact_ratio_below_one_in_the_summaries(capsys):
     # ISO 6336 has no mean stiffness without overlapping pairs: one line naming --method
     assert main(["stiffness", "--clearance-um", "5000", "--method", "iso6336"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and err[0].startswith("gearwear: error: --method = 'iso6336': ISO 6336-1 method B needs a "
-                                               "contact ratio >= 1")
+    assert len(err) == 1 and err[0].startswith(
+        "gearwear: error: --method = 'iso6336': ISO 6336-1 method B needs a contact ratio >= 1"
+    )
 
 
 def test_interference_of_a_large_pinion_shift_and_the_fix_it_names():
@@ -335,11 +377,12 @@ def test_interference_of_a_large_pinion_shift_and_the_fix_it_names():
     far that its flank end (y_T above the pitch line) starts the involute at
     r_b u_F = r sin(alpha) + y_T / sin(alpha); the shortened gear tip reaches below it.
     More shift on the gear (x2 = +0.3) clears it; the message names that key."""
+
     def pinion_margin(x1, x2):
         alpha_w, a_w, k = working(30, 30, x1, x2)
         r, rb = 75e-3, 75e-3 * math.cos(ALPHA)
         ra2 = tip_radius(30, x2, k)
-        d_A = a_w * math.sin(alpha_w) - math.sqrt(ra2 ** 2 - rb ** 2)
+        d_A = a_w * math.sin(alpha_w) - math.sqrt(ra2**2 - rb**2)
         y_T = -(1.25 - x1) * M + 0.38 * M * (1 - math.sin(ALPHA))
         return d_A - (r * math.sin(ALPHA) + y_T / math.sin(ALPHA))
 

@@ -30,6 +30,7 @@ def _umask_from_proc() -> int:
 
 # -- matplotlib ------------------------------------------------------------------------
 
+
 def test_plotting_keeps_the_backend_and_never_imports_pyplot(tmp_path):
     """A notebook user's backend ("svg" here, set before any gearwear import) survives
     drawing and saving figures from the fem layer and from the app layer, and pyplot
@@ -63,6 +64,7 @@ def test_plotting_keeps_the_backend_and_never_imports_pyplot(tmp_path):
 
 
 # -- atomic writes ------------------------------------------------------------------------
+
 
 def test_atomic_write_gives_the_umask_mode_without_touching_the_umask(tmp_path):
     """Mode = 0o666 & ~umask, as for open(path, "w"); the library never calls os.umask
@@ -119,6 +121,7 @@ def test_failed_writer_leaves_nothing_behind_and_keeps_the_old_file(tmp_path):
 
 # -- per-model derived constants ----------------------------------------------------------
 
+
 def test_derived_constants_live_and_die_with_their_model():
     """derived() is computed once per model, a changed copy gets its own, and nothing
     module-level keeps a model (and its tables) alive once the caller drops it."""
@@ -135,7 +138,7 @@ def test_derived_constants_live_and_die_with_their_model():
     assert derived(m) is d
     f = rhs_python(0.0, static_equilibrium(m), m)
     faster = m.with_(omega_p=2 * m.omega_p)
-    assert derived(faster)[0][13] == 2 * d[0][13] == 2 * m.omega_p   # P_OM: its own constants
+    assert derived(faster)[0][13] == 2 * d[0][13] == 2 * m.omega_p  # P_OM: its own constants
     assert np.all(np.isfinite(f))
     ref = weakref.ref(m)
     del m, d, faster
@@ -144,6 +147,7 @@ def test_derived_constants_live_and_die_with_their_model():
 
 
 # -- damping ratios -------------------------------------------------------------------------
+
 
 def test_damping_from_ratios_gives_the_damping_ratio_of_a_one_dof_oscillator():
     """m x'' + c x' + k x = 0 has roots -zeta w_n +- i w_n sqrt(1 - zeta^2): the real

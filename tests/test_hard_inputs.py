@@ -18,14 +18,26 @@ from gearwear.cli import main
 ROOT = Path(__file__).resolve().parents[1]
 
 # contact ratio 2.91: no single-contact zone at all
-HIGH_CR = ["--set", "pair.teeth=[60,60]", "--set", "pair.pressure_angle_deg=14.5",
-           "--set", "pair.addendum_coefficient=1.4", "--set", "pair.dedendum_coefficient=1.7",
-           "--set", "pair.rack_tip_radius_coefficient=0.1", "--set", "pair.allow_undercut=true"]
+HIGH_CR = [
+    "--set",
+    "pair.teeth=[60,60]",
+    "--set",
+    "pair.pressure_angle_deg=14.5",
+    "--set",
+    "pair.addendum_coefficient=1.4",
+    "--set",
+    "pair.dedendum_coefficient=1.7",
+    "--set",
+    "pair.rack_tip_radius_coefficient=0.1",
+    "--set",
+    "pair.allow_undercut=true",
+]
 
 
 def strict(text: str):
     def refuse(token):
         raise ValueError(f"not JSON: {token}")
+
     return json.loads(text, parse_constant=refuse)
 
 
@@ -41,8 +53,8 @@ def _fem_summary_coarse():
     bodies at the default level take 30 s; the zone bookkeeping under test is the same),
     through the summary and strict JSON the CLI prints."""
     from gearwear import io
-    from gearwear.scene.model import apply_overrides, builtin_scene_dict, scene_from_dict
     from gearwear.jobs.stiffness import Curve, fem_curve
+    from gearwear.scene.model import apply_overrides, builtin_scene_dict, scene_from_dict
 
     sets = [HIGH_CR[i + 1] for i in range(0, len(HIGH_CR), 2)]
     pair = scene_from_dict(apply_overrides(builtin_scene_dict("paper-default"), sets)).pair
@@ -59,10 +71,11 @@ def test_stiffness_json_above_contact_ratio_two(method, capsys):
     # the textbook contact ratio of this pair, worked out in test_kinematics_operating's way:
     # eps = (sqrt(r_a1^2 - r_b1^2) + sqrt(r_a2^2 - r_b2^2) - a sin(alpha)) / p_b
     import math
+
     a, m, z = math.radians(14.5), 5e-3, 60
     r, rb = m * z / 2, m * z / 2 * math.cos(a)
     ra = r + 1.4 * m
-    eps = (2 * math.sqrt(ra ** 2 - rb ** 2) - 2 * r * math.sin(a)) / (math.pi * m * math.cos(a))
+    eps = (2 * math.sqrt(ra**2 - rb**2) - 2 * r * math.sin(a)) / (math.pi * m * math.cos(a))
     assert s["contact_ratio"] == pytest.approx(eps, rel=1e-9)
     assert s["single_zone_mean_N_per_m"] is None and s["zone_means_N_per_m"]["1"] is None
     assert s["zone_lengths_deg"]["1"] == 0.0

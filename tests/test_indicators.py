@@ -11,33 +11,33 @@ from gearwear.dynamics import indicators as ind
 
 # a record of R = 4 revolutions of a shaft with z = 20 teeth, 64 samples per mesh period
 Z, R, S = 20, 4, 64
-F_SH = 25.0                       # Hz
-F_M = Z * F_SH                    # 500 Hz
-FS = S * F_M                      # 32 kHz
+F_SH = 25.0  # Hz
+F_M = Z * F_SH  # 500 Hz
+FS = S * F_M  # 32 kHz
 N = R * Z * S
 T = np.arange(N) / FS
 
 
 def test_gaussian_noise_kurtosis_is_3():
     rng = np.random.default_rng(12345)
-    x = rng.standard_normal(2 ** 16) * 3.0 + 7.0
-    se = math.sqrt(24.0 / x.size)               # standard error of the sample kurtosis
+    x = rng.standard_normal(2**16) * 3.0 + 7.0
+    se = math.sqrt(24.0 / x.size)  # standard error of the sample kurtosis
     k = ind.kurtosis(x)
-    assert abs(k - 3.0) < 4 * se, (k, se)       # measured 2.9971 (se 0.019)
+    assert abs(k - 3.0) < 4 * se, (k, se)  # measured 2.9971 (se 0.019)
     assert ind.ac_rms(x) == pytest.approx(3.0, rel=0.02)
 
 
 def test_pure_sine():
     A = 2.5
-    x = A * np.cos(2 * np.pi * F_M * T)          # sampled at its peaks (even S)
+    x = A * np.cos(2 * np.pi * F_M * T)  # sampled at its peaks (even S)
     assert ind.crest_factor(x) == pytest.approx(math.sqrt(2), rel=1e-12)
     assert ind.kurtosis(x) == pytest.approx(1.5, rel=1e-12)
-    assert ind.fm0(x, FS, F_M, F_SH) == pytest.approx(2.0, rel=1e-12)   # p-p 2A over A
+    assert ind.fm0(x, FS, F_M, F_SH) == pytest.approx(2.0, rel=1e-12)  # p-p 2A over A
     assert ind.ac_rms(x) == pytest.approx(A / math.sqrt(2), rel=1e-12)
     # nothing left after removing the mesh harmonics: FM4 undefined, with the reason
     g = ind.gear_indicators(x, FS, F_M, F_SH, unit="m/s^2")
     assert g.FM4 is None and "rounding level" in dict(g.undefined)["FM4"]
-    assert g.sideband_energy < 1e-25 and g.sideband_ratio_dB < -250     # rounding level, finite
+    assert g.sideband_energy < 1e-25 and g.sideband_ratio_dB < -250  # rounding level, finite
 
 
 def test_fm4_impulses_versus_sidebands():
@@ -82,7 +82,7 @@ def test_constant_signal_is_undefined_not_nan():
     assert g.sideband_ratio_dB is None
     why = dict(g.undefined)
     assert set(why) == {"kurtosis", "crest_factor", "FM0", "FM4", "sideband_ratio_dB"}
-    text = json.dumps(g.to_dict(), allow_nan=False)          # strict JSON
+    text = json.dumps(g.to_dict(), allow_nan=False)  # strict JSON
     assert '"unit": "N"' in text and g.to_dict()["undefined"]["kurtosis"].startswith("the signal is constant")
     assert g.mean == pytest.approx(3.7) and g.ac_rms < 1e-12 and ind.kurtosis(np.zeros(8)) is None
 
@@ -151,8 +151,8 @@ def test_periodicity_mismatch_finds_the_period_and_flags_none():
     from gearwear.dynamics.simulate import periodicity_mismatch
 
     S = 64
-    t = np.arange(40 * S) / S                      # 40 mesh periods
-    x = np.sin(2 * np.pi * t) + 0.3 * np.sin(np.pi * t)   # period 2 mesh periods
+    t = np.arange(40 * S) / S  # 40 mesh periods
+    x = np.sin(2 * np.pi * t) + 0.3 * np.sin(np.pi * t)  # period 2 mesh periods
     p, m = periodicity_mismatch(x, S)
     assert p == 2 and m < 1e-12
     noise = np.random.default_rng(1).standard_normal(40 * S)
@@ -163,8 +163,8 @@ def test_a_non_periodic_healthy_response_is_flagged():
     """The light-load backlash example is healthy but not periodic (its kurtosis of ~20 and
     sideband ratio near 0 dB look like a fault): the indicators say so, and a warning too; the
     paper's severe-wear scene is periodic and carries no such warning."""
-    from gearwear.scene.model import load_scene
     from gearwear.jobs.simulate import run
+    from gearwear.scene.model import load_scene
 
     s = run(load_scene("examples/light_load_backlash.toml")).summary()
     assert s["condition_indicators"]["periodic"] is False

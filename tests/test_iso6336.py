@@ -6,8 +6,15 @@ from dataclasses import replace
 
 import pytest
 
-from gearwear.analytic.iso6336 import (basic_rack_factor, gear_blank_factor, iso6336_stiffness, iso_ordered,
-                                       low_load_factor, pair_blank_factor, single_stiffness_theoretical)
+from gearwear.analytic.iso6336 import (
+    basic_rack_factor,
+    gear_blank_factor,
+    iso6336_stiffness,
+    iso_ordered,
+    low_load_factor,
+    pair_blank_factor,
+    single_stiffness_theoretical,
+)
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.spec import Web, default_pair, replace_checked
 
@@ -20,8 +27,17 @@ def test_theoretical_stiffness_by_hand_z30_x0():
 
 def test_theoretical_stiffness_by_hand_with_profile_shift():
     z1, z2, x1, x2 = 20, 45, 0.3, -0.1
-    q = (0.04723 + 0.15551 / z1 + 0.25791 / z2 - 0.00635 * x1 - 0.11654 * x1 / z1
-         - 0.00193 * x2 - 0.24188 * x2 / z2 + 0.00529 * x1 ** 2 + 0.00182 * x2 ** 2)
+    q = (
+        0.04723
+        + 0.15551 / z1
+        + 0.25791 / z2
+        - 0.00635 * x1
+        - 0.11654 * x1 / z1
+        - 0.00193 * x2
+        - 0.24188 * x2 / z2
+        + 0.00529 * x1**2
+        + 0.00182 * x2**2
+    )
     assert single_stiffness_theoretical(z1, z2, x1, x2) == pytest.approx(1.0 / q, rel=1e-12)
 
 
@@ -54,7 +70,8 @@ def test_gear_blank_factor():
     assert gear_blank_factor(20e-3, 5e-3) == 1.0
     # b_s/b = 0.5, s_R/m_n = 2: 1 + ln 0.5 / (5 e^0.4)
     assert gear_blank_factor(20e-3, 5e-3, 10e-3, 10e-3) == pytest.approx(
-        1.0 + math.log(0.5) / (5.0 * math.exp(0.4)), rel=1e-14)
+        1.0 + math.log(0.5) / (5.0 * math.exp(0.4)), rel=1e-14
+    )
     # ratios beyond the standard's limits are clamped to them
     assert gear_blank_factor(20e-3, 5e-3, 1e-3, 1e-3) == pytest.approx(1.0 + math.log(0.2) / (5.0 * math.exp(0.2)))
 
@@ -77,7 +94,8 @@ def test_low_load_factor_below_and_above_100_N_per_mm():
     assert low.c_prime == iso6336_stiffness(pair).c_prime  # c' itself stays unreduced
     # K_A scales the line load
     assert iso6336_stiffness(pair, torque_Nm=40.0, K_A=2.0).low_load_factor == pytest.approx(
-        (80.0 / 1.5 / 100.0) ** 0.25, rel=1e-14)
+        (80.0 / 1.5 / 100.0) ** 0.25, rel=1e-14
+    )
     for torque in (150.0, 300.0):  # 100 and 200 N/mm: no reduction
         high = iso6336_stiffness(pair, torque_Nm=torque)
         assert high.low_load_factor == 1.0
@@ -125,11 +143,16 @@ def test_bad_inputs():
 def driver_with_more_teeth():
     """A pair whose driver (index 0) has more teeth than the driven gear, with every
     per-gear value different, and the same pair with driver and driven gear exchanged."""
-    pair = replace_checked(default_pair(), teeth=(47, 23), profile_shift=(0.1, 0.3), hub_radius_m=(60e-3, 30e-3),
-                           materials=(replace(default_pair().materials[0], youngs_modulus_Pa=200e9),
-                                      default_pair().materials[1]))
-    swapped = replace_checked(pair, teeth=(23, 47), profile_shift=(0.3, 0.1), hub_radius_m=(30e-3, 60e-3),
-                              materials=pair.materials[::-1])
+    pair = replace_checked(
+        default_pair(),
+        teeth=(47, 23),
+        profile_shift=(0.1, 0.3),
+        hub_radius_m=(60e-3, 30e-3),
+        materials=(replace(default_pair().materials[0], youngs_modulus_Pa=200e9), default_pair().materials[1]),
+    )
+    swapped = replace_checked(
+        pair, teeth=(23, 47), profile_shift=(0.3, 0.1), hub_radius_m=(30e-3, 60e-3), materials=pair.materials[::-1]
+    )
     return pair, swapped
 
 
@@ -151,8 +174,17 @@ def test_gear_1_is_the_gear_with_fewer_teeth_whichever_drives():
     a, b = iso6336_stiffness(pair), iso6336_stiffness(swapped)
     assert a == b
     assert (a.z1, a.z2) == (23, 47)
-    q = (0.04723 + 0.15551 / 23 + 0.25791 / 47 - 0.00635 * 0.3 - 0.11654 * 0.3 / 23
-         - 0.00193 * 0.1 - 0.24188 * 0.1 / 47 + 0.00529 * 0.3 ** 2 + 0.00182 * 0.1 ** 2)
+    q = (
+        0.04723
+        + 0.15551 / 23
+        + 0.25791 / 47
+        - 0.00635 * 0.3
+        - 0.11654 * 0.3 / 23
+        - 0.00193 * 0.1
+        - 0.24188 * 0.1 / 47
+        + 0.00529 * 0.3**2
+        + 0.00182 * 0.1**2
+    )
     assert a.c_th_prime == pytest.approx(1.0 / q, rel=1e-12)
     assert 1 - single_stiffness_theoretical(47, 23, 0.1, 0.3) / a.c_th_prime > 0.025  # the driver-first reading
     # the driver's torque T is T z1 / z_driver on gear 1: the swapped pair's driver carries T 23 / 47
@@ -160,7 +192,8 @@ def test_gear_1_is_the_gear_with_fewer_teeth_whichever_drives():
     assert iso6336_stiffness(pair, torque_Nm=T) == iso6336_stiffness(swapped, torque_Nm=T * (23 / 47))
     # F_t = 2 T1 / d1 = 2 (T 23 / 47) / (5 mm * 23): the same force as 2 T / d_driver
     assert iso6336_stiffness(pair, torque_Nm=T).line_load_N_per_mm == pytest.approx(
-        2 * T / (5e-3 * 47) / 20.0, rel=1e-14)
+        2 * T / (5e-3 * 47) / 20.0, rel=1e-14
+    )
 
 
 def test_each_gear_has_its_own_web_and_the_pair_takes_the_mean_blank_factor():
@@ -170,10 +203,12 @@ def test_each_gear_has_its_own_web_and_the_pair_takes_the_mean_blank_factor():
     cr_a = 1.0 + math.log(0.5) / (5.0 * math.exp(0.4))
     cr_b = 1.0 + math.log(0.3) / (5.0 * math.exp(0.2))
     solid = iso6336_stiffness(default_pair())
-    for webs, expected in (((Web(10e-3, 10e-3, 50e-3), None), 0.5 * (cr_a + 1.0)),
-                           ((None, Web(6e-3, 5e-3, 50e-3)), 0.5 * (1.0 + cr_b)),
-                           ((Web(10e-3, 10e-3, 50e-3), Web(6e-3, 5e-3, 50e-3)), 0.5 * (cr_a + cr_b)),
-                           ((Web(10e-3, 10e-3, 50e-3),) * 2, cr_a)):  # alike blanks: the standard's C_R
+    for webs, expected in (
+        ((Web(10e-3, 10e-3, 50e-3), None), 0.5 * (cr_a + 1.0)),
+        ((None, Web(6e-3, 5e-3, 50e-3)), 0.5 * (1.0 + cr_b)),
+        ((Web(10e-3, 10e-3, 50e-3), Web(6e-3, 5e-3, 50e-3)), 0.5 * (cr_a + cr_b)),
+        ((Web(10e-3, 10e-3, 50e-3),) * 2, cr_a),
+    ):  # alike blanks: the standard's C_R
         pair = replace_checked(default_pair(), webs=webs)
         assert pair_blank_factor(pair) == pytest.approx(expected, rel=1e-14)
         r = iso6336_stiffness(pair)
@@ -189,8 +224,10 @@ def test_two_materials_scale_by_the_equivalent_modulus():
     pair = default_pair()
     steel = iso6336_stiffness(pair)
     factor = 2 * 206 * 103 / (206 + 103) / 206
-    for materials in ((pair.materials[0], replace(pair.materials[1], youngs_modulus_Pa=103e9)),
-                      (replace(pair.materials[0], youngs_modulus_Pa=103e9), pair.materials[1])):
+    for materials in (
+        (pair.materials[0], replace(pair.materials[1], youngs_modulus_Pa=103e9)),
+        (replace(pair.materials[0], youngs_modulus_Pa=103e9), pair.materials[1]),
+    ):
         r = iso6336_stiffness(replace_checked(pair, materials=materials))
         assert r.material_factor == pytest.approx(factor, rel=1e-15)
         assert r.c_prime == pytest.approx(steel.c_prime * factor, rel=1e-15)

@@ -13,8 +13,14 @@ import math
 import numpy as np
 import pytest
 
-from gearwear.analytic.iso6336 import (ISO1328_MODULE_LIMITS_MM, cv_coefficients, dynamic_factor,
-                                       iso1328_deviations_um, iso1328_range_mean, resonance_speed_rpm)
+from gearwear.analytic.iso6336 import (
+    ISO1328_MODULE_LIMITS_MM,
+    cv_coefficients,
+    dynamic_factor,
+    iso1328_deviations_um,
+    iso1328_range_mean,
+    resonance_speed_rpm,
+)
 
 # hand-worked case: z1 = 30, c_gamma = 15, c' = 12 N/(mm um), m_red = 0.05 kg/mm,
 # w = F_t K_A / b = 50 N/mm, f_pb,eff = 8 um, f_f,eff = 10 um, C_a = 2 um, eps = 1.6
@@ -27,8 +33,17 @@ from gearwear.analytic.iso6336 import (ISO1328_MODULE_LIMITS_MM, cv_coefficients
 #   C_v7 (eps 1.6) = 0.125 sin(-0.4 pi) + 0.875 = 0.7561178
 #   supercritical:         K_v = 0.47 * 1.92 + 0.47 * 2.4 + 0.7561178 = 2.7865178
 #   intermediate, N = 1.3: K_v = 2.7865178 + (2.8984 - 2.7865178) * 0.2 / 0.35 = 2.8504505
-CASE = dict(z1=30, c_gamma_N_per_mm_um=15.0, c_prime_N_per_mm_um=12.0, m_red_kg_per_mm=0.05,
-            line_load_N_per_mm=50.0, f_pb_eff_um=8.0, f_f_eff_um=10.0, C_a_um=2.0, eps_gamma=1.6)
+CASE = dict(
+    z1=30,
+    c_gamma_N_per_mm_um=15.0,
+    c_prime_N_per_mm_um=12.0,
+    m_red_kg_per_mm=0.05,
+    line_load_N_per_mm=50.0,
+    f_pb_eff_um=8.0,
+    f_f_eff_um=10.0,
+    C_a_um=2.0,
+    eps_gamma=1.6,
+)
 N_E1 = 5513.289
 
 
@@ -75,8 +90,7 @@ def test_resonance_speed_is_the_rigid_bearing_torsional_natural_frequency():
 def test_cv_coefficients_table():
     assert cv_coefficients(1.4) == pytest.approx((0.32, 0.34, 0.23, 0.90, 0.47, 0.47, 0.75))
     # eps = 2.2: 0.57/1.9, 0.096/0.64, 0.46/0.76, 0.12/0.46, 0.125 sin(0.2 pi) + 0.875
-    assert cv_coefficients(2.2) == pytest.approx((0.32, 0.3, 0.15, 0.6052632, 0.47, 0.2608696, 0.9484732),
-                                                 rel=1e-6)
+    assert cv_coefficients(2.2) == pytest.approx((0.32, 0.3, 0.15, 0.6052632, 0.47, 0.2608696, 0.9484732), rel=1e-6)
     assert cv_coefficients(3.0)[6] == 1.0
     with pytest.raises(ValueError):
         cv_coefficients(1.0)
@@ -89,10 +103,10 @@ def test_iso1328_grade_deviations_by_hand():
     # grade 6 (x sqrt 2): 9.922 -> 10.0, 11.564 -> 12.0
     assert iso1328_deviations_um(5e-3, 150e-3, 5) == (7.0, 8.0)
     assert iso1328_deviations_um(5e-3, 150e-3, 6) == (10.0, 12.0)
-    assert iso1328_range_mean(2.0, ISO1328_MODULE_LIMITS_MM) == 1.0       # 0.5 <= m <= 2: sqrt(0.5 * 2)
+    assert iso1328_range_mean(2.0, ISO1328_MODULE_LIMITS_MM) == 1.0  # 0.5 <= m <= 2: sqrt(0.5 * 2)
     assert iso1328_range_mean(2.000001, ISO1328_MODULE_LIMITS_MM) == math.sqrt(7.0)
     with pytest.raises(ValueError):
-        iso1328_deviations_um(5e-3, 4e-3, 6)                              # d < 5 mm: no ISO 1328-1 range
+        iso1328_deviations_um(5e-3, 4e-3, 6)  # d < 5 mm: no ISO 1328-1 range
 
 
 def test_iso1328_grade_6_tolerances_as_kisssoft_prints_them():
@@ -100,8 +114,15 @@ def test_iso1328_grade_6_tolerances_as_kisssoft_prints_them():
     the NREL 5 MW gearbox (GitHub gfsReboucas/Drivetrain, @NREL_5MW/stage_0{1,2,3}.rtf): every
     gear, annuli included. Evaluated at the gear's own m and d, (21 mm, 378 mm) would give
     f_f_alpha = 22 um and (45 mm, 855 mm) f_pt = 30 um."""
-    printed = {(21, 378.000): (18, 21), (21, 756.000): (19, 23), (21, 1953.000): (22, 27),
-               (45, 855.000): (33, 33), (45, 765.000): (33, 33), (45, 2520.000): (38, 40),
-               (14, 341.183): (14, 18), (14, 1350.517): (17, 22)}
+    printed = {
+        (21, 378.000): (18, 21),
+        (21, 756.000): (19, 23),
+        (21, 1953.000): (22, 27),
+        (45, 855.000): (33, 33),
+        (45, 765.000): (33, 33),
+        (45, 2520.000): (38, 40),
+        (14, 341.183): (14, 18),
+        (14, 1350.517): (17, 22),
+    }
     for (m_mm, d_mm), f in printed.items():
         assert iso1328_deviations_um(m_mm * 1e-3, d_mm * 1e-3, 6) == f

@@ -110,19 +110,20 @@ def test_an_edit_of_a_callee_module_recompiles_the_cached_caller(tmp_path):
     pkg = tmp_path / "gw_kernels_copy"
     pkg.mkdir()
     (pkg / "__init__.py").write_text("")
-    for name in (*KERNEL_SOURCES, "interpolant.py"):   # params imports the interpolant
+    for name in (*KERNEL_SOURCES, "interpolant.py"):  # params imports the interpolant
         shutil.copy(DYN / name, pkg / name)
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "numba-cache"), PYTHONPATH=str(tmp_path))
 
     def probe():
-        out = subprocess.run([sys.executable, "-c", _PROBE], env=env, cwd=tmp_path, capture_output=True,
-                             text=True, check=True).stdout.split()
+        out = subprocess.run(
+            [sys.executable, "-c", _PROBE], env=env, cwd=tmp_path, capture_output=True, text=True, check=True
+        ).stdout.split()
         return float(out[0]), int(out[1])
 
-    assert probe() == (2.0, 0)           # (F_s - F_m) / m_e = 2, compiled
-    assert probe() == (2.0, 1)           # loaded from the cache
+    assert probe() == (2.0, 0)  # (F_s - F_m) / m_e = 2, compiled
+    assert probe() == (2.0, 1)  # loaded from the cache
     rhs = pkg / "kernel_rhs.py"
     old = "          (p[P_FS] - F) / p[P_ME])"
     assert rhs.read_text().count(old) == 1
     rhs.write_text(rhs.read_text().replace(old, "          (p[P_FS] - F) / p[P_ME] + 1.0)"))
-    assert probe() == (3.0, 0)           # recompiled with the edited _rhs, not the cached one
+    assert probe() == (3.0, 0)  # recompiled with the edited _rhs, not the cached one

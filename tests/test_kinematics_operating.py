@@ -5,12 +5,13 @@ import math
 import numpy as np
 import pytest
 
+from gearwear.core.validation import InputError
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.operating import backlash, centre_distance, operating_geometry
 from gearwear.geometry.profile import tooth_profile
 from gearwear.geometry.spec import default_pair
+
 from scenes import paper_pair_from
-from gearwear.core.validation import InputError
 
 
 def textbook_contact_ratio(z1, z2, m, alpha, a):
@@ -19,8 +20,9 @@ def textbook_contact_ratio(z1, z2, m, alpha, a):
     rb1, rb2 = r1 * math.cos(alpha), r2 * math.cos(alpha)
     ra1, ra2 = r1 + m, r2 + m
     aw = math.acos((rb1 + rb2) / a)
-    return (math.sqrt(ra1**2 - rb1**2) + math.sqrt(ra2**2 - rb2**2)
-            - a * math.sin(aw)) / (math.pi * m * math.cos(alpha))
+    return (math.sqrt(ra1**2 - rb1**2) + math.sqrt(ra2**2 - rb2**2) - a * math.sin(aw)) / (
+        math.pi * m * math.cos(alpha)
+    )
 
 
 def test_paper_contact_ratio_matches_textbook():
@@ -130,8 +132,14 @@ def test_contact_ratio_below_one_and_out_of_mesh():
         operating_geometry(pair, -1e-6)
 
 
-HIGH_CONTACT_RATIO = {"teeth": [60, 60], "pressure_angle_deg": 14.5, "addendum_coefficient": 1.4,
-                      "dedendum_coefficient": 1.7, "rack_tip_radius_coefficient": 0.1, "allow_undercut": True}
+HIGH_CONTACT_RATIO = {
+    "teeth": [60, 60],
+    "pressure_angle_deg": 14.5,
+    "addendum_coefficient": 1.4,
+    "dedendum_coefficient": 1.7,
+    "rack_tip_radius_coefficient": 0.1,
+    "allow_undercut": True,
+}
 
 
 def test_pairs_on_path_and_zone_shares_above_a_contact_ratio_of_two():
@@ -143,7 +151,7 @@ def test_pairs_on_path_and_zone_shares_above_a_contact_ratio_of_two():
     m, a = 5e-3, math.radians(14.5)
     r = 30 * m
     rb, ra = r * math.cos(a), r + 1.4 * m
-    eps = (2 * math.sqrt(ra ** 2 - rb ** 2) - 2 * r * math.sin(a)) / (math.pi * m * math.cos(a))
+    eps = (2 * math.sqrt(ra**2 - rb**2) - 2 * r * math.sin(a)) / (math.pi * m * math.cos(a))
     assert eps == pytest.approx(2.907, abs=1e-3)
     assert mesh.contact_ratio == pytest.approx(eps, rel=1e-12)
     n = 20000
@@ -178,7 +186,7 @@ def _step_curve(mesh, per_pair):
 def test_zone_means_by_number_of_pairs_never_nan():
     pair = paper_pair_from({"pair": HIGH_CONTACT_RATIO})
     mesh = MeshGeometry(pair, pair.centre_distance_m)
-    z = _step_curve(mesh, 1e8).zone_means()      # 1e8 N/m per pair on the path
+    z = _step_curve(mesh, 1e8).zone_means()  # 1e8 N/m per pair on the path
     assert z["by_count"][1] is None and set(z["by_count"]) == {1, 2, 3}
     assert z["by_count"][2] == pytest.approx(2e8, rel=1e-9) and z["by_count"][3] == pytest.approx(3e8, rel=1e-9)
     assert math.isnan(z["single"]) and z["double"] == z["by_count"][2]
@@ -196,11 +204,12 @@ def test_contact_ratio_below_one_is_stated():
     pair = default_pair()
     og = operating_geometry(pair, 5.0e-3)
     eps = og.contact_ratio
-    assert eps == pytest.approx(textbook_contact_ratio(30, 30, 5e-3, math.radians(20), og.centre_distance_m),
-                                rel=1e-12)
+    assert eps == pytest.approx(textbook_contact_ratio(30, 30, 5e-3, math.radians(20), og.centre_distance_m), rel=1e-12)
     (w,) = og.mesh.contact_ratio_warnings()
-    assert w.startswith(f"contact ratio {eps:.3f} < 1: no pair is in contact on the path of contact for "
-                        f"{100 * (1 - eps):.1f} % of each mesh period")
+    assert w.startswith(
+        f"contact ratio {eps:.3f} < 1: no pair is in contact on the path of contact for "
+        f"{100 * (1 - eps):.1f} % of each mesh period"
+    )
     assert MeshGeometry(pair, pair.centre_distance_m).contact_ratio_warnings() == []
     with pytest.raises(InputError, match=r"^method = 'fem': needs a contact ratio >= 1"):
         og.mesh.require_overlap("fem")

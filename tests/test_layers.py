@@ -69,13 +69,21 @@ def test_the_app_rooms_import_one_way():
         paths = sorted((app / room).glob("*.py")) if room in rooms else [app / f"{room}.py"]
         for path in paths:
             for node in ast.walk(ast.parse(path.read_text())):
-                names = ([a.name for a in node.names] if isinstance(node, ast.Import) else
-                         [node.module] if isinstance(node, ast.ImportFrom) and node.module and not node.level
-                         else [])
+                names = (
+                    [a.name for a in node.names]
+                    if isinstance(node, ast.Import)
+                    else [node.module]
+                    if isinstance(node, ast.ImportFrom) and node.module and not node.level
+                    else []
+                )
                 for name in names:
                     parts = name.split(".")
-                    if parts[0] == "gearwear" and len(parts) > 1 and parts[1] in set(ROOMS) | {"api"} \
-                            and parts[1] not in allowed:
+                    if (
+                        parts[0] == "gearwear"
+                        and len(parts) > 1
+                        and parts[1] in set(ROOMS) | {"api"}
+                        and parts[1] not in allowed
+                    ):
                         bad.append(f"gearwear/{room}/{path.name} imports {name}")
     assert not bad, "\n".join(bad)
 
@@ -90,11 +98,13 @@ def test_nothing_imports_the_layers_as_top_level_packages():
 def test_importing_everything_loads_only_gearwear_names():
     """From a neutral folder, the whole package imports, and no module is loaded under a
     second, top-level name (which would make two copies of every class)."""
-    code = ("import sys, gearwear, gearwear.cli.app, gearwear.scene.schema, gearwear.scene.model, gearwear.fem.pair, "
-            "gearwear.analytic.tvms, gearwear.dynamics, gearwear.geometry.wear\n"
-            f"bad = [m for m in sys.modules if m.split('.')[0] in {LAYERS!r}]\n"
-            "assert not bad, bad\n"
-            "assert gearwear.geometry.__file__.endswith('geometry/__init__.py'), gearwear.geometry.__file__\n")
+    code = (
+        "import sys, gearwear, gearwear.cli.app, gearwear.scene.schema, gearwear.scene.model, gearwear.fem.pair, "
+        "gearwear.analytic.tvms, gearwear.dynamics, gearwear.geometry.wear\n"
+        f"bad = [m for m in sys.modules if m.split('.')[0] in {LAYERS!r}]\n"
+        "assert not bad, bad\n"
+        "assert gearwear.geometry.__file__.endswith('geometry/__init__.py'), gearwear.geometry.__file__\n"
+    )
     subprocess.run([sys.executable, "-c", code], check=True, cwd=ROOT.parent)
 
 
@@ -102,6 +112,7 @@ def test_no_module_shadows_a_facade_name():
     """``gw.sweep`` etc. are functions; a sub-module of the same name would replace the
     function on the package as soon as anything imported it."""
     import gearwear
+
     for name in gearwear._API:
         assert not (ROOT / "gearwear" / f"{name}.py").exists(), name
         assert not (ROOT / name).is_dir() or name in LAYERS, name
@@ -111,8 +122,16 @@ def test_low_layers_name_their_own_parameters_not_flags_or_scene_keys():
     """Errors below the app name the function's parameters; the CLI renames them to
     flags and scene keys (gearwear.core.validation.renamed)."""
     import re
-    pattern = re.compile(r"""(fail\(|fail_range\(|fail_text\(|InputError\()f?["']"""
-                         r"""(--|pair\.|effects\.|solver\.|bodies\.|operating\.|dynamics\.)""")
-    bad = [f"{layer}/{p.name}:{i}" for layer in LAYERS for p in sorted((ROOT / layer).glob("*.py"))
-           for i, line in enumerate(p.read_text().splitlines(), 1) if pattern.search(line)]
+
+    pattern = re.compile(
+        r"""(fail\(|fail_range\(|fail_text\(|InputError\()f?["']"""
+        r"""(--|pair\.|effects\.|solver\.|bodies\.|operating\.|dynamics\.)"""
+    )
+    bad = [
+        f"{layer}/{p.name}:{i}"
+        for layer in LAYERS
+        for p in sorted((ROOT / layer).glob("*.py"))
+        for i, line in enumerate(p.read_text().splitlines(), 1)
+        if pattern.search(line)
+    ]
     assert not bad, bad

@@ -15,8 +15,9 @@ import meshio
 import numpy as np
 import pytest
 import skfem
-from hypothesis import given, settings, strategies as st
-from skfem import Functional, BilinearForm, CellBasis, FacetBasis, ElementTriP2, condense, solve
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from skfem import BilinearForm, CellBasis, ElementTriP2, FacetBasis, Functional, condense, solve
 from skfem.helpers import dot, grad
 
 from gearwear.core.validation import InputError
@@ -123,8 +124,11 @@ def full_gear():
     benchmarks/bench_fem_targets.py)."""
     outline = to_xy(*gear_polar())
     gm = mesh_full_gear(
-        outline, R_HUB, FULL_SIZES,
-        refine_points_xy=load_point(), fillet_points_xy=fillet_points(),
+        outline,
+        R_HUB,
+        FULL_SIZES,
+        refine_points_xy=load_point(),
+        fillet_points_xy=fillet_points(),
     )
     return outline, gm, None
 
@@ -434,22 +438,22 @@ def test_curved_outline_edges():
     mids = np.full((4, 2), np.nan)
     mids[2] = [0.0, a + c]
     gm = mesh_full_gear(sq, r, MeshSizes(global_m=8e-3), outline_mid_xy=mids)
-    exact = (2 * a) ** 2 + 2 / 3 * 2 * a * c - math.pi * r ** 2
+    exact = (2 * a) ** 2 + 2 / 3 * 2 * a * c - math.pi * r**2
     assert gm.exact_area_m2 == pytest.approx(exact, rel=1e-14)
     assert gm.area_m2 == pytest.approx(exact, rel=1e-6) and skfem_area(gm.mesh) == pytest.approx(exact, rel=1e-6)
     m = gm.mesh
     top = np.array([f for f in gm.boundaries["outer"] if np.all(m.p[1, m.facets[:, f]] > a - 1e-12)])
     nodes = np.hstack([m.p[:, m.facets[:, top].ravel()], m.doflocs[:, m.nvertices + top]])
-    assert len(top) > 5 and np.allclose(nodes[1], a + c * (1 - nodes[0] ** 2 / a ** 2), rtol=0, atol=1e-15)
+    assert len(top) > 5 and np.allclose(nodes[1], a + c * (1 - nodes[0] ** 2 / a**2), rtol=0, atol=1e-15)
     assert np.min(np.hypot(nodes[0], nodes[1] - a - c)) < 1e-8  # by symmetry, to gmsh's arc-length integration
     # arc length of the parabola: int sqrt(1 + (2 c x / a^2)^2) dx over [-a, a]
-    k = 2 * c / a ** 2
-    L = (a * math.sqrt(1 + (k * a) ** 2) + math.asinh(k * a) / k)
+    k = 2 * c / a**2
+    L = a * math.sqrt(1 + (k * a) ** 2) + math.asinh(k * a) / k
     assert facet_length(m, top) == pytest.approx(L, rel=1e-7)
     # sector: the upper half of the square's outline, its top edge curved
     line = np.array([[a, 0.0], [a, a], [-a, a], [-a, 0.0]])
     gs = mesh_sector(line, r, 0.0, math.pi, MeshSizes(global_m=8e-3), outline_mid_xy=mids[1:4])
-    assert gs.area_m2 == pytest.approx(2 * a * a + 2 / 3 * 2 * a * c - 0.5 * math.pi * r ** 2, rel=1e-6)
+    assert gs.area_m2 == pytest.approx(2 * a * a + 2 / 3 * 2 * a * c - 0.5 * math.pi * r**2, rel=1e-6)
     s = MeshSizes(global_m=5e-3)
     with pytest.raises(MeshError, match="order 2"):
         mesh_full_gear(sq, r, s, order=1, outline_mid_xy=mids)

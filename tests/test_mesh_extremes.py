@@ -35,7 +35,7 @@ _AREA = Functional(lambda w: 1.0 + 0.0 * w.x[0])
 
 def _section_error(g, mesh) -> float:
     """Relative difference of the P2 mesh's area from the exact section (m^2)."""
-    exact = polygon_area(gear_outline(tooth_profile(g, sag_m=1e-10))) - math.pi * g.hub_radius_m ** 2
+    exact = polygon_area(gear_outline(tooth_profile(g, sag_m=1e-10))) - math.pi * g.hub_radius_m**2
     return abs(_AREA.assemble(Basis(mesh, ElementTriP2())) / exact - 1.0)
 
 
@@ -43,17 +43,27 @@ def _full_round(teeth, x, alpha_deg) -> PairSpec:
     """A pair cut by a rack whose tip round is the full round (1 - 1e-9 of it)."""
     a = math.radians(alpha_deg)
     rho_max = (0.25 * math.pi - 1.25 * math.tan(a)) * math.cos(a) / (1.0 - math.sin(a))
-    p = PairSpec(teeth=teeth, module_m=2e-3, pressure_angle_rad=a, face_width_m=16e-3, profile_shift=x,
-                 rack_tip_radius_coefficient=rho_max * (1 - 1e-9), hub_radius_m=(10e-3, 12e-3))
+    p = PairSpec(
+        teeth=teeth,
+        module_m=2e-3,
+        pressure_angle_rad=a,
+        face_width_m=16e-3,
+        profile_shift=x,
+        rack_tip_radius_coefficient=rho_max * (1 - 1e-9),
+        hub_radius_m=(10e-3, 12e-3),
+    )
     check_pair(p)
     return p
 
 
-@pytest.mark.parametrize("teeth,x,alpha_deg", [((19, 32), (0.25, -0.1), 20.0), ((34, 21), (0.0, 0.3), 23.7)],
-                         ids=["shifted-unequal", "driver-more-teeth"])
+@pytest.mark.parametrize(
+    "teeth,x,alpha_deg",
+    [((19, 32), (0.25, -0.1), 20.0), ((34, 21), (0.0, 0.3), 23.7)],
+    ids=["shifted-unequal", "driver-more-teeth"],
+)
 def test_a_full_round_root_meshes_and_solves(teeth, x, alpha_deg):
     p = _full_round(teeth, x, alpha_deg)
-    for g in p.gears:   # the hard case: the root land is (almost) gone
+    for g in p.gears:  # the hard case: the root land is (almost) gone
         prof = tooth_profile(g)
         assert prof.s[np.flatnonzero(prof.region == ROOT_LAND)[-1]] < 1e-3 * p.module_m
     T = 200e3 * p.face_width_m * p.gear(0).base_radius_m
@@ -69,8 +79,15 @@ def test_split_coarse_fillet_edges_keep_the_region():
     """design113's pinion (z 22, m 8.19 mm, x +0.487, alpha 24.26 deg, rack tip 0.217) with a
     small mate, its bore as large (61.9 mm): the far teeth's 2.5 mm outline edges span most of a 1.8 mm
     fillet round."""
-    p = PairSpec(teeth=(22, 24), module_m=8.19e-3, pressure_angle_rad=math.radians(24.26), face_width_m=0.1127,
-                 profile_shift=(0.487, -0.487), rack_tip_radius_coefficient=0.217, hub_radius_m=(61.9e-3, 62e-3))
+    p = PairSpec(
+        teeth=(22, 24),
+        module_m=8.19e-3,
+        pressure_angle_rad=math.radians(24.26),
+        face_width_m=0.1127,
+        profile_shift=(0.487, -0.487),
+        rack_tip_radius_coefficient=0.217,
+        hub_radius_m=(61.9e-3, 62e-3),
+    )
     check_pair(p)
     T = 200e3 * p.face_width_m * p.gear(0).base_radius_m
     for g, body in zip(p.gears, pair_model(p, torque_Nm=T).bodies):

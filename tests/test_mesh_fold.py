@@ -17,9 +17,18 @@ from gearwear.scene.model import scene_from_dict
 
 
 def test_the_19_45_pair_meshes_with_every_element_valid():
-    sc = scene_from_dict({"pair": {"teeth": [19, 45], "module_mm": 4.0, "face_width_mm": 25.0,
-                                   "profile_shift": [0.35, 0.0], "hub_radius_mm": [14.0, 60.0]},
-                          "operating": {"speed_rpm": 3000, "torque_Nm": 150}})
+    sc = scene_from_dict(
+        {
+            "pair": {
+                "teeth": [19, 45],
+                "module_mm": 4.0,
+                "face_width_mm": 25.0,
+                "profile_shift": [0.35, 0.0],
+                "hub_radius_mm": [14.0, 60.0],
+            },
+            "operating": {"speed_rpm": 3000, "torque_Nm": 150},
+        }
+    )
     pm = pair_model(sc.pair, torque_Nm=150.0)
     for body in pm.bodies:
         mesh = body.model.mesh

@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 
 from gearwear.fem.mesh import MeshSizes, mesh_full_gear, mesh_sector, triangle_quality
+from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.profile import FILLET, gear_outline, polygon_area, tooth_profile
 from gearwear.geometry.spec import default_pair
 from gearwear.geometry.wear import WearSpec, flank_depth
-from gearwear.geometry.kinematics import MeshGeometry
 
 
 @pytest.fixture(scope="module")
@@ -34,16 +34,18 @@ def test_full_worn_gear_mesh(profiles):
     outline = gear_outline(nom, worn, worn_teeth=[0])
     sizes = MeshSizes(global_m=3e-3, fillet_m=0.5e-3, load_m=0.2e-3)
     load = np.array([[nom.xy[len(nom.s) // 2 + 20, 0], nom.xy[len(nom.s) // 2 + 20, 1]]])
-    gm = mesh_full_gear(outline, g.hub_radius_m, sizes, refine_points_xy=load,
-                        fillet_points_xy=nom.xy[nom.region == FILLET][::10])
-    exact = polygon_area(outline) - math.pi * g.hub_radius_m ** 2
+    gm = mesh_full_gear(
+        outline, g.hub_radius_m, sizes, refine_points_xy=load, fillet_points_xy=nom.xy[nom.region == FILLET][::10]
+    )
+    exact = polygon_area(outline) - math.pi * g.hub_radius_m**2
     assert gm.area_m2 == pytest.approx(exact, rel=1e-6)
     assert np.all(_signed_corner_areas(gm.mesh) > 0)
     assert triangle_quality(gm.mesh).min() > 0.3
     bore = gm.mesh.p[:, gm.mesh.facets[:, gm.boundaries["bore"]].ravel()]
     assert np.allclose(np.hypot(*bore), g.hub_radius_m, rtol=1e-9)
-    again = mesh_full_gear(outline, g.hub_radius_m, sizes, refine_points_xy=load,
-                           fillet_points_xy=nom.xy[nom.region == FILLET][::10])
+    again = mesh_full_gear(
+        outline, g.hub_radius_m, sizes, refine_points_xy=load, fillet_points_xy=nom.xy[nom.region == FILLET][::10]
+    )
     assert np.array_equal(gm.mesh.p, again.mesh.p) and np.array_equal(gm.mesh.t, again.mesh.t)
 
 
@@ -56,7 +58,7 @@ def test_three_tooth_sector_area(profiles):
     # exact: polygon (outline + both cut ends at the hub) minus the hub circular segment
     r = g.hub_radius_m
     closed = np.vstack([line, [r * math.cos(a1), r * math.sin(a1)], [r * math.cos(a0), r * math.sin(a0)]])
-    segment = 0.5 * r ** 2 * ((a1 - a0) - math.sin(a1 - a0))
+    segment = 0.5 * r**2 * ((a1 - a0) - math.sin(a1 - a0))
     assert gm.area_m2 == pytest.approx(polygon_area(closed) - segment, rel=1e-6)
     assert np.all(_signed_corner_areas(gm.mesh) > 0)
     for key in ("outer", "hub_arc", "cut_left", "cut_right"):
@@ -86,7 +88,7 @@ def test_tooth_fe_mesh_carries_gmsh_mid_side_nodes_on_the_flank():
     assert np.array_equal(model.basis.doflocs[:, 0::2], m.doflocs)  # the P2 nodes are Gmsh's nodes
     nodes = tm.flank_nodes
     assert np.all(nodes[0::2] < m.nvertices) and np.all(nodes[1::2] >= m.nvertices)  # vertex, mid, vertex, ...
-    a, mid, b = (m.doflocs[:, nodes[k:-1 if k < 2 else None:2]].T for k in (0, 1, 2))
+    a, mid, b = (m.doflocs[:, nodes[k : -1 if k < 2 else None : 2]].T for k in (0, 1, 2))
     a, b = a[: len(mid)], b[: len(mid)]
     ab, am = b - a, mid - a
     sag = np.abs(ab[:, 0] * am[:, 1] - ab[:, 1] * am[:, 0]) / np.hypot(*ab.T)  # node's distance from the chord

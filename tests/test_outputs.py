@@ -26,8 +26,11 @@ SHORT = ["--set", "solver.duration_s=0.05", "--set", "solver.discard_s=0.02"]
 
 def snapshot(folder: Path) -> dict[str, bytes]:
     """Every file under ``folder`` (relative path -> bytes), timing.json left out."""
-    return {p.relative_to(folder).as_posix(): p.read_bytes() for p in sorted(folder.rglob("*"))
-            if p.is_file() and p.name != io.TIMING}
+    return {
+        p.relative_to(folder).as_posix(): p.read_bytes()
+        for p in sorted(folder.rglob("*"))
+        if p.is_file() and p.name != io.TIMING
+    }
 
 
 def run_ok(*args: str) -> None:
@@ -57,6 +60,7 @@ def twice(tmp_path: Path, *args: str) -> dict[str, bytes]:
 
 # -- (a) the same inputs give the same bytes, every command ---------------------------------
 
+
 def test_geometry_twice_same_bytes(tmp_path):
     files = twice(tmp_path, "geometry", "--wear", "mild", "--mesh-size-mm", "6")
     assert {"profile.csv", "profile.csv.json", "tooth.png", "pinion_mesh.vtu", "summary.json"} <= set(files)
@@ -84,6 +88,7 @@ def test_calibrate_twice_same_bytes(tmp_path, monkeypatch):
 def test_simulate_twice_same_bytes(tmp_path):
     files = twice(tmp_path, "simulate", *SHORT)
     import numpy as np
+
     with np.load(tmp_path / "a" / "signals.npz") as z:  # the fixed-date NPZ reads like np.savez's
         assert set(z.files) >= {"t_s", "F_m_N"} and z["t_s"].shape == z["F_m_N"].shape
         # every array carries its SI unit in its name (issue 24: SI values under bare keys)
@@ -98,26 +103,33 @@ def test_sweep_twice_same_bytes(tmp_path):
 
 def test_report_paper_twice_same_bytes(tmp_path, monkeypatch):
     """The real `report paper` command with analytic tables (no FE) and 50 ms simulations."""
-    from gearwear.stiffness import calibration as calibrate
-    from gearwear.reports import paper as report_paper
     from gearwear.analytic.tvms import mesh_stiffness
+    from gearwear.reports import paper as report_paper
+    from gearwear.stiffness import calibration as calibrate
 
     def table(pair, wear, clearance_m=0.0, torque_Nm=40.0, points=360, *args, **kwargs):
-        return mesh_stiffness(pair, method="ishikawa", points=48, torque_Nm=torque_Nm, clearance_m=clearance_m,
-                              wear=wear)
+        return mesh_stiffness(
+            pair, method="ishikawa", points=48, torque_Nm=torque_Nm, clearance_m=clearance_m, wear=wear
+        )
 
     monkeypatch.setenv("GEARWEAR_CACHE", str(tmp_path / "cache"))  # compute() checks the cache folder
     (tmp_path / "runs").mkdir()
     real_scene = report_paper._scene
     monkeypatch.setattr(calibrate, "run_fe", lambda *a, **k: None)
     monkeypatch.setattr(calibrate, "calibrated_table", table)
-    monkeypatch.setattr(report_paper, "_scene", lambda base, sets: real_scene(
-        base, [s for s in sets if "mesh_stiffness" not in s] + ["solver.duration_s=0.05", "solver.discard_s=0.02"]))
+    monkeypatch.setattr(
+        report_paper,
+        "_scene",
+        lambda base, sets: real_scene(
+            base, [s for s in sets if "mesh_stiffness" not in s] + ["solver.duration_s=0.05", "solver.discard_s=0.02"]
+        ),
+    )
     files = twice(tmp_path / "runs", "report", "paper")
     assert "README.md" in files and "trends.json" in files and "fig25_F_m_harmonics_clearance.png" in files
 
 
 # -- (b) re-running replaces the folder: no stale files ------------------------------------------
+
 
 def test_rerun_replaces_the_whole_folder(tmp_path):
     out = tmp_path / "st"
@@ -129,9 +141,16 @@ def test_rerun_replaces_the_whole_folder(tmp_path):
     assert (out / "stiffness_ishikawa_unworn_clearance0um.csv").exists()
     run_ok("stiffness", "--wear", "severe", "--points", "16", "--out", str(out))
     names = sorted(p.relative_to(out).as_posix() for p in out.rglob("*"))
-    assert names == sorted(["manifest.json", "timing.json", "stiffness.png", "stiffness_summary.json",
-                            "stiffness_ishikawa_severe_clearance0um.csv",
-                            "stiffness_ishikawa_severe_clearance0um.csv.json"])
+    assert names == sorted(
+        [
+            "manifest.json",
+            "timing.json",
+            "stiffness.png",
+            "stiffness_summary.json",
+            "stiffness_ishikawa_severe_clearance0um.csv",
+            "stiffness_ishikawa_severe_clearance0um.csv.json",
+        ]
+    )
     assert sorted(p.name for p in tmp_path.iterdir()) == ["st"]
 
 
@@ -167,6 +186,7 @@ def test_folder_without_manifest_holding_only_output_names_is_replaced(tmp_path)
 
 # -- (c) a foreign folder is refused and untouched ---------------------------------------------
 
+
 @pytest.mark.parametrize("with_output_name", [True, False])
 def test_foreign_folder_is_refused(tmp_path, capsys, with_output_name):
     out = tmp_path / "results"
@@ -192,6 +212,7 @@ def test_out_empty_or_current_folder_is_refused(tmp_path, monkeypatch, capsys, o
 
 
 # -- (d) Ctrl-C while writing leaves the previous output as it was -------------------------------
+
 
 def test_ctrl_c_while_writing_keeps_the_previous_output(tmp_path, monkeypatch, capsys):
     from gearwear.jobs import stiffness as stiffness_job
@@ -241,6 +262,7 @@ def test_ctrl_c_during_the_swap_rolls_back(tmp_path, monkeypatch):
 
 
 # -- (d') the swap never deletes a file gearwear did not write ----------------------------------
+
 
 def test_a_file_that_appears_during_the_run_is_never_deleted(tmp_path, monkeypatch, capsys):
     """A file put into --out while the command runs (after the check before any work): the
@@ -329,9 +351,11 @@ def test_a_read_only_out_is_refused_before_any_work(tmp_path, capsys, where):
 def test_a_users_manifest_json_does_not_make_a_folder_gearwears(tmp_path, capsys):
     """A folder holding only a file of the user's called manifest.json, or one that claims to
     be gearwear's without a command and a file list, is not replaced."""
-    for doc in ({"name": "my project", "files": ["a", "b"]},
-                {"software": "gearwear", "files": {}},
-                {"software": "gearwear", "command": "stiffness", "files": {"x.csv": "not a hash"}}):
+    for doc in (
+        {"name": "my project", "files": ["a", "b"]},
+        {"software": "gearwear", "files": {}},
+        {"software": "gearwear", "command": "stiffness", "files": {"x.csv": "not a hash"}},
+    ):
         out = tmp_path / "mine"
         out.mkdir(exist_ok=True)
         (out / "manifest.json").write_text(json.dumps(doc))
@@ -361,9 +385,9 @@ def sidecar(out: Path) -> dict:
 
 def test_provenance_hashes_content_not_names(tmp_path):
     (tmp_path / "a.toml").write_text(SCENE.format(torque=5, k=5.3e-16))
-    (tmp_path / "b.toml").write_text(SCENE.format(torque=5, k=5.3e-16))     # same content, other name
-    (tmp_path / "c.toml").write_text(SCENE.format(torque=30, k=5.3e-16))    # the scene file edited
-    (tmp_path / "d.toml").write_text(SCENE.format(torque=5, k=1e-15))       # same wear label "500h"
+    (tmp_path / "b.toml").write_text(SCENE.format(torque=5, k=5.3e-16))  # same content, other name
+    (tmp_path / "c.toml").write_text(SCENE.format(torque=30, k=5.3e-16))  # the scene file edited
+    (tmp_path / "d.toml").write_text(SCENE.format(torque=5, k=1e-15))  # same wear label "500h"
     meta = {}
     for name in "abcd":
         run_ok("stiffness", str(tmp_path / f"{name}.toml"), "--points", "16", "--out", str(tmp_path / f"o{name}"))
@@ -372,10 +396,10 @@ def test_provenance_hashes_content_not_names(tmp_path):
         assert man["provenance"]["scene_sha256"] == meta[name]["inputs"]["scene_sha256"]
         assert man["provenance"]["scene_name"] == name and meta[name]["scene_name"] == name
     h = {n: (m["inputs"]["scene_sha256"], m["input_sha256"]) for n, m in meta.items()}
-    assert h["a"] == h["b"]           # the name labels the run; it is not an input
-    assert h["c"][0] != h["a"][0] and h["c"][1] != h["a"][1]   # torque 5 -> 30 N m
+    assert h["a"] == h["b"]  # the name labels the run; it is not an input
+    assert h["c"][0] != h["a"][0] and h["c"][1] != h["a"][1]  # torque 5 -> 30 N m
     assert meta["d"]["inputs"]["wear"] == meta["a"]["inputs"]["wear"] == "500h"
-    assert h["d"][1] != h["a"][1]     # the full wear definition is hashed, not its label
+    assert h["d"][1] != h["a"][1]  # the full wear definition is hashed, not its label
     assert meta["d"]["inputs"]["wear_spec"]["archard_k_m2_per_N"] == 1e-15
 
 
@@ -400,10 +424,11 @@ def test_referenced_table_enters_by_content(tmp_path):
 
 def test_simulate_sidecar_hashes_the_resolved_scene(tmp_path):
     """--set and the scene file reach the hash through the resolved scene."""
-    (tmp_path / "s.toml").write_text((Path(__file__).parents[1] / "gearwear" / "data" /
-                                      "paper-wear-severe.toml").read_text())
+    (tmp_path / "s.toml").write_text(
+        (Path(__file__).parents[1] / "gearwear" / "data" / "paper-wear-severe.toml").read_text()
+    )
     run_ok("simulate", str(tmp_path / "s.toml"), *SHORT, "--out", str(tmp_path / "f"))
-    run_ok("simulate", *SHORT, "--out", str(tmp_path / "b"))             # the built-in of the same content
+    run_ok("simulate", *SHORT, "--out", str(tmp_path / "b"))  # the built-in of the same content
     run_ok("simulate", *SHORT, "--torque-Nm", "30", "--out", str(tmp_path / "t"))
     h = {k: json.loads((tmp_path / k / "signals.csv.json").read_text())["input_sha256"] for k in "fbt"}
     assert h["f"] == h["b"] != h["t"]

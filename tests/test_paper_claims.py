@@ -12,12 +12,35 @@ import pytest
 
 from gearwear.reports import paper, paper_trends
 from gearwear.reports.paper_study import SIGNALS
-from gearwear.reports.paper_trends import (CONTEXTS, DIRECTIONS, MECHANISM_PARAMS, MECHANISMS, QUANTITIES, ROWS,
-                                           agrees, classify, load_claims)
+from gearwear.reports.paper_trends import (
+    CONTEXTS,
+    DIRECTIONS,
+    MECHANISM_PARAMS,
+    MECHANISMS,
+    QUANTITIES,
+    ROWS,
+    agrees,
+    classify,
+    load_claims,
+)
 
 ROOT = Path(__file__).resolve().parents[1]
-FIELDS = {"where", "paper", "claim", "quantity", "signal", "k", "harmonics", "note", "mechanisms", "context",
-          "context_from", "row", "phase", "study"}
+FIELDS = {
+    "where",
+    "paper",
+    "claim",
+    "quantity",
+    "signal",
+    "k",
+    "harmonics",
+    "note",
+    "mechanisms",
+    "context",
+    "context_from",
+    "row",
+    "phase",
+    "study",
+}
 UNITS = {name: unit for name, unit, _, _ in SIGNALS}
 CLAIMS = load_claims()
 
@@ -33,8 +56,8 @@ def test_the_data_file_loads_with_known_fields():
     for e in entries:
         assert set(e) <= FIELDS, (set(e) - FIELDS, e)
         assert e["where"] and e["paper"]
-        assert ("claim" in e) != ("harmonics" in e), e          # a single claim or a family
-        assert ("quantity" in e) != ("row" in e), e             # checked against a quantity or a row of its own
+        assert ("claim" in e) != ("harmonics" in e), e  # a single claim or a family
+        assert ("quantity" in e) != ("row" in e), e  # checked against a quantity or a row of its own
     assert len(CLAIMS) >= len(entries)
 
 
@@ -48,7 +71,7 @@ def test_every_claim_names_known_things():
     for c in CLAIMS:
         if "row" in c:
             assert c["row"] in ROWS, c
-            assert c["claim"] == ROWS[c["row"]][0], c           # the claim that row evaluates
+            assert c["claim"] == ROWS[c["row"]][0], c  # the claim that row evaluates
             assert not {"quantity", "mechanisms", "context_from", "note"} & set(c), c
             continue
         assert c["quantity"] in QUANTITIES, c
@@ -58,7 +81,7 @@ def test_every_claim_names_known_things():
             assert c["context_from"] in CONTEXTS, c
         if "signal" in c:
             assert c["signal"] in UNITS, c
-            assert UNITS[c["signal"]] in c["note"], c           # the note's unit is the one the values are in
+            assert UNITS[c["signal"]] in c["note"], c  # the note's unit is the one the values are in
         if "k" in c:
             assert isinstance(c["k"], int) and 1 <= c["k"] <= (4 if c["quantity"].endswith("_wear") else 10), c
 
@@ -97,8 +120,9 @@ def test_harmonic_families_expand_in_order():
 def test_the_committed_report_has_the_claims_in_order():
     """reports/paper/trends.json (written with the code before the claims became data)."""
     rows = json.loads((ROOT / "reports" / "paper" / "trends.json").read_text())
-    assert [(r["where"], r["paper"], r["claim"]) for r in rows] == [(c["where"], c["paper"], c["claim"])
-                                                                     for c in CLAIMS]
+    assert [(r["where"], r["paper"], r["claim"]) for r in rows] == [
+        (c["where"], c["paper"], c["claim"]) for c in CLAIMS
+    ]
 
 
 @pytest.fixture(scope="module")
@@ -109,24 +133,32 @@ def res(tmp_path_factory):
     from gearwear.stiffness import calibration as calibrate
 
     def table(pair, wear, clearance_m=0.0, torque_Nm=40.0, points=360, *args, **kwargs):
-        return mesh_stiffness(pair, method="ishikawa", points=48, torque_Nm=torque_Nm, clearance_m=clearance_m,
-                              wear=wear)
+        return mesh_stiffness(
+            pair, method="ishikawa", points=48, torque_Nm=torque_Nm, clearance_m=clearance_m, wear=wear
+        )
 
     real_scene = paper._scene
     with pytest.MonkeyPatch.context() as mp:
         mp.setenv("GEARWEAR_CACHE", str(tmp_path_factory.mktemp("cache")))
         mp.setattr(calibrate, "run_fe", lambda *a, **k: None)
         mp.setattr(calibrate, "calibrated_table", table)
-        mp.setattr(paper, "_scene", lambda base, sets: real_scene(
-            base, [s for s in sets if "mesh_stiffness" not in s] + ["solver.duration_s=0.05", "solver.discard_s=0.02"]))
+        mp.setattr(
+            paper,
+            "_scene",
+            lambda base, sets: real_scene(
+                base,
+                [s for s in sets if "mesh_stiffness" not in s] + ["solver.duration_s=0.05", "solver.discard_s=0.02"],
+            ),
+        )
         yield paper.compute()
 
 
 def test_one_row_per_claim(res):
     rows = paper.trends(res)
     assert len(rows) == len(CLAIMS) == 63
-    assert [(r["where"], r["paper"], r["claim"]) for r in rows] == [(c["where"], c["paper"], c["claim"])
-                                                                     for c in CLAIMS]
+    assert [(r["where"], r["paper"], r["claim"]) for r in rows] == [
+        (c["where"], c["paper"], c["claim"]) for c in CLAIMS
+    ]
     assert all(list(r) == ["where", "paper", "claim", "ours", "verdict", "why"] for r in rows)
 
 

@@ -10,8 +10,15 @@ import math
 import numpy as np
 import pytest
 
-from gearwear.geometry.polyline import (cumulative_length, project_to_polyline, quadratic_eval, quadratic_parameter,
-                                        quadratic_points, stitch, with_midpoints)
+from gearwear.geometry.polyline import (
+    cumulative_length,
+    project_to_polyline,
+    quadratic_eval,
+    quadratic_parameter,
+    quadratic_points,
+    stitch,
+    with_midpoints,
+)
 from gearwear.geometry.profile import FILLET, INVOLUTE, ROOT_LAND, TIP_LAND, gear_outline, tooth_outline, tooth_profile
 from gearwear.geometry.sampling import region_junctions, resample_profile
 from gearwear.geometry.spec import default_pair
@@ -20,11 +27,15 @@ SQUARE = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.0, 0.0]])
 
 
 def test_projection_onto_the_unit_square():
-    pts = np.array([[0.5, -0.2],   # below the bottom edge
-                    [1.3, 0.4],    # right of the right edge
-                    [0.2, 0.5],    # inside, nearest to the left edge
-                    [1.2, 1.2],    # beyond the corner (1, 1)
-                    [0.0, 0.0]])   # on the first vertex
+    pts = np.array(
+        [
+            [0.5, -0.2],  # below the bottom edge
+            [1.3, 0.4],  # right of the right edge
+            [0.2, 0.5],  # inside, nearest to the left edge
+            [1.2, 1.2],  # beyond the corner (1, 1)
+            [0.0, 0.0],
+        ]
+    )  # on the first vertex
     pr = project_to_polyline(pts, SQUARE)
     assert pr.segment.tolist() == [0, 1, 3, 1, 0]
     assert np.allclose(pr.t, [0.5, 0.4, 0.5, 1.0, 0.0], rtol=0, atol=1e-15)
@@ -52,7 +63,7 @@ def test_quadratic_edge_on_a_parabola():
     x = 2 t - 1: the point (x, x^2) has t = (x + 1) / 2 and tangent (1, 2 x) / |.|."""
     chain = np.array([[-1.0, 1.0], [0.0, 0.0], [1.0, 1.0], [2.0, 1.0], [3.0, 1.0]])  # + a straight edge
     x = np.array([-0.8, 0.0, 0.5])
-    t = quadratic_parameter(np.column_stack([x, x * x]), *(np.repeat(chain[i:i + 1], 3, axis=0) for i in (0, 1, 2)))
+    t = quadratic_parameter(np.column_stack([x, x * x]), *(np.repeat(chain[i : i + 1], 3, axis=0) for i in (0, 1, 2)))
     assert np.allclose(t, (x + 1) / 2, rtol=0, atol=1e-14)
     # off the curve along the normal at (0.5, 0.25) (tangent (1, 1) / sqrt 2), on the convex side
     off = np.array([[0.5, 0.25]]) + 0.1 * np.array([[1.0, -1.0]]) / math.sqrt(2)
@@ -108,7 +119,7 @@ def test_outlines_stitch_teeth_and_keep_quadratic_chains(profile):
     n = len(profile.xy)
     t = tooth_outline(profile)
     assert len(t) == 2 * n - 1
-    assert np.allclose(t[n - 1:][::-1] * [-1, 1], profile.xy, rtol=0, atol=1e-18)
+    assert np.allclose(t[n - 1 :][::-1] * [-1, 1], profile.xy, rtol=0, atol=1e-18)
     assert len(gear_outline(profile)) == z * (2 * n - 2)
     chain = resample_profile(profile, {r: 1e-3 for r in (ROOT_LAND, FILLET, INVOLUTE, TIP_LAND)}, midpoints=True)
     tq = tooth_outline(chain)

@@ -6,10 +6,21 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
-from gearwear.geometry.profile import (FILLET, INVOLUTE, TIP_LAND, RackGeometry, UndercutError, fillet_points,
-                              gear_outline, involute_points, polygon_area, tooth_profile)
+from gearwear.geometry.profile import (
+    FILLET,
+    INVOLUTE,
+    TIP_LAND,
+    RackGeometry,
+    UndercutError,
+    fillet_points,
+    gear_outline,
+    involute_points,
+    polygon_area,
+    tooth_profile,
+)
 from gearwear.geometry.spec import GearSpec, PairSpec, default_pair
 
 
@@ -41,7 +52,7 @@ def test_involute_identity_and_normals(paper):
     rb = pair.gear(0).base_radius_m
     inv = prof.region == INVOLUTE
     r2 = prof.radius[inv] ** 2
-    assert np.max(np.abs(r2 - (rb ** 2 + (rb * prof.roll[inv]) ** 2))) < 1e-15
+    assert np.max(np.abs(r2 - (rb**2 + (rb * prof.roll[inv]) ** 2))) < 1e-15
     assert np.max(np.abs(np.linalg.norm(prof.normal, axis=1) - 1.0)) < 1e-12
 
 
@@ -118,8 +129,13 @@ def _gear(teeth: int, shift: float, undercut: bool, **kw) -> GearSpec:
     """One rack-generated gear, unchecked as a pair: these tests are about the single
     gear's profile (a pinion undercut this much interferes with most mates, which the
     pair check refuses; tests/test_geometry_limits.py covers that)."""
-    return PairSpec(teeth=(teeth, 1000), profile_shift=(shift, 0.0), allow_undercut=undercut,
-                    hub_radius_m=(0.2 * teeth * kw.get("module_m", 5e-3), 0.4), **kw).gear(0)
+    return PairSpec(
+        teeth=(teeth, 1000),
+        profile_shift=(shift, 0.0),
+        allow_undercut=undercut,
+        hub_radius_m=(0.2 * teeth * kw.get("module_m", 5e-3), 0.4),
+        **kw,
+    ).gear(0)
 
 
 @pytest.mark.parametrize("teeth,shift,undercut", [(30, 0.0, False), (17, 0.4, False), (12, 0.0, True)])
@@ -167,16 +183,19 @@ def test_gear_outline_area_matches_independent_estimate(paper):
 
 
 @settings(max_examples=40, deadline=None)
-@given(teeth=st.integers(18, 150), module_mm=st.floats(0.5, 20.0), alpha_deg=st.floats(14.5, 25.0),
-       shift=st.floats(-0.2, 0.6))
+@given(
+    teeth=st.integers(18, 150),
+    module_mm=st.floats(0.5, 20.0),
+    alpha_deg=st.floats(14.5, 25.0),
+    shift=st.floats(-0.2, 0.6),
+)
 def test_profile_properties_hold_for_any_valid_gear(teeth, module_mm, alpha_deg, shift):
     """ISO 21771 thickness s = m (pi/2 + 2 x tan alpha); involute identity; radii."""
     a = math.radians(alpha_deg)
     rho_star = 0.25 if alpha_deg > 22 else 0.38
     # ISO undercut limit with a rounded rack: z_min = 2 (h_f* - x - rho* (1 - sin a)) / sin^2 a
     z_min = 2 * (1.25 - shift - rho_star * (1 - math.sin(a))) / math.sin(a) ** 2
-    g = _gear(teeth, shift, True, module_m=module_mm * 1e-3, pressure_angle_rad=a,
-              rack_tip_radius_coefficient=rho_star)
+    g = _gear(teeth, shift, True, module_m=module_mm * 1e-3, pressure_angle_rad=a, rack_tip_radius_coefficient=rho_star)
     prof = tooth_profile(g)
     assert prof.undercut == (teeth < z_min)
     m = module_mm * 1e-3
@@ -185,7 +204,7 @@ def test_profile_properties_hold_for_any_valid_gear(teeth, module_mm, alpha_deg,
         assert abs(float(prof.thickness_at_radius(g.pitch_radius_m)) - s_iso) < 1e-9 * max(1.0, module_mm)
     inv = prof.region == INVOLUTE
     rb = g.base_radius_m
-    assert np.allclose(prof.radius[inv] ** 2, rb ** 2 * (1 + prof.roll[inv] ** 2), rtol=1e-13, atol=0)
+    assert np.allclose(prof.radius[inv] ** 2, rb**2 * (1 + prof.roll[inv] ** 2), rtol=1e-13, atol=0)
     assert prof.radius.min() == pytest.approx(g.pitch_radius_m - (1.25 - shift) * m, rel=1e-12)
     assert np.all(np.diff(prof.s) > 0)
     assert np.allclose(np.linalg.norm(prof.normal, axis=1), 1.0, atol=1e-12)

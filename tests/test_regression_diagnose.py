@@ -47,34 +47,41 @@ def iv(e: dict, digits: int = 1) -> str:
 
 def test_blind_test_rows_against_bench_json():
     d = load("benchmarks/results/bench_diagnose.json")
-    rng = np.random.default_rng(2019)   # the truths are the seed's, the counts and widths the rows'
+    rng = np.random.default_rng(2019)  # the truths are the seed's, the counts and widths the rows'
     truths = np.column_stack([rng.uniform(0, 40, 20), rng.uniform(0, 50, 20)])
     ts = d["blind"]["time series, y_p x_p delta F_m, with means"]
     ht = d["blind"]["harmonic table, F_m_N and y_p_um"]
     for case in (ts, ht):
         rows = case["rows"]
-        np.testing.assert_allclose([[r["truth"]["wear_max_depth_um"], r["truth"]["clearance_um"]] for r in rows],
-                                   truths, rtol=1e-15)
+        np.testing.assert_allclose(
+            [[r["truth"]["wear_max_depth_um"], r["truth"]["clearance_um"]] for r in rows], truths, rtol=1e-15
+        )
         inside = [{n: e["lo95"] <= r["truth"][n] <= e["hi95"] for n, e in r["estimates"].items()} for r in rows]
         assert case["inside_both"] == sum(all(i.values()) for i in inside)
         for n in ("wear_max_depth_um", "clearance_um"):
             assert case["inside"][n] == sum(i[n] for i in inside)
             w = [r["estimates"][n]["hi95"] - r["estimates"][n]["lo95"] for r in rows]
             assert case["width_median"][n] == pytest.approx(float(np.median(w)), rel=1e-12)
-    say(f"| time series of y_p, x_p, delta, F_m (harmonics and means) | {ts['inside_both']} of 20 | "
+    say(
+        f"| time series of y_p, x_p, delta, F_m (harmonics and means) | {ts['inside_both']} of 20 | "
         f"{ts['inside']['wear_max_depth_um']} / {ts['inside']['clearance_um']} | "
         f"{ts['width_median']['wear_max_depth_um']:.2f} um / {ts['width_median']['clearance_um']:.2f} um | "
-        f"{ts['identifiable_count']['wear_max_depth_um']} / {ts['identifiable_count']['clearance_um']} |")
-    say(f"| harmonic table of F_m and y_p | {ht['inside_both']} of 20 | "
+        f"{ts['identifiable_count']['wear_max_depth_um']} / {ts['identifiable_count']['clearance_um']} |"
+    )
+    say(
+        f"| harmonic table of F_m and y_p | {ht['inside_both']} of 20 | "
         f"{ht['inside']['wear_max_depth_um']} / {ht['inside']['clearance_um']} | "
         f"{ht['width_median']['wear_max_depth_um']:.2f} um / {ht['width_median']['clearance_um']:.2f} um | "
-        f"{ht['identifiable_count']['wear_max_depth_um']} / {ht['identifiable_count']['clearance_um']} |")
+        f"{ht['identifiable_count']['wear_max_depth_um']} / {ht['identifiable_count']['clearance_um']} |"
+    )
     s = d["surrogate"]
     h = s["heldout"]
-    say(f"its held-out error of the harmonic amplitudes is {100 * h['harmonic_relative_error_median']:.2f} % median, "
+    say(
+        f"its held-out error of the harmonic amplitudes is {100 * h['harmonic_relative_error_median']:.2f} % median, "
         f"{100 * h['harmonic_relative_error_p90']:.1f} % at the 90th and "
         f"{100 * h['harmonic_relative_error_p95']:.1f} % "
-        "at the 95th percentile")
+        "at the 95th percentile"
+    )
     by = s["heldout_median_by_wear"]
     say(f"(median {100 * by['below_8_um']:.1f} % below 8 um of wear, {100 * by['from_8_um']:.2f} % above")
     say(f"the training runs are periodic to {sci(s['periodicity_residual_max'])}")
@@ -89,7 +96,7 @@ def test_example_rows_against_reports(case):
     data = (ROOT / "examples" / "diagnose" / measured).read_bytes()
     assert d["measured"]["file"] == measured and d["measured"]["sha256"] == hashlib.sha256(data).hexdigest()
     e = d["estimates"]
-    for n, ok in d["identifiable"].items():   # a resolved unknown holds its truth
+    for n, ok in d["identifiable"].items():  # a resolved unknown holds its truth
         if ok:
             assert e[n]["lo95"] <= TRUTH[n] <= e[n]["hi95"], n
     # the docs' table of these rows is generated from this file (docs/generate.py,

@@ -60,9 +60,10 @@ def _scene(name: str):
 def reports():
     out = {}
     for name in EXAMPLES:
-        out[name] = {kind: _json(f"examples/{name}/{kind}/"
-                                 f"{'summary' if 'simulate' in kind else 'stiffness_summary'}.json")
-                     for kind in ("stiffness", "stiffness_fem", "simulate", "simulate_fem")}
+        out[name] = {
+            kind: _json(f"examples/{name}/{kind}/{'summary' if 'simulate' in kind else 'stiffness_summary'}.json")
+            for kind in ("stiffness", "stiffness_fem", "simulate", "simulate_fem")
+        }
         for k in ("stiffness", "stiffness_fem"):
             out[name][k] = out[name][k][0]
     out["healthy_fem"] = _json("stiffness_fem/stiffness_summary.json")[0]
@@ -77,10 +78,14 @@ def _indicators(summary: dict) -> str:
 def test_fault_examples_table(reports):
     for name in EXAMPLES:
         r = reports[name]
-        for label, st, sim in (("pair FE", r["stiffness_fem"], r["simulate_fem"]),
-                               ("analytic", r["stiffness"], r["simulate"])):
-            say(f"| {name} | {label} | {st['ste_peak_to_peak_um']:.3f} um | {e8(st['mean_N_per_m'])} N/m | "
-                f"{_indicators(sim)} |")
+        for label, st, sim in (
+            ("pair FE", r["stiffness_fem"], r["simulate_fem"]),
+            ("analytic", r["stiffness"], r["simulate"]),
+        ):
+            say(
+                f"| {name} | {label} | {st['ste_peak_to_peak_um']:.3f} um | {e8(st['mean_N_per_m'])} N/m | "
+                f"{_indicators(sim)} |"
+            )
     h = reports["healthy_fem"]
     assert h["wear"] == "unworn" and h["clearance_um"] == 0.0
     say(f"| healthy (paper pair) | pair FE | {h['ste_peak_to_peak_um']:.3f} um | {e8(h['mean_N_per_m'])} N/m | |")
@@ -97,10 +102,14 @@ def test_fault_examples_paragraph(reports):
     cr = reports["root_crack"]
     rise_fe = cr["stiffness_fem"]["ste_peak_to_peak_um"] - reports["healthy_fem"]["ste_peak_to_peak_um"]
     rise_an = cr["stiffness"]["ste_peak_to_peak_um"] - healthy_an
-    say(f"raises the FE TE peak-to-peak by {rise_fe:.3f} um over the healthy FE pair, {rise_fe / rise_an:.1f} times "
-        f"the analytic model's rise ({rise_an:.3f} um over its {healthy_an:.3f} um)")
-    below = {round(100 * (1 - reports[n]["stiffness_fem"]["mean_N_per_m"] / reports[n]["stiffness"]["mean_N_per_m"]))
-             for n in EXAMPLES}
+    say(
+        f"raises the FE TE peak-to-peak by {rise_fe:.3f} um over the healthy FE pair, {rise_fe / rise_an:.1f} times "
+        f"the analytic model's rise ({rise_an:.3f} um over its {healthy_an:.3f} um)"
+    )
+    below = {
+        round(100 * (1 - reports[n]["stiffness_fem"]["mean_N_per_m"] / reports[n]["stiffness"]["mean_N_per_m"]))
+        for n in EXAMPLES
+    }
     assert len(below) == 1
     say(f"The FE means are {below.pop()} % below Ishikawa's")
     body = cr["stiffness_fem"]["fe_cracked_body"]
@@ -118,7 +127,7 @@ def test_the_committed_fe_reports_are_todays(name, reports):
     # mesh periods 2..28 hold no faulty tooth: the healthy curve, every value but the angle
     n = len(h_rows)
     for period in range(2, 29):
-        assert [row[1:] for row in rows[period * n:(period + 1) * n]] == [row[1:] for row in h_rows], period
+        assert [row[1:] for row in rows[period * n : (period + 1) * n]] == [row[1:] for row in h_rows], period
     ste = np.array([float(row[header.index("ste_um")]) for row in rows])
     assert float(np.ptp(ste)) == pytest.approx(r["stiffness_fem"]["ste_peak_to_peak_um"], rel=1e-8)
     # the simulation ran on that table

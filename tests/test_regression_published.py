@@ -83,6 +83,7 @@ def cache(tmp_path_factory):
 
 # -- analytic stiffness -------------------------------------------------------------------
 
+
 @pytest.fixture(scope="module")
 def analytic(pair):
     from gearwear.analytic.iso6336 import iso6336_stiffness
@@ -101,23 +102,32 @@ def analytic(pair):
 def test_stiffness_table(analytic):
     iso = analytic["iso"]
     ref = iso.mesh_stiffness_N_per_m
-    i0, e0, i1, e1 = (analytic[k] for k in (("ishikawa", False), ("energy", False), ("ishikawa", True),
-                                            ("energy", True)))
-    say(f"| mean k_h, theoretical path of contact (N/m) | {e8(i0.mean_N_per_m)} ({pct(i0.mean_N_per_m / ref - 1)}) "
-        f"| {e8(e0.mean_N_per_m)} ({pct(e0.mean_N_per_m / ref - 1)}) | c_gamma_alpha b = {e8(ref)} |")
-    say(f"| mean k_h with tip-corner contact (N/m) | {e8(i1.mean_N_per_m)} ({pct(i1.mean_N_per_m / ref - 1)}) "
-        f"| {e8(e1.mean_N_per_m)} ({pct(e1.mean_N_per_m / ref - 1)}) |")
+    i0, e0, i1, e1 = (
+        analytic[k] for k in (("ishikawa", False), ("energy", False), ("ishikawa", True), ("energy", True))
+    )
+    say(
+        f"| mean k_h, theoretical path of contact (N/m) | {e8(i0.mean_N_per_m)} ({pct(i0.mean_N_per_m / ref - 1)}) "
+        f"| {e8(e0.mean_N_per_m)} ({pct(e0.mean_N_per_m / ref - 1)}) | c_gamma_alpha b = {e8(ref)} |"
+    )
+    say(
+        f"| mean k_h with tip-corner contact (N/m) | {e8(i1.mean_N_per_m)} ({pct(i1.mean_N_per_m / ref - 1)}) "
+        f"| {e8(e1.mean_N_per_m)} ({pct(e1.mean_N_per_m / ref - 1)}) |"
+    )
     zi, ze = i1.zone_means(), e1.zone_means()
-    say(f"| double / single contact mean (N/m) | {e8(zi['double'])} / {e8(zi['single'])} "
-        f"| {e8(ze['double'])} / {e8(ze['single'])} | c' b = {e8(iso.single_stiffness_N_per_m)} |")
+    say(
+        f"| double / single contact mean (N/m) | {e8(zi['double'])} / {e8(zi['single'])} "
+        f"| {e8(ze['double'])} / {e8(ze['single'])} | c' b = {e8(iso.single_stiffness_N_per_m)} |"
+    )
     # ISO without its C_M = 0.8, against both models with tip-corner contact (the means
     # the models give): 8.5 % and 7.2 %, "8 % above both"
     no_cm = ref / iso.C_M
     above = [no_cm / k.mean_N_per_m - 1 for k in (i1, e1)]
     assert all(0.07 < a < 0.09 for a in above), above
     say(f"without it ISO gives {no_cm / 1e8:.2f}e8 N/m, {100 * np.mean(above):.0f} % above both models")
-    say(f"(line load {iso.line_load_N_per_mm:.1f} N/mm < 100 N/mm) would lower it further, to "
-        f"{iso.mesh_stiffness_low_load_N_per_m / 1e8:.2f}e8 N/m")
+    say(
+        f"(line load {iso.line_load_N_per_mm:.1f} N/mm < 100 N/mm) would lower it further, to "
+        f"{iso.mesh_stiffness_low_load_N_per_m / 1e8:.2f}e8 N/m"
+    )
 
 
 def test_wear_and_clearance_paragraphs(pair, analytic):
@@ -125,12 +135,14 @@ def test_wear_and_clearance_paragraphs(pair, analytic):
     from gearwear.geometry.wear import wear_on_line_of_action
 
     k0, km, ks = analytic["ishikawa", True], analytic["mild"], analytic["severe"]
-    say(f"mean k_h falls from {e8(k0.mean_N_per_m)} (unworn) to {e8(km.mean_N_per_m)} (mild, 10 um) and "
-        f"{e8(ks.mean_N_per_m)} N/m (severe, 30 um)")
+    say(
+        f"mean k_h falls from {e8(k0.mean_N_per_m)} (unworn) to {e8(km.mean_N_per_m)} (mild, 10 um) and "
+        f"{e8(ks.mean_N_per_m)} N/m (severe, 30 um)"
+    )
     mesh = MeshGeometry(pair, pair.centre_distance_m)
     h1, h2 = wear_on_line_of_action(mesh, WearSpec(phase="severe"), np.array([mesh.path_start_m]))
     say(f"gap of h_1(SAP) + h_2(tip) = {(h1[0] + h2[0]) * 1e6:.1f} um (severe)")
-    assert 1e-6 < np.mean(k0.ste_m) < 2e-6                   # "the 1-2 um elastic approach"
+    assert 1e-6 < np.mean(k0.ste_m) < 2e-6  # "the 1-2 um elastic approach"
     say("far more than the 1-2 um elastic approach")
     drop = 1 - ks.k_N_per_m / k0.k_N_per_m
     single = k0.pairs_in_contact == 1
@@ -140,9 +152,11 @@ def test_wear_and_clearance_paragraphs(pair, analytic):
     c2 = analytic["cl200"]
     z0, z2 = k0.zone_means(), c2.zone_means()
     period = z0["double_deg"] + z0["single_deg"]
-    say(f"the contact ratio falls ({k0.contact_ratio:.4f} -> {c2.contact_ratio:.4f} at 200 um), the double-contact "
+    say(
+        f"the contact ratio falls ({k0.contact_ratio:.4f} -> {c2.contact_ratio:.4f} at 200 um), the double-contact "
         f"zone shortens ({z0['double_deg']:.2f} -> {z2['double_deg']:.2f} deg per {period:.0f} deg mesh period) and "
-        f"the mean falls ({e8(k0.mean_N_per_m)} -> {e8(c2.mean_N_per_m)} N/m); the maximum falls too")
+        f"the mean falls ({e8(k0.mean_N_per_m)} -> {e8(c2.mean_N_per_m)} N/m); the maximum falls too"
+    )
     assert c2.max_N_per_m < k0.max_N_per_m
 
 
@@ -151,11 +165,14 @@ def test_geometry_and_assumption_figures(pair):
     from gearwear.geometry.profile import INVOLUTE, involute_points, tooth_profile
 
     g = pair.gear(0)
-    body = tooth_mesh(pair).gear_mesh                           # the FE default mesh of the whole gear
+    body = tooth_mesh(pair).gear_mesh  # the FE default mesh of the whole gear
     area = body.area_m2
     mass = area * pair.face_width_m * pair.materials[0].density_kg_per_m3
-    say(f"the gear body ({round(area * 1e6):,d} mm^2 from the mesh, x 20 mm, steel) weighs {mass:.2f} kg"
-        .replace(f"{round(area * 1e6):,d}", f"{round(area * 1e6):,d}".replace(",", " ")))
+    say(
+        f"the gear body ({round(area * 1e6):,d} mm^2 from the mesh, x 20 mm, steel) weighs {mass:.2f} kg".replace(
+            f"{round(area * 1e6):,d}", f"{round(area * 1e6):,d}".replace(",", " ")
+        )
+    )
     prof = tooth_profile(g)
     inv = np.flatnonzero(prof.region == INVOLUTE)
     exact, normal = involute_points(g.base_radius_m, prof.psi_b, 0.5 * (prof.roll[inv[:-1]] + prof.roll[inv[1:]]))
@@ -174,10 +191,17 @@ def test_full_gear_mesh_figures(pair):
 
     g = pair.gear(0)
     nom = tooth_profile(g, sag_m=1e-6)
-    gm = mesh_full_gear(gear_outline(nom), g.hub_radius_m, MeshSizes(global_m=3e-3, fillet_m=0.4e-3, load_m=0.2e-3),
-                        refine_points_xy=np.array([nom.xy[-40]]), fillet_points_xy=fillet_midpoints(nom, g.teeth))
-    say(f"| full 30-tooth P2 mesh ({gm.n_elements / 1000:.0f}k triangles, 3 mm global, 0.4 mm fillets, 0.2 mm load "
-        f"point) |")
+    gm = mesh_full_gear(
+        gear_outline(nom),
+        g.hub_radius_m,
+        MeshSizes(global_m=3e-3, fillet_m=0.4e-3, load_m=0.2e-3),
+        refine_points_xy=np.array([nom.xy[-40]]),
+        fillet_points_xy=fillet_midpoints(nom, g.teeth),
+    )
+    say(
+        f"| full 30-tooth P2 mesh ({gm.n_elements / 1000:.0f}k triangles, 3 mm global, 0.4 mm fillets, 0.2 mm load "
+        f"point) |"
+    )
     assert gm.area_rel_error < 1e-8
     say("| area error 1e-8 |")
 
@@ -187,15 +211,17 @@ def test_slice_and_gauss_accuracy(pair):
     from gearwear.analytic.tvms import _profiles, mesh_stiffness
 
     ref = mesh_stiffness(pair, points=360, n_slices=1024).mean_N_per_m
-    errs = {n: abs(mesh_stiffness(pair, points=360, n_slices=n).mean_N_per_m / ref - 1)
-            for n in (4, 8, 16, 32, 64, 128, 256)}
+    errs = {
+        n: abs(mesh_stiffness(pair, points=360, n_slices=n).mean_N_per_m / ref - 1)
+        for n in (4, 8, 16, 32, 64, 128, 256)
+    }
     say("| rel. error | " + " | ".join(sci(errs[n]) for n in errs) + " |")
     say(f"| {sci(errs[64])} vs 1024 slices |")
     prof = _profiles(pair, None, pair.centre_distance_m)[0][0]
     R = np.linspace(71.8e-3, 79.9e-3, 200)
     c64 = energy.tooth_compliance(prof, R, pair.materials[0], pair.face_width_m, n_gauss=64).total_m_per_N
     c16 = energy.tooth_compliance(prof, R, pair.materials[0], pair.face_width_m, n_gauss=16).total_m_per_N
-    assert np.max(np.abs(c16 / c64 - 1)) <= 1e-15          # round-off: the README's "1e-15"
+    assert np.max(np.abs(c16 / c64 - 1)) <= 1e-15  # round-off: the README's "1e-15"
     say("| Gauss 16 points: 1e-15 |")
 
 
@@ -210,6 +236,7 @@ def test_ross_comparison_against_bench_json(analytic):
 
 # -- finite elements ------------------------------------------------------------------------
 
+
 def test_cantilever_and_hertz_rows():
     import skfem
 
@@ -219,20 +246,23 @@ def test_cantilever_and_hertz_rows():
 
     steel = Material(206e9, 0.3)
     E, G = steel.youngs_modulus_Pa, steel.youngs_modulus_Pa / 2.6
-    L, c, P = 0.100, 0.005, 1000.0           # the beam of tests/test_fem_elasticity.py
-    I = 2 * c ** 3 / 3
+    L, c, P = 0.100, 0.005, 1000.0  # the beam of tests/test_fem_elasticity.py
+    I = 2 * c**3 / 3
     m = skfem.MeshTri.init_tensor(np.linspace(0, L, 81), np.linspace(-c, c, 9))
     clamp = m.facets_satisfying(lambda x: np.isclose(x[0], L), boundaries_only=True)
     free = m.facets_satisfying(lambda x: np.isclose(x[0], 0.0), boundaries_only=True)
     model = assemble(m, steel, 1.0, clamp, plane="stress", order=2)
-    U = model.solve(traction_load(model, free,
-                                  lambda x, y: np.stack([np.zeros_like(x), P / (2 * I) * (c * c - y * y)])))
+    U = model.solve(
+        traction_load(model, free, lambda x, y: np.stack([np.zeros_like(x), P / (2 * I) * (c * c - y * y)]))
+    )
     tip = float((model.probe(np.array([[0.0, 0.0]])) @ U)[1])
-    timoshenko = P * L ** 3 / (3 * E * I) + P * L / (5 / 6 * G * 2 * c)
+    timoshenko = P * L**3 / (3 * E * I) + P * L / (5 / 6 * G * 2 * c)
     say(f"| cantilever vs Timoshenko (clamped, kappa = 5/6) | {pct(tip / timoshenko - 1, 2)} |")
     h = hertz_cylinders(10e-3, 10e-3, order=1, elements_per_a=15)
-    say(f"| 2D Hertz cylinders (a/15 elements) | half-width {pct(h.a_error, 2)}, peak pressure {pct(h.p0_error, 2)} "
-        f"(P1) |")
+    say(
+        f"| 2D Hertz cylinders (a/15 elements) | half-width {pct(h.a_error, 2)}, peak pressure {pct(h.p0_error, 2)} "
+        f"(P1) |"
+    )
 
 
 @pytest.fixture(scope="module")
@@ -254,13 +284,17 @@ def test_single_tooth_fe_against_analytic(calibrations):
     de = cmp["unworn"].energy_um_per_N_per_mm / base.fem_compliance_um_per_N_per_mm - 1
     r_pitch = base.pair.gear(0).pitch_radius_m
     d_pitch = np.interp(r_pitch, base.radius_m, di)
-    say(f"| Ishikawa delta_1 + delta_2 vs FE | {pct(di[0])} (SAP) to {pct(di[-1])} (tip); {pct(d_pitch, 0)} at the "
-        f"pitch point |")
+    say(
+        f"| Ishikawa delta_1 + delta_2 vs FE | {pct(di[0])} (SAP) to {pct(di[-1])} (tip); {pct(d_pitch, 0)} at the "
+        f"pitch point |"
+    )
     say(f"| energy method vs FE | {pct(de[0])} (SAP) to {pct(de[-1])} (tip), {pct(de.min())} at its minimum |")
     wf = fe["severe"].fem_compliance_um_per_N_per_mm / base.fem_compliance_um_per_N_per_mm - 1
     wi = cmp["severe"].ishikawa_um_per_N_per_mm / cmp["unworn"].ishikawa_um_per_N_per_mm - 1
-    say(f"| wear effect on the tooth compliance (severe) | FE +{100 * wf.min():.2f}..{100 * wf.max():.2f} %, "
-        f"Ishikawa +{100 * wi.min():.2f}..{100 * wi.max():.2f} % |")
+    say(
+        f"| wear effect on the tooth compliance (severe) | FE +{100 * wf.min():.2f}..{100 * wf.max():.2f} %, "
+        f"Ishikawa +{100 * wi.min():.2f}..{100 * wi.max():.2f} % |"
+    )
 
 
 def test_plane_strain_compliance(pair, calibrations):
@@ -282,9 +316,11 @@ def test_convergence_row_against_verification_json(calibrations):
     assert default["dofs"] == fe.ndofs == acc["default_dofs"]
     assert np.allclose(default["compliance"], fe.fem_compliance_um_per_N_per_mm, rtol=1e-9, atol=0)
     p2 = [r for r in conv if r["order"] == 2]
-    say(f"observed order {p2[-1]['observed_order_norm']:.2f}; default level ({acc['default_dofs'] / 1000:.1f}k dofs) "
+    say(
+        f"observed order {p2[-1]['observed_order_norm']:.2f}; default level ({acc['default_dofs'] / 1000:.1f}k dofs) "
         f"{acc['default_error_vs_extrapolation_pct']:.3f} % from the Richardson extrapolation; the two finest levels "
-        f"differ by {acc['finest_p2_change_pct']:.3f} %")
+        f"differ by {acc['finest_p2_change_pct']:.3f} %"
+    )
     ph = d["phases"]["unworn"]
     assert np.allclose(ph["fem_compliance_um_per_N_per_mm"], fe.fem_compliance_um_per_N_per_mm, rtol=1e-9, atol=0)
 
@@ -309,8 +345,10 @@ def test_pair_fe_row(pair_fe):
     dofs = set(r.meta["ndofs"])
     assert len(dofs) == 1
     n = f"{dofs.pop():,d}".replace(",", " ")
-    say(f"{n} dofs per body; mean {e8(r.mean_N_per_m)} N/m, single-pair plateau {e8(p[1])}, double-pair "
-        f"plateau {e8(p[2])} |")
+    say(
+        f"{n} dofs per body; mean {e8(r.mean_N_per_m)} N/m, single-pair plateau {e8(p[1])}, double-pair "
+        f"plateau {e8(p[2])} |"
+    )
     ext = r.meta["extended_contact_deg"]
     assert f"{ext['entry']:.2f}" == f"{ext['exit']:.2f}"
     say(f"| extended (corner) contact | {ext['entry']:.2f} deg of pinion rotation beyond A and beyond E |")
@@ -327,18 +365,23 @@ def test_local_approach_row_against_verification_json(pair_fe):
     assert len(rows) == len(fresh) >= 5
     # the same positions in the same order (solved once more, apart from the cycle: 2e-6)
     assert np.allclose(fresh, [r["k_pair_N_per_m"] for r in rows], rtol=1e-5, atol=0)
-    ci = max(max(abs(r["c1_m_per_N"] / r["c1_tooth_m_per_N"] - 1), abs(r["c2_m_per_N"] / r["c2_tooth_m_per_N"] - 1))
-             for r in rows)
+    ci = max(
+        max(abs(r["c1_m_per_N"] / r["c1_tooth_m_per_N"] - 1), abs(r["c2_m_per_N"] / r["c2_tooth_m_per_N"] - 1))
+        for r in rows
+    )
     ident = max(abs(r["k_pair_N_per_m"] / r["k_identity_N_per_m"] - 1) for r in rows)
     cl = np.array([r["c_local_m_per_N"] for r in rows])
     ws = np.array([r["weber_stress_m_per_N"] for r in rows])
     we = np.array([r["weber_strain_m_per_N"] for r in rows])
-    say(f"c_i agree to {100 * ci:.2f} %, the identity to {100 * ident:.3f} %; c_local = {cl.mean() * 1e9:.2f}e-9 m/N "
-        f"is {pct(np.mean(cl / ws - 1))} above Weber in plane stress, {pct(np.mean(cl / we - 1), 0)} in plane strain")
+    say(
+        f"c_i agree to {100 * ci:.2f} %, the identity to {100 * ident:.3f} %; c_local = {cl.mean() * 1e9:.2f}e-9 m/N "
+        f"is {pct(np.mean(cl / ws - 1))} above Weber in plane stress, {pct(np.mean(cl / we - 1), 0)} in plane strain"
+    )
 
 
 def test_shifted_pair_row():
     from gearwear.fem.pair import pair_contact
+
     from scenes import paper_pair_from
 
     sh = paper_pair_from({"pair": {"teeth": [21, 37], "profile_shift": [0.25, -0.10], "hub_radius_mm": [30.0, 40.0]}})
@@ -352,8 +395,12 @@ def test_shifted_pair_row():
 def calibrated(pair, calibrations, pair_fe, cache):
     from gearwear.stiffness.calibration import calibrated_table
 
-    tabs = {p: calibrated_table(pair, None if p == "unworn" else WearSpec(phase=p), 0.0, 40.0, 360,
-                                calibration=calibrations[p], notify=None) for p in PHASES}
+    tabs = {
+        p: calibrated_table(
+            pair, None if p == "unworn" else WearSpec(phase=p), 0.0, 40.0, 360, calibration=calibrations[p], notify=None
+        )
+        for p in PHASES
+    }
     # the wear study's unworn table (10 um clearance), for the report model below
     tabs["unworn10"] = calibrated_table(pair, None, 10e-6, 40.0, 360, calibration=calibrations["unworn"], notify=None)
     return tabs
@@ -364,9 +411,11 @@ def test_calibrated_tables_against_pair_fe(calibrated):
     fe = {p: t[p].meta["fe_pair_mean_N_per_m"] for p in PHASES}
     d = {p: t[p].mean_N_per_m / fe[p] - 1 for p in PHASES}
     rms = {p: t[p].meta["pair_check_rms"] for p in PHASES}
-    say(f"| calibrated table vs FE pair (unworn / mild / severe) | means {100 * d['unworn']:+.2f} / "
+    say(
+        f"| calibrated table vs FE pair (unworn / mild / severe) | means {100 * d['unworn']:+.2f} / "
         f"{100 * d['mild']:+.1f} / {100 * d['severe']:+.1f} %; held-out rms {100 * rms['unworn']:.1f} / "
-        f"{100 * rms['mild']:.1f} / {100 * rms['severe']:.1f} % |")
+        f"{100 * rms['mild']:.1f} / {100 * rms['severe']:.1f} % |"
+    )
     dbl = [t[p].meta["pair_zone_factors"]["double"] for p in PHASES]
     sgl = [t[p].meta["pair_zone_factors"]["single"] for p in PHASES]
     assert {f"{x:.2f}" for x in dbl} == {"0.85"}
@@ -381,15 +430,18 @@ def test_calibrated_tables_against_pair_fe(calibrated):
 
 # -- the paper report ---------------------------------------------------------------------
 
+
 @pytest.fixture(scope="module")
 def report_unworn(calibrated):
     """The wear study's unworn run of `gearwear report paper` (calibrated table from the
     fixture's cache, so no FE is rerun)."""
-    from gearwear.scene.model import apply_overrides, builtin_scene_dict, scene_from_dict
     from gearwear.jobs.simulate import run
+    from gearwear.scene.model import apply_overrides, builtin_scene_dict, scene_from_dict
 
-    sc = scene_from_dict(apply_overrides(builtin_scene_dict("paper-wear-unworn"),
-                                         ['effects.mesh_stiffness={source = "calibrated"}']), name="paper-wear-unworn")
+    sc = scene_from_dict(
+        apply_overrides(builtin_scene_dict("paper-wear-unworn"), ['effects.mesh_stiffness={source = "calibrated"}']),
+        name="paper-wear-unworn",
+    )
     return run(sc)
 
 
@@ -413,14 +465,16 @@ def test_report_claims_and_modes(report_unworn):
     # trends.json against this fresh run: the unworn point of the wear rows
     for row in rows:
         if row["where"] == "3.1.4, Fig. 13":
-            assert row["ours"] == "largest: " + ", ".join(f"{k} x fm"
-                                                          for k in np.argsort(-r.harmonics("F_m", 10))[:3] + 1)
+            assert row["ours"] == "largest: " + ", ".join(
+                f"{k} x fm" for k in np.argsort(-r.harmonics("F_m", 10))[:3] + 1
+            )
         if row["where"] == "3.1, Fig. 14" and "x fm of F_m" in row["paper"]:
             k = int(row["paper"].split(" x fm")[0])
             assert row["ours"].split(": ")[1].split(" -> ")[0] == f"{r.harmonics('F_m', 4)[k - 1]:.5g}"
 
 
 # -- dynamics ---------------------------------------------------------------------------
+
 
 def test_dynamics_eigenfrequencies_and_rk4_tables():
     from gearwear.dynamics import paper_pair, simulate
@@ -431,18 +485,23 @@ def test_dynamics_eigenfrequencies_and_rk4_tables():
     names = ("F_m", "delta")
 
     def err(h, ref):
-        return max(float(np.max(np.abs(h[n] - ref[n])[ref[n] > 0.01 * ref[n].max()]
-                                / ref[n][ref[n] > 0.01 * ref[n].max()])) for n in names)
+        return max(
+            float(np.max(np.abs(h[n] - ref[n])[ref[n] > 0.01 * ref[n].max()] / ref[n][ref[n] > 0.01 * ref[n].max()]))
+            for n in names
+        )
 
     worst = 0.0
     for L in (97, 256, 360, 1000):
         m = paper_pair(n_table=L)
         ref = simulate(m, 0.1, 0.05, method="dopri5", rtol=1e-10).harmonics_of(list(names))
-        worst = max(worst, err(simulate(m, 0.1, 0.05, method="rk4", steps_per_mesh_period=256)
-                               .harmonics_of(list(names)), ref))
-    assert 0.5 * 8.4e-5 < worst <= 8.4e-5, worst           # "to 8.4e-5 or better" (measured 8.35e-5)
-    say("RK4 at 256 steps agrees with the adaptive solver to 8.4e-5 or better for stiffness tables of 97, 256, 360 "
-        "and 1000 nodes")
+        worst = max(
+            worst, err(simulate(m, 0.1, 0.05, method="rk4", steps_per_mesh_period=256).harmonics_of(list(names)), ref)
+        )
+    assert 0.5 * 8.4e-5 < worst <= 8.4e-5, worst  # "to 8.4e-5 or better" (measured 8.35e-5)
+    say(
+        "RK4 at 256 steps agrees with the adaptive solver to 8.4e-5 or better for stiffness tables of 97, 256, 360 "
+        "and 1000 nodes"
+    )
 
 
 def test_dynamics_accuracy_table():
@@ -460,10 +519,13 @@ def test_dynamics_accuracy_table():
         keep = href >= 1e-6 * href.max()
         return float(np.max(np.abs(h[keep] - href[keep]) / href[keep]))
 
-    rk4 = {N: err(simulate(ms, 0.2, 0.1, method="rk4", steps_per_mesh_period=N, samples_per_mesh_period=256))
-           for N in (128, 256, 512, 1024)}
-    dp = {rt: err(simulate(ms, 0.2, 0.1, method="dopri5", rtol=rt, samples_per_mesh_period=256))
-          for rt in (1e-8, 1e-10)}
+    rk4 = {
+        N: err(simulate(ms, 0.2, 0.1, method="rk4", steps_per_mesh_period=N, samples_per_mesh_period=256))
+        for N in (128, 256, 512, 1024)
+    }
+    dp = {
+        rt: err(simulate(ms, 0.2, 0.1, method="dopri5", rtol=rt, samples_per_mesh_period=256)) for rt in (1e-8, 1e-10)
+    }
     say("| RK4, 128 / 256 / 512 / 1024 steps per mesh period |")
     say(" / ".join(sci(rk4[N]) for N in rk4) + " |")
     say("| adaptive Dormand-Prince, rtol 1e-8 / 1e-10 |")
@@ -497,8 +559,10 @@ def test_wear_depth_limit_of_the_paper_pinion(pair):
     from gearwear.geometry.wear import depth_limits
 
     lim = depth_limits(operating_geometry(pair).mesh, WearSpec(phase="severe"))
-    say(f"1/3 of the local half tooth thickness where the flank wears deepest is refused "
-        f"({lim['max_depth_m'] * 1e6:.0f} um on the paper pinion)")
+    say(
+        f"1/3 of the local half tooth thickness where the flank wears deepest is refused "
+        f"({lim['max_depth_m'] * 1e6:.0f} um on the paper pinion)"
+    )
 
 
 def test_current_calibrated_means_in_the_history_paragraph():
@@ -520,10 +584,14 @@ def test_your_own_pair_figures(capsys):
     assert main(["stiffness", scene, "--method", "ishikawa", "energy", "iso6336", "fem", "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
     by = {c["method"]: c for c in d["curves"]}
-    say(f"mean {e8(by['ishikawa']['mean_N_per_m'])}, {e8(by['energy']['mean_N_per_m'])} and "
-        f"{e8(by['iso6336']['mean_N_per_m'])} N/m")
-    say(f"{e8(by['fem']['mean_N_per_m'])} N/m held at the bores and {e8(by['fem']['mesh_only_mean_N_per_m'])} N/m "
-        "for the mesh alone")
+    say(
+        f"mean {e8(by['ishikawa']['mean_N_per_m'])}, {e8(by['energy']['mean_N_per_m'])} and "
+        f"{e8(by['iso6336']['mean_N_per_m'])} N/m"
+    )
+    say(
+        f"{e8(by['fem']['mean_N_per_m'])} N/m held at the bores and {e8(by['fem']['mesh_only_mean_N_per_m'])} N/m "
+        "for the mesh alone"
+    )
     assert main(["scene", scene]) == 0
     text = capsys.readouterr().out
     masses = [float(x) for x in text.split("mass_kg = [")[1].split("]")[0].split(",")]

@@ -21,9 +21,11 @@ ROOT = Path(__file__).resolve().parents[1]
 from scenes import published_text  # noqa: E402
 
 README = published_text()  # README.md and docs/*.md: the published text
-RUNS = {"backlash_50rpm": ("examples/runup_backlash.toml", "1000:3000:41"),
-        "backlash_25rpm": ("examples/runup_backlash.toml", "1000:3000:81"),
-        "paper_default": ("paper-default", "1000:12000:111")}
+RUNS = {
+    "backlash_50rpm": ("examples/runup_backlash.toml", "1000:3000:41"),
+    "backlash_25rpm": ("examples/runup_backlash.toml", "1000:3000:81"),
+    "paper_default": ("paper-default", "1000:12000:111"),
+}
 
 
 def say(text: str) -> None:
@@ -45,8 +47,8 @@ def bands(b) -> str:
 @pytest.mark.parametrize("name", sorted(RUNS))
 def test_committed_report_matches_a_cheap_recomputation(name):
     from gearwear.jobs import runup as runup_job
-    from gearwear.scene.model import load_scene_dict
     from gearwear.jobs.sweep import parse_axis
+    from gearwear.scene.model import load_scene_dict
 
     scene, speeds = RUNS[name]
     pt, rows = report(name)
@@ -57,8 +59,7 @@ def test_committed_report_matches_a_cheap_recomputation(name):
     p = points[0]
     assert p.iso["n_E1_rpm"] == pytest.approx(pt["iso6336"]["n_E1_rpm"], rel=1e-12)
     assert p.eigenfrequencies_Hz == pytest.approx(pt["linear_eigenfrequencies_Hz"], rel=1e-12)
-    s = runup_job.Settings(**json.loads((ROOT / "reports/runup" / name / "runup_summary.json").read_text())
-                           ["settings"])
+    s = runup_job.Settings(**json.loads((ROOT / "reports/runup" / name / "runup_summary.json").read_text())["settings"])
     r = runup_job.run_speed(p.model, speed.values[0], None, p.solver, s)
     row = next(x for x in rows if x["direction"] == "up" and float(x["speed_rpm"]) == speed.values[0])
     assert r["K_v"] == pytest.approx(float(row["K_v"]), rel=1e-7)
@@ -77,21 +78,27 @@ def test_paper_default_run_up_figures():
     say(f"up and down agree to {m}e{int(e)} in K_v")
     d = pt["directions"]["up"]
     f = pt["linear_eigenfrequencies_Hz"][-1]
-    say(f"K_v peaks at {d['K_v_max']:.3f} at {d['K_v_max_speed_rpm']:g} rpm, near where f_m meets the "
-        f"{f:.1f} Hz mode ({60 * f / 30:.0f} rpm;")
+    say(
+        f"K_v peaks at {d['K_v_max']:.3f} at {d['K_v_max_speed_rpm']:g} rpm, near where f_m meets the "
+        f"{f:.1f} Hz mode ({60 * f / 30:.0f} rpm;"
+    )
     nE1 = pt["iso6336"]["n_E1_rpm"]
     say(f"n_E1 = {nE1:.0f} rpm: its model is the torsional one on rigid bearings ({nE1 * 30 / 60:.0f} Hz)")
     inp = pt["iso6336"]["inputs"]
-    say(f"grade 6 at the larger gear's module and diameter, {inp['f_pb_um']:.3f} / {inp['f_f_um']:g} um for the "
-        "paper pair")
+    say(
+        f"grade 6 at the larger gear's module and diameter, {inp['f_pb_um']:.3f} / {inp['f_f_um']:g} um for the "
+        "paper pair"
+    )
 
 
 def test_backlash_jump_table_and_text():
     for name, step, spec in (("backlash_50rpm", 50, "1000:3000:41"), ("backlash_25rpm", 25, "1000:3000:81")):
         pt, _ = report(name)
         d = pt["directions"]
-        say(f"| {step} rpm (`{spec}`) | {bands(pt['jump_bands_rpm'])} | {d['up']['K_v_max']:.3f} / "
-            f"{d['down']['K_v_max']:.3f} |")
+        say(
+            f"| {step} rpm (`{spec}`) | {bands(pt['jump_bands_rpm'])} | {d['up']['K_v_max']:.3f} / "
+            f"{d['down']['K_v_max']:.3f} |"
+        )
     pt, rows = report("backlash_50rpm")
     f1 = pt["linear_eigenfrequencies_Hz"][0]
     say(f"main resonance where f_m = {f1:.1f} Hz, {60 * f1 / 30:.0f} rpm")
@@ -108,9 +115,13 @@ def test_backlash_jump_table_and_text():
     _, fine = report("backlash_25rpm")
     p4 = [r["speed_rpm"] for r in fine if r["label"] == "periodic" and r["period_mesh_periods"] == "4"]
     assert all(r["direction"] == "down" for r in fine if r["period_mesh_periods"] == "4")
-    say(f"at 25 rpm {len(p4)} speeds are period 4 ({', '.join(sorted(p4, key=float)[:-1])} and "
-        f"{sorted(p4, key=float)[-1]} rpm, down)")
+    say(
+        f"at 25 rpm {len(p4)} speeds are period 4 ({', '.join(sorted(p4, key=float)[:-1])} and "
+        f"{sorted(p4, key=float)[-1]} rpm, down)"
+    )
     iso = pt["iso6336"]
-    say(f"at this line load ({iso['inputs']['line_load_N_per_mm']:.1f} N/mm: B_p = {iso['B_p']:.1f}, "
-        f"B_f = {iso['B_f']:.1f}) and its n_E1 = {iso['n_E1_rpm']:.0f} rpm is outside the range")
+    say(
+        f"at this line load ({iso['inputs']['line_load_N_per_mm']:.1f} N/mm: B_p = {iso['B_p']:.1f}, "
+        f"B_f = {iso['B_f']:.1f}) and its n_E1 = {iso['n_E1_rpm']:.0f} rpm is outside the range"
+    )
     assert not math.isnan(iso["n_E1_rpm"])

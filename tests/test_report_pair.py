@@ -18,17 +18,28 @@ import numpy as np
 import pytest
 
 from gearwear import io
-from gearwear.reports import pair as report_pair
-from gearwear.jobs import runup as runup_job
 from gearwear.cli import main
+from gearwear.jobs import runup as runup_job
+from gearwear.reports import pair as report_pair
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "examples" / "shifted_pair.toml"
-COARSE = report_pair.Settings(points=48, fe_positions=8, load_fractions=(0.5, 1.0, 2.0), speeds=5,
-                              runup=runup_job.Settings(max_periods=200, keep_periods=8))
+COARSE = report_pair.Settings(
+    points=48,
+    fe_positions=8,
+    load_fractions=(0.5, 1.0, 2.0),
+    speeds=5,
+    runup=runup_job.Settings(max_periods=200, keep_periods=8),
+)
 #: the 47-tooth driver: the shifted pair's gears exchanged (teeth, bores and shifts)
-BIG_DRIVER = ["--set", "pair.teeth=[47,23]", "--set", "pair.hub_radius_mm=[40,15]",
-              "--set", "pair.profile_shift=[0.1,0.4]"]
+BIG_DRIVER = [
+    "--set",
+    "pair.teeth=[47,23]",
+    "--set",
+    "pair.hub_radius_mm=[40,15]",
+    "--set",
+    "pair.profile_shift=[0.1,0.4]",
+]
 
 # a number as the page writes it; not a part of a name (z1, n_E1, m^2, a version 0.1.0)
 NUMBER = re.compile(r"(?<![\w^.])[-+]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?(?![\w.])")
@@ -81,9 +92,18 @@ def assert_iso_curve(doc: dict) -> None:
     z_driver = doc["geometry"]["gears"][0]["teeth"]
     assert i["z1"] == min(g["teeth"] for g in doc["geometry"]["gears"])
     n1 = np.asarray(doc["runup"]["speeds_rpm"]) * (z_driver / i["z1"])
-    ref = dynamic_factor(n1, i["z1"], i["c_gamma_N_per_mm_um"], i["c_prime_N_per_mm_um"], i["m_red_kg_per_mm"],
-                         i["line_load_N_per_mm"], i["f_pb_um"] - i["y_p_um"], i["f_f_um"] - i["y_f_um"], i["C_a_um"],
-                         i["eps_gamma"])
+    ref = dynamic_factor(
+        n1,
+        i["z1"],
+        i["c_gamma_N_per_mm_um"],
+        i["c_prime_N_per_mm_um"],
+        i["m_red_kg_per_mm"],
+        i["line_load_N_per_mm"],
+        i["f_pb_um"] - i["y_p_um"],
+        i["f_f_um"] - i["y_f_um"],
+        i["C_a_um"],
+        i["eps_gamma"],
+    )
     np.testing.assert_allclose(iso["K_v"], ref.K_v, rtol=1e-12)
     assert iso["n_E1_rpm"] == pytest.approx(ref.n_E1_rpm, rel=1e-12)
     assert iso["n_E1_driver_rpm"] == pytest.approx(ref.n_E1_rpm * i["z1"] / z_driver, rel=1e-12)
@@ -130,10 +150,14 @@ def assert_page(out: Path, scene_args: list[str]) -> dict:
 def test_the_command_on_the_example(tmp_path):
     """The real command, as a user runs it."""
     out = tmp_path / "rp"
-    r = subprocess.run([sys.executable, "-m", "gearwear.cli", "report", "pair", str(EXAMPLE), "--out", str(out)],
-                       capture_output=True, text=True, cwd=tmp_path)
+    r = subprocess.run(
+        [sys.executable, "-m", "gearwear.cli", "report", "pair", str(EXAMPLE), "--out", str(out)],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+    )
     assert r.returncode == 0, r.stderr
-    assert "report pair" in r.stderr and "Traceback" not in r.stderr   # the progress bar
+    assert "report pair" in r.stderr and "Traceback" not in r.stderr  # the progress bar
     doc, lines = assert_page(out, [str(EXAMPLE)])
     assert [ln for ln in r.stdout.splitlines() if ln.startswith("assumed: ")] == lines
     assert doc["settings"]["fe_positions"] == 24 and doc["settings"]["speeds"] == 33
@@ -158,6 +182,7 @@ def test_a_driver_with_more_teeth(tmp_path, monkeypatch, capsys):
 
 def _refused(argv: list[str], tmp_path: Path, monkeypatch, capsys) -> str:
     """Run ``argv`` in ``tmp_path``: exit 2, one line, nothing written, and no work started."""
+
     def no_work(*args, **kwargs):
         raise AssertionError("the report started computing before refusing the input")
 
@@ -182,13 +207,26 @@ def test_a_scene_without_bearing_stiffness_is_refused(tmp_path, monkeypatch, cap
     assert "bodies.bearing_stiffness_N_per_m" in err and "N/m" in err
 
 
-@pytest.mark.parametrize("argv, key", [
-    (["report", "pair", str(EXAMPLE), "--out", "a_file.txt"], "--out"),
-    (["report", "pair", str(EXAMPLE), "--set", "operating.torque_Nm=-3", "--out", "rp"], "operating.torque_Nm"),
-    (["report", "pair", str(EXAMPLE), "--set", "faults.spall={tooth=0, start_diameter_mm=62, length_mm=1, "
-                                               "depth_um=5}", "--out", "rp"], "[faults]"),
-    (["report", "paper", str(EXAMPLE), "--out", "rp"], "report paper"),
-])
+@pytest.mark.parametrize(
+    "argv, key",
+    [
+        (["report", "pair", str(EXAMPLE), "--out", "a_file.txt"], "--out"),
+        (["report", "pair", str(EXAMPLE), "--set", "operating.torque_Nm=-3", "--out", "rp"], "operating.torque_Nm"),
+        (
+            [
+                "report",
+                "pair",
+                str(EXAMPLE),
+                "--set",
+                "faults.spall={tooth=0, start_diameter_mm=62, length_mm=1, depth_um=5}",
+                "--out",
+                "rp",
+            ],
+            "[faults]",
+        ),
+        (["report", "paper", str(EXAMPLE), "--out", "rp"], "report paper"),
+    ],
+)
 def test_bad_inputs_are_refused_before_any_work(argv, key, tmp_path, monkeypatch, capsys):
     (tmp_path / "a_file.txt").write_text("mine\n")
     assert key in _refused(argv, tmp_path, monkeypatch, capsys)

@@ -11,21 +11,23 @@ import numpy as np
 import pytest
 
 from gearwear.reports.paper_study import CLEARANCES_UM, PHASES
-from gearwear.reports.paper_trends import (MECHANISMS, agrees, classify, describe_change,
-                                   trends)
+from gearwear.reports.paper_trends import MECHANISMS, agrees, classify, describe_change, trends
 
 ROOT = Path(__file__).resolve().parents[1]
 CLASSES = ("increase", "decrease", "decrease-then-increase", "increase-then-decrease", "nonlinear", "flat")
 
 
-@pytest.mark.parametrize("values,expected", [
-    ([150.0, 150.05, 150.1], "increase"),            # tiny relative change with a large offset
-    ([24.4, 24.3, 24.2], "decrease"),
-    ([3.0, 2.0, 2.5], "decrease-then-increase"),
-    ([1.0, 2.0, 1.5], "increase-then-decrease"),
-    ([1.0, 3.0, 2.0, 4.0], "nonlinear"),
-    ([5.0, 5.0, 5.0], "flat"),
-])
+@pytest.mark.parametrize(
+    "values,expected",
+    [
+        ([150.0, 150.05, 150.1], "increase"),  # tiny relative change with a large offset
+        ([24.4, 24.3, 24.2], "decrease"),
+        ([3.0, 2.0, 2.5], "decrease-then-increase"),
+        ([1.0, 2.0, 1.5], "increase-then-decrease"),
+        ([1.0, 3.0, 2.0, 4.0], "nonlinear"),
+        ([5.0, 5.0, 5.0], "flat"),
+    ],
+)
 def test_classify(values, expected):
     assert classify(values) == expected
 
@@ -38,25 +40,30 @@ def test_agreement_rules():
     assert classify(np.linspace(0, 1, 21) ** 2) == "increase"
 
 
-@pytest.mark.parametrize("values,text", [
-    ([0.6052, 0.5789, 0.5853], "falls by 4.35 % (unworn -> mild), then rises by 1.11 % (mild -> severe)"),
-    ([754.5, 674.9, 664.8], "falls by 11.9 % (unworn -> severe)"),
-    ([0.01688, 0.0632, 0.03927], "rises by 274 % (unworn -> mild), then falls by 37.9 % (mild -> severe)"),
-    ([1.0, 1.0, 1.0], "stays flat (unworn -> severe)"),
-    ([1.0, 3.0, 2.0], "rises by 200 % (unworn -> mild), then falls by 33.3 % (mild -> severe)"),
-])
+@pytest.mark.parametrize(
+    "values,text",
+    [
+        ([0.6052, 0.5789, 0.5853], "falls by 4.35 % (unworn -> mild), then rises by 1.11 % (mild -> severe)"),
+        ([754.5, 674.9, 664.8], "falls by 11.9 % (unworn -> severe)"),
+        ([0.01688, 0.0632, 0.03927], "rises by 274 % (unworn -> mild), then falls by 37.9 % (mild -> severe)"),
+        ([1.0, 1.0, 1.0], "stays flat (unworn -> severe)"),
+        ([1.0, 3.0, 2.0], "rises by 200 % (unworn -> mild), then falls by 33.3 % (mild -> severe)"),
+    ],
+)
 def test_describe_change(values, text):
     assert describe_change(values, PHASES) == text
 
 
 # -- consistency of a row's "why" with its own measurement ---------------------------------
 
-PHRASES = {"increase": (["rises by"], ["falls by"]),
-           "decrease": (["falls by"], ["rises by"]),
-           "decrease-then-increase": (["falls by", "then rises by"], []),
-           "increase-then-decrease": (["rises by", "then falls by"], []),
-           "nonlinear": (["changes direction"], ["rises by", "falls by"]),
-           "flat": (["stays flat"], ["rises by", "falls by"])}
+PHRASES = {
+    "increase": (["rises by"], ["falls by"]),
+    "decrease": (["falls by"], ["rises by"]),
+    "decrease-then-increase": (["falls by", "then rises by"], []),
+    "increase-then-decrease": (["rises by", "then falls by"], []),
+    "nonlinear": (["changes direction"], ["rises by", "falls by"]),
+    "flat": (["stays flat"], ["rises by", "falls by"]),
+}
 
 
 def _numbers(ours: str) -> list[float]:
@@ -81,7 +88,7 @@ def check_row(row: dict) -> bool:
     if found not in CLASSES:
         return False
     y = _numbers(row["ours"])
-    assert classify(y) == found or len(set(y)) < len(y), row          # display rounding may tie neighbours
+    assert classify(y) == found or len(set(y)) < len(y), row  # display rounding may tie neighbours
     measured = why.split(" Why: ")[0].split(" Context: ")[0]
     must, must_not = PHRASES[found]
     pos = [measured.find(p) for p in must]
@@ -104,7 +111,7 @@ def _fake_res(seed: int, flip: bool):
     def shape(n, level=1.0):
         kind = rng.integers(5)
         x = np.linspace(0, 1, n)
-        y = {0: x, 1: -x, 2: (x - 0.5) ** 2, 3: -(x - 0.5) ** 2, 4: np.sin(7 * x)}[int(kind)]
+        y = {0: x, 1: -x, 2: (x - 0.5) ** 2, 3: -((x - 0.5) ** 2), 4: np.sin(7 * x)}[int(kind)]
         y = level * (1 + 0.3 * y)
         return y[::-1] if flip else y
 
@@ -115,9 +122,11 @@ def _fake_res(seed: int, flip: bool):
         out = {}
         for i, key in enumerate(keys):
             res = SimpleNamespace(
-                fm_Hz=600.0, bearing_contact_fraction={"pinion": 1.0, "gear": 1.0},
+                fm_Hz=600.0,
+                bearing_contact_fraction={"pinion": 1.0, "gear": 1.0},
                 harmonics=(lambda name, n, i=i: H[name][i, :n]),
-                stats={name: {"p2p": st[name][i, 0], "mean": st[name][i, 1]} for name in H})
+                stats={name: {"p2p": st[name][i, 0], "mean": st[name][i, 1]} for name in H},
+            )
             out[key] = SimpleNamespace(result=res, model=model)
         return out
 
@@ -127,19 +136,39 @@ def _fake_res(seed: int, flip: bool):
         out = {}
         for i, key in enumerate(keys):
             k = mean[i] * (1 + 0.2 * np.cos(2 * np.pi * phi) + 0.05 * rng.standard_normal(360))
-            out[key] = SimpleNamespace(k_N_per_m=k, mean_N_per_m=float(k.mean()), angle_rad=phi, span_rad=1.0,
-                                       pairs_in_contact=np.where(phi < 0.6, 2, 1))
+            out[key] = SimpleNamespace(
+                k_N_per_m=k,
+                mean_N_per_m=float(k.mean()),
+                angle_rad=phi,
+                span_rad=1.0,
+                pairs_in_contact=np.where(phi < 0.6, 2, 1),
+            )
         return out
 
     cl_fine = np.linspace(0.0, 100.0, 21)
-    cols = {a: shape(21, lv) for a, lv in (("C", 0.15), ("alpha", 0.35), ("L", 0.024), ("eps", 1.65), ("rw", 0.075),
-                                          ("b", 60e-6))}
-    geo = [SimpleNamespace(centre_distance_m=cols["C"][i], pressure_angle_rad=cols["alpha"][i],
-                           contact_line_length_m=cols["L"][i], contact_ratio=cols["eps"][i],
-                           mesh=SimpleNamespace(operating_pitch_radii_m=(cols["rw"][i], cols["rw"][i])),
-                           backlash_m=cols["b"][i]) for i in range(21)]
-    return {"tabs_wear": tables(PHASES), "sims_wear": sims(PHASES), "tabs_cl": tables(CLEARANCES_UM),
-            "sims_cl": sims(CLEARANCES_UM), "cl_fine": cl_fine, "geo": geo}
+    cols = {
+        a: shape(21, lv)
+        for a, lv in (("C", 0.15), ("alpha", 0.35), ("L", 0.024), ("eps", 1.65), ("rw", 0.075), ("b", 60e-6))
+    }
+    geo = [
+        SimpleNamespace(
+            centre_distance_m=cols["C"][i],
+            pressure_angle_rad=cols["alpha"][i],
+            contact_line_length_m=cols["L"][i],
+            contact_ratio=cols["eps"][i],
+            mesh=SimpleNamespace(operating_pitch_radii_m=(cols["rw"][i], cols["rw"][i])),
+            backlash_m=cols["b"][i],
+        )
+        for i in range(21)
+    ]
+    return {
+        "tabs_wear": tables(PHASES),
+        "sims_wear": sims(PHASES),
+        "tabs_cl": tables(CLEARANCES_UM),
+        "sims_cl": sims(CLEARANCES_UM),
+        "cl_fine": cl_fine,
+        "geo": geo,
+    }
 
 
 @pytest.mark.parametrize("seed", range(4))

@@ -26,11 +26,13 @@ def _err(h, ref):
 
 @pytest.mark.parametrize("L", [97, 256, 360, 1000])
 def test_rk4_matches_dopri5_and_converges_at_4th_order(L):
-    m = paper_pair(n_table=L)             # smoothed rectangular k_h with 2 %-wide edges
+    m = paper_pair(n_table=L)  # smoothed rectangular k_h with 2 %-wide edges
     ref = simulate(m, 0.1, 0.05, method="dopri5", rtol=1e-10).harmonics_of(NAMES)
     for N in (128, 256, 300):
-        e1, e2 = (_err(simulate(m, 0.1, 0.05, method="rk4", steps_per_mesh_period=n).harmonics_of(NAMES), ref)
-                  for n in (N, 2 * N))
+        e1, e2 = (
+            _err(simulate(m, 0.1, 0.05, method="rk4", steps_per_mesh_period=n).harmonics_of(NAMES), ref)
+            for n in (N, 2 * N)
+        )
         assert e1 < (2e-4 if N >= 256 else 2e-3), (L, N, e1)
         order = math.log2(e1 / e2)
         assert 3.3 < order < 4.8, (L, N, e1, e2, order)
@@ -73,17 +75,15 @@ def test_harmonics_of_a_sampled_kinked_signal_are_exact():
     n = 10
     exact = []
     for k in range(1, n + 1):
-        re = quad(lambda t: x(t) * np.cos(2 * np.pi * k * t), 0, T, points=nodes[1:-1], limit=200,
-                  epsabs=1e-13)[0]
-        im = quad(lambda t: x(t) * np.sin(2 * np.pi * k * t), 0, T, points=nodes[1:-1], limit=200,
-                  epsabs=1e-13)[0]
+        re = quad(lambda t: x(t) * np.cos(2 * np.pi * k * t), 0, T, points=nodes[1:-1], limit=200, epsabs=1e-13)[0]
+        im = quad(lambda t: x(t) * np.sin(2 * np.pi * k * t), 0, T, points=nodes[1:-1], limit=200, epsabs=1e-13)[0]
         exact.append(2 * math.hypot(re, im) / T)
     exact = np.array(exact)
-    M = 3                                               # three periods
+    M = 3  # three periods
     breaks = np.union1d(np.arange(M * 128 + 1) / 128, (nodes[None, 1:-1] + np.arange(M)[:, None]).ravel())
     tq, wq = gauss_grid(breaks)
     ours = fourier_amplitudes(x(tq), tq, wq, 1.0 / T, n, M * T)
     ts = np.arange(M * 128) / 128
     sampled = 2 * np.abs(np.exp(-2j * np.pi * np.arange(1, n + 1)[:, None] * ts[None, :]) @ x(ts)) / ts.size
     assert np.max(np.abs(ours - exact) / exact) < 1e-7
-    assert np.max(np.abs(sampled - exact) / exact) > 1e-3     # the sampled DFT really aliases
+    assert np.max(np.abs(sampled - exact) / exact) > 1e-3  # the sampled DFT really aliases

@@ -25,16 +25,28 @@ FAST = ["--keep-periods", "8", "--tolerance", "1e-7"]
 
 
 def snapshot(folder: Path) -> dict[str, bytes]:
-    return {p.relative_to(folder).as_posix(): p.read_bytes() for p in sorted(folder.rglob("*"))
-            if p.is_file() and p.name != io.TIMING}
+    return {
+        p.relative_to(folder).as_posix(): p.read_bytes()
+        for p in sorted(folder.rglob("*"))
+        if p.is_file() and p.name != io.TIMING
+    }
 
 
 def test_runup_writes_its_files_the_same_bytes_twice(tmp_path, capsys):
     for k in ("a", "b"):
         assert main(["runup", "paper-default", *SPEEDS, *FAST, "--workers", "1", "--out", str(tmp_path / k)]) == 0
     a, b = snapshot(tmp_path / "a"), snapshot(tmp_path / "b")
-    assert set(a) == {"runup.csv", "runup.csv.json", "runup_summary.json", "kv.png", "order_map_up.png",
-                      "order_map_down.png", "campbell_up.png", "campbell_down.png", "manifest.json"}
+    assert set(a) == {
+        "runup.csv",
+        "runup.csv.json",
+        "runup_summary.json",
+        "kv.png",
+        "order_map_up.png",
+        "order_map_down.png",
+        "campbell_up.png",
+        "campbell_down.png",
+        "manifest.json",
+    }
     assert a == b
     m = json.loads(a["manifest.json"])
     for name, entry in m["files"].items():
@@ -47,21 +59,21 @@ def test_runup_writes_its_files_the_same_bytes_twice(tmp_path, capsys):
         assert float(r["residual"]) < 1e-7
         assert float(r["K_v"]) > 1 and float(r["K_v_iso6336"]) > 1
         # K_v is max F_m over the static normal force T / r_b1 (40 N m / 70.477 mm)
-        assert float(r["F_m_max_N"]) / float(r["K_v"]) == pytest.approx(40 / (0.075 * math.cos(math.radians(20))),
-                                                                          rel=1e-6)
+        assert float(r["F_m_max_N"]) / float(r["K_v"]) == pytest.approx(
+            40 / (0.075 * math.cos(math.radians(20))), rel=1e-6
+        )
     for k in ("wall_s", "integration_wall_s"):
         assert k.encode() not in a["runup.csv"] and k.encode() not in a["runup_summary.json"]
     s = json.loads(a["runup_summary.json"])
     pt = s["points"][0]
-    assert pt["jump_bands_rpm"] == []   # no backlash: one response, whatever the direction
+    assert pt["jump_bands_rpm"] == []  # no backlash: one response, whatever the direction
     # ISO's resonance speed is the rigid-bearing torsional frequency of the tool's own mean
     # stiffness and m_e: n_E1 = 60 sqrt(k / m_e) / (2 pi z1)
     inp = pt["iso6336"]["inputs"]
     k = inp["c_gamma_N_per_mm_um"] * 20 * 1e6
     m_e = inp["m_red_kg_per_mm"] * 20
     assert pt["iso6336"]["n_E1_rpm"] == pytest.approx(60 * math.sqrt(k / m_e) / (2 * math.pi * 30), rel=1e-12)
-    assert m_e == pytest.approx(0.5 * 3.75 * 0.075 ** 2 / (2 * (0.075 * math.cos(math.radians(20))) ** 2),
-                                rel=1e-12)
+    assert m_e == pytest.approx(0.5 * 3.75 * 0.075**2 / (2 * (0.075 * math.cos(math.radians(20))) ** 2), rel=1e-12)
     assert (inp["f_pb_um"], inp["f_f_um"]) == (pytest.approx(10.0 * math.cos(math.radians(20)), abs=1e-3), 12.0)
     assert pt["mode_speeds_rpm"]["k1"][0] == pytest.approx(60 * pt["linear_eigenfrequencies_Hz"][0] / 30)
 
@@ -77,10 +89,41 @@ def test_jump_bands_by_hand():
 
 def test_iso_table_changes_the_iso_curve_only(tmp_path):
     for extra in ([], ["--set", "iso6336={accuracy_grade=8, C_a_um=3}"]):
-        assert main(["runup", "paper-default", "--set", "operating.speed_rpm=1900,2000", *FAST, "--direction", "up",
-                     "--workers", "1", "--json"]) == 0 if not extra else main(
-            ["runup", "paper-default", "--set", "operating.speed_rpm=1900,2000", *FAST, "--direction", "up",
-             "--workers", "1", "--out", str(tmp_path / "iso"), *extra]) == 0
+        assert (
+            main(
+                [
+                    "runup",
+                    "paper-default",
+                    "--set",
+                    "operating.speed_rpm=1900,2000",
+                    *FAST,
+                    "--direction",
+                    "up",
+                    "--workers",
+                    "1",
+                    "--json",
+                ]
+            )
+            == 0
+            if not extra
+            else main(
+                [
+                    "runup",
+                    "paper-default",
+                    "--set",
+                    "operating.speed_rpm=1900,2000",
+                    *FAST,
+                    "--direction",
+                    "up",
+                    "--workers",
+                    "1",
+                    "--out",
+                    str(tmp_path / "iso"),
+                    *extra,
+                ]
+            )
+            == 0
+        )
     rows = list(csv.DictReader((tmp_path / "iso" / "runup.csv").read_text().splitlines()))
     s = json.loads((tmp_path / "iso" / "runup_summary.json").read_text())["points"][0]["iso6336"]["inputs"]
     assert s["accuracy_grade"] == 8 and s["C_a_um"] == 3
@@ -92,15 +135,18 @@ BAD = [
     (["runup", "paper-default", "--set", "operating.torque_Nm=5,20"], "operating.speed_rpm"),
     (["runup", "paper-default", "--set", "operating.speed_rpm=1000,-3"], "operating.speed_rpm"),
     (["runup", "paper-default", "--set", "operating.speed_rpm=1000"], "--set"),
-    (["runup", "paper-default", "--set", "operating.speed_rpm=1000:2000:3", "--direction", "sideways"],
-     "--direction"),
+    (["runup", "paper-default", "--set", "operating.speed_rpm=1000:2000:3", "--direction", "sideways"], "--direction"),
     (["runup", "paper-default", "--set", "operating.speed_rpm=1000:2000:3", "--tolerance", "0"], "--tolerance"),
     (["runup", "paper-default", "--set", "operating.speed_rpm=1000:2000:3", "--max-periods", "x"], "--max-periods"),
     (["runup", "paper-default", "--set", "operating.speed_rpm=1000:2000:3", "--scheduler", "local:0"], "--scheduler"),
-    (["runup", "paper-default", "--set", "operating.speed_rpm=1000:2000:3", "--set", "iso6336.C_a_um=-1"],
-     "iso6336.C_a_um"),
-    (["runup", "paper-default", "--set", "operating.speed_rpm=1000:2000:3", "--set", "operating.torque_Nm=0"],
-     "operating.torque_Nm"),
+    (
+        ["runup", "paper-default", "--set", "operating.speed_rpm=1000:2000:3", "--set", "iso6336.C_a_um=-1"],
+        "iso6336.C_a_um",
+    ),
+    (
+        ["runup", "paper-default", "--set", "operating.speed_rpm=1000:2000:3", "--set", "operating.torque_Nm=0"],
+        "operating.torque_Nm",
+    ),
     (["sweep", "paper-default", "--set", "operating.torque_Nm=5,20", "--scheduler", "local:x"], "--scheduler"),
 ]
 
@@ -120,6 +166,7 @@ def test_bad_input_one_line_exit_2_nothing_written(argv, key, tmp_path, monkeypa
 
 # -- Dask for real ------------------------------------------------------------------------------
 
+
 def test_dask_local_cluster_gives_the_bytes_of_the_local_processes(tmp_path):
     """A LocalCluster on the loopback interface (two worker processes, as --scheduler
     local:2 starts it), reached by its address: a sweep and a run-up through it write the
@@ -131,16 +178,30 @@ def test_dask_local_cluster_gives_the_bytes_of_the_local_processes(tmp_path):
     import numpy as np
     from dask.distributed import Client, LocalCluster
 
-    from gearwear.stiffness import calibration as calibrate
     from gearwear.fem.pair import pair_contact
     from gearwear.geometry.spec import default_pair
     from gearwear.jobs.sweep import DaskExecutor, make_executor
+    from gearwear.stiffness import calibration as calibrate
 
-    sweep = ["sweep", "paper-default", "--set", "operating.torque_Nm=20,30,40", "--set", "solver.duration_s=0.04",
-             "--set", "solver.discard_s=0.02"]
+    sweep = [
+        "sweep",
+        "paper-default",
+        "--set",
+        "operating.torque_Nm=20,30,40",
+        "--set",
+        "solver.duration_s=0.04",
+        "--set",
+        "solver.discard_s=0.02",
+    ]
     runup = ["runup", "paper-default", "--set", "operating.speed_rpm=1900,2100", *FAST]
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
-                      dashboard_address=None, silence_logs=logging.ERROR) as cluster:
+    with LocalCluster(
+        n_workers=2,
+        threads_per_worker=1,
+        processes=True,
+        host="127.0.0.1",
+        dashboard_address=None,
+        silence_logs=logging.ERROR,
+    ) as cluster:
         addr = cluster.scheduler_address
         assert addr.startswith("tcp://127.0.0.1:")
         for name, argv in (("sweep", sweep), ("runup", runup)):

@@ -11,9 +11,9 @@ import pytest
 
 from gearwear.core.validation import InputError
 from gearwear.scene.checks import resolved_dict
+from gearwear.scene.model import builtin_scene_dict, builtin_scene_names, scene_from_dict
 from gearwear.scene.reference import json_schema, reference_markdown, to_toml
 from gearwear.scene.schema import validate_document
-from gearwear.scene.model import builtin_scene_dict, builtin_scene_names, scene_from_dict
 
 from scenes import with_paper
 
@@ -26,26 +26,44 @@ def cli(*args):
 
 # Each of these was accepted and then silently ignored (or reported active and switched off).
 IGNORED = [
-    ({"effects": {"mesh_stiffness": {"source": "analytic", "value_N_per_m": 3e8}}},
-     'effects.mesh_stiffness.value_N_per_m = 3e+08 N/m: only used with source = "constant"'),
-    ({"effects": {"mesh_stiffness": {"source": "constant", "interpolation": "cubic"}}},
-     "effects.mesh_stiffness.interpolation = 'cubic': not used"),
-    ({"effects": {"mesh_stiffness": {"source": "analytic", "path": "k.csv"}}},
-     "effects.mesh_stiffness.path = 'k.csv': only used with source = \"table\""),
-    ({"effects": {"wear": {"phase": "mild", "archard_k_m2_per_N": 1e-16}}},
-     "effects.wear.archard_k_m2_per_N = 1e-16 m^2/N: only used with hours"),
-    ({"effects": {"wear": {"hours": 100, "model": "archard", "wear_intensity": 1e-8}}},
-     "effects.wear.wear_intensity = 1e-08: only used with hours and model = 'paper_eq1'"),
-    ({"effects": {"mesh_stiffness": {"source": "constant", "value_N_per_m": 3e8}, "wear": {"phase": "severe"}}},
-     "effects.wear: ignored with a constant mesh_stiffness.value_N_per_m"),
-    ({"effects": {"centre_distance": {"coupling": "static"}}},
-     'effects.centre_distance: coupling = "static" moves the centre distance by the bearing clearance only'),
+    (
+        {"effects": {"mesh_stiffness": {"source": "analytic", "value_N_per_m": 3e8}}},
+        'effects.mesh_stiffness.value_N_per_m = 3e+08 N/m: only used with source = "constant"',
+    ),
+    (
+        {"effects": {"mesh_stiffness": {"source": "constant", "interpolation": "cubic"}}},
+        "effects.mesh_stiffness.interpolation = 'cubic': not used",
+    ),
+    (
+        {"effects": {"mesh_stiffness": {"source": "analytic", "path": "k.csv"}}},
+        "effects.mesh_stiffness.path = 'k.csv': only used with source = \"table\"",
+    ),
+    (
+        {"effects": {"wear": {"phase": "mild", "archard_k_m2_per_N": 1e-16}}},
+        "effects.wear.archard_k_m2_per_N = 1e-16 m^2/N: only used with hours",
+    ),
+    (
+        {"effects": {"wear": {"hours": 100, "model": "archard", "wear_intensity": 1e-8}}},
+        "effects.wear.wear_intensity = 1e-08: only used with hours and model = 'paper_eq1'",
+    ),
+    (
+        {"effects": {"mesh_stiffness": {"source": "constant", "value_N_per_m": 3e8}, "wear": {"phase": "severe"}}},
+        "effects.wear: ignored with a constant mesh_stiffness.value_N_per_m",
+    ),
+    (
+        {"effects": {"centre_distance": {"coupling": "static"}}},
+        'effects.centre_distance: coupling = "static" moves the centre distance by the bearing clearance only',
+    ),
     ({"solver": {"rtol": 1e-6}}, "solver.rtol = 1e-06: only used by dopri5 (the solver is rk4 by auto"),
     ({"solver": {"method": "rk4", "atol": 1e-9}}, "solver.atol = 1e-09: only used by dopri5"),
-    ({"effects": {"backlash": {}}, "solver": {"steps_per_mesh_period": 512}},
-     "solver.steps_per_mesh_period = 512: only used by rk4 (the solver is dopri5 by auto"),
-    ({"bodies": {"bearing_damping_ratio": 0.02, "bearing_damping_N_s_per_m": 100.0}},
-     "bodies.bearing_damping_N_s_per_m = [100.0, 100.0] N s/m: give either"),
+    (
+        {"effects": {"backlash": {}}, "solver": {"steps_per_mesh_period": 512}},
+        "solver.steps_per_mesh_period = 512: only used by rk4 (the solver is dopri5 by auto",
+    ),
+    (
+        {"bodies": {"bearing_damping_ratio": 0.02, "bearing_damping_N_s_per_m": 100.0}},
+        "bodies.bearing_damping_N_s_per_m = [100.0, 100.0] N s/m: give either",
+    ),
 ]
 
 
@@ -58,25 +76,28 @@ def test_options_that_would_be_ignored_are_errors(doc, message):
 
 
 def test_the_same_options_are_accepted_where_they_act():
-    for doc in ({"effects": {"mesh_stiffness": {"source": "constant", "value_N_per_m": 3e8}}},
-                {"effects": {"wear": {"phase": "mild"}, "transmission_error": {}}},
-                # the unworn baseline of a wear study: zero excitation, accepted (issue 24)
-                {"effects": {"transmission_error": {}}},
-                {"effects": {"wear": {"max_depth_um": 0}, "transmission_error": {}}},
-                {"effects": {"wear": {"hours": 100, "archard_k_m2_per_N": 1e-16}}},
-                {"effects": {"wear": {"hours": 100, "model": "paper_eq1", "wear_intensity": 1e-8}}},
-                {"effects": {"centre_distance": {"coupling": "dynamic"}}},
-                {"effects": {"bearing_clearance": {"clearance_um": 10}, "centre_distance": {}},
-                 "solver": {"rtol": 1e-6}},
-                {"solver": {"method": "rk4", "steps_per_mesh_period": 512}}):
+    for doc in (
+        {"effects": {"mesh_stiffness": {"source": "constant", "value_N_per_m": 3e8}}},
+        {"effects": {"wear": {"phase": "mild"}, "transmission_error": {}}},
+        # the unworn baseline of a wear study: zero excitation, accepted (issue 24)
+        {"effects": {"transmission_error": {}}},
+        {"effects": {"wear": {"max_depth_um": 0}, "transmission_error": {}}},
+        {"effects": {"wear": {"hours": 100, "archard_k_m2_per_N": 1e-16}}},
+        {"effects": {"wear": {"hours": 100, "model": "paper_eq1", "wear_intensity": 1e-8}}},
+        {"effects": {"centre_distance": {"coupling": "dynamic"}}},
+        {"effects": {"bearing_clearance": {"clearance_um": 10}, "centre_distance": {}}, "solver": {"rtol": 1e-6}},
+        {"solver": {"method": "rk4", "steps_per_mesh_period": 512}},
+    ):
         scene_from_dict(with_paper(doc))
 
 
 def test_typos_get_the_nearest_key_at_every_depth():
-    for doc, hint in (({"operatng": {}}, "did you mean operating?"),
-                      ({"bodies": {"mass_k": 3}}, "did you mean bodies.mass_kg?"),
-                      ({"effects": {"backlash": {"initial_mu": 3}}}, "did you mean effects.backlash.initial_um?"),
-                      ({"solver": {"duraton_s": 1}}, "did you mean solver.duration_s?")):
+    for doc, hint in (
+        ({"operatng": {}}, "did you mean operating?"),
+        ({"bodies": {"mass_k": 3}}, "did you mean bodies.mass_kg?"),
+        ({"effects": {"backlash": {"initial_mu": 3}}}, "did you mean effects.backlash.initial_um?"),
+        ({"solver": {"duraton_s": 1}}, "did you mean solver.duration_s?"),
+    ):
         with pytest.raises(InputError, match=hint.replace("?", r"\?").replace(".", r"\.")):
             validate_document(with_paper(doc))
 
@@ -103,8 +124,9 @@ def test_json_schema_describes_every_key_with_its_unit():
     assert pair["module_mm"]["unit"] == "mm" and pair["module_mm"]["minimum"] == 0.05
     assert pair["module_mm"]["maximum"] == 100
     # per-gear keys accept one value or a pair
-    assert {"anyOf"} <= set(s["$defs"]["BodiesDoc"]["properties"]["mass_kg"]) or \
-        "anyOf" in json.dumps(s["$defs"]["BodiesDoc"]["properties"]["mass_kg"])
+    assert {"anyOf"} <= set(s["$defs"]["BodiesDoc"]["properties"]["mass_kg"]) or "anyOf" in json.dumps(
+        s["$defs"]["BodiesDoc"]["properties"]["mass_kg"]
+    )
 
 
 def test_scene_reference_in_docs_is_generated_from_the_schema():
@@ -126,8 +148,16 @@ def test_cli_scene_schema_and_resolved_scene():
 
 def test_short_flags_are_aliases_of_set():
     a = cli("geometry", "paper-default", "--no-mesh", "--json", "--clearance-um", "25", "--torque-Nm", "60")
-    b = cli("geometry", "paper-default", "--no-mesh", "--json", "--set", "effects.bearing_clearance.clearance_um=25",
-            "--set", "operating.torque_Nm=60")
+    b = cli(
+        "geometry",
+        "paper-default",
+        "--no-mesh",
+        "--json",
+        "--set",
+        "effects.bearing_clearance.clearance_um=25",
+        "--set",
+        "operating.torque_Nm=60",
+    )
     assert a.returncode == 0 and b.returncode == 0, a.stderr + b.stderr
     ja, jb = json.loads(a.stdout), json.loads(b.stdout)
     ja.pop("wall_s"), jb.pop("wall_s")
@@ -147,13 +177,17 @@ def test_set_none_removes_an_effect_or_a_key():
     from gearwear.scene.model import apply_overrides
 
     base = builtin_scene_dict("paper-wear-severe")
-    sc = scene_from_dict(apply_overrides(base, ["effects.backlash=none", "effects.bearing_clearance=none",
-                                                "effects.centre_distance=none"]))
+    sc = scene_from_dict(
+        apply_overrides(
+            base, ["effects.backlash=none", "effects.bearing_clearance=none", "effects.centre_distance=none"]
+        )
+    )
     assert set(sc.effects) == {"mesh_stiffness", "wear"}
     sc = scene_from_dict(apply_overrides(base, ["bodies.inertia_kg_m2=none"]))
-    assert sc.bodies.inertia_from == "blank radius of gyration"   # the key took its default
-    assert scene_from_dict(apply_overrides(base, ["effects.no_such_effect=none"])).effects == \
-        scene_from_dict(base).effects                               # removing what is absent changes nothing
+    assert sc.bodies.inertia_from == "blank radius of gyration"  # the key took its default
+    assert (
+        scene_from_dict(apply_overrides(base, ["effects.no_such_effect=none"])).effects == scene_from_dict(base).effects
+    )  # removing what is absent changes nothing
     r = cli("scene", "paper-wear-severe", "--set", "effects.backlash=none", "--json")
     assert r.returncode == 0 and "backlash" not in json.loads(r.stdout)["effects"]
 
@@ -185,7 +219,7 @@ def test_the_reference_states_every_default_in_toml_words():
     assert "Undefined" not in text
     rows = [r for r in text.splitlines() if r.startswith("| `")]
     for row in rows:
-        assert row.count(" | ") == 5, row   # six cells: a '|' in a type broke the row ("str | None")
+        assert row.count(" | ") == 5, row  # six cells: a '|' in a type broke the row ("str | None")
         default = row.split(" | ")[4]
         assert default in ("absent", "required") or default.startswith("`"), row
     assert any(r.startswith("| `start_diameter_mm`") and " | required | " in r for r in rows)

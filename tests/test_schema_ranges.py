@@ -33,6 +33,7 @@ def _ranged_keys():
                 yield ".".join(path + [key]), prop
             else:
                 yield from walk(prop, path + [key])
+
     return sorted(dict(walk(schema, [])).items())
 
 
@@ -57,12 +58,14 @@ def _outside(bound, is_open, integer, direction):
 
 
 #: valid siblings for tables with required keys (only the key under test is changed)
-REQUIRED = {"faults.crack": {"depth_mm": 1.0},
-            "faults.spall": {"start_diameter_mm": 150.0, "length_mm": 0.5, "depth_um": 20.0},
-            "flank.tip_relief": {"amount_um": 10.0, "start_diameter_mm": 155.0},
-            "flank.root_relief": {"amount_um": 10.0, "start_diameter_mm": 148.0},
-            "blank.pinion": {"web_thickness_mm": 10.0, "rim_thickness_mm": 10.0, "hub_outer_radius_mm": 50.0},
-            "blank.gear": {"web_thickness_mm": 10.0, "rim_thickness_mm": 10.0, "hub_outer_radius_mm": 50.0}}
+REQUIRED = {
+    "faults.crack": {"depth_mm": 1.0},
+    "faults.spall": {"start_diameter_mm": 150.0, "length_mm": 0.5, "depth_um": 20.0},
+    "flank.tip_relief": {"amount_um": 10.0, "start_diameter_mm": 155.0},
+    "flank.root_relief": {"amount_um": 10.0, "start_diameter_mm": 148.0},
+    "blank.pinion": {"web_thickness_mm": 10.0, "rim_thickness_mm": 10.0, "hub_outer_radius_mm": 50.0},
+    "blank.gear": {"web_thickness_mm": 10.0, "rim_thickness_mm": 10.0, "hub_outer_radius_mm": 50.0},
+}
 
 
 def _doc_with(key, value):
@@ -72,7 +75,7 @@ def _doc_with(key, value):
     node = doc
     parts = key.split(".")
     for i, p in enumerate(parts[:-1]):
-        node = node.setdefault(p, dict(REQUIRED.get(".".join(parts[:i + 1]), {})))
+        node = node.setdefault(p, dict(REQUIRED.get(".".join(parts[: i + 1]), {})))
     node[parts[-1]] = value
     return doc
 

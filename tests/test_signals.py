@@ -45,19 +45,52 @@ pytestmark = pytest.mark.slow
 
 SHORT = ["--set", "solver.duration_s=0.06", "--set", "solver.discard_s=0.02"]
 SWEEP = ["sweep", "--set", "operating.speed_rpm=1000:1250:6", *SHORT]
-RUNUP = ["runup", "--set", "operating.speed_rpm=1000,1100,1200", "--max-periods", "60", "--keep-periods", "8",
-         "--workers", "2"]
+RUNUP = [
+    "runup",
+    "--set",
+    "operating.speed_rpm=1000,1100,1200",
+    "--max-periods",
+    "60",
+    "--keep-periods",
+    "8",
+    "--workers",
+    "2",
+]
 
 # command -> (the short run that writes the previous --out, the run that is interrupted, its moments)
 COMMANDS = {
-    "stiffness": (["stiffness", "--points", "16"], ["stiffness", "--method", "fem", "--points", "8"],
-                  ("start", "compute", "write")),
-    "sweep-local": (["sweep", "--set", "operating.speed_rpm=1000,1100", *SHORT, "--workers", "1"],
-                    [*SWEEP, "--workers", "2"], ("start", "compute", "write")),
-    "sweep-dask": (["sweep", "--set", "operating.speed_rpm=1000,1100", *SHORT, "--workers", "1"],
-                   [*SWEEP, "--scheduler", "local:1"], ("start", "dask", "compute")),
-    "runup": (["runup", "--set", "operating.speed_rpm=1000,1100", "--max-periods", "40", "--keep-periods", "8",
-               "--direction", "up", "--workers", "1"], RUNUP, ("start", "compute", "write")),
+    "stiffness": (
+        ["stiffness", "--points", "16"],
+        ["stiffness", "--method", "fem", "--points", "8"],
+        ("start", "compute", "write"),
+    ),
+    "sweep-local": (
+        ["sweep", "--set", "operating.speed_rpm=1000,1100", *SHORT, "--workers", "1"],
+        [*SWEEP, "--workers", "2"],
+        ("start", "compute", "write"),
+    ),
+    "sweep-dask": (
+        ["sweep", "--set", "operating.speed_rpm=1000,1100", *SHORT, "--workers", "1"],
+        [*SWEEP, "--scheduler", "local:1"],
+        ("start", "dask", "compute"),
+    ),
+    "runup": (
+        [
+            "runup",
+            "--set",
+            "operating.speed_rpm=1000,1100",
+            "--max-periods",
+            "40",
+            "--keep-periods",
+            "8",
+            "--direction",
+            "up",
+            "--workers",
+            "1",
+        ],
+        RUNUP,
+        ("start", "compute", "write"),
+    ),
 }
 BAR = {"stiffness": "pair FE positions", "sweep-local": "sweep:", "sweep-dask": "sweep:", "runup": "runup:"}
 CASES = [(c, m, s) for c, (_, _, moments) in COMMANDS.items() for m in moments for s in ("SIGINT", "SIGTERM")]
@@ -69,8 +102,11 @@ def _env(cache: Path) -> dict[str, str]:
 
 
 def _snapshot(folder: Path) -> dict[str, str]:
-    return {p.relative_to(folder).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest()
-            for p in sorted(folder.rglob("*")) if p.is_file()}
+    return {
+        p.relative_to(folder).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest()
+        for p in sorted(folder.rglob("*"))
+        if p.is_file()
+    }
 
 
 @pytest.fixture(scope="module")
@@ -82,11 +118,17 @@ def previous(tmp_path_factory):
     def get(command: str) -> Path:
         if command not in made:
             out = root / command
-            r = subprocess.run([sys.executable, "-m", "gearwear.cli", *COMMANDS[command][0], "--out", str(out)],
-                               capture_output=True, text=True, env=_env(root / "cache"), timeout=300)
+            r = subprocess.run(
+                [sys.executable, "-m", "gearwear.cli", *COMMANDS[command][0], "--out", str(out)],
+                capture_output=True,
+                text=True,
+                env=_env(root / "cache"),
+                timeout=300,
+            )
             assert r.returncode == 0, r.stderr[-2000:]
             made[command] = out
         return made[command]
+
     return get
 
 
@@ -108,7 +150,7 @@ def _handlers_installed(pid: int) -> bool:
     except OSError:
         return False
     caught = int(next(ln.split()[1] for ln in status.splitlines() if ln.startswith("SigCgt:")), 16)
-    return bool(caught & SIGTERM_BIT)   # Python itself catches SIGINT only; SIGTERM is gearwear's
+    return bool(caught & SIGTERM_BIT)  # Python itself catches SIGINT only; SIGTERM is gearwear's
 
 
 def _reached(moment: str, command: str, proc, err: "Terminal", out: Path) -> bool:
@@ -123,8 +165,11 @@ def _reached(moment: str, command: str, proc, err: "Terminal", out: Path) -> boo
         kids = psutil.Process(proc.pid).children(recursive=True)
     except psutil.Error:
         return False
-    return any("spawn_main" in " ".join(k.cmdline()) and "resource_tracker" not in " ".join(k.cmdline())
-               for k in kids if k.is_running())
+    return any(
+        "spawn_main" in " ".join(k.cmdline()) and "resource_tracker" not in " ".join(k.cmdline())
+        for k in kids
+        if k.is_running()
+    )
 
 
 class Terminal:
@@ -138,7 +183,7 @@ class Terminal:
         self.reader = threading.Thread(target=self._drain, daemon=True)
 
     def started(self) -> None:
-        os.close(self.slave)   # the child has it; reading ends (EIO) when every holder is gone
+        os.close(self.slave)  # the child has it; reading ends (EIO) when every holder is gone
         self.reader.start()
 
     def _drain(self) -> None:
@@ -166,10 +211,15 @@ def test_a_signal_ends_the_command_cleanly(command, moment, sig, tmp_path, previ
     out = tmp_path / "out"
     shutil.copytree(previous(command), out)
     before = _snapshot(out)
-    err = Terminal()   # stderr is a terminal, as for a user: the progress bars are drawn
-    proc = subprocess.Popen([sys.executable, "-m", "gearwear.cli", *COMMANDS[command][1], "--out", str(out)],
-                            stdout=subprocess.DEVNULL, stderr=err.slave, env=_env(tmp_path / "cache"),
-                            cwd=tmp_path, start_new_session=True)
+    err = Terminal()  # stderr is a terminal, as for a user: the progress bars are drawn
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "gearwear.cli", *COMMANDS[command][1], "--out", str(out)],
+        stdout=subprocess.DEVNULL,
+        stderr=err.slave,
+        env=_env(tmp_path / "cache"),
+        cwd=tmp_path,
+        start_new_session=True,
+    )
     err.started()
     try:
         deadline = time.monotonic() + 120
@@ -178,9 +228,9 @@ def test_a_signal_ends_the_command_cleanly(command, moment, sig, tmp_path, previ
             assert time.monotonic() < deadline, f"no {moment} moment within 120 s"
             time.sleep(0.005)
         if sig == "SIGINT":
-            os.killpg(proc.pid, signal.SIGINT)      # Ctrl-C: the terminal signals the whole group
+            os.killpg(proc.pid, signal.SIGINT)  # Ctrl-C: the terminal signals the whole group
         else:
-            os.kill(proc.pid, signal.SIGTERM)       # kill PID, a job manager
+            os.kill(proc.pid, signal.SIGTERM)  # kill PID, a job manager
         rc = proc.wait(timeout=60)
     finally:
         if proc.poll() is None:
@@ -197,7 +247,7 @@ def test_a_signal_ends_the_command_cleanly(command, moment, sig, tmp_path, previ
     assert not _group(proc.pid), f"processes left: {[psutil.Process(p).cmdline() for p in _group(proc.pid)]}"
     assert not list(tmp_path.glob(".out.*")), sorted(p.name for p in tmp_path.iterdir())
     err.reader.join(5)
-    if "after writing" in lines[0]:   # the signal came after the swap: the new folder, complete
+    if "after writing" in lines[0]:  # the signal came after the swap: the new folder, complete
         man = json.loads((out / "manifest.json").read_text())
         assert set(man["files"]) | {"manifest.json", "timing.json"} == set(_snapshot(out))
     else:
@@ -213,7 +263,10 @@ def test_worker_processes_ignore_ctrl_c_and_end_on_sigterm():
     with LocalPool(1) as pool:
         pid = pool.submit(os.getpid).result(timeout=60)
         status = Path(f"/proc/{pid}/status").read_text()
-    fields = {ln.split(":")[0]: int(ln.split()[1], 16) for ln in status.splitlines()
-              if ln.startswith(("SigIgn", "SigCgt", "SigBlk"))}
+    fields = {
+        ln.split(":")[0]: int(ln.split()[1], 16)
+        for ln in status.splitlines()
+        if ln.startswith(("SigIgn", "SigCgt", "SigBlk"))
+    }
     assert fields["SigIgn"] & (1 << (signal.SIGINT - 1))
     assert not (fields["SigCgt"] | fields["SigBlk"] | fields["SigIgn"]) & SIGTERM_BIT

@@ -8,8 +8,8 @@ import sys
 import numpy as np
 import pytest
 
-from gearwear.scene.model import apply_overrides, builtin_scene_dict, scene_from_dict
 from gearwear.jobs.simulate import run
+from gearwear.scene.model import apply_overrides, builtin_scene_dict, scene_from_dict
 
 SHORT = ["solver.duration_s=0.06", "solver.discard_s=0.03"]
 
@@ -32,8 +32,7 @@ def _same(a, b, name):
 
 
 def test_zero_clearance_and_unworn_reproduce_the_scene_without_them(plain):
-    with_clear = run(scene("solver.method=\"rk4\"",
-                           "effects.bearing_clearance={clearance_um = 0}"))
+    with_clear = run(scene("solver.method=\"rk4\"", "effects.bearing_clearance={clearance_um = 0}"))
     unworn = run(scene("solver.method=\"rk4\"", "effects.wear={phase = \"unworn\"}"))
     for other in (with_clear, unworn):
         for name in ("F_m", "y_p", "x_p", "delta"):
@@ -52,22 +51,39 @@ def test_backlash_never_reached_reproduces_the_linear_mesh(plain):
 def test_only_named_effects_are_modelled(plain):
     m = plain.model
     assert m.backlash_half_m is None and m.bearing_half_clearance_m is None and not m.te_excitation
-    full = run(scene("effects.backlash={initial_um = 50}", "effects.bearing_clearance={clearance_um = 10}",
-                     "effects.centre_distance={coupling = \"dynamic\"}", "effects.wear={phase = \"severe\"}",
-                     "effects.transmission_error={}"))
+    full = run(
+        scene(
+            "effects.backlash={initial_um = 50}",
+            "effects.bearing_clearance={clearance_um = 10}",
+            "effects.centre_distance={coupling = \"dynamic\"}",
+            "effects.wear={phase = \"severe\"}",
+            "effects.transmission_error={}",
+        )
+    )
     fm = full.model
     # dynamic coupling starts from the nominal geometry: b = b0 / 2 there
-    assert (fm.backlash_half_m == pytest.approx(25e-6) and fm.bearing_half_clearance_m == pytest.approx(5e-6)
-            and fm.te_excitation)
+    assert (
+        fm.backlash_half_m == pytest.approx(25e-6)
+        and fm.bearing_half_clearance_m == pytest.approx(5e-6)
+        and fm.te_excitation
+    )
     assert fm.centre_distance == "dynamic"
 
 
 def test_light_load_with_backlash_separates_and_stays_finite():
     """5 N m, 100 um backlash, near the mesh resonance with severe-wear excitation: the
     teeth separate and hit the back flank; the result is finite."""
-    r = run(scene("operating.torque_Nm=5", "operating.speed_rpm=2000", "effects.backlash={initial_um = 100}",
-                  "effects.wear={phase = \"severe\"}", "effects.transmission_error={}",
-                  "solver.duration_s=0.1", "solver.discard_s=0.05"))
+    r = run(
+        scene(
+            "operating.torque_Nm=5",
+            "operating.speed_rpm=2000",
+            "effects.backlash={initial_um = 100}",
+            "effects.wear={phase = \"severe\"}",
+            "effects.transmission_error={}",
+            "solver.duration_s=0.1",
+            "solver.discard_s=0.05",
+        )
+    )
     assert r.result.separation_fraction > 0.0
     for v in r.result.signals.values():
         assert np.all(np.isfinite(v))
@@ -78,12 +94,29 @@ def cli(*args):
 
 
 def test_simulate_cli_json_and_files(tmp_path):
-    r = cli("simulate", "--set", "solver.duration_s=0.05", "--set", "solver.discard_s=0.02", "--json",
-            "--out", str(tmp_path))
+    r = cli(
+        "simulate",
+        "--set",
+        "solver.duration_s=0.05",
+        "--set",
+        "solver.discard_s=0.02",
+        "--json",
+        "--out",
+        str(tmp_path),
+    )
     assert r.returncode == 0, r.stderr
     s = json.loads(r.stdout)
-    for key in ("fm_Hz", "harmonics", "mean", "ac_rms", "peak_to_peak", "separation_fraction", "backside_fraction",
-                "steps", "wall_s"):
+    for key in (
+        "fm_Hz",
+        "harmonics",
+        "mean",
+        "ac_rms",
+        "peak_to_peak",
+        "separation_fraction",
+        "backside_fraction",
+        "steps",
+        "wall_s",
+    ):
         assert key in s
     assert s["fm_Hz"] == pytest.approx(600.0)
     for sig in ("F_m_N", "delta_um", "y_p_um"):
@@ -92,13 +125,16 @@ def test_simulate_cli_json_and_files(tmp_path):
     assert {"signals.npz", "signals.csv", "signals.csv.json", "response.png", "summary.json"} <= names
 
 
-@pytest.mark.parametrize("setting,message", [
-    ("operating.speed_rpm=-5", "operating.speed_rpm = -5 rpm"),
-    ("effects.backlash.initial_um=-1", "effects.backlash.initial_um = -1 um"),
-    ("effects.bearing_clearence.clearance_um=5", "did you mean effects.bearing_clearance"),
-    ("solver.method=\"euler\"", "solver.method = 'euler'"),
-    ("operating.speed", "--set 'operating.speed'"),
-])
+@pytest.mark.parametrize(
+    "setting,message",
+    [
+        ("operating.speed_rpm=-5", "operating.speed_rpm = -5 rpm"),
+        ("effects.backlash.initial_um=-1", "effects.backlash.initial_um = -1 um"),
+        ("effects.bearing_clearence.clearance_um=5", "did you mean effects.bearing_clearance"),
+        ("solver.method=\"euler\"", "solver.method = 'euler'"),
+        ("operating.speed", "--set 'operating.speed'"),
+    ],
+)
 def test_simulate_bad_overrides(tmp_path, setting, message):
     r = cli("simulate", "--set", setting, "--out", str(tmp_path / "o"))
     assert r.returncode == 2
@@ -107,9 +143,21 @@ def test_simulate_bad_overrides(tmp_path, setting, message):
 
 
 def test_sweep_grid_and_outputs(tmp_path):
-    r = cli("sweep", "paper-wear-severe", "--set", "effects.bearing_clearance.clearance_um=0:40:2",
-            "--set", "solver.duration_s=0.05", "--set", "solver.discard_s=0.02", "--workers", "2",
-            "--out", str(tmp_path), "--json")
+    r = cli(
+        "sweep",
+        "paper-wear-severe",
+        "--set",
+        "effects.bearing_clearance.clearance_um=0:40:2",
+        "--set",
+        "solver.duration_s=0.05",
+        "--set",
+        "solver.discard_s=0.02",
+        "--workers",
+        "2",
+        "--out",
+        str(tmp_path),
+        "--json",
+    )
     assert r.returncode == 0, r.stderr
     pts = json.loads(r.stdout)["points"]
     assert [p["point"]["effects.bearing_clearance.clearance_um"] for p in pts] == [0.0, 40.0]

@@ -13,16 +13,16 @@ from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.spec import default_pair
 
 Z, M, ALPHA, C = 30, 5e-3, math.radians(20.0), 0.150
-R_B = 0.5 * M * Z * math.cos(ALPHA)     # base radius, both gears
-R_A = 0.5 * M * Z + M                   # tip radius
-PERIOD = 2 * math.pi / Z                # pinion rotation per mesh period
+R_B = 0.5 * M * Z * math.cos(ALPHA)  # base radius, both gears
+R_A = 0.5 * M * Z + M  # tip radius
+PERIOD = 2 * math.pi / Z  # pinion rotation per mesh period
 
 
 def hand_path(centre_distance_m):
     """(d_A, d_E, epsilon) from the tip circles crossing the line of action."""
     alpha_w = math.acos(2 * R_B / centre_distance_m)
     t1t2 = centre_distance_m * math.sin(alpha_w)
-    g_a = math.sqrt(R_A ** 2 - R_B ** 2)      # tip circle to the base tangency point
+    g_a = math.sqrt(R_A**2 - R_B**2)  # tip circle to the base tangency point
     d_A, d_E = t1t2 - g_a, g_a
     return d_A, d_E, (d_E - d_A) / (math.pi * M * math.cos(ALPHA))
 

@@ -13,7 +13,6 @@ deflection = u_y of the centre line (L, h/2) averaged over the width:
   E / (1 - nu^2)).
 """
 
-
 import numpy as np
 import pytest
 import skfem
@@ -25,7 +24,7 @@ from gearwear.geometry.spec import Material, default_pair
 
 E, NU = 206e9, 0.3
 MAT = Material(E, NU, 7850.0)
-H = 0.01                   # m, the beam's height (y)
+H = 0.01  # m, the beam's height (y)
 NY = 4
 
 
@@ -43,7 +42,7 @@ def cantilever(length_m: float, nx: int, planes: np.ndarray) -> dict:
     free = np.setdiff1d(np.arange(K.shape[0]), fixed)
     fb = FacetBasis(mesh, ElementTetP2(), facets=mesh.facets_satisfying(lambda x: np.isclose(x[0], length_m)))
     F = np.zeros(K.shape[0])
-    F[1::3] = asm(LinearForm(lambda v, w: v / H), fb)   # 1 N/m along z, spread over the end face
+    F[1::3] = asm(LinearForm(lambda v, w: v / H), fb)  # 1 N/m along z, spread over the end face
     U = np.zeros_like(F)
     U[free] = solve_spd(K[free][:, free].tocsr(), F[free, None], rigid_body_modes(sb.doflocs)[free])[:, 0]
     zs, ws = z_rule(planes)
@@ -57,8 +56,11 @@ def cantilever(length_m: float, nx: int, planes: np.ndarray) -> dict:
     sec = skfem.MeshTri(mesh.p[:2, used], new[bottom])
     for plane in ("stress", "strain"):
         model = assemble(sec, MAT, 1.0, sec.facets_satisfying(lambda x: np.isclose(x[0], 0.0)), plane=plane, order=2)
-        F2 = traction_load(model, sec.facets_satisfying(lambda x: np.isclose(x[0], length_m)),
-                           lambda x, y: np.stack([0.0 * x, 0.0 * x + 1.0 / H]))
+        F2 = traction_load(
+            model,
+            sec.facets_satisfying(lambda x: np.isclose(x[0], length_m)),
+            lambda x, y: np.stack([0.0 * x, 0.0 * x + 1.0 / H]),
+        )
         out[plane] = float((model.probe(np.array([[length_m, H / 2]])) @ model.solve(F2))[1])
     return out
 
@@ -70,8 +72,8 @@ def slender():
 
 
 def test_thin_cantilever_is_timoshenko_and_plane_stress(slender):
-    L, I, A, G = 10 * H, H ** 3 / 12, H, E / (2 * (1 + NU))   # per unit width
-    timoshenko = L ** 3 / (3 * E * I) + L / (5 / 6 * G * A)
+    L, I, A, G = 10 * H, H**3 / 12, H, E / (2 * (1 + NU))  # per unit width
+    timoshenko = L**3 / (3 * E * I) + L / (5 / 6 * G * A)
     assert abs(slender["avg"] / timoshenko - 1) < 0.02
     assert abs(slender["stress"] / timoshenko - 1) < 0.02
     # the thin limit: 3D = generalised plane stress. The P2 tetrahedra keep a gap to the P2
@@ -90,7 +92,7 @@ def test_thin_cantilever_is_timoshenko_and_plane_stress(slender):
 
 def test_plane_strain_bending_scales_by_one_minus_nu_squared(slender):
     # bending dominates at L/h = 10: E' = E / (1 - nu^2) (shear ~1 %, the clamp's Poisson restraint)
-    assert abs(slender["strain"] / slender["stress"] / (1 - NU ** 2) - 1) < 0.01
+    assert abs(slender["strain"] / slender["stress"] / (1 - NU**2) - 1) < 0.01
 
 
 def test_wide_plate_mid_plane_is_plane_strain():
@@ -108,19 +110,18 @@ def test_face_planes_refine_by_the_scale():
     b = face_planes(0.05, 0.4e-3, 3.75e-3, 0.15)
     assert a[0] == 0 and a[-1] == 0.05 and np.all(np.diff(a) > 0)
     assert abs((len(b) - 1) / (len(a) - 1) - 2) < 0.1
-    assert np.diff(a)[-1] < np.diff(a)[0]   # finest at the free end face
+    assert np.diff(a)[-1] < np.diff(a)[0]  # finest at the free end face
     assert len(face_planes(1e-4, 0.8e-3, 7.5e-3)) == 2
 
 
 def test_coarse_tooth_lies_between_the_2d_idealisations():
     pair = default_pair()
     r = plane_check(pair, face_width_m=4 * pair.module_m, mesh_scale=2.5)
-    s, e, a, m = (r.stress_um_per_N_per_mm, r.strain_um_per_N_per_mm, r.average_um_per_N_per_mm,
-                  r.mid_um_per_N_per_mm)
+    s, e, a, m = (r.stress_um_per_N_per_mm, r.strain_um_per_N_per_mm, r.average_um_per_N_per_mm, r.mid_um_per_N_per_mm)
     assert np.all(e < a) and np.all(a < s) and np.all(e < m) and np.all(m < s)
-    assert np.all(np.diff(s) > 0) and np.all(np.diff(a) > 0)   # softer toward the tip
+    assert np.all(np.diff(s) > 0) and np.all(np.diff(a) > 0)  # softer toward the tip
     # the 2D states differ by a factor between 1 - nu^2 (pure bending) and 1 (pure shear)
-    assert np.all((e / s > 1 - NU ** 2 - 1e-9) & (e / s < 1))
+    assert np.all((e / s > 1 - NU**2 - 1e-9) & (e / s < 1))
     # a thin face is plane stress
     thin = plane_check(pair, face_width_m=0.05 * pair.module_m, mesh_scale=2.5, radii_m=r.radius_m[1:2])
     assert abs(thin.average_um_per_N_per_mm[0] / thin.stress_um_per_N_per_mm[0] - 1) < 0.003

@@ -7,10 +7,10 @@ import sys
 
 import pytest
 
+from gearwear.core.validation import InputError
 from gearwear.dynamics import linear_eigenfrequencies, paper_pair, simulate
 from gearwear.dynamics.model import max_linear_rate
 from gearwear.dynamics.simulate import SolverError, rk4_stability_number
-from gearwear.core.validation import InputError
 
 
 def test_linear_rate_is_the_highest_eigenfrequency_when_undamped():
@@ -52,11 +52,14 @@ def test_divergence_is_diagnosed_not_nan():
         simulate(m, 0.5, 0.4, method="dopri5")
 
 
-@pytest.mark.parametrize("sets, needle", [
-    (["operating.speed_rpm=1e6"], "GiB"),
-    (["solver.duration_s=100"], "GiB"),
-    (["bodies.bearing_stiffness_N_per_m=1e13", "solver.method=\"rk4\""], "unstable"),
-])
+@pytest.mark.parametrize(
+    "sets, needle",
+    [
+        (["operating.speed_rpm=1e6"], "GiB"),
+        (["solver.duration_s=100"], "GiB"),
+        (["bodies.bearing_stiffness_N_per_m=1e13", "solver.method=\"rk4\""], "unstable"),
+    ],
+)
 def test_cli_guards_exit_2_in_one_line(tmp_path, sets, needle):
     args = [sys.executable, "-m", "gearwear.cli", "simulate", "paper-default", "--out", str(tmp_path / "o")]
     for s in sets:
@@ -67,8 +70,7 @@ def test_cli_guards_exit_2_in_one_line(tmp_path, sets, needle):
     assert not (tmp_path / "o").exists()
 
 
-@pytest.mark.parametrize("name", ["root_crack", "spall", "tip_relief", "shifted_pair", "your_pair",
-                                  "runup_backlash"])
+@pytest.mark.parametrize("name", ["root_crack", "spall", "tip_relief", "shifted_pair", "your_pair", "runup_backlash"])
 @pytest.mark.parametrize("source", ["calibrated", "fem"])
 def test_the_check_before_an_fe_stiffness_accepts_every_valid_example(name, source):
     """The solver check made before an FE stiffness (simulate_job.check_before_stiffness)
@@ -78,8 +80,8 @@ def test_the_check_before_an_fe_stiffness_accepts_every_valid_example(name, sour
     for a table it had built itself), and the shifted pair whose driver has more teeth."""
     from pathlib import Path
 
-    from gearwear.scene.model import Scene
     from gearwear.jobs.simulate import check_before_stiffness
+    from gearwear.scene.model import Scene
 
     path = Path(__file__).resolve().parents[1] / "examples" / f"{name}.toml"
     check_before_stiffness(Scene.load(str(path), {"effects.mesh_stiffness.source": source}))

@@ -31,6 +31,7 @@ TORQUE_NM = 120.0
 
 # -- one list, read by every front ------------------------------------------------------------------
 
+
 def test_methods_and_scene_sources_are_the_registry():
     assert METHODS == tuple(n for n, s in SOURCES.items() if s.command)
     assert SCENE_SOURCES == tuple(n for n, s in SOURCES.items() if s.scene)
@@ -45,8 +46,11 @@ def test_the_schema_takes_exactly_the_scene_sources():
 
 
 def test_the_command_line_offers_every_method_and_refuses_others(capsys):
-    stiffness = next(a for a in build_parser()._subparsers._group_actions[0].choices["stiffness"]._actions
-                     if "--method" in a.option_strings)
+    stiffness = next(
+        a
+        for a in build_parser()._subparsers._group_actions[0].choices["stiffness"]._actions
+        if "--method" in a.option_strings
+    )
     for m in METHODS:
         assert f"{m}: {SOURCES[m].title}" in stiffness.help
     assert main(["stiffness", "--method", "nosuch", "--points", "16"]) == 2
@@ -72,6 +76,7 @@ def test_a_method_that_cannot_show_a_flank_is_refused_by_its_flags():
 
 
 # -- one curve type, one contract ---------------------------------------------------------------------
+
 
 def _contract(r: MeshStiffness, pair) -> None:
     """What every source's curve satisfies, whatever the model: angles increasing within its span,
@@ -137,12 +142,11 @@ def test_iso6336_is_c_gamma_alpha_times_the_face_width():
 def test_a_user_table_comes_back_as_given_and_claims_no_loads():
     phi = np.linspace(0, 2 * math.pi / UNEQUAL.teeth[0], 40, endpoint=False)
     k = 4e8 + 1e8 * np.cos(UNEQUAL.teeth[0] * phi)
-    r = curve("table", Request(UNEQUAL, TORQUE_NM, options={"angle_rad": phi, "k_N_per_m": k,
-                                                            "excitation_m": None}))
+    r = curve("table", Request(UNEQUAL, TORQUE_NM, options={"angle_rad": phi, "k_N_per_m": k, "excitation_m": None}))
     _contract(r, UNEQUAL)
     np.testing.assert_array_equal(r.k_N_per_m, k)
     assert np.all(r.excitation_m == 0) and r.pair_load_N.shape == (40, 0)
-    assert np.all(np.isnan(r.ste_m))   # a table has no loaded STE: said, not made up
+    assert np.all(np.isnan(r.ste_m))  # a table has no loaded STE: said, not made up
 
 
 @pytest.mark.slow

@@ -12,8 +12,7 @@ import numpy as np
 import pytest
 
 from gearwear.dynamics import linear_eigenfrequencies, paper_pair
-from gearwear.dynamics.steady import (classify_sequence, section_residuals, steady_state,
-                                      zero_one_test)
+from gearwear.dynamics.steady import classify_sequence, section_residuals, steady_state, zero_one_test
 
 
 def logistic(r: float, n: int, x0: float = 0.3, burn: int = 500) -> np.ndarray:
@@ -27,6 +26,7 @@ def logistic(r: float, n: int, x0: float = 0.3, burn: int = 500) -> np.ndarray:
 
 
 # -- the 0-1 test for chaos on sequences of known nature ----------------------------------
+
 
 def test_zero_one_test_logistic_map_chaotic_and_periodic():
     # r = 4: fully chaotic (Lyapunov exponent ln 2); r = 3.2: a stable 2-cycle
@@ -49,7 +49,7 @@ def _embed(x: np.ndarray) -> np.ndarray:
     """A 10-component 'state' sequence built from a scalar one (delay coordinates)."""
     X = np.zeros((x.size - 10, 10))
     for i in range(10):
-        X[:, i] = x[i:x.size - 10 + i]
+        X[:, i] = x[i : x.size - 10 + i]
     return X
 
 
@@ -75,6 +75,7 @@ def test_section_residuals_by_hand():
 
 # -- natural continuation -------------------------------------------------------------------
 
+
 def test_continuation_from_a_converged_state_is_periodic_from_the_first_period():
     """The kept window ends on a whole mesh period, so its end state belongs to stiffness
     phase 0, which is where the next run starts: restarting from it at the same speed
@@ -95,6 +96,7 @@ def test_continuation_from_a_converged_state_is_periodic_from_the_first_period()
 
 # -- linear system: a unique periodic response, peaks at the modes ---------------------------
 
+
 def _sweep(model, speeds, **kw):
     z = None
     out = []
@@ -108,8 +110,8 @@ def _sweep(model, speeds, **kw):
 
 def test_linear_system_up_and_down_coincide_and_peak_at_the_modes():
     m = paper_pair(40.0, 2000.0)
-    f_mode = linear_eigenfrequencies(m)[0]            # 1037 Hz, the first coupled torsion-bearing mode
-    n_res = 60 * f_mode / m.z_p                       # first mesh harmonic on it: 2074 rpm
+    f_mode = linear_eigenfrequencies(m)[0]  # 1037 Hz, the first coupled torsion-bearing mode
+    n_res = 60 * f_mode / m.z_p  # first mesh harmonic on it: 2074 rpm
     step = 25.0
     speeds = np.arange(1900.0, 2250.0 + 1, step)
     up = _sweep(m, speeds, tol=1e-9)
@@ -150,7 +152,7 @@ def test_linear_forced_response_equals_the_frequency_response_and_peaks_at_the_m
     modes = linear_eigenfrequencies(m)
     for f_mode, step in ((modes[0], 25.0), (modes[-1], 100.0)):
         n_res = 60 * f_mode / m.z_p
-        speeds = n_res + step * np.arange(-4, 5) + step / 3   # not centred on the answer
+        speeds = n_res + step * np.arange(-4, 5) + step / 3  # not centred on the answer
         runs = _sweep(m, speeds, tol=1e-9)
         h1 = np.array([s.result.harmonics("delta", 1)[0] for s in runs])
         # the solver sees the linear interpolant of e's 256-row table, whose first harmonic
@@ -162,6 +164,7 @@ def test_linear_forced_response_equals_the_frequency_response_and_peaks_at_the_m
 
 
 # -- backlash: the jump ----------------------------------------------------------------------
+
 
 def _band(model, speeds, rel=0.01):
     up = _sweep(model, speeds, tol=1e-6)
@@ -183,7 +186,7 @@ def test_backlash_jump_band_is_located_and_stays_put_when_the_grid_is_halved():
     b1, up, down = _band(m, coarse)
     b2, _, _ = _band(m, fine)
     assert b1.size >= 3 and b2.size >= 5
-    assert coarse[0] < b1.min() and b1.max() < coarse[-1]    # it agrees outside the band
+    assert coarse[0] < b1.min() and b1.max() < coarse[-1]  # it agrees outside the band
     # the fold is approached more closely with smaller steps (a large step can leave the upper
     # branch's shrinking basin early), so an edge may move by up to one coarse step
     assert abs(b2.min() - b1.min()) <= 50.0 and abs(b2.max() - b1.max()) <= 50.0

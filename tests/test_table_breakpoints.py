@@ -28,18 +28,38 @@ from gearwear.geometry.curves import curve_mean, fourier_coefficients, harmonic_
 from gearwear.geometry.flank import FlankSpec, Relief, hpstc_diameters_m
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.wear import WearSpec
-from gearwear.scene.model import scene_from_dict
 from gearwear.jobs.simulate import stiffness_input
+from gearwear.scene.model import scene_from_dict
+
 from scenes import paper_pair_from, with_paper
 
-UNEQUAL = {"pair": {"teeth": [23, 47], "module_mm": 3.0, "profile_shift": [0.2, -0.1], "face_width_mm": 30.0,
-                    "hub_radius_mm": [12.5, 25.0]}, "operating": {"speed_rpm": 1500, "torque_Nm": 120}}
+UNEQUAL = {
+    "pair": {
+        "teeth": [23, 47],
+        "module_mm": 3.0,
+        "profile_shift": [0.2, -0.1],
+        "face_width_mm": 30.0,
+        "hub_radius_mm": [12.5, 25.0],
+    },
+    "operating": {"speed_rpm": 1500, "torque_Nm": 120},
+}
 # the driver is the larger gear: the same pair the other way round, the same tooth forces
-BIG_DRIVER = {"pair": {"teeth": [47, 23], "module_mm": 3.0, "profile_shift": [-0.1, 0.2], "face_width_mm": 30.0,
-                       "hub_radius_mm": [25.0, 12.5]}, "operating": {"speed_rpm": 1500, "torque_Nm": 240}}
+BIG_DRIVER = {
+    "pair": {
+        "teeth": [47, 23],
+        "module_mm": 3.0,
+        "profile_shift": [-0.1, 0.2],
+        "face_width_mm": 30.0,
+        "hub_radius_mm": [25.0, 12.5],
+    },
+    "operating": {"speed_rpm": 1500, "torque_Nm": 240},
+}
 PAPER = paper_pair_from({})
-PAIRS = {"paper": (PAPER, 40.0), "23/47": (paper_pair_from(UNEQUAL), 120.0),
-         "47/23": (paper_pair_from(BIG_DRIVER), 240.0)}
+PAIRS = {
+    "paper": (PAPER, 40.0),
+    "23/47": (paper_pair_from(UNEQUAL), 120.0),
+    "47/23": (paper_pair_from(BIG_DRIVER), 240.0),
+}
 
 
 def kinematic_angles(pair, centre_distance_m: float) -> tuple[float, float]:
@@ -51,8 +71,8 @@ def kinematic_angles(pair, centre_distance_m: float) -> tuple[float, float]:
     g1, g2 = pair.gear(0), pair.gear(1)
     rb1, rb2 = g1.base_radius_m, g2.base_radius_m
     t1t2 = centre_distance_m * math.sin(math.acos((rb1 + rb2) / centre_distance_m))
-    d_A = t1t2 - math.sqrt(g2.tip_radius_m ** 2 - rb2 ** 2)
-    d_E = math.sqrt(g1.tip_radius_m ** 2 - rb1 ** 2)
+    d_A = t1t2 - math.sqrt(g2.tip_radius_m**2 - rb2**2)
+    d_E = math.sqrt(g1.tip_radius_m**2 - rb1**2)
     pb = 2 * math.pi * rb1 / pair.teeth[0]
     return 0.0, math.fmod(d_E - d_A, pb) / rb1
 
@@ -67,8 +87,10 @@ CASES = {
     "paper, severe wear": (PAPER, dict(torque_Nm=40.0, wear=WearSpec(phase="severe"))),
     "paper, mild wear, energy method": (PAPER, dict(torque_Nm=40.0, wear=WearSpec(phase="mild"), method="energy")),
     "paper, tip relief": (PAPER, dict(torque_Nm=40.0, flank=_relief())),
-    "23/47 shifted, mild wear, 20 um": (PAIRS["23/47"][0], dict(torque_Nm=120.0, wear=WearSpec(phase="mild"),
-                                                                clearance_m=20e-6)),
+    "23/47 shifted, mild wear, 20 um": (
+        PAIRS["23/47"][0],
+        dict(torque_Nm=120.0, wear=WearSpec(phase="mild"), clearance_m=20e-6),
+    ),
     "47/23, the driver has more teeth": (PAIRS["47/23"][0], dict(torque_Nm=240.0, clearance_m=10e-6)),
 }
 
@@ -86,14 +108,14 @@ def test_breakpoints_are_where_a_pair_starts_or_stops_carrying_load(name):
     assert len(loads) >= 2 and len(loads) % 2 == 0
     delta = 1e-9 * P
     for b in loads:
-        assert delta < b < P - delta                      # one mesh period: the slots keep their pairs
+        assert delta < b < P - delta  # one mesh period: the slots keep their pairs
         q = mesh_stiffness(pair, angles_rad=[b - delta, b, b + delta], **kw)
         F = q.pair_load_N
         changed = np.flatnonzero((F[0] > 0) != (F[2] > 0))
         assert changed.size == 1, F
         j = changed[0]
         assert min(F[0, j], F[2, j]) == 0.0 and max(F[0, j], F[2, j]) > 0.0
-        assert F[1, j] == 0.0                             # the node holds the side without the pair
+        assert F[1, j] == 0.0  # the node holds the side without the pair
         # the table's node there is that value
         node = np.argmin(np.abs(r.angle_rad - b))
         assert r.pair_load_N[node, j] == 0.0 and r.k_N_per_m[node] == pytest.approx(q.k_N_per_m[1], rel=1e-12)
@@ -113,8 +135,9 @@ def test_without_gaps_the_breakpoints_are_the_path_ends(name):
     assert r.breakpoints_rad == pytest.approx([th_A, th_E], abs=1e-12 * P)
     eps = r.mesh.contact_ratio
     n0 = math.floor(eps)
-    q = mesh_stiffness(pair, torque_Nm=torque, corner_contact=False,
-                       angles_rad=[th_E - 1e-9 * P, th_E + 1e-9 * P, P - 1e-9 * P])
+    q = mesh_stiffness(
+        pair, torque_Nm=torque, corner_contact=False, angles_rad=[th_E - 1e-9 * P, th_E + 1e-9 * P, P - 1e-9 * P]
+    )
     assert list(q.pairs_in_contact) == [n0 + 1, n0, n0]
     at = np.argmin(np.abs(r.angle_rad - th_E))
     assert r.pairs_in_contact[at] == n0 + 1 and r.pairs_in_contact[at + 1] == n0
@@ -122,7 +145,7 @@ def test_without_gaps_the_breakpoints_are_the_path_ends(name):
     assert r.pairs_in_contact[0] == n0 + 1 and r.pairs_in_contact[-1] == n0 and r.angle_rad[-1] > P * (1 - 1e-6)
 
 
-def _dense(pair, kw, n=2 ** 15):
+def _dense(pair, kw, n=2**15):
     """The function itself at n uniform angles: its mean and harmonics (plain average and
     FFT of the samples; no table)."""
     P = 2 * math.pi / pair.teeth[0]
@@ -138,8 +161,10 @@ def test_mean_and_harmonics_converge_and_the_breakpoints_win(name):
 
     def errors(points, breakpoints):
         r = mesh_stiffness(pair, points=points, breakpoints=breakpoints, **kw)
-        return (abs(r.mean_N_per_m / mean_ref - 1),
-                float(np.max(np.abs(r.harmonics_N_per_m(10) - h_ref)) / h_ref.max()))
+        return (
+            abs(r.mean_N_per_m / mean_ref - 1),
+            float(np.max(np.abs(r.harmonics_N_per_m(10) - h_ref)) / h_ref.max()),
+        )
 
     m90, h90 = errors(90, True)
     m360, h360 = errors(360, True)
@@ -154,8 +179,9 @@ def _clearance_sweep(doc, breakpoints=True):
     dynamics get) over 20-40 um bearing clearance in 0.5 um steps."""
     out = []
     for c in np.arange(20.0, 40.01, 0.5):
-        sc = scene_from_dict(with_paper({**doc, "effects": {"bearing_clearance": {"clearance_um": float(c)}}},
-                                        base="paper-clearance"))
+        sc = scene_from_dict(
+            with_paper({**doc, "effects": {"bearing_clearance": {"clearance_um": float(c)}}}, base="paper-clearance")
+        )
         st = stiffness_input(sc, breakpoints=breakpoints)
         out.append(fourier_coefficients(st.phi, st.k, 2 * math.pi / sc.pair.teeth[0], 10))
     return np.array(out)
@@ -183,6 +209,7 @@ def test_harmonics_vary_continuously_with_clearance(doc):
 
 # -- integrals of a periodic piecewise-linear curve on non-uniform nodes ---------------------
 
+
 def _triangle(L=0.3, n=37, seed=3):
     """v = |x - L / 2| on random non-uniform nodes in [0, L) that include 0 and L / 2 (its
     kinks): the interpolant is v itself."""
@@ -198,7 +225,7 @@ def test_mean_and_fourier_coefficients_of_a_triangle_wave():
     expect = np.where(q % 2 == 1, 2 * L / (math.pi * q) ** 2, 0.0)
     assert harmonic_amplitudes(x, v, L, 10) == pytest.approx(expect, abs=1e-14 * L)
     c = fourier_coefficients(x, v, L, 3)
-    assert c[0].real == pytest.approx(L / math.pi ** 2, rel=1e-12) and abs(c[0].imag) < 1e-14 * L
+    assert c[0].real == pytest.approx(L / math.pi**2, rel=1e-12) and abs(c[0].imag) < 1e-14 * L
     # a plain average of the node values misweights the clustered region
     assert abs(np.mean(v) - L / 4) > 1e-3 * L
 
@@ -206,7 +233,7 @@ def test_mean_and_fourier_coefficients_of_a_triangle_wave():
 def test_interval_integrals_of_a_triangle_wave():
     x, v, L = _triangle()
 
-    def F(t):                       # integral of |s - L/2| from 0 to t in [0, L]
+    def F(t):  # integral of |s - L/2| from 0 to t in [0, L]
         return np.where(t <= L / 2, L / 2 * t - t * t / 2, L * L / 4 - (L / 2 * (L - t) - (L - t) ** 2 / 2))
 
     for a, b in ((0.0, 0.5 * L), (0.1 * L, 0.73 * L), (0.6 * L, L), (0.9 * L, 1.2 * L)):
@@ -221,7 +248,7 @@ def test_the_dynamics_mean_of_a_breakpoint_table_is_the_curves():
 
     r = mesh_stiffness(PAPER, clearance_m=30.5e-6)
     P = r.mesh.mesh_angle_rad
-    assert np.ptp(np.diff(r.angle_rad)) > 0.5 * P / 360                # not uniform
+    assert np.ptp(np.diff(r.angle_rad)) > 0.5 * P / 360  # not uniform
     assert np.all(np.diff(r.angle_rad) > 1e-12 * P) and r.angle_rad[-1] < P
     assert table_mean(r.angle_rad, r.k_N_per_m, P) == pytest.approx(r.mean_N_per_m, rel=1e-13)
 

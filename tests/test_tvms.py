@@ -9,10 +9,10 @@ import pytest
 from gearwear.analytic.ishikawa import hertz_approach_m, slice_beam_compliance, tooth_compliance
 from gearwear.analytic.iso6336 import iso6336_stiffness
 from gearwear.analytic.tvms import corner_gap_m, mesh_stiffness
+from gearwear.core.validation import InputError
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.profile import tooth_profile
 from gearwear.geometry.spec import default_pair
-from gearwear.core.validation import InputError
 from gearwear.geometry.wear import WearSpec
 
 
@@ -23,8 +23,10 @@ def pair():
 
 @pytest.fixture(scope="module")
 def curves(pair):
-    return {w: mesh_stiffness(pair, points=360, wear=None if w == "unworn" else WearSpec(phase=w))
-            for w in ("unworn", "mild", "severe")}
+    return {
+        w: mesh_stiffness(pair, points=360, wear=None if w == "unworn" else WearSpec(phase=w))
+        for w in ("unworn", "mild", "severe")
+    }
 
 
 @pytest.mark.parametrize("w_deg,x_F", [(0.0, 0.0), (20.0, 3e-3), (35.0, 1e-3)])
@@ -34,12 +36,14 @@ def test_slices_exact_for_prismatic_beam(w_deg, x_F):
     E, nu, b, t, L = 206e9, 0.3, 0.02, 8e-3, 10e-3
     w = math.radians(w_deg)
     c, s = math.cos(w), math.sin(w)
-    I, A, G = t ** 3 * b / 12, t * b, E / (2 * (1 + nu))
+    I, A, G = t**3 * b / 12, t * b, E / (2 * (1 + nu))
     for n in (1, 7, 64):
-        bend, shear, axial = slice_beam_compliance(lambda y: np.full_like(y, t), np.array([0.0]), np.array([L]),
-                                                   np.array([x_F]), np.array([w]), E, nu, b, n)
-        assert bend[0] == pytest.approx((c * c * L ** 3 / 3 - c * s * x_F * L ** 2 + s * s * x_F ** 2 * L) / (E * I),
-                                        rel=1e-12)
+        bend, shear, axial = slice_beam_compliance(
+            lambda y: np.full_like(y, t), np.array([0.0]), np.array([L]), np.array([x_F]), np.array([w]), E, nu, b, n
+        )
+        assert bend[0] == pytest.approx(
+            (c * c * L**3 / 3 - c * s * x_F * L**2 + s * s * x_F**2 * L) / (E * I), rel=1e-12
+        )
         assert shear[0] == pytest.approx(1.2 * c * c * L / (G * A), rel=1e-12)
         assert axial[0] == pytest.approx(s * s * L / (E * A), rel=1e-12)
 
@@ -66,6 +70,7 @@ def test_ishikawa_and_energy_agree(pair):
     def ratio(r):
         single = r.pairs_in_contact == 1
         return r.k_N_per_m[~single].mean() / r.k_N_per_m[single].mean()
+
     assert abs(ratio(ish) / ratio(en) - 1) < 0.10
 
 
@@ -88,6 +93,7 @@ def test_load_sharing_equilibrium_and_compatibility(pair, curves):
     r = mesh_stiffness(pair, points=36, corner_contact=False)
     mesh = r.mesh
     from gearwear.analytic.tvms import _profiles
+
     prof = _profiles(pair, None, mesh.centre_distance_m)[0][0]  # the same flank polyline
     for i in range(len(r.angle_rad)):
         loaded = np.flatnonzero(r.pair_load_N[i] > 0)
@@ -118,8 +124,8 @@ def test_wear_lowers_stiffness_most_at_double_zone_entry(curves):
     single = (d_entry > B + 0.5e-3) & (d_entry < mesh.path_start_m + mesh.base_pitch_m - 0.5e-3)
     for worn in (m, s):
         drop = 1 - worn.k_N_per_m / u.k_N_per_m
-        assert drop[entry].mean() > 0.3           # tip entry: the entering worn pair carries nothing
-        assert drop[single].mean() < 0.01         # single contact: only the thinner teeth
+        assert drop[entry].mean() > 0.3  # tip entry: the entering worn pair carries nothing
+        assert drop[single].mean() < 0.01  # single contact: only the thinner teeth
         assert drop[entry].mean() > 10 * drop[single].mean()
 
 
@@ -150,7 +156,7 @@ def test_corner_gap_matches_second_order_contact_geometry(pair):
     rho1, rho2 = A, mesh.line_of_action_m - A
     for dd in (5e-5, 1e-4, 2e-4):
         s = rho2 * dd / pair.gear(1).base_radius_m
-        expected = 0.5 * (1 / rho1 + 1 / rho2) * s ** 2
+        expected = 0.5 * (1 / rho1 + 1 / rho2) * s**2
         assert corner_gap_m(mesh, np.array([A - dd]), "entry")[0] == pytest.approx(expected, rel=0.03)
     assert corner_gap_m(mesh, np.array([A]), "entry")[0] == pytest.approx(0.0, abs=1e-15)
     assert corner_gap_m(mesh, np.array([mesh.path_end_m]), "exit")[0] == pytest.approx(0.0, abs=1e-15)

@@ -11,10 +11,11 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
+from gearwear.core.validation import InputError
 from gearwear.jobs import simulate as simulate_job
 from gearwear.scene.model import apply_overrides, load_scene_dict, scene_from_dict
+
 from scenes import with_paper
-from gearwear.core.validation import InputError
 
 EX = Path(__file__).resolve().parents[1] / "examples" / "user_table"
 sys.path.insert(0, str(EX))
@@ -32,11 +33,11 @@ def _scene(*sets):
 def reference():
     """Independent reference: 5-DOF model of the paper pair written out by hand."""
     z, m_mm, a0 = 30, 5.0, math.radians(20.0)
-    Rb = 0.5 * m_mm * 1e-3 * z * math.cos(a0)             # base radius, both gears
-    alpha = a0                                            # standard pair at nominal centre distance
+    Rb = 0.5 * m_mm * 1e-3 * z * math.cos(a0)  # base radius, both gears
+    alpha = a0  # standard pair at nominal centre distance
     m, kb, cb, ch = 3.75, 2.6e8, 1250.0, 2500.0
     Jp, Jg = 0.0105, 0.0125
-    me = 1.0 / (Rb ** 2 / Jp + Rb ** 2 / Jg)
+    me = 1.0 / (Rb**2 / Jp + Rb**2 / Jg)
     Fs = 40.0 / Rb
     om = 1200 * 2 * math.pi / 60
     fm = z * om / (2 * math.pi)
@@ -52,10 +53,18 @@ def reference():
         dd = vq + (vxp - vxg) * sa + (vyp - vyg) * ca
         k, e = ke(t)
         F = ch * dd + k * (d - e)
-        return [vyp, vxp, vyg, vxg, vq,
-                (-F * ca - cb * vyp - kb * yp) / m, (-F * sa - cb * vxp - kb * xp) / m,
-                (F * ca - cb * vyg - kb * yg) / m, (F * sa - cb * vxg - kb * xg) / m,
-                (Fs - F) / me]
+        return [
+            vyp,
+            vxp,
+            vyg,
+            vxg,
+            vq,
+            (-F * ca - cb * vyp - kb * yp) / m,
+            (-F * sa - cb * vxp - kb * xp) / m,
+            (F * ca - cb * vyg - kb * yg) / m,
+            (F * sa - cb * vxg - kb * xg) / m,
+            (Fs - F) / me,
+        ]
 
     y0 = np.zeros(10)
     y0[4] = Fs / 3.5e8
@@ -94,8 +103,7 @@ def test_user_table_cubic_tight_settings_match_to_1e6(reference):
     """The same 4096-row table read as a periodic cubic spline (interpolation = "cubic"),
     RK4 at 1024 steps per period: the spline holds the smooth closed form to ~1e-13, so
     what remains is the solver's error."""
-    run = simulate_job.run(_scene('effects.mesh_stiffness.interpolation="cubic"',
-                                  "solver.steps_per_mesh_period=1024"))
+    run = simulate_job.run(_scene('effects.mesh_stiffness.interpolation="cubic"', "solver.steps_per_mesh_period=1024"))
     assert run.model.interpolation == "cubic"
     assert _worst(run, reference) < 1e-6
 
@@ -108,24 +116,28 @@ def test_user_table_tight_settings_match_to_1e6(reference, tmp_path):
     solver; 1.2e-8 n^2 at 16384 rows)."""
     u = np.arange(16384) / 16384
     rows = np.column_stack([u * PERIOD_DEG, k_closed(u), e_closed_um(u)])
-    np.savetxt(tmp_path / "k.csv", rows, delimiter=",", header="angle_deg,k_N_per_m,excitation_um",
-               comments="", fmt="%.15g")
+    np.savetxt(
+        tmp_path / "k.csv", rows, delimiter=",", header="angle_deg,k_N_per_m,excitation_um", comments="", fmt="%.15g"
+    )
     data, name = load_scene_dict(EX / "scene.toml")
     data["effects"]["mesh_stiffness"]["path"] = str(tmp_path / "k.csv")
     sc = scene_from_dict(apply_overrides(data, [*SHORT, "solver.steps_per_mesh_period=1024"]), name=name)
     assert _worst(simulate_job.run(sc), reference) < 1e-6
 
 
-@pytest.mark.parametrize("csv, needle", [
-    ("angle_deg,k_N_per_m\n" + "".join(f"{a},{3e8}\n" for a in (0, 2, 1, 3, 4, 5, 6, 7)), "strictly increasing"),
-    ("angle_deg,k_N_per_m\n" + "".join(f"{a},{3e8}\n" for a in range(7)), ">= 8"),
-    ("angle_deg,k_N_per_m\n" + "".join(f"{a},{'nan' if a == 3 else 3e8}\n" for a in range(8)), "finite"),
-    ("angle_deg,k_N_per_m\n" + "".join(f"{a},{-1 if a == 3 else 3e8}\n" for a in range(8)), ">= 0"),
-    ("angle_deg,k_N_per_m\n" + "".join(f"{a * 0.5},{3e8}\n" for a in range(8)), "cover one mesh period"),
-    ("angle_deg,k_N_per_m\n" + "".join(f"{a * 1.5},{3e8}\n" for a in range(9)), "[0, 12)"),
-    ("angle,k\n" + "".join(f"{a},{3e8}\n" for a in range(8)), "header"),
-    ("angle_deg,k_N_per_m\n" + "".join(f"{a},x\n" for a in range(8)), "non-numeric"),
-])
+@pytest.mark.parametrize(
+    "csv, needle",
+    [
+        ("angle_deg,k_N_per_m\n" + "".join(f"{a},{3e8}\n" for a in (0, 2, 1, 3, 4, 5, 6, 7)), "strictly increasing"),
+        ("angle_deg,k_N_per_m\n" + "".join(f"{a},{3e8}\n" for a in range(7)), ">= 8"),
+        ("angle_deg,k_N_per_m\n" + "".join(f"{a},{'nan' if a == 3 else 3e8}\n" for a in range(8)), "finite"),
+        ("angle_deg,k_N_per_m\n" + "".join(f"{a},{-1 if a == 3 else 3e8}\n" for a in range(8)), ">= 0"),
+        ("angle_deg,k_N_per_m\n" + "".join(f"{a * 0.5},{3e8}\n" for a in range(8)), "cover one mesh period"),
+        ("angle_deg,k_N_per_m\n" + "".join(f"{a * 1.5},{3e8}\n" for a in range(9)), "[0, 12)"),
+        ("angle,k\n" + "".join(f"{a},{3e8}\n" for a in range(8)), "header"),
+        ("angle_deg,k_N_per_m\n" + "".join(f"{a},x\n" for a in range(8)), "non-numeric"),
+    ],
+)
 def test_bad_tables_get_one_line(tmp_path, csv, needle):
     (tmp_path / "k.csv").write_text(csv)
     doc = {"effects": {"mesh_stiffness": {"source": "table", "path": str(tmp_path / "k.csv")}}}
@@ -136,7 +148,7 @@ def test_bad_tables_get_one_line(tmp_path, csv, needle):
 
 
 def test_relative_path_is_from_the_scene_folder(tmp_path, monkeypatch):
-    monkeypatch.chdir(tmp_path)                     # not the scene's folder
+    monkeypatch.chdir(tmp_path)  # not the scene's folder
     sc = _scene()
     assert sc.effects["mesh_stiffness"]["k_N_per_m"].size == 4096
 
@@ -166,8 +178,23 @@ def test_the_tools_own_stiffness_csv_is_a_user_table(tmp_path, method):
 
     out = tmp_path / "st"
     points = "24" if method == "fem" else "90"
-    r = subprocess.run([sys.executable, "-m", "gearwear.cli", "stiffness", "paper-wear-severe", "--method", method,
-                        "--points", points, "--out", str(out)], capture_output=True, text=True)
+    r = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "gearwear.cli",
+            "stiffness",
+            "paper-wear-severe",
+            "--method",
+            method,
+            "--points",
+            points,
+            "--out",
+            str(out),
+        ],
+        capture_output=True,
+        text=True,
+    )
     assert r.returncode == 0, r.stderr
     csv = next(out.glob("stiffness_*.csv"))
     ang, k, e = read_stiffness_table(csv, 30)

@@ -6,12 +6,18 @@ import numpy as np
 import pytest
 from scipy.optimize import minimize_scalar
 
+from gearwear.core.validation import InputError
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.profile import INVOLUTE, involute_points, tooth_profile
 from gearwear.geometry.spec import default_pair
-from gearwear.core.validation import InputError
-from gearwear.geometry.wear import (WearSpec, hertz_half_width, hertz_load_integral, specific_sliding,
-                                    wear_on_line_of_action, worn_profiles)
+from gearwear.geometry.wear import (
+    WearSpec,
+    hertz_half_width,
+    hertz_load_integral,
+    specific_sliding,
+    wear_on_line_of_action,
+    worn_profiles,
+)
 from gearwear.scene.model import parse_wear_arg, wear_from_dict
 
 
@@ -76,8 +82,9 @@ def test_monotone_and_linear_in_running_time(mesh):
     n = 1200 * 60
     w = 40.0 / default_pair().gear(0).base_radius_m / 0.02
     z1 = specific_sliding(mesh, np.array([dd]))[0][0]
-    assert wear_on_line_of_action(mesh, spec, np.array([dd]))[0][0] == pytest.approx(5.3e-16 * abs(z1) * w * n,
-                                                                                     rel=1e-12)
+    assert wear_on_line_of_action(mesh, spec, np.array([dd]))[0][0] == pytest.approx(
+        5.3e-16 * abs(z1) * w * n, rel=1e-12
+    )
 
 
 def test_phases_scale_to_their_maximum_depth(mesh):
@@ -126,8 +133,7 @@ def test_worn_points_lie_at_depth_from_nominal_flank():
             return float(np.linalg.norm(q[0] - p))
 
         u0 = nom.roll[i]
-        res = minimize_scalar(dist, bounds=(u0 - 0.05, u0 + 0.05), method="bounded",
-                              options={"xatol": 1e-12})
+        res = minimize_scalar(dist, bounds=(u0 - 0.05, u0 + 0.05), method="bounded", options={"xatol": 1e-12})
         assert res.fun == pytest.approx(worn.depth[i], abs=1e-9)
 
 
@@ -161,22 +167,25 @@ def test_absurd_wear_depth_is_refused_with_the_allowed_maximum(mesh):
     with pytest.raises(InputError) as err:
         wear_from_dict({"max_depth_um": 5000.0}, pair=default_pair())
     msg = str(err.value)
-    m = re.fullmatch(r"effects\.wear\.max_depth_um = 5000 um: must be in \[0, ([\d.]+)\] um, the deepest wear "
-                     r"accepted is 1/3 of the pinion's half tooth thickness \(([\d.]+) mm\) at r = ([\d.]+) mm, "
-                     r"where its flank wears deepest", msg)
+    m = re.fullmatch(
+        r"effects\.wear\.max_depth_um = 5000 um: must be in \[0, ([\d.]+)\] um, the deepest wear "
+        r"accepted is 1/3 of the pinion's half tooth thickness \(([\d.]+) mm\) at r = ([\d.]+) mm, "
+        r"where its flank wears deepest",
+        msg,
+    )
     assert m, msg
     limit_um, half_mm, R_mm = (float(v) for v in m.groups())
     g = default_pair().gear(0)
     sap, tip = mesh.start_of_active_profile_m[0], g.tip_radius_m
-    assert sap - 0.2e-3 <= R_mm * 1e-3 <= tip        # within the Hertz band of the active flank
+    assert sap - 0.2e-3 <= R_mm * 1e-3 <= tip  # within the Hertz band of the active flank
     half = _half_thickness_iso(g, R_mm * 1e-3)
     assert half_mm == pytest.approx(half * 1e3, abs=1e-3)
     assert limit_um == pytest.approx(half / 3 * 1e6, abs=2.0)
-    assert 1000 < limit_um < 2000                    # a third of a ~4.7 mm half thickness
+    assert 1000 < limit_um < 2000  # a third of a ~4.7 mm half thickness
     from gearwear.scene.schema import WearDoc
+
     assert f"{limit_um:g} um for the paper pair" in (WearDoc.model_fields["max_depth_um"].description or "")
-    assert wear_from_dict({"max_depth_um": limit_um}, pair=default_pair()).max_depth_m == pytest.approx(
-        limit_um * 1e-6)
+    assert wear_from_dict({"max_depth_um": limit_um}, pair=default_pair()).max_depth_m == pytest.approx(limit_um * 1e-6)
     # the command line: one line, the alias named, exit 2
     assert main(["geometry", "--no-mesh", "--wear", "5000um"]) == 2
 
@@ -187,13 +196,14 @@ def test_running_hours_beyond_severe_are_flagged_and_absurd_ones_refused(mesh):
 
     spec = wear_from_dict({"hours": 500.0}, pair=default_pair())
     h1, _ = wear_on_line_of_action(mesh, spec, np.linspace(mesh.path_start_m, mesh.path_end_m, 4001))
-    assert 30e-6 < h1.max() < 1e-3                   # beyond the severe phase, far below the tooth
+    assert 30e-6 < h1.max() < 1e-3  # beyond the severe phase, far below the tooth
     scene = Scene.load(None, {"effects.wear": {"hours": 500.0}})
     res = geometry_job.compute(scene, scene.wear, 0.0, 40.0, build_mesh=False)
     warn = res.summary()["warnings"]
     assert len(warn) == 1 and "beyond the 'severe' phase (30 um)" in warn[0] and "500 h" in warn[0]
-    assert geometry_job.compute(scene, wear_from_dict("severe"), 0.0, 40.0, build_mesh=False).summary()[
-        "warnings"] == []
+    assert (
+        geometry_job.compute(scene, wear_from_dict("severe"), 0.0, 40.0, build_mesh=False).summary()["warnings"] == []
+    )
     with pytest.raises(InputError, match=r"^effects\.wear\.hours = 5e\+06 h: must be in \[0, [\d.]+\] h"):
         Scene.load(None, {"effects.wear": {"hours": 5e6}})
 

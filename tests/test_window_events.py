@@ -25,8 +25,13 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from gearwear.dynamics import paper_pair, rhs_python, simulate, static_equilibrium
-from gearwear.dynamics.analysis import (_hermite_at_gauss, dense_derivatives, event_pieces, window_fourier,
-                                        window_harmonics)
+from gearwear.dynamics.analysis import (
+    _hermite_at_gauss,
+    dense_derivatives,
+    event_pieces,
+    window_fourier,
+    window_harmonics,
+)
 from gearwear.dynamics.model import mesh_state
 
 NAMES = ["F_m", "delta"]
@@ -38,15 +43,17 @@ CASES = {
     # no flank law (the affine fold's domain): bearings in contact 34 % of the time
     "bearing lift-off": dict(torque_Nm=5.0, speed_rpm=6000, clearance_total_m=100e-6, te_amplitude_m=10e-6),
     # 90 % separated, back-flank impacts, bearings lifting off too
-    "back-flank impacts": dict(torque_Nm=5.0, speed_rpm=6000, backlash_total_m=100e-6, te_amplitude_m=10e-6,
-                               clearance_total_m=20e-6),
+    "back-flank impacts": dict(
+        torque_Nm=5.0, speed_rpm=6000, backlash_total_m=100e-6, te_amplitude_m=10e-6, clearance_total_m=20e-6
+    ),
 }
 
 
 def _window(m, S, rtol=RTOL, periods=20, discard=4):
     P = 1.0 / m.mesh_frequency_Hz
-    return simulate(m, (discard + periods + 0.5) * P, discard * P, method="dopri5", rtol=rtol,
-                    samples_per_mesh_period=S)
+    return simulate(
+        m, (discard + periods + 0.5) * P, discard * P, method="dopri5", rtol=rtol, samples_per_mesh_period=S
+    )
 
 
 def _mode_changes(r, m):
@@ -69,12 +76,15 @@ def test_event_harmonics_do_not_depend_on_the_output_sampling(case):
     m = paper_pair(**CASES[case])
     coarse, fine = _window(m, 64), _window(m, 1024)
     assert (coarse.steps, coarse.events) == (fine.steps, fine.events)
-    assert _mode_changes(fine, m) >= 15                  # the window is full of events
+    assert _mode_changes(fine, m) >= 15  # the window is full of events
     a, b = window_fourier(coarse, NAMES, 10), window_fourier(fine, NAMES, 10)
     for name in NAMES:
         scale = np.abs(b[name]).max()
-        assert np.abs(a[name] - b[name]).max() <= 200 * RTOL * scale, (case, name,
-                                                                      np.abs(a[name] - b[name]).max() / scale)
+        assert np.abs(a[name] - b[name]).max() <= 200 * RTOL * scale, (
+            case,
+            name,
+            np.abs(a[name] - b[name]).max() / scale,
+        )
 
 
 @pytest.mark.parametrize("case", list(CASES))
@@ -93,7 +103,7 @@ def test_no_quadrature_piece_holds_a_contact_change(case):
         pieces = pieces[dt[:, 0] > 0]
         dt = dt[dt[:, 0] > 0]
         Zq = _hermite_at_gauss(Z[pieces], Z[pieces + 1], Fd[pieces] * dt, Fd[pieces + 1] * dt)
-        tq = (t[pieces][:, None] + dt * np.array([0.11, 0.5, 0.89])).ravel()   # only the time of k, e
+        tq = (t[pieces][:, None] + dt * np.array([0.11, 0.5, 0.89])).ravel()  # only the time of k, e
         state = mesh_state(m, tq, Zq)["mode"].astype(np.int64)
         if m.bearing_half_clearance_m is not None:
             on = np.abs(Zq[:, :4]) > m.bearing_half_clearance_m
@@ -105,7 +115,7 @@ def test_no_quadrature_piece_holds_a_contact_change(case):
         states.append(state[:, 0])
     order = np.argsort(np.concatenate(starts), kind="stable")
     end, s = np.concatenate(ends)[order], np.concatenate(states)[order]
-    assert np.array_equal(np.concatenate(starts)[order][1:], end[:-1])    # the pieces tile the window
+    assert np.array_equal(np.concatenate(starts)[order][1:], end[:-1])  # the pieces tile the window
     changed = end[:-1][s[1:] != s[:-1]]
     assert changed.size >= 15
     assert np.all(np.isin(changed, r.event_times))
@@ -134,18 +144,20 @@ def _reference(m, t0, t1, n, rtol=1e-12):
     atol = np.r_[np.full(5, 1e-3 * rtol * x), np.full(5, 20.0 * rtol * x)]
     f = lambda t, y: rhs_python(t, y, m)  # noqa: E731
     t, y, segments = 0.0, static_equilibrium(m), []
-    for tn in nodes:                      # restart at every table node: a smooth rhs per segment
+    for tn in nodes:  # restart at every table node: a smooth rhs per segment
         while t < tn:
-            sol = solve_ivp(f, (t, tn), y, method="DOP853", rtol=rtol, atol=atol, events=[drive, back],
-                            dense_output=True)
+            sol = solve_ivp(
+                f, (t, tn), y, method="DOP853", rtol=rtol, atol=atol, events=[drive, back], dense_output=True
+            )
             segments.append((sol.sol, sol.t))
             t, y = sol.t[-1], sol.y[:, -1]
             if sol.status == 1 and t < tn:
                 # across the event by a step of 1e-9 mesh periods without event functions (the
                 # state sits on the switching surface, solve_ivp would find the event again)
                 t2 = min(t + 1e-9 * P, tn)
-                sol = solve_ivp(f, (t, t2), y, method="DOP853", rtol=rtol, atol=atol, first_step=t2 - t,
-                                dense_output=True)
+                sol = solve_ivp(
+                    f, (t, t2), y, method="DOP853", rtol=rtol, atol=atol, first_step=t2 - t, dense_output=True
+                )
                 segments.append((sol.sol, sol.t))
                 t, y = sol.t[-1], sol.y[:, -1]
     xg, wg = np.polynomial.legendre.leggauss(6)
@@ -161,7 +173,7 @@ def _reference(m, t0, t1, n, rtol=1e-12):
         Y = sol(tq)
         d = delta(Y)
         dd = Y[9] + (Y[6] - Y[8]) * sa + (Y[5] - Y[7]) * ca
-        dm = delta(sol(0.5 * (ts[0] + ts[-1])))      # the segment's contact state
+        dm = delta(sol(0.5 * (ts[0] + ts[-1])))  # the segment's contact state
         kk = np.interp(np.mod(w * tq, Pr), phx, kx)
         F = m.c_h * dd + kk * (d - b) if dm > b else (m.c_h * dd + kk * (d + b) if dm < -b else 0.0 * d)
         ph = np.exp(-2j * np.pi * m.mesh_frequency_Hz * k * tq[None, :])
@@ -200,12 +212,12 @@ def test_event_pieces_split_the_pieces_that_hold_events():
     ev = np.zeros((times.size, kernels.EV_COLS))
     for i, te in enumerate(times):
         ev[i, kernels.EV_T] = te
-        ev[i, kernels.EV_Z:kernels.EV_Z + 10] = 100 + i
-        ev[i, kernels.EV_F0:kernels.EV_F0 + 10] = -(i + 1)       # before: -1, -2, ...
-        ev[i, kernels.EV_F1:kernels.EV_F1 + 10] = i + 1          # after: 1, 2, ...
+        ev[i, kernels.EV_Z : kernels.EV_Z + 10] = 100 + i
+        ev[i, kernels.EV_F0 : kernels.EV_F0 + 10] = -(i + 1)  # before: -1, -2, ...
+        ev[i, kernels.EV_F1 : kernels.EV_F1 + 10] = i + 1  # after: 1, 2, ...
     r = SimpleNamespace(model=m, t_dense=np.arange(7.0) / fm, states_dense=Z, window_events=ev, fm_Hz=fm)
     F = dense_derivatives(r)
-    assert F[0, 0] == 1 and F[-1, 0] == -6                  # the sides inside the window
+    assert F[0, 0] == 1 and F[-1, 0] == -6  # the sides inside the window
     broken, (ts, Zs, Fs, pieces) = event_pieces(r, F)
     assert broken.tolist() == [False, True, True, False, True, True]
     assert np.allclose(ts * fm, [1, 1.5, 1.5, 2, 2.5, 2.5, 2.5, 2.5, 3, 4, 5, 5, 6], rtol=0, atol=1e-9)

@@ -30,10 +30,15 @@ CASES = {
     "smooth table, RK4": (lambda: paper_pair(n_table=97), "rk4", 24),
     "excitation and bearing clearance, dopri5": (
         lambda: paper_pair(torque_Nm=20.0, speed_rpm=3000, te_amplitude_m=3e-6, clearance_total_m=20e-6),
-        "dopri5", 24),
+        "dopri5",
+        24,
+    ),
     "30-period table": (_tiled_fault_model, "rk4", 60),
     "backlash (no affine fold)": (
-        lambda: paper_pair(torque_Nm=5.0, speed_rpm=4000, backlash_total_m=50e-6), "dopri5", 24),
+        lambda: paper_pair(torque_Nm=5.0, speed_rpm=4000, backlash_total_m=50e-6),
+        "dopri5",
+        24,
+    ),
 }
 
 
@@ -54,7 +59,7 @@ def test_folded_integral_equals_the_piece_by_piece_integral(case):
     amps = window_harmonics(r, ["F_m"], 10)["F_m"]
     assert np.allclose(amps, np.abs(direct["F_m"]), rtol=1e-9, atol=0)
     if not has_flank_law(m) and m.table_periods > 1:
-        assert np.abs(direct["F_m"]).max() > 0      # the fault's table really varies
+        assert np.abs(direct["F_m"]).max() > 0  # the fault's table really varies
 
 
 def test_fold_gives_the_phase_of_a_shifted_window():
@@ -62,7 +67,7 @@ def test_fold_gives_the_phase_of_a_shifted_window():
     leaves every coefficient of a periodic steady state unchanged, in phase too."""
     m = paper_pair(n_table=64)
     P = 1.0 / m.mesh_frequency_Hz
-    a = simulate(m, 432 * P, 400 * P, method="rk4")   # 400 periods: the transient is gone
+    a = simulate(m, 432 * P, 400 * P, method="rk4")  # 400 periods: the transient is gone
     b = simulate(m, 433 * P, 401 * P, method="rk4")
     ca, cb = window_fourier(a, ["F_m"], 5)["F_m"], window_fourier(b, ["F_m"], 5)["F_m"]
     assert np.abs(ca - cb).max() < 1e-6 * np.abs(ca).max()

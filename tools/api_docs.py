@@ -137,10 +137,12 @@ def build(out: Path) -> int:
         try:
             materialise_lazy_names(module)
         except Exception:
-            failures.append(f"{module.__name__}.__all__ names what its __getattr__ cannot give:\n"
-                            f"{traceback.format_exc()}")
-    pdoc.render.configure(docformat="numpy", math=True, search=True, show_source=True,
-                          footer_text=f"gearwear {gearwear.__version__}")
+            failures.append(
+                f"{module.__name__}.__all__ names what its __getattr__ cannot give:\n{traceback.format_exc()}"
+            )
+    pdoc.render.configure(
+        docformat="numpy", math=True, search=True, show_source=True, footer_text=f"gearwear {gearwear.__version__}"
+    )
     scratch = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
     try:
         with warnings.catch_warnings(record=True) as caught:
@@ -162,13 +164,23 @@ def build(out: Path) -> int:
             where = Path(w.filename).resolve()
             if where.is_relative_to(pdoc_dir):
                 failures.append(f"pdoc warns: {w.message}")
-        known = {line.strip() for line in KNOWN_BROKEN.read_text().splitlines()
-                 if line.strip() and not line.startswith("#")} if KNOWN_BROKEN.exists() else set()
-        failures += [f"broken cross-reference in {ref} (it names nothing that exists)"
-                     for ref in broken if ref not in known]
+        known = (
+            {
+                line.strip()
+                for line in KNOWN_BROKEN.read_text().splitlines()
+                if line.strip() and not line.startswith("#")
+            }
+            if KNOWN_BROKEN.exists()
+            else set()
+        )
+        failures += [
+            f"broken cross-reference in {ref} (it names nothing that exists)" for ref in broken if ref not in known
+        ]
         for ref in sorted(known - set(broken)):
-            print(f"note: {KNOWN_BROKEN.relative_to(ROOT)} lists '{ref}', which is no longer broken: "
-                  "delete its line", file=sys.stderr)
+            print(
+                f"note: {KNOWN_BROKEN.relative_to(ROOT)} lists '{ref}', which is no longer broken: delete its line",
+                file=sys.stderr,
+            )
         if failures:
             for failure in failures:
                 print(f"make docs: {failure}", file=sys.stderr)
@@ -179,8 +191,7 @@ def build(out: Path) -> int:
         os.replace(scratch, out)
     finally:
         shutil.rmtree(scratch, ignore_errors=True)
-    print(f"API reference of {len(docs)} modules in {out}/ ({out}/index.html), "
-          f"{time.perf_counter() - start:.0f} s")
+    print(f"API reference of {len(docs)} modules in {out}/ ({out}/index.html), {time.perf_counter() - start:.0f} s")
     return 0
 
 

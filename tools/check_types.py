@@ -23,14 +23,36 @@ ROOT = Path(__file__).resolve().parents[1]
 def main() -> int:
     with tempfile.TemporaryDirectory() as tmp:
         out, site = Path(tmp) / "wheel", Path(tmp) / "site"
-        subprocess.run([sys.executable, "-m", "pip", "wheel", str(ROOT), "--no-deps", "-q", "-w", str(out)],
-                       check=True, capture_output=True, text=True)
+        subprocess.run(
+            [sys.executable, "-m", "pip", "wheel", str(ROOT), "--no-deps", "-q", "-w", str(out)],
+            check=True,
+            capture_output=True,
+            text=True,
+        )
         (whl,) = out.glob("gearwear-*.whl")
-        subprocess.run([sys.executable, "-m", "pip", "install", "-q", "--no-deps", "--target", str(site), str(whl)],
-                       check=True, capture_output=True, text=True)
-        r = subprocess.run([sys.executable, "-m", "mypy", "-p", "gearwear", "--config-file",
-                            str(ROOT / "pyproject.toml"), "--cache-dir", str(Path(tmp) / "cache")],
-                           cwd=site, env=dict(os.environ, MYPYPATH=str(site)), capture_output=True, text=True)
+        subprocess.run(
+            [sys.executable, "-m", "pip", "install", "-q", "--no-deps", "--target", str(site), str(whl)],
+            check=True,
+            capture_output=True,
+            text=True,
+        )
+        r = subprocess.run(
+            [
+                sys.executable,
+                "-m",
+                "mypy",
+                "-p",
+                "gearwear",
+                "--config-file",
+                str(ROOT / "pyproject.toml"),
+                "--cache-dir",
+                str(Path(tmp) / "cache"),
+            ],
+            cwd=site,
+            env=dict(os.environ, MYPYPATH=str(site)),
+            capture_output=True,
+            text=True,
+        )
     sys.stdout.write(r.stdout)
     sys.stderr.write(r.stderr)
     return r.returncode

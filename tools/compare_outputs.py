@@ -95,41 +95,158 @@ MAIN_PYTHON = REPO / ".venv" / "bin" / "python"
 QUICK_SOLVE = ("--set", "solver.duration_s=0.06", "--set", "solver.discard_s=0.02")
 COMMANDS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("geometry", ("geometry", "--out", "{out}")),
-    ("geometry-worn", ("geometry", "--wear", "severe", "--clearance-um", "10", "--mesh-size-mm", "5",
-                       "--json", "--out", "{out}")),
+    (
+        "geometry-worn",
+        ("geometry", "--wear", "severe", "--clearance-um", "10", "--mesh-size-mm", "5", "--json", "--out", "{out}"),
+    ),
     ("geometry-hours", ("geometry", "{ex}/shifted_pair.toml", "--wear", "8h", "--json")),
     ("stiffness", ("stiffness", "--out", "{out}")),
-    ("stiffness-methods", ("stiffness", "--wear", "unworn", "mild", "severe", "--method", "ishikawa", "energy",
-                           "iso6336", "--json", "--out", "{out}")),
+    (
+        "stiffness-methods",
+        (
+            "stiffness",
+            "--wear",
+            "unworn",
+            "mild",
+            "severe",
+            "--method",
+            "ishikawa",
+            "energy",
+            "iso6336",
+            "--json",
+            "--out",
+            "{out}",
+        ),
+    ),
     ("stiffness-clearance", ("stiffness", "--clearance-um", "0", "50", "--points", "90", "--out", "{out}")),
     ("stiffness-fem", ("stiffness", "--method", "fem", "--points", "8", "--fields", "0", "--out", "{out}")),
     ("stiffness-19-45", ("stiffness", "{ex}/your_pair.toml", "--out", "{out}")),
     ("stiffness-tip-relief", ("stiffness", "{ex}/tip_relief.toml", "--out", "{out}")),
     ("verify", ("verify", "--wear", "unworn", "severe", "--positions", "5", "--no-convergence", "--out", "{out}")),
-    ("verify-json", ("verify", "--wear", "severe", "--positions", "5", "--no-convergence", "--json",
-                     "--out", "{out}")),
+    ("verify-json", ("verify", "--wear", "severe", "--positions", "5", "--no-convergence", "--json", "--out", "{out}")),
     ("calibrate", ("calibrate", "--points", "36", "--out", "{out}")),
     ("calibrate-cached", ("calibrate", "--points", "36", "--json", "--out", "{out}")),
     ("simulate", ("simulate", "--out", "{out}")),
     ("simulate-paper-default", ("simulate", "paper-default", "--json", "--out", "{out}")),
     ("simulate-root-crack", ("simulate", "{ex}/root_crack.toml", "--out", "{out}")),
     ("simulate-user-table", ("simulate", "{ex}/user_table/scene.toml", "--json", "--out", "{out}")),
-    ("sweep", ("sweep", "--set", "effects.bearing_clearance.clearance_um=0:20:3", *QUICK_SOLVE,
-               "--workers", "2", "--out", "{out}")),
-    ("sweep-wear", ("sweep", "paper-wear-severe", "--set", "effects.wear.phase=unworn,mild", *QUICK_SOLVE,
-                    "--workers", "1", "--json", "--out", "{out}")),
-    ("runup", ("runup", "--set", "operating.speed_rpm=1000:3000:3", "--max-periods", "40", "--keep-periods", "8",
-               "--workers", "2", "--out", "{out}")),
-    ("runup-up", ("runup", "paper-wear-severe", "--set", "operating.speed_rpm=1000:3000:3", "--direction", "up",
-                  "--max-periods", "40", "--keep-periods", "8", "--workers", "1", "--json", "--out", "{out}")),
+    (
+        "sweep",
+        (
+            "sweep",
+            "--set",
+            "effects.bearing_clearance.clearance_um=0:20:3",
+            *QUICK_SOLVE,
+            "--workers",
+            "2",
+            "--out",
+            "{out}",
+        ),
+    ),
+    (
+        "sweep-wear",
+        (
+            "sweep",
+            "paper-wear-severe",
+            "--set",
+            "effects.wear.phase=unworn,mild",
+            *QUICK_SOLVE,
+            "--workers",
+            "1",
+            "--json",
+            "--out",
+            "{out}",
+        ),
+    ),
+    (
+        "runup",
+        (
+            "runup",
+            "--set",
+            "operating.speed_rpm=1000:3000:3",
+            "--max-periods",
+            "40",
+            "--keep-periods",
+            "8",
+            "--workers",
+            "2",
+            "--out",
+            "{out}",
+        ),
+    ),
+    (
+        "runup-up",
+        (
+            "runup",
+            "paper-wear-severe",
+            "--set",
+            "operating.speed_rpm=1000:3000:3",
+            "--direction",
+            "up",
+            "--max-periods",
+            "40",
+            "--keep-periods",
+            "8",
+            "--workers",
+            "1",
+            "--json",
+            "--out",
+            "{out}",
+        ),
+    ),
     # one 32-point surrogate of short runs, built by the plan and read from the cache by the other two
-    ("diagnose-plan", ("diagnose", "--plan", "{ex}/diagnose/scene.toml", "--speeds-rpm", "1200", "--torques-Nm",
-                       "40", "--design-points", "32", *QUICK_SOLVE, "--workers", "2", "--out", "{out}")),
-    ("diagnose", ("diagnose", "{ex}/diagnose/scene.toml", "--measured", "{ex}/diagnose/measured_timeseries.csv",
-                  "--design-points", "32", *QUICK_SOLVE, "--workers", "2", "--out", "{out}")),
-    ("diagnose-harmonics", ("diagnose", "{ex}/diagnose/scene.toml", "--measured",
-                            "{ex}/diagnose/measured_harmonics.csv", "--design-points", "32", *QUICK_SOLVE,
-                            "--workers", "2", "--json", "--out", "{out}")),
+    (
+        "diagnose-plan",
+        (
+            "diagnose",
+            "--plan",
+            "{ex}/diagnose/scene.toml",
+            "--speeds-rpm",
+            "1200",
+            "--torques-Nm",
+            "40",
+            "--design-points",
+            "32",
+            *QUICK_SOLVE,
+            "--workers",
+            "2",
+            "--out",
+            "{out}",
+        ),
+    ),
+    (
+        "diagnose",
+        (
+            "diagnose",
+            "{ex}/diagnose/scene.toml",
+            "--measured",
+            "{ex}/diagnose/measured_timeseries.csv",
+            "--design-points",
+            "32",
+            *QUICK_SOLVE,
+            "--workers",
+            "2",
+            "--out",
+            "{out}",
+        ),
+    ),
+    (
+        "diagnose-harmonics",
+        (
+            "diagnose",
+            "{ex}/diagnose/scene.toml",
+            "--measured",
+            "{ex}/diagnose/measured_harmonics.csv",
+            "--design-points",
+            "32",
+            *QUICK_SOLVE,
+            "--workers",
+            "2",
+            "--json",
+            "--out",
+            "{out}",
+        ),
+    ),
     ("scene", ("scene", "paper-wear-severe")),
     ("scene-json", ("scene", "{ex}/your_pair.toml", "--set", "operating.speed_rpm=1500", "--json")),
     ("scene-schema", ("scene", "--schema")),
@@ -146,12 +263,12 @@ NOT_COMPARED = {"timing.json"}
 TIME = r"(?:\d+(?:\.\d*)?(?:e[-+]?\d+)?|nan)"
 #: wall-time figures in text stdout: each {t} is masked
 WALL_TIME_PHRASES = (
-    "{t} s wall (integration {t} s, compile {t} s)",   # simulate's summary line
-    "wall time {t} s",                                  # runup, report pair
-    "wall {t} s (surrogate",                            # diagnose
-    ", fit {t} s)",                                     # diagnose
-    "dofs in {t} s",                                    # verify, the convergence line
-    "built in {t} s",                                   # geometry, the pinion mesh line
+    "{t} s wall (integration {t} s, compile {t} s)",  # simulate's summary line
+    "wall time {t} s",  # runup, report pair
+    "wall {t} s (surrogate",  # diagnose
+    ", fit {t} s)",  # diagnose
+    "dofs in {t} s",  # verify, the convergence line
+    "built in {t} s",  # geometry, the pinion mesh line
 )
 #: text-table columns of wall times: the figure that ends under the header is masked
 WALL_TIME_COLUMNS = ("wall ms", "wall s", "FE s")
@@ -169,11 +286,11 @@ class SetupError(Exception):
 
 @dataclass
 class Revision:
-    role: str                # before | after
-    rev: str                 # as given
+    role: str  # before | after
+    rev: str  # as given
     sha: str
-    root: Path               # the worktree
-    ex: Path                 # the shared inputs' examples/ folder
+    root: Path  # the worktree
+    ex: Path  # the shared inputs' examples/ folder
     runs: dict[str, Run] = field(default_factory=dict)
     setup_s: float = 0.0
 
@@ -188,17 +305,17 @@ class Revision:
 
 @dataclass
 class Run:
-    rc: int | None           # None: timed out
+    rc: int | None  # None: timed out
     wall_s: float
     stdout: Path
     stderr: Path
-    out: Path | None         # the --out folder, if the command writes one
+    out: Path | None  # the --out folder, if the command writes one
 
 
 @dataclass
 class Verdict:
     differs: list[str] = field(default_factory=list)
-    fingerprint: list[str] = field(default_factory=list)   # "file: key path"
+    fingerprint: list[str] = field(default_factory=list)  # "file: key path"
 
     def line(self) -> str:
         if self.differs:
@@ -275,17 +392,23 @@ def check_imports(r: Revision, py: Path) -> None:
 
 def run_env(r: Revision) -> dict[str, str]:
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME", "VIRTUAL_ENV")}
-    env.update(GEARWEAR_CACHE=str(r.scratch / "gearwear-cache"), NUMBA_CACHE_DIR=str(r.scratch / "numba-cache"),
-               MPLCONFIGDIR=str(r.scratch / "mplconfig"), PATH=f"{r.venv / 'bin'}{os.pathsep}{os.environ['PATH']}",
-               PIP_DISABLE_PIP_VERSION_CHECK="1")
+    env.update(
+        GEARWEAR_CACHE=str(r.scratch / "gearwear-cache"),
+        NUMBA_CACHE_DIR=str(r.scratch / "numba-cache"),
+        MPLCONFIGDIR=str(r.scratch / "mplconfig"),
+        PATH=f"{r.venv / 'bin'}{os.pathsep}{os.environ['PATH']}",
+        PIP_DISABLE_PIP_VERSION_CHECK="1",
+    )
     return env
 
 
 def set_up(r: Revision) -> None:
     t0 = time.perf_counter()
     if r.root.exists():
-        raise SetupError(f"{r.root} exists (an earlier --keep?): remove it with git worktree remove --force, "
-                         "or choose another --work")
+        raise SetupError(
+            f"{r.root} exists (an earlier --keep?): remove it with git worktree remove --force, "
+            "or choose another --work"
+        )
     git("worktree", "add", "--quiet", "--detach", str(r.root), r.sha)
     py = make_venv(r)
     for d in ("run", "stdout", "gearwear-cache", "numba-cache", "mplconfig"):
@@ -308,12 +431,19 @@ def run_command(r: Revision, name: str, argv: tuple[str, ...]) -> Run:
     stdout, stderr = r.scratch / "stdout" / f"{name}.txt", r.scratch / "stdout" / f"{name}.stderr.txt"
     t0 = time.perf_counter()
     with open(stdout, "wb") as fo, open(stderr, "wb") as fe:
-        p = subprocess.Popen([str(r.venv / "bin" / "gearwear"), *args], cwd=r.scratch / "run", env=run_env(r),
-                             stdin=subprocess.DEVNULL, stdout=fo, stderr=fe, start_new_session=True)
+        p = subprocess.Popen(
+            [str(r.venv / "bin" / "gearwear"), *args],
+            cwd=r.scratch / "run",
+            env=run_env(r),
+            stdin=subprocess.DEVNULL,
+            stdout=fo,
+            stderr=fe,
+            start_new_session=True,
+        )
         try:
             rc: int | None = p.wait(timeout=COMMAND_TIMEOUT_S)
         except subprocess.TimeoutExpired:
-            os.killpg(p.pid, signal.SIGTERM)   # its own session: the command and its worker processes
+            os.killpg(p.pid, signal.SIGTERM)  # its own session: the command and its worker processes
             p.wait()
             rc = None
         except BaseException:
@@ -365,8 +495,11 @@ def json_diff(a: Any, b: Any, path: tuple = ()) -> list[tuple[tuple, Any, Any]]:
         return out
     if isinstance(a, list) and isinstance(b, list) and len(a) == len(b):
         return [d for i, (x, y) in enumerate(zip(a, b)) for d in json_diff(x, y, (*path, i))]
-    same = a == b and type(a) is type(b) or (isinstance(a, float) and isinstance(b, float) and math.isnan(a)
-                                              and math.isnan(b))
+    same = (
+        a == b
+        and type(a) is type(b)
+        or (isinstance(a, float) and isinstance(b, float) and math.isnan(a) and math.isnan(b))
+    )
     return [] if same else [(path, a, b)]
 
 
@@ -411,8 +544,11 @@ def compare_json_file(name: str, a: bytes, b: bytes, renamed: set, fp_files: set
     if Path(name).name == "manifest.json":
         folder = str(Path(name).parent).removeprefix(".").lstrip("/")
         follows = {str(Path(folder) / f) if folder else f for f in fp_files}
-        fp = [d for d in diffs if len(d[0]) == 3 and d[0][0] == "files" and d[0][2] in ("sha256", "bytes")
-              and d[0][1] in follows]
+        fp = [
+            d
+            for d in diffs
+            if len(d[0]) == 3 and d[0][0] == "files" and d[0][2] in ("sha256", "bytes") and d[0][1] in follows
+        ]
         other = [d for d in diffs if d not in fp]
     else:
         fp, other = split_fingerprint(diffs, renamed)
@@ -426,15 +562,19 @@ def compare_json_file(name: str, a: bytes, b: bytes, renamed: set, fp_files: set
 def files_of(folder: Path | None) -> dict[str, Path]:
     if folder is None or not folder.is_dir():
         return {}
-    return {p.relative_to(folder).as_posix(): p for p in sorted(folder.rglob("*"))
-            if p.is_file() and p.name not in NOT_COMPARED}
+    return {
+        p.relative_to(folder).as_posix(): p
+        for p in sorted(folder.rglob("*"))
+        if p.is_file() and p.name not in NOT_COMPARED
+    }
 
 
 def compare_folders(a: Path | None, b: Path | None, v: Verdict, renamed: set) -> None:
     fa, fb = files_of(a), files_of(b)
     if set(fa) != set(fb):
-        v.differs.append(f"files only before: {sorted(set(fa) - set(fb)) or '-'}, "
-                         f"only after: {sorted(set(fb) - set(fa)) or '-'}")
+        v.differs.append(
+            f"files only before: {sorted(set(fa) - set(fb)) or '-'}, only after: {sorted(set(fb) - set(fa)) or '-'}"
+        )
     fp_files: set[str] = set()
     common = sorted(set(fa) & set(fb), key=lambda n: (Path(n).name == "manifest.json", n))  # manifests last
     for name in common:
@@ -452,8 +592,9 @@ def mask_phrase(line: str, rx: re.Pattern) -> str:
         s, base = m.group(0), m.start()
         for g in range(m.re.groups, 0, -1):
             lo, hi = m.span(g)
-            s = s[:lo - base] + MASK + s[hi - base:]
+            s = s[: lo - base] + MASK + s[hi - base :]
         return s
+
     return rx.sub(blank, line)
 
 
@@ -466,11 +607,12 @@ def mask_text(text: str) -> list[str]:
     """The lines of a text stdout with its wall-time figures replaced by <t>."""
     out, end = [], None
     for line in text.splitlines():
-        if end is not None:   # a row of a table with a wall-time column ending at `end`
-            tok = next((m for m in re.finditer(r"\S+", line) if m.end() == end and NUMBER_RX.fullmatch(m.group())),
-                       None)
+        if end is not None:  # a row of a table with a wall-time column ending at `end`
+            tok = next(
+                (m for m in re.finditer(r"\S+", line) if m.end() == end and NUMBER_RX.fullmatch(m.group())), None
+            )
             if tok is not None:
-                out.append(f"{line[:tok.start()].rstrip()} {MASK}{line[tok.end():]}")   # the padding varies too
+                out.append(f"{line[: tok.start()].rstrip()} {MASK}{line[tok.end() :]}")  # the padding varies too
                 continue
             end = None
         for rx in COLUMN_RX:
@@ -497,7 +639,7 @@ def compare_stdout(argv: tuple[str, ...], a: Path, b: Path, v: Verdict, renamed:
         try:
             dx, dy = strip_wall_keys(json.loads(x)), strip_wall_keys(json.loads(y))
         except ValueError:
-            pass   # not one JSON object: compared as text
+            pass  # not one JSON object: compared as text
         else:
             fp, other = split_fingerprint(json_diff(dx, dy), renamed)
             if other:
@@ -516,7 +658,7 @@ def compare_stdout(argv: tuple[str, ...], a: Path, b: Path, v: Verdict, renamed:
 def excerpt(line: str, col: int, before: int = 30, after: int = 40) -> str:
     """The part of ``line`` around the column where it first differs."""
     lo = max(0, col - before)
-    return ("..." if lo else "") + line[lo:col + after] + ("..." if len(line) > col + after else "")
+    return ("..." if lo else "") + line[lo : col + after] + ("..." if len(line) > col + after else "")
 
 
 def compare_command(name: str, argv: tuple[str, ...], a: Run, b: Run) -> Verdict:
@@ -538,8 +680,7 @@ def compare_command(name: str, argv: tuple[str, ...], a: Run, b: Run) -> Verdict
 def remove(revs: list[Revision], work: Path, own_work: bool) -> None:
     for r in revs:
         if r.root.exists():
-            subprocess.run(["git", "-C", str(REPO), "worktree", "remove", "--force", str(r.root)],
-                           capture_output=True)
+            subprocess.run(["git", "-C", str(REPO), "worktree", "remove", "--force", str(r.root)], capture_output=True)
             shutil.rmtree(r.root, ignore_errors=True)
     subprocess.run(["git", "-C", str(REPO), "worktree", "prune"], capture_output=True)
     shutil.rmtree(work / "inputs", ignore_errors=True)
@@ -550,26 +691,35 @@ def remove(revs: list[Revision], work: Path, own_work: bool) -> None:
 def report(revs: list[Revision], t0: float) -> int:
     before, after = revs
     counts = {"same": 0, "fingerprint": 0, "DIFFERS": 0}
-    print(f"\ncomparison of {before.rev} ({before.sha[:9]}) and {after.rev} ({after.sha[:9]}); "
-          f"not compared: {', '.join(sorted(NOT_COMPARED))}, stderr, wall-time figures of stdout")
+    print(
+        f"\ncomparison of {before.rev} ({before.sha[:9]}) and {after.rev} ({after.sha[:9]}); "
+        f"not compared: {', '.join(sorted(NOT_COMPARED))}, stderr, wall-time figures of stdout"
+    )
     for name, argv in COMMANDS:
         v = compare_command(name, argv, before.runs[name], after.runs[name])
         counts["DIFFERS" if v.differs else "fingerprint" if v.fingerprint else "same"] += 1
         print(f"  {name:<24} {v.line()}")
     wall = {r.role: r.setup_s + sum(x.wall_s for x in r.runs.values()) for r in revs}
-    print(f"summary: {len(COMMANDS)} commands: {counts['same']} same, {counts['fingerprint']} differ only in "
-          f"code fingerprint, {counts['DIFFERS']} DIFFER; wall time before {wall['before']:.0f} s, "
-          f"after {wall['after']:.0f} s, total {time.perf_counter() - t0:.0f} s")
+    print(
+        f"summary: {len(COMMANDS)} commands: {counts['same']} same, {counts['fingerprint']} differ only in "
+        f"code fingerprint, {counts['DIFFERS']} DIFFER; wall time before {wall['before']:.0f} s, "
+        f"after {wall['after']:.0f} s, total {time.perf_counter() - t0:.0f} s"
+    )
     return 1 if counts["DIFFERS"] else 0
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(
+        description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     ap.add_argument("before", help="the revision before the change (a commit)")
     ap.add_argument("after", help="the revision after the change (a commit)")
-    ap.add_argument("--work", type=Path, help="folder for the worktrees, venvs, caches and outputs "
-                    "(default: a temporary folder, deleted at the end unless --keep)")
+    ap.add_argument(
+        "--work",
+        type=Path,
+        help="folder for the worktrees, venvs, caches and outputs "
+        "(default: a temporary folder, deleted at the end unless --keep)",
+    )
     ap.add_argument("--keep", action="store_true", help="keep the worktrees, venvs and outputs")
     args = ap.parse_args(argv)
     t0 = time.perf_counter()
@@ -582,8 +732,10 @@ def main(argv: list[str] | None = None) -> int:
         work.mkdir(parents=True, exist_ok=True)
         shas = [resolve(args.before), resolve(args.after)]
         ex = extract_inputs(shas[0], work / "inputs")
-        revs = [Revision(role, rev, sha, work / f"{role}-{sha[:12]}", ex)
-                for role, rev, sha in zip(("before", "after"), (args.before, args.after), shas)]
+        revs = [
+            Revision(role, rev, sha, work / f"{role}-{sha[:12]}", ex)
+            for role, rev, sha in zip(("before", "after"), (args.before, args.after), shas)
+        ]
         for r in revs:
             set_up(r)
             for name, cmd in COMMANDS:

@@ -26,8 +26,8 @@ from gearwear.fem import pair_model as fe_model  # noqa: E402
 from gearwear.fem.mesh import inverted_elements  # noqa: E402
 from gearwear.fem.pair_body import _mesh_body  # noqa: E402
 from gearwear.geometry.pair_positions import lowest_contact_radius_m  # noqa: E402
-from gearwear.geometry.sampling import FINE_SAG_M  # noqa: E402
 from gearwear.geometry.profile import tooth_profile  # noqa: E402
+from gearwear.geometry.sampling import FINE_SAG_M  # noqa: E402
 from gearwear.geometry.wear import key_roll_angles  # noqa: E402
 
 

@@ -35,10 +35,12 @@ def main(logs: list[str], threshold_s: float = 2.0) -> None:
     total = runs[0]
     slow = sorted({n for run in runs for n, t in run.items() if t >= threshold_s})
     kept = sum(t for n, t in total.items() if n not in slow)
-    LIST.write_text(f"# tests make check leaves out: >= {threshold_s:g} s each in a measured run "
-                    "(tools/slow_tests.py);\n"
-                    f"# {len(slow)} tests, {sum(total[n] for n in slow):.0f} s of {sum(total.values()):.0f} s; "
-                    f"the rest took {kept:.0f} s (in the first run)\n" + "".join(f"{n}\n" for n in slow))
+    LIST.write_text(
+        f"# tests make check leaves out: >= {threshold_s:g} s each in a measured run "
+        "(tools/slow_tests.py);\n"
+        f"# {len(slow)} tests, {sum(total[n] for n in slow):.0f} s of {sum(total.values()):.0f} s; "
+        f"the rest took {kept:.0f} s (in the first run)\n" + "".join(f"{n}\n" for n in slow)
+    )
     print(f"wrote {LIST}: {len(slow)} slow tests")
 
 

@@ -19,8 +19,8 @@ import numpy as np
 from gearwear.diagnose.features import SIGNALS, time_series_features
 from gearwear.diagnose.job import perturb
 from gearwear.diagnose.surrogate import scene_at
-from gearwear.scene.model import load_scene_dict
 from gearwear.jobs.simulate import run
+from gearwear.scene.model import load_scene_dict
 
 HERE = Path(__file__).resolve().parent
 TRUTH = {"wear": 18.0, "clearance": 24.0}
@@ -31,15 +31,21 @@ S = int(round(r.fs_Hz / r.fm_Hz))
 keep = slice(-8 * S, None, 4)
 cols = ["y_p_um", "x_p_um", "delta_um"]
 data = np.column_stack([r.t[keep]] + [r.signals[SIGNALS[c][0]][keep] * SIGNALS[c][1] for c in cols])
-header = "# SYNTHETIC measurement from gearwear simulate (examples/diagnose/make_measurements.py): " \
-         "wear_max_depth_um = 18, clearance_um = 24\ntime_s," + ",".join(cols)
+header = (
+    "# SYNTHETIC measurement from gearwear simulate (examples/diagnose/make_measurements.py): "
+    "wear_max_depth_um = 18, clearance_um = 24\ntime_s," + ",".join(cols)
+)
 np.savetxt(HERE / "measured_timeseries.csv", data, delimiter=",", header=header, comments="", fmt="%.10g")
 
-vals, _ = time_series_features(r.t, {c: r.signals[SIGNALS[c][0]] * SIGNALS[c][1] for c in ("F_m_N", "y_p_um")},
-                               r.fm_Hz, 10)
+vals, _ = time_series_features(
+    r.t, {c: r.signals[SIGNALS[c][0]] * SIGNALS[c][1] for c in ("F_m_N", "y_p_um")}, r.fm_Hz, 10
+)
 noisy = perturb({f: v for f, v in vals.items() if f[1] > 0}, 0.02, 0.0, np.random.default_rng(2019))
-lines = ["# SYNTHETIC measurement from gearwear simulate with 2 % noise (examples/diagnose/make_measurements.py): "
-         "wear_max_depth_um = 18, clearance_um = 24", "signal,harmonic,amplitude"]
+lines = [
+    "# SYNTHETIC measurement from gearwear simulate with 2 % noise (examples/diagnose/make_measurements.py): "
+    "wear_max_depth_um = 18, clearance_um = 24",
+    "signal,harmonic,amplitude",
+]
 lines += [f"{s},{k},{v:.6g}" for (s, k), v in noisy.items()]
 (HERE / "measured_harmonics.csv").write_text("\n".join(lines) + "\n")
 print("wrote", HERE / "measured_timeseries.csv", HERE / "measured_harmonics.csv")

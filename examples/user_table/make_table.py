@@ -33,6 +33,12 @@ if __name__ == "__main__":
     u = np.arange(N) / N
     rows = np.column_stack([u * PERIOD_DEG, k_closed(u), e_closed_um(u)])
     out = Path(__file__).with_name("k.csv")
-    np.savetxt(out, rows, delimiter=",", header="angle_deg,k_N_per_m,excitation_um", comments="",
-               fmt=["%.12g", "%.12g", "%.12g"])
+    np.savetxt(
+        out,
+        rows,
+        delimiter=",",
+        header="angle_deg,k_N_per_m,excitation_um",
+        comments="",
+        fmt=["%.12g", "%.12g", "%.12g"],
+    )
     print(f"wrote {out}")

@@ -18,8 +18,7 @@ from gearwear.core.validation import InputError, renamed
 
 #: the commands, in the order of ``gearwear --help``: each is the module gearwear.cli.NAME with
 #: ``add_parser(sub)`` (its arguments; ``set_defaults(func=run)``) and ``run(args) -> int``
-COMMANDS = ("geometry", "stiffness", "verify", "calibrate", "simulate", "sweep", "runup", "diagnose", "scene",
-            "report")
+COMMANDS = ("geometry", "stiffness", "verify", "calibrate", "simulate", "sweep", "runup", "diagnose", "scene", "report")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -30,9 +29,13 @@ class _Parser(argparse.ArgumentParser):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = _Parser(prog="gearwear", description=(
-        "FE-verified mesh stiffness and dynamics of spur gears with wear, backlash and bearing "
-        "clearance. Without a file every command uses the built-in paper pair (Zhang et al. 2019, Table 2)."))
+    p = _Parser(
+        prog="gearwear",
+        description=(
+            "FE-verified mesh stiffness and dynamics of spur gears with wear, backlash and bearing "
+            "clearance. Without a file every command uses the built-in paper pair (Zhang et al. 2019, Table 2)."
+        ),
+    )
     p.add_argument("--version", action="version", version=f"gearwear {__version__}")
     p.add_argument("--debug", action="store_true", help="show Python tracebacks instead of one-line errors")
     sub = p.add_subparsers(dest="command", required=True)
@@ -138,8 +141,10 @@ def _run(argv: list[str], debug: bool) -> int:
             where = where.tb_next
         at = f" at {Path(where.tb_frame.f_code.co_filename).name}:{where.tb_lineno}" if where else ""
         msg = str(exc).splitlines()[0] if str(exc) else ""
-        _say(f"gearwear: internal error: {type(exc).__name__}{at}: {msg} (this is a bug; rerun with --debug "
-             "for the traceback and report it)")
+        _say(
+            f"gearwear: internal error: {type(exc).__name__}{at}: {msg} (this is a bug; rerun with --debug "
+            "for the traceback and report it)"
+        )
         return 1
 
 

@@ -8,9 +8,8 @@ import argparse
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from gearwear.core.validation import InputError, fail, renamed
-
 from gearwear import io
+from gearwear.core.validation import InputError, fail, renamed
 
 if TYPE_CHECKING:
     from gearwear.scene.model import Scene
@@ -66,8 +65,13 @@ def clearance_set(text: str) -> str:
 ALIAS_FLAGS = {"torque_Nm": "--torque-Nm", "clearance_um": "--clearance-um", "wear": "--wear"}
 
 
-def load_scene(args: argparse.Namespace, default: str = "paper-default", extra: list[str] | None = None,
-          loaded: bool = True, skip: tuple[str, ...] = ()) -> "Scene":
+def load_scene(
+    args: argparse.Namespace,
+    default: str = "paper-default",
+    extra: list[str] | None = None,
+    loaded: bool = True,
+    skip: tuple[str, ...] = (),
+) -> "Scene":
     """The command's scene: file or built-in name, short-flag aliases, then --set. A bad
     value given through a short flag is reported under the flag's name. ``loaded``: the
     command computes load sharing, so the torque must be > 0."""
@@ -77,8 +81,12 @@ def load_scene(args: argparse.Namespace, default: str = "paper-default", extra: 
     try:
         scene = scene_from_dict(apply_overrides(data, alias_sets(args, skip) + list(extra or [])), name=name)
         if loaded and not scene.operating.torque_Nm > 0:
-            raise fail("operating.torque_Nm", scene.operating.torque_Nm, "N m",
-                       "must be in (0, 1e+07] N m: the load sharing of the mesh stiffness needs a load")
+            raise fail(
+                "operating.torque_Nm",
+                scene.operating.torque_Nm,
+                "N m",
+                "must be in (0, 1e+07] N m: the load sharing of the mesh stiffness needs a load",
+            )
         return scene
     except InputError as exc:
         given = {SHORT_KEYS[attr]: flag for attr, flag in ALIAS_FLAGS.items() if getattr(args, attr, None) is not None}
@@ -94,10 +102,14 @@ def variants(args: argparse.Namespace) -> "tuple[Scene, list, list[float]]":
     from gearwear.scene.model import wear_override
 
     scene = load_scene(args)
-    wears = [load_scene(args, extra=[wear_override(w)], skip=("wear",)).wear
-             for w in split_multi(getattr(args, "wear", None))] or [scene.wear]
-    clear = [load_scene(args, extra=[clearance_set(c)], skip=("clearance_um",)).clearance_m
-             for c in split_multi(getattr(args, "clearance_um", None))]
+    wears = [
+        load_scene(args, extra=[wear_override(w)], skip=("wear",)).wear
+        for w in split_multi(getattr(args, "wear", None))
+    ] or [scene.wear]
+    clear = [
+        load_scene(args, extra=[clearance_set(c)], skip=("clearance_um",)).clearance_m
+        for c in split_multi(getattr(args, "clearance_um", None))
+    ]
     return scene, wears, clear or [scene.clearance_m]
 
 
@@ -117,9 +129,18 @@ def wear_dict(wear) -> dict | None:
 
 
 #: which results each command's files hold, for the assumptions they list (gearwear.scene.assumptions.USES)
-COMMAND_USES = {"geometry": "geometry", "stiffness": "stiffness", "verify": "verify", "calibrate": "calibrate",
-                "simulate": "simulate", "sweep": "simulate", "runup": "runup", "diagnose": "simulate",
-                "diagnose plan": "simulate", "report pair": "report pair"}
+COMMAND_USES = {
+    "geometry": "geometry",
+    "stiffness": "stiffness",
+    "verify": "verify",
+    "calibrate": "calibrate",
+    "simulate": "simulate",
+    "sweep": "simulate",
+    "runup": "runup",
+    "diagnose": "simulate",
+    "diagnose plan": "simulate",
+    "report pair": "report pair",
+}
 
 
 def assumptions_of(scene, uses: str) -> list[dict]:
@@ -138,8 +159,9 @@ def print_assumed(assumed: list[dict]) -> None:
         print(line_of(a))
 
 
-def write_output(out: Path | None, command: str, scene, inputs: dict, writer, timing: dict | None = None,
-           uses: str | None = None) -> list[Path]:
+def write_output(
+    out: Path | None, command: str, scene, inputs: dict, writer, timing: dict | None = None, uses: str | None = None
+) -> list[Path]:
     """Write a command's files into ``out`` as a whole (gearwear.io.write_folder): the
     manifest gets the inputs, the scene's name and referenced file paths, and every value
     the results assume that the scene did not give (``uses``: which results, default by
@@ -188,24 +210,34 @@ def worker_count(args: argparse.Namespace) -> int | None:
     """--workers N (1..1024), or None: the executor's default (all cores). With --scheduler the
     workers are the cluster's (local:N or the running one's): --workers would be ignored."""
     if args.workers and getattr(args, "scheduler", None):
-        raise InputError(f"--workers = {args.workers}: not used with --scheduler {args.scheduler} (the cluster's "
-                         "workers run the tasks; give their number as --scheduler local:N)")
+        raise InputError(
+            f"--workers = {args.workers}: not used with --scheduler {args.scheduler} (the cluster's "
+            "workers run the tasks; give their number as --scheduler local:N)"
+        )
     return int_arg("--workers", args.workers, 1, 1024) if args.workers else None
 
 
 def pair_inputs(scene) -> dict:
     p = scene.pair
-    return {"teeth": list(p.teeth), "module_mm": p.module_m * 1e3,
-            "pressure_angle_deg": round(p.pressure_angle_rad * 180 / 3.141592653589793, 12),
-            "face_width_mm": p.face_width_m * 1e3, "addendum_coefficient": p.addendum_coefficient,
-            "dedendum_coefficient": p.dedendum_coefficient,
-            "rack_tip_radius_coefficient": p.rack_tip_radius_coefficient,
-            "profile_shift": list(p.profile_shift), "hub_radius_mm": [h * 1e3 for h in p.hub_radius_m],
-            "allow_undercut": p.allow_undercut,
-            "youngs_modulus_GPa": one_or_two([m.youngs_modulus_Pa / 1e9 for m in p.materials]),
-            "poisson_ratio": one_or_two([m.poisson_ratio for m in p.materials]),
-            **({"centre_distance_mm": p.installed_centre_distance_m * 1e3}
-               if p.installed_centre_distance_m is not None else {})}
+    return {
+        "teeth": list(p.teeth),
+        "module_mm": p.module_m * 1e3,
+        "pressure_angle_deg": round(p.pressure_angle_rad * 180 / 3.141592653589793, 12),
+        "face_width_mm": p.face_width_m * 1e3,
+        "addendum_coefficient": p.addendum_coefficient,
+        "dedendum_coefficient": p.dedendum_coefficient,
+        "rack_tip_radius_coefficient": p.rack_tip_radius_coefficient,
+        "profile_shift": list(p.profile_shift),
+        "hub_radius_mm": [h * 1e3 for h in p.hub_radius_m],
+        "allow_undercut": p.allow_undercut,
+        "youngs_modulus_GPa": one_or_two([m.youngs_modulus_Pa / 1e9 for m in p.materials]),
+        "poisson_ratio": one_or_two([m.poisson_ratio for m in p.materials]),
+        **(
+            {"centre_distance_mm": p.installed_centre_distance_m * 1e3}
+            if p.installed_centre_distance_m is not None
+            else {}
+        ),
+    }
 
 
 def one_or_two(values: list) -> Any:
@@ -213,33 +245,53 @@ def one_or_two(values: list) -> Any:
     return values[0] if values[0] == values[1] else values
 
 
-SCHEDULER_HELP = ("run on Dask instead of local processes: local[:N] starts a LocalCluster of N worker processes "
-                  "(default: all cores) on 127.0.0.1 for this run, ADDRESS (tcp://host:8786) connects to a running "
-                  "scheduler, which must answer and have a worker within 10 s; needs the optional extra "
-                  "gearwear[dask]")
+SCHEDULER_HELP = (
+    "run on Dask instead of local processes: local[:N] starts a LocalCluster of N worker processes "
+    "(default: all cores) on 127.0.0.1 for this run, ADDRESS (tcp://host:8786) connects to a running "
+    "scheduler, which must answer and have a worker within 10 s; needs the optional extra "
+    "gearwear[dask]"
+)
 
 
-ALLOW_LARGE_HELP = ("run more than 2000 grid points (run-up: speeds x points x directions), refused without it; "
-                    "a run estimated to take over a minute states its estimate on stderr once its first point is done")
+ALLOW_LARGE_HELP = (
+    "run more than 2000 grid points (run-up: speeds x points x directions), refused without it; "
+    "a run estimated to take over a minute states its estimate on stderr once its first point is done"
+)
 
 
-SET_HELP = ("override a scene key by its dotted path, e.g. --set operating.speed_rpm=6000 "
-            "--set effects.backlash.initial_um=50; KEY=none removes a key or an effect, e.g. "
-            "--set effects.backlash=none (repeatable; validated like the file; see gearwear scene --schema)")
+SET_HELP = (
+    "override a scene key by its dotted path, e.g. --set operating.speed_rpm=6000 "
+    "--set effects.backlash.initial_um=50; KEY=none removes a key or an effect, e.g. "
+    "--set effects.backlash=none (repeatable; validated like the file; see gearwear scene --schema)"
+)
 
 
-def scene_options(sp: argparse.ArgumentParser, default: str, multi: bool = False,
-                   aliases: tuple[str, ...] = ("wear", "clearance", "torque")) -> None:
+def scene_options(
+    sp: argparse.ArgumentParser,
+    default: str,
+    multi: bool = False,
+    aliases: tuple[str, ...] = ("wear", "clearance", "torque"),
+) -> None:
     """The scene argument, --set, and the short flags that are aliases of --set."""
-    sp.add_argument("scene", nargs="?", help=f"scene TOML file or built-in scene name (default: {default}; "
-                                             "list: gearwear scene --list)")
+    sp.add_argument(
+        "scene",
+        nargs="?",
+        help=f"scene TOML file or built-in scene name (default: {default}; list: gearwear scene --list)",
+    )
     sp.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help=SET_HELP)
     many = " (one or more: each is overlaid)" if multi else ""
     if "wear" in aliases:
-        sp.add_argument("--wear", nargs="+" if multi else None, help="alias of --set effects.wear=...: unworn | "
-                        f"mild | severe, a depth like 25um, or running hours like 500h{many}")
+        sp.add_argument(
+            "--wear",
+            nargs="+" if multi else None,
+            help="alias of --set effects.wear=...: unworn | "
+            f"mild | severe, a depth like 25um, or running hours like 500h{many}",
+        )
     if "clearance" in aliases:
-        sp.add_argument("--clearance-um", nargs="+" if multi else None, help="alias of --set "
-                        f"effects.bearing_clearance.clearance_um=X, bearing radial clearance in um{many}")
+        sp.add_argument(
+            "--clearance-um",
+            nargs="+" if multi else None,
+            help=f"alias of --set effects.bearing_clearance.clearance_um=X, bearing radial clearance in um{many}",
+        )
     if "torque" in aliases:
         sp.add_argument("--torque-Nm", help="alias of --set operating.torque_Nm=X, pinion torque in N m")

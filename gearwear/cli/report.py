@@ -6,12 +6,9 @@ import argparse
 import sys
 import time
 
-from gearwear.core.validation import InputError
-
 from gearwear import io
-
-
-from gearwear.cli.common import (check_out, load_scene, pair_inputs, print_assumed, scene_options, write_output)
+from gearwear.cli.common import check_out, load_scene, pair_inputs, print_assumed, scene_options, write_output
+from gearwear.core.validation import InputError
 
 
 def run(args: argparse.Namespace) -> int:
@@ -23,8 +20,10 @@ def run(args: argparse.Namespace) -> int:
         raise InputError(f"report {args.which!r}: unknown (available: paper, pair)")
     if args.scene is not None or args.set:
         given = args.scene if args.scene is not None else f"--set {args.set[0]}"
-        raise InputError(f"report paper: {given}: the paper report takes no scene or --set (it is the paper's "
-                         "pair); gearwear report pair SCENE reports your own")
+        raise InputError(
+            f"report paper: {given}: the paper report takes no scene or --set (it is the paper's "
+            "pair); gearwear report pair SCENE reports your own"
+        )
     out = check_out(args.out, "report paper")
     assert out is not None
     files = report_paper.run_report(out, progress=True)
@@ -39,8 +38,8 @@ def run_pair(args: argparse.Namespace) -> int:
 
     from tqdm import tqdm
 
-    from gearwear.reports import pair as report_pair
     from gearwear.jobs import sweep as sweep_job
+    from gearwear.reports import pair as report_pair
 
     scene = load_scene(args)
     report_pair.check_scene(scene)
@@ -49,8 +48,11 @@ def run_pair(args: argparse.Namespace) -> int:
     settings = report_pair.SETTINGS
     prep = report_pair.prepare(scene, settings)
     steps = [*report_pair.PARTS, "figures"]
-    with tqdm(total=len(steps), desc="report pair", unit="part", file=sys.stderr) as bar, \
-            sweep_job.make_executor(1) as executor:
+    with (
+        tqdm(total=len(steps), desc="report pair", unit="part", file=sys.stderr) as bar,
+        sweep_job.make_executor(1) as executor,
+    ):
+
         def step(name: str) -> None:
             bar.n = steps.index(name)
             bar.set_postfix_str(name)
@@ -63,8 +65,14 @@ def run_pair(args: argparse.Namespace) -> int:
         step("figures")
         inputs = {**io.scene_inputs(scene), "pair": pair_inputs(scene), "settings": doc["settings"]}
         wall = report_pair.timing(rep)
-        files = write_output(out, "report pair", scene, inputs, lambda d: report_pair.write(doc, d),
-                       {**wall, "total_s": time.perf_counter() - t0})
+        files = write_output(
+            out,
+            "report pair",
+            scene,
+            inputs,
+            lambda d: report_pair.write(doc, d),
+            {**wall, "total_s": time.perf_counter() - t0},
+        )
         bar.n = len(steps)
         bar.refresh()
     print_pair(doc, wall)
@@ -79,12 +87,16 @@ def print_pair(doc: dict, wall: dict) -> None:
     print(f"{'method':<24}{'mean N/m':>12}{'vs FE %':>9}{'STE p-p um':>12}{'wall s':>9}")
     for r in doc["stiffness"]:
         vs = f"{'ref':>9}" if r["method"] == report_pair.REFERENCE else f"{r['mean_vs_fe_pct']:>+9.1f}"
-        print(f"{r['label'].split(' (')[0]:<24}{r['mean_N_per_m']:>12.4e}{vs}"
-              f"{r['ste_peak_to_peak_um']:>12.3f}{wall.get('stiffness ' + r['method'] + ' s', float('nan')):>9.2f}")
+        print(
+            f"{r['label'].split(' (')[0]:<24}{r['mean_N_per_m']:>12.4e}{vs}"
+            f"{r['ste_peak_to_peak_um']:>12.3f}{wall.get('stiffness ' + r['method'] + ' s', float('nan')):>9.2f}"
+        )
     ru = doc["runup"]
-    print(f"run-up {ru['speeds_rpm'][0]:.0f}-{ru['speeds_rpm'][-1]:.0f} rpm ({len(ru['speeds_rpm'])} speeds, up): "
-          f"K_v max {ru['K_v_max']:.4f} at {ru['K_v_max_speed_rpm']:.0f} rpm; ISO 6336 n_E1 "
-          f"{ru['iso6336']['n_E1_driver_rpm']:.0f} rpm (driver), ISO K_v max {ru['K_v_iso_max']:.4f}")
+    print(
+        f"run-up {ru['speeds_rpm'][0]:.0f}-{ru['speeds_rpm'][-1]:.0f} rpm ({len(ru['speeds_rpm'])} speeds, up): "
+        f"K_v max {ru['K_v_max']:.4f} at {ru['K_v_max_speed_rpm']:.0f} rpm; ISO 6336 n_E1 "
+        f"{ru['iso6336']['n_E1_driver_rpm']:.0f} rpm (driver), ISO K_v max {ru['K_v_iso_max']:.4f}"
+    )
     print(f"wall time {wall['computation s']:.1f} s (computation)")
     print_assumed(doc["assumptions"])
     for w in doc["warnings"]:
@@ -93,18 +105,22 @@ def print_pair(doc: dict, wall: dict) -> None:
 
 def add_parser(sub) -> None:
     """The ``report`` sub-command's arguments."""
-    rp = sub.add_parser("report", help="a one-page report of your gear pair (report pair SCENE), or the paper's "
-                                       "figures with a trends table (report paper)",
-                        description="report pair SCENE: a one-page report of your own pair (README.md, report.json "
-                                    "and PNGs): the geometry of both gears and the mesh, the mesh stiffness by every "
-                                    "method including the pair FE, the loaded transmission error against load, a "
-                                    "run-up around ISO 6336's resonance with ISO's K_v next to it, and every value "
-                                    "assumed (~30 s; needs bodies.bearing_stiffness_N_per_m). "
-                                    "report paper: every numerical figure of Zhang et al. (2019) regenerated with "
-                                    "FE-calibrated stiffness and the 6-DOF model, with a table comparing each of the "
-                                    "paper's trend claims with this tool's result (a few minutes).")
+    rp = sub.add_parser(
+        "report",
+        help="a one-page report of your gear pair (report pair SCENE), or the paper's "
+        "figures with a trends table (report paper)",
+        description="report pair SCENE: a one-page report of your own pair (README.md, report.json "
+        "and PNGs): the geometry of both gears and the mesh, the mesh stiffness by every "
+        "method including the pair FE, the loaded transmission error against load, a "
+        "run-up around ISO 6336's resonance with ISO's K_v next to it, and every value "
+        "assumed (~30 s; needs bodies.bearing_stiffness_N_per_m). "
+        "report paper: every numerical figure of Zhang et al. (2019) regenerated with "
+        "FE-calibrated stiffness and the 6-DOF model, with a table comparing each of the "
+        "paper's trend claims with this tool's result (a few minutes).",
+    )
     rp.add_argument("which", choices=["paper", "pair"], help="which report")
     scene_options(rp, "paper-default; report pair only", aliases=())
-    rp.add_argument("--out", required=True, help="output folder (the repository's copy of report paper is "
-                                                 "reports/paper)")
+    rp.add_argument(
+        "--out", required=True, help="output folder (the repository's copy of report paper is reports/paper)"
+    )
     rp.set_defaults(func=run)

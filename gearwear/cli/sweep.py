@@ -5,13 +5,17 @@ from __future__ import annotations
 import argparse
 import math
 
-from gearwear.core.validation import InputError
-
 from gearwear import io
-
-
-from gearwear.cli.common import (ALLOW_LARGE_HELP, SCHEDULER_HELP, alias_sets, check_out, scene_options, worker_count,
-                                 write_output)
+from gearwear.cli.common import (
+    ALLOW_LARGE_HELP,
+    SCHEDULER_HELP,
+    alias_sets,
+    check_out,
+    scene_options,
+    worker_count,
+    write_output,
+)
+from gearwear.core.validation import InputError
 
 
 def run(args: argparse.Namespace) -> int:
@@ -22,6 +26,7 @@ def run(args: argparse.Namespace) -> int:
     out = check_out(args.out, "sweep")
     axes, fixed = sweep.split_sets(alias_sets(args))
     from gearwear.scene.model import apply_overrides, scene_from_dict
+
     require_dynamics(scene_from_dict(apply_overrides(data, fixed), name=name))  # the fixed keys are checked first
     if not axes:
         raise InputError("--set: give at least one swept key, KEY=START:STOP:N or KEY=a,b,c")
@@ -31,9 +36,14 @@ def run(args: argparse.Namespace) -> int:
     base = scene_from_dict(apply_overrides(data, fixed), name=name)  # the scene every point starts from
     inputs = {**io.scene_inputs(base), "axes": {a.key: list(a.values) for a in axes}}
     labels = {**io.scene_labels(base), "fixed": fixed}
-    files = write_output(out, "sweep", base, {**inputs, "fixed": fixed},
-                   lambda d: sweep.write(axes, results, d, inputs, labels),
-                   {"points": [{"point": r["point"], "wall_s": r["wall_s"]} for r in results]})
+    files = write_output(
+        out,
+        "sweep",
+        base,
+        {**inputs, "fixed": fixed},
+        lambda d: sweep.write(axes, results, d, inputs, labels),
+        {"points": [{"point": r["point"], "wall_s": r["wall_s"]} for r in results]},
+    )
     if args.json:
         print(io.json_text({"points": results, "files": [str(f) for f in files]}, indent=None))
     else:
@@ -43,8 +53,11 @@ def run(args: argparse.Namespace) -> int:
             fm = r["harmonics"].get("F_m_N")
             extra = f"  F_m harmonics 1-4 (N): {', '.join(f'{x:.3g}' for x in fm[:4])}" if fm else ""
             sep = r["separation_fraction"]
-            contact = ("no backlash: cannot separate, back flanks loaded "
-                       f"{100 * r['backside_fraction']:.2f} %" if sep is None else f"separation {100 * sep:.2f} %")
+            contact = (
+                f"no backlash: cannot separate, back flanks loaded {100 * r['backside_fraction']:.2f} %"
+                if sep is None
+                else f"separation {100 * sep:.2f} %"
+            )
             print(f"{pt}: {contact}{extra}")
         for f in files:
             print(f"wrote {f}")
@@ -53,11 +66,14 @@ def run(args: argparse.Namespace) -> int:
 
 def add_parser(sub) -> None:
     """The ``sweep`` sub-command's arguments."""
-    sw = sub.add_parser("sweep", help="run a scene over a parameter grid in parallel (harmonics vs parameter)",
-                        description="Sweep scene keys: --set KEY=START:STOP:N (linear) or KEY=a,b,c (values); "
-                                    "KEY=VALUE fixes a key. Runs the grid on local cores (or a Dask cluster) with "
-                                    "a progress bar and writes sweep.csv (metrics and harmonic amplitudes per "
-                                    "point) and harmonics-versus-parameter PNGs (paper Figs. 8-14, 19-25).")
+    sw = sub.add_parser(
+        "sweep",
+        help="run a scene over a parameter grid in parallel (harmonics vs parameter)",
+        description="Sweep scene keys: --set KEY=START:STOP:N (linear) or KEY=a,b,c (values); "
+        "KEY=VALUE fixes a key. Runs the grid on local cores (or a Dask cluster) with "
+        "a progress bar and writes sweep.csv (metrics and harmonic amplitudes per "
+        "point) and harmonics-versus-parameter PNGs (paper Figs. 8-14, 19-25).",
+    )
     scene_options(sw, "paper-wear-severe")
     sw.add_argument("--workers", help="local worker processes (default: all cores)")
     sw.add_argument("--scheduler", help=SCHEDULER_HELP)

@@ -36,13 +36,17 @@ import numpy as np
 from gearwear.core.validation import InputError
 
 #: measurable signals: file column -> (model signal, factor from SI to the column's unit)
-SIGNALS: dict[str, tuple[str, float]] = {"y_p_um": ("y_p", 1e6), "x_p_um": ("x_p", 1e6),
-                                         "delta_um": ("delta", 1e6), "F_m_N": ("F_m", 1.0)}
+SIGNALS: dict[str, tuple[str, float]] = {
+    "y_p_um": ("y_p", 1e6),
+    "x_p_um": ("x_p", 1e6),
+    "delta_um": ("delta", 1e6),
+    "F_m_N": ("F_m", 1.0),
+}
 #: signals whose mean value is a feature (see the module docstring for delta)
 MEAN_SIGNALS = ("y_p_um", "x_p_um", "F_m_N")
 TIME_COLUMNS = ("time_s", "t_s")
 
-Feature = tuple[str, int]   # (signal column, harmonic k >= 1; 0 = the mean)
+Feature = tuple[str, int]  # (signal column, harmonic k >= 1; 0 = the mean)
 
 
 def feature_name(f: Feature) -> str:
@@ -60,9 +64,9 @@ class Measurement:
     """Measured feature values (in the signals' units) and where they came from."""
 
     source: str
-    kind: str                                   # "time_series" | "harmonics"
+    kind: str  # "time_series" | "harmonics"
     values: dict[Feature, float]
-    info: dict = field(default_factory=dict)    # time series: periods, samples per period
+    info: dict = field(default_factory=dict)  # time series: periods, samples per period
 
     @property
     def features(self) -> list[Feature]:
@@ -74,8 +78,9 @@ class Measurement:
 
 
 def _bad(path: Path, row: int | None, column: str | None, why: str) -> InputError:
-    where = "".join(x for x in (f", row {row}" if row is not None else "",
-                                f", column {column}" if column is not None else ""))
+    where = "".join(
+        x for x in (f", row {row}" if row is not None else "", f", column {column}" if column is not None else "")
+    )
     return InputError(f"--measured {path}{where}: {why}")
 
 
@@ -85,24 +90,28 @@ def fourier_fit(t: np.ndarray, x: np.ndarray, f0: float, n: int) -> tuple[float,
     w = 2 * math.pi * f0 * np.asarray(t, float)[:, None] * np.arange(1, n + 1)[None, :]
     A = np.hstack([np.ones((w.shape[0], 1)), np.cos(w), np.sin(w)])
     coef = np.linalg.lstsq(A, np.asarray(x, float), rcond=None)[0]
-    return float(coef[0]), coef[1:n + 1] - 1j * coef[n + 1:]
+    return float(coef[0]), coef[1 : n + 1] - 1j * coef[n + 1 :]
 
 
-def time_series_features(t: np.ndarray, columns: dict[str, np.ndarray], fm_Hz: float,
-                         harmonics: int) -> tuple[dict[Feature, float], dict]:
+def time_series_features(
+    t: np.ndarray, columns: dict[str, np.ndarray], fm_Hz: float, harmonics: int
+) -> tuple[dict[Feature, float], dict]:
     """Harmonic amplitudes 1..K (and the means of MEAN_SIGNALS) over the last whole mesh
     periods of a record; ValueError naming what is missing if the record is too short or
     too coarse for K harmonics."""
     span = float(t[-1] - t[0])
     periods = int(math.floor(span * fm_Hz + 1e-9))
     if periods < 1:
-        raise ValueError(f"the record spans {span:.6g} s, less than one mesh period "
-                         f"({1 / fm_Hz:.6g} s at the scene's speed)")
+        raise ValueError(
+            f"the record spans {span:.6g} s, less than one mesh period ({1 / fm_Hz:.6g} s at the scene's speed)"
+        )
     keep = t >= t[-1] - periods / fm_Hz - 1e-12 / fm_Hz
     per_period = (int(np.count_nonzero(keep)) - 1) / periods
     if per_period < 2 * harmonics + 1:
-        raise ValueError(f"{per_period:.1f} samples per mesh period cannot resolve {harmonics} mesh harmonics "
-                         f"(at least {2 * harmonics + 1} are needed)")
+        raise ValueError(
+            f"{per_period:.1f} samples per mesh period cannot resolve {harmonics} mesh harmonics "
+            f"(at least {2 * harmonics + 1} are needed)"
+        )
     values: dict[Feature, float] = {}
     for col, x in columns.items():
         mean, c = fourier_fit(t[keep], x[keep], fm_Hz, harmonics)
@@ -133,8 +142,13 @@ def _plausible(path: Path, row: int, col: str, v: float, signal: str | None = No
     """``v`` (of ``signal``, default the column's) if it is within MAX_MAGNITUDE."""
     sig = signal or col
     if abs(v) > MAX_MAGNITUDE[sig]:
-        raise _bad(path, row, col, f"{v:g} is beyond any physical value of {sig} (|value| <= "
-                                   f"{MAX_MAGNITUDE[sig]:g} in its unit); check the unit and the file")
+        raise _bad(
+            path,
+            row,
+            col,
+            f"{v:g} is beyond any physical value of {sig} (|value| <= "
+            f"{MAX_MAGNITUDE[sig]:g} in its unit); check the unit and the file",
+        )
     return v
 
 
@@ -154,8 +168,14 @@ def read_measurement(path: str | Path, fm_Hz: float, harmonics: int) -> Measurem
         raise _bad(p, None, None, str(exc).split(": ", 1)[1]) from None
     rows = list(csv.reader(line for line in text.splitlines() if line.strip() and not line.startswith("#")))
     if not rows:
-        raise _bad(p, None, None, "is empty; give a time series (time_s, " + ", ".join(SIGNALS)
-                   + ") or a harmonic table (signal,harmonic,amplitude)")
+        raise _bad(
+            p,
+            None,
+            None,
+            "is empty; give a time series (time_s, "
+            + ", ".join(SIGNALS)
+            + ") or a harmonic table (signal,harmonic,amplitude)",
+        )
     header = [h.strip() for h in rows[0]]
     if header == ["signal", "harmonic", "amplitude"]:
         meas = _harmonic_table(p, rows[1:], harmonics)
@@ -164,8 +184,13 @@ def read_measurement(path: str | Path, fm_Hz: float, harmonics: int) -> Measurem
     if not any(v != 0.0 for (_, k), v in meas.values.items() if k >= 1):
         # a running gear pair always shows mesh harmonics: all zero is a dead sensor or an
         # empty export, and fitting it would report a confident estimate of nothing
-        raise _bad(p, None, None, "every harmonic amplitude is 0: a running gear pair always has mesh "
-                                  "harmonics (was the sensor connected, the record exported?)")
+        raise _bad(
+            p,
+            None,
+            None,
+            "every harmonic amplitude is 0: a running gear pair always has mesh "
+            "harmonics (was the sensor connected, the record exported?)",
+        )
     return meas
 
 
@@ -179,8 +204,12 @@ def _harmonic_table(p: Path, rows: list[list[str]], harmonics: int) -> Measureme
             raise _bad(p, i, "signal", f"{sig!r} is not a measurable signal ({', '.join(SIGNALS)})")
         kf = _number(p, i, "harmonic", r[1])
         if kf != int(kf) or not 1 <= kf <= harmonics:
-            raise _bad(p, i, "harmonic", f"{r[1].strip()} must be a whole number in [1, {harmonics}] "
-                                         "(the scene's output.harmonics)")
+            raise _bad(
+                p,
+                i,
+                "harmonic",
+                f"{r[1].strip()} must be a whole number in [1, {harmonics}] (the scene's output.harmonics)",
+            )
         amp = _number(p, i, "amplitude", r[2])
         if amp < 0:
             raise _bad(p, i, "amplitude", f"{amp:g} must be >= 0 (an amplitude)")
@@ -196,8 +225,9 @@ def _harmonic_table(p: Path, rows: list[list[str]], harmonics: int) -> Measureme
 def _time_series(p: Path, header: list[str], rows: list[list[str]], fm_Hz: float, harmonics: int) -> Measurement:
     tcol = next((h for h in TIME_COLUMNS if h in header), None)
     if tcol is None:
-        raise _bad(p, 1, None, "the header has neither time_s (a time series) nor signal,harmonic,amplitude "
-                               "(a harmonic table)")
+        raise _bad(
+            p, 1, None, "the header has neither time_s (a time series) nor signal,harmonic,amplitude (a harmonic table)"
+        )
     for h in header:
         if h != tcol and h not in SIGNALS:
             raise _bad(p, 1, h, f"unknown column (a time series has {tcol} and any of {', '.join(SIGNALS)})")
@@ -211,8 +241,9 @@ def _time_series(p: Path, header: list[str], rows: list[list[str]], fm_Hz: float
         if len(r) != len(header):
             raise _bad(p, i + 2, None, f"has {len(r)} fields, the header {len(header)}")
         for j, h in enumerate(header):
-            data[i, j] = _number(p, i + 2, h, r[j]) if h == tcol else _plausible(p, i + 2, h,
-                                                                                 _number(p, i + 2, h, r[j]))
+            data[i, j] = (
+                _number(p, i + 2, h, r[j]) if h == tcol else _plausible(p, i + 2, h, _number(p, i + 2, h, r[j]))
+            )
     t = data[:, header.index(tcol)]
     if t.size < 2:
         raise _bad(p, None, None, "has fewer than two samples")

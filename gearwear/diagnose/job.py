@@ -19,7 +19,7 @@ from gearwear.diagnose import posterior as dp
 from gearwear.diagnose.features import MEAN_SIGNALS, SIGNALS, Feature, all_features, feature_name, time_series_features
 from gearwear.diagnose.surrogate import Surrogate, error_multiplicity
 
-GRID_POINTS = {1: 401, 2: 101, 3: 41}   # per axis and zoom stage
+GRID_POINTS = {1: 401, 2: 101, 3: 41}  # per axis and zoom stage
 
 
 @dataclass
@@ -28,9 +28,9 @@ class Fit:
 
     sur: Surrogate
     features: list[Feature]
-    idx: np.ndarray             # their columns in the surrogate's features
-    y: np.ndarray               # measured values
-    var_noise: np.ndarray       # measurement-noise variances
+    idx: np.ndarray  # their columns in the surrogate's features
+    y: np.ndarray  # measured values
+    var_noise: np.ndarray  # measurement-noise variances
     multiplicity: float
     post: dp.GridPosterior
     summary: dict[str, Any]
@@ -49,13 +49,15 @@ class Fit:
 
 def log_likelihood(sur: Surrogate, idx: np.ndarray, y: np.ndarray, var_noise: np.ndarray, mult: float):
     """theta (m, d) -> -1/2 sum (f_i(theta) - y_i)^2 / (var_noise_i + mult s_i(theta)^2)."""
+
     def logpost(theta: np.ndarray) -> np.ndarray:
         out = np.empty(len(theta))
         for a in range(0, len(theta), 8192):
-            th = theta[a:a + 8192]
+            th = theta[a : a + 8192]
             v = var_noise + mult * sur.error(th, columns=idx) ** 2
-            out[a:a + 8192] = -0.5 * np.sum((sur.predict(th)[:, idx] - y) ** 2 / v, axis=1)
+            out[a : a + 8192] = -0.5 * np.sum((sur.predict(th)[:, idx] - y) ** 2 / v, axis=1)
         return out
+
     return logpost
 
 
@@ -67,13 +69,16 @@ def fit(sur: Surrogate, values: dict[Feature, float], rel: float, floor_frac: fl
     y = np.array([values[f] for f in feats])
     var_noise = dp.noise_variance(feats, y, rel, floor_frac)
     mult = error_multiplicity(len(feats))
-    post = dp.grid_posterior(log_likelihood(sur, idx, y, var_noise, mult), sur.lo, sur.hi,
-                             GRID_POINTS[len(sur.unknowns)])
-    return Fit(sur, feats, idx, y, var_noise, mult, post, dp.summarise(post, [u.name for u in sur.unknowns],
-                                                                       sur.lo, sur.hi))
+    post = dp.grid_posterior(
+        log_likelihood(sur, idx, y, var_noise, mult), sur.lo, sur.hi, GRID_POINTS[len(sur.unknowns)]
+    )
+    return Fit(
+        sur, feats, idx, y, var_noise, mult, post, dp.summarise(post, [u.name for u in sur.unknowns], sur.lo, sur.hi)
+    )
 
 
 # -- identifiability ----------------------------------------------------------------------
+
 
 def candidate_groups(measured: list[Feature], harmonics: int) -> list[tuple[str, list[Feature]]]:
     """Measurements one could add: the mean of a displacement or force (a time series instead
@@ -93,8 +98,14 @@ def candidate_groups(measured: list[Feature], harmonics: int) -> list[tuple[str,
     return groups
 
 
-def expected_widths(sur: Surrogate, theta: np.ndarray, feats: list[Feature], rel: float, floor_frac: float,
-                    measured_var: dict[Feature, float] | None = None) -> dict[str, np.ndarray]:
+def expected_widths(
+    sur: Surrogate,
+    theta: np.ndarray,
+    feats: list[Feature],
+    rel: float,
+    floor_frac: float,
+    measured_var: dict[Feature, float] | None = None,
+) -> dict[str, np.ndarray]:
     """Cramer-Rao widths (fractions of the prior) at theta for measuring ``feats``: the
     surrogate's sensitivities, the noise model on the predicted values (or the given
     variances of features already measured) and the surrogate error."""
@@ -123,8 +134,11 @@ def verdict(ft: Fit, rel: float, floor_frac: float) -> dict[str, Any]:
         frac = e["interval_fraction_of_prior"]
         ok = frac <= dp.RESOLVED_FRACTION
         ident[u.name] = bool(ok)
-        d: dict[str, Any] = {"interval_fraction_of_prior": frac, "cramer_rao_fraction": float(here["marginal"][j]),
-                             "cramer_rao_fraction_others_known": float(here["conditional"][j])}
+        d: dict[str, Any] = {
+            "interval_fraction_of_prior": frac,
+            "cramer_rao_fraction": float(here["marginal"][j]),
+            "cramer_rao_fraction_others_known": float(here["conditional"][j]),
+        }
         span = f"{e['lo95']:.3g}-{e['hi95']:.3g} {u.unit}, {100 * frac:.0f} % of the prior range"
         if ok:
             lines.append(f"{u.name} = {e['value']:.3g} {u.unit} (95 %: {span}): resolved.")
@@ -135,28 +149,38 @@ def verdict(ft: Fit, rel: float, floor_frac: float) -> dict[str, Any]:
                 d["reason"] = "trade-off"
                 d["trades_off_with"] = names[partner]
                 known = names[partner] if len(others) == 1 else "the other unknowns"
-                why = (f"it trades off with {names[partner]} (posterior correlation {corr[j, partner]:+.2f}); "
-                       f"with {known} known it would span {100 * here['conditional'][j]:.0f} % (Cramer-Rao)")
+                why = (
+                    f"it trades off with {names[partner]} (posterior correlation {corr[j, partner]:+.2f}); "
+                    f"with {known} known it would span {100 * here['conditional'][j]:.0f} % (Cramer-Rao)"
+                )
             else:
                 d["reason"] = "insensitive"
                 c = here["conditional"][j]
                 extent = f"spans {100 * c:.0f} % of" if c <= 1 else "is wider than"
-                why = ("the measured features hardly respond to it "
-                       f"(even with the other unknowns known, the Cramer-Rao 95 % interval {extent} the prior range)")
+                why = (
+                    "the measured features hardly respond to it "
+                    f"(even with the other unknowns known, the Cramer-Rao 95 % interval {extent} the prior range)"
+                )
             advice = resolving_measurement(sur, est, ft, j, rel, floor_frac)
             d["would_resolve"] = advice
-            lines.append(f"{u.name} cannot be resolved from this measurement (95 %: {span}): {why}. "
-                         + (f"Measuring {advice['measurement']} would resolve it (expected 95 % interval "
-                            f"{100 * advice['expected_fraction_of_prior']:.0f} % of the prior range, Cramer-Rao "
-                            "at the estimate)." if advice.get("measurement") else
-                            "No other signal at this speed and torque would resolve it; measure at another "
-                            "operating point (gearwear diagnose --plan SCENE ranks speeds and torques)."))
+            lines.append(
+                f"{u.name} cannot be resolved from this measurement (95 %: {span}): {why}. "
+                + (
+                    f"Measuring {advice['measurement']} would resolve it (expected 95 % interval "
+                    f"{100 * advice['expected_fraction_of_prior']:.0f} % of the prior range, Cramer-Rao "
+                    "at the estimate)."
+                    if advice.get("measurement")
+                    else "No other signal at this speed and torque would resolve it; measure at another "
+                    "operating point (gearwear diagnose --plan SCENE ranks speeds and torques)."
+                )
+            )
         details[u.name] = d
     return {"identifiable": ident, "details": details, "verdict": " ".join(lines)}
 
 
-def resolving_measurement(sur: Surrogate, est: np.ndarray, ft: Fit, j: int, rel: float,
-                          floor_frac: float) -> dict[str, Any]:
+def resolving_measurement(
+    sur: Surrogate, est: np.ndarray, ft: Fit, j: int, rel: float, floor_frac: float
+) -> dict[str, Any]:
     """The smallest added measurement (of :func:`candidate_groups`; fewest new features,
     then one of a signal already measured, then the narrowest interval) whose Cramer-Rao
     interval for unknown j reaches RESOLVED_FRACTION; {} if none does."""
@@ -176,9 +200,18 @@ def resolving_measurement(sur: Surrogate, est: np.ndarray, ft: Fit, j: int, rel:
 
 # -- synthetic measurements (blind tests, the example) -----------------------------------
 
-def synthetic_features(raw: dict[str, Any], name: str, truth: dict[str, float], harmonics: int,
-                       columns: list[str], means: bool, rel: float, rng: np.random.Generator,
-                       floor_frac: float = 0.0) -> dict[Feature, float]:
+
+def synthetic_features(
+    raw: dict[str, Any],
+    name: str,
+    truth: dict[str, float],
+    harmonics: int,
+    columns: list[str],
+    means: bool,
+    rel: float,
+    rng: np.random.Generator,
+    floor_frac: float = 0.0,
+) -> dict[Feature, float]:
     """A "measurement" from the full model (``simulate`` with the scene's own solver) at the
     truth (unknown short name -> value): the harmonics (and, with ``means``, the mean
     values) of the sampled signals ``columns`` over the kept window, computed as for a
@@ -195,54 +228,79 @@ def synthetic_features(raw: dict[str, Any], name: str, truth: dict[str, float], 
     return perturb(vals, rel, floor_frac, rng)
 
 
-def perturb(values: dict[Feature, float], rel: float, floor_frac: float,
-            rng: np.random.Generator) -> dict[Feature, float]:
+def perturb(
+    values: dict[Feature, float], rel: float, floor_frac: float, rng: np.random.Generator
+) -> dict[Feature, float]:
     """The noise model's measurement noise applied to exact features (in their order)."""
     feats = list(values)
     y = np.array([values[f] for f in feats])
     sd = np.sqrt(dp.noise_variance(feats, y, 0.0, floor_frac))
     out = y * (1 + rel * rng.standard_normal(y.size)) + sd * rng.standard_normal(y.size)
-    out = np.where([k > 0 for _, k in feats], np.abs(out), out)   # an amplitude stays >= 0
+    out = np.where([k > 0 for _, k in feats], np.abs(out), out)  # an amplitude stays >= 0
     return dict(zip(feats, out.tolist()))
 
 
 # -- the result document ------------------------------------------------------------------
+
 
 def feature_rows(ft: Fit) -> list[dict[str, Any]]:
     est = ft.estimate()
     fitted = ft.sur.predict(est[None, :])[0, ft.idx]
     s = ft.sur.error(est[None, :], columns=ft.idx)[0]
     tot = np.sqrt(ft.variance(est[None, :])[0])
-    return [{"feature": feature_name(f), "signal": f[0], "harmonic": f[1], "measured": float(y),
-             "fitted": float(fv), "sigma_noise": float(np.sqrt(vn)),
-             "sigma_surrogate": float(np.sqrt(ft.multiplicity) * si),
-             "residual_over_sigma": float((y - fv) / t)}
-            for f, y, fv, vn, si, t in zip(ft.features, ft.y, fitted, ft.var_noise, s, tot)]
+    return [
+        {
+            "feature": feature_name(f),
+            "signal": f[0],
+            "harmonic": f[1],
+            "measured": float(y),
+            "fitted": float(fv),
+            "sigma_noise": float(np.sqrt(vn)),
+            "sigma_surrogate": float(np.sqrt(ft.multiplicity) * si),
+            "residual_over_sigma": float((y - fv) / t),
+        }
+        for f, y, fv, vn, si, t in zip(ft.features, ft.y, fitted, ft.var_noise, s, tot)
+    ]
 
 
-def document(ft: Fit, ver: dict[str, Any], meas_info: dict[str, Any], rel: float, floor_frac: float,
-             scene_name: str) -> dict[str, Any]:
+def document(
+    ft: Fit, ver: dict[str, Any], meas_info: dict[str, Any], rel: float, floor_frac: float, scene_name: str
+) -> dict[str, Any]:
     """diagnosis.json (no wall times: those go to timing.json and --json)."""
     sur = ft.sur
     rows = feature_rows(ft)
-    return {"scene": scene_name, "measured": meas_info,
-            "unknowns": ft.names,
-            "prior": {u.name: {"lo": float(a), "hi": float(b), "unit": u.unit, "distribution": "uniform"}
-                      for u, a, b in zip(sur.unknowns, sur.lo, sur.hi)},
-            "estimates": {n: {k: ft.summary["estimates"][n][k] for k in ("value", "lo95", "hi95")}
-                          for n in ft.names},
-            "posterior": {n: {k: v for k, v in ft.summary["estimates"][n].items() if k not in ("value", "lo95", "hi95")}
-                          for n in ft.names},
-            "posterior_correlation": ft.summary["correlation"].tolist(),
-            "identifiable": ver["identifiable"], "verdict": ver["verdict"], "identifiability": ver["details"],
-            "noise_model": {"relative": rel, "floor_fraction_of_largest_harmonic": floor_frac,
-                            "surrogate_error_multiplicity": ft.multiplicity,
-                            "variance": "(relative * measured)^2 + (floor * largest harmonic of the signal)^2 "
-                                        "+ multiplicity * surrogate_error(theta)^2",
-                            "distribution": "Gaussian, independent features"},
-            "surrogate": {"design_points": int(len(sur.X)), "heldout": sur.heldout,
-                          "periodicity_residual_max": sur.meta.get("periodicity_residual_max"),
-                          "interpolation": "scipy RBFInterpolator, thin-plate spline + linear"},
-            "grid": {"stages": ft.post.stages, "points_per_axis": int(ft.post.axes[0].size)},
-            "chi2_per_feature": float(np.mean([r["residual_over_sigma"] ** 2 for r in rows])),
-            "features": rows}
+    return {
+        "scene": scene_name,
+        "measured": meas_info,
+        "unknowns": ft.names,
+        "prior": {
+            u.name: {"lo": float(a), "hi": float(b), "unit": u.unit, "distribution": "uniform"}
+            for u, a, b in zip(sur.unknowns, sur.lo, sur.hi)
+        },
+        "estimates": {n: {k: ft.summary["estimates"][n][k] for k in ("value", "lo95", "hi95")} for n in ft.names},
+        "posterior": {
+            n: {k: v for k, v in ft.summary["estimates"][n].items() if k not in ("value", "lo95", "hi95")}
+            for n in ft.names
+        },
+        "posterior_correlation": ft.summary["correlation"].tolist(),
+        "identifiable": ver["identifiable"],
+        "verdict": ver["verdict"],
+        "identifiability": ver["details"],
+        "noise_model": {
+            "relative": rel,
+            "floor_fraction_of_largest_harmonic": floor_frac,
+            "surrogate_error_multiplicity": ft.multiplicity,
+            "variance": "(relative * measured)^2 + (floor * largest harmonic of the signal)^2 "
+            "+ multiplicity * surrogate_error(theta)^2",
+            "distribution": "Gaussian, independent features",
+        },
+        "surrogate": {
+            "design_points": int(len(sur.X)),
+            "heldout": sur.heldout,
+            "periodicity_residual_max": sur.meta.get("periodicity_residual_max"),
+            "interpolation": "scipy RBFInterpolator, thin-plate spline + linear",
+        },
+        "grid": {"stages": ft.post.stages, "points_per_axis": int(ft.post.axes[0].size)},
+        "chi2_per_feature": float(np.mean([r["residual_over_sigma"] ** 2 for r in rows])),
+        "features": rows,
+    }

@@ -45,7 +45,8 @@ def reference_points(sur: Surrogate) -> np.ndarray:
 
     d = len(sur.unknowns)
     u = qmc.Sobol(d, scramble=True, seed=np.random.default_rng(REFERENCE_SEED)).random_base2(
-        int(math.log2(REFERENCE_POINTS)))
+        int(math.log2(REFERENCE_POINTS))
+    )
     return sur.lo + (sur.hi - sur.lo) * u
 
 
@@ -63,9 +64,11 @@ def assess(sur: Surrogate, rel: float, floor_frac: float) -> list[dict[str, Any]
             if len(pair) == 2:
                 corr.append(abs(w["correlation"][pair[0], pair[1]]))
         med = np.median(widths, axis=0)
-        row: dict[str, Any] = {"measurement": label,
-                               "width_fraction": {n: float(v) for n, v in zip(names, med)},
-                               "resolves": {n: bool(v <= dp.RESOLVED_FRACTION) for n, v in zip(names, med)}}
+        row: dict[str, Any] = {
+            "measurement": label,
+            "width_fraction": {n: float(v) for n, v in zip(names, med)},
+            "resolves": {n: bool(v <= dp.RESOLVED_FRACTION) for n, v in zip(names, med)},
+        }
         if corr:
             row["wear_clearance_correlation"] = float(np.median(corr))
         row["separable"] = all(row["resolves"].values())
@@ -73,9 +76,15 @@ def assess(sur: Surrogate, rel: float, floor_frac: float) -> list[dict[str, Any]
     return rows
 
 
-def plan(spec: BuildSpec, speeds: list[float], torques: list[float] | None, rel: float, floor_frac: float,
-         executor: Executor | Callable[[], Executor | None] | None = None,
-         progress: Callable[[int], None] | None = None) -> dict[str, Any]:
+def plan(
+    spec: BuildSpec,
+    speeds: list[float],
+    torques: list[float] | None,
+    rel: float,
+    floor_frac: float,
+    executor: Executor | Callable[[], Executor | None] | None = None,
+    progress: Callable[[int], None] | None = None,
+) -> dict[str, Any]:
     """The plan document: rows per operating point and candidate measurement, and the
     measurements that separate the unknowns. ``spec``: the surrogate at the scene's own
     operating point, which each candidate point replaces. ``torques`` None: the torque is
@@ -93,50 +102,78 @@ def plan(spec: BuildSpec, speeds: list[float], torques: list[float] | None, rel:
             if T is not None:
                 doc["operating"]["torque_Nm"] = float(T)
             sur = build(replace(spec, raw=doc), executor, progress)
-            builds.append({"speed_rpm": n, "torque_Nm": T, "from_cache": sur.from_cache,
-                           "heldout_harmonic_relative_error_median": sur.heldout.get(
-                               "harmonic_relative_error_median"),
-                           **{k: v for k, v in sur.meta.items() if k.endswith("wall_s")}})
+            builds.append(
+                {
+                    "speed_rpm": n,
+                    "torque_Nm": T,
+                    "from_cache": sur.from_cache,
+                    "heldout_harmonic_relative_error_median": sur.heldout.get("harmonic_relative_error_median"),
+                    **{k: v for k, v in sur.meta.items() if k.endswith("wall_s")},
+                }
+            )
             for r in assess(sur, rel, floor_frac):
                 rows.append({"speed_rpm": n, "torque_Nm": T, **r})
     separable = [r for r in rows if r["separable"]]
     best = min(separable, key=lambda r: max(r["width_fraction"].values()), default=None)
-    return {"unknowns": [u.name for u in spec.unknowns],
-            "prior": {u.name: {"lo": float(a), "hi": float(b), "unit": u.unit}
-                      for u, a, b in zip(spec.unknowns, spec.lo, spec.hi)},
-            "noise_model": {"relative": rel, "floor_fraction_of_largest_harmonic": floor_frac},
-            "resolved_fraction": dp.RESOLVED_FRACTION, "rows": rows, "surrogates": builds,
-            "separable": [{k: r[k] for k in ("speed_rpm", "torque_Nm", "measurement")} for r in separable],
-            "best": None if best is None else {k: best[k] for k in ("speed_rpm", "torque_Nm", "measurement",
-                                                                      "width_fraction")}}
+    return {
+        "unknowns": [u.name for u in spec.unknowns],
+        "prior": {
+            u.name: {"lo": float(a), "hi": float(b), "unit": u.unit} for u, a, b in zip(spec.unknowns, spec.lo, spec.hi)
+        },
+        "noise_model": {"relative": rel, "floor_fraction_of_largest_harmonic": floor_frac},
+        "resolved_fraction": dp.RESOLVED_FRACTION,
+        "rows": rows,
+        "surrogates": builds,
+        "separable": [{k: r[k] for k in ("speed_rpm", "torque_Nm", "measurement")} for r in separable],
+        "best": None
+        if best is None
+        else {k: best[k] for k in ("speed_rpm", "torque_Nm", "measurement", "width_fraction")},
+    }
 
 
 def table_csv(doc: dict[str, Any]) -> str:
     names = doc["unknowns"]
-    cols = ["speed_rpm", "torque_Nm", "measurement"] + [f"width_fraction_{n}" for n in names] + \
-        ["wear_clearance_correlation", "separable"]
+    cols = (
+        ["speed_rpm", "torque_Nm", "measurement"]
+        + [f"width_fraction_{n}" for n in names]
+        + ["wear_clearance_correlation", "separable"]
+    )
     lines = [",".join(cols)]
     for r in doc["rows"]:
-        vals = [f"{r['speed_rpm']:.6g}", "unknown" if r["torque_Nm"] is None else f"{r['torque_Nm']:.6g}",
-                r["measurement"]] + [f"{r['width_fraction'][n]:.4f}" for n in names] + \
-            [f"{r['wear_clearance_correlation']:.4f}" if "wear_clearance_correlation" in r else "",
-             str(r["separable"]).lower()]
+        vals = (
+            [
+                f"{r['speed_rpm']:.6g}",
+                "unknown" if r["torque_Nm"] is None else f"{r['torque_Nm']:.6g}",
+                r["measurement"],
+            ]
+            + [f"{r['width_fraction'][n]:.4f}" for n in names]
+            + [
+                f"{r['wear_clearance_correlation']:.4f}" if "wear_clearance_correlation" in r else "",
+                str(r["separable"]).lower(),
+            ]
+        )
         lines.append(",".join(vals))
     return "\n".join(lines) + "\n"
 
 
 def print_table(doc: dict[str, Any]) -> None:
     names = doc["unknowns"]
-    head = f"{'speed rpm':>9} {'torque N m':>10}  {'measurement':<24}" + "".join(
-        f"{n[:16] + ' %':>19}" for n in names) + f"{'|corr|':>8}  separable"
+    head = (
+        f"{'speed rpm':>9} {'torque N m':>10}  {'measurement':<24}"
+        + "".join(f"{n[:16] + ' %':>19}" for n in names)
+        + f"{'|corr|':>8}  separable"
+    )
     print("95 % interval width as % of the prior range (Cramer-Rao, median over the prior):")
     print(head)
     for r in doc["rows"]:
         T = "unknown" if r["torque_Nm"] is None else f"{r['torque_Nm']:g}"
         corr = f"{r['wear_clearance_correlation']:8.2f}" if "wear_clearance_correlation" in r else f"{'-':>8}"
-        print(f"{r['speed_rpm']:>9g} {T:>10}  {r['measurement']:<24}"
-              + "".join(f"{100 * r['width_fraction'][n]:>19.0f}" for n in names) + corr
-              + f"  {'yes' if r['separable'] else 'no'}")
+        print(
+            f"{r['speed_rpm']:>9g} {T:>10}  {r['measurement']:<24}"
+            + "".join(f"{100 * r['width_fraction'][n]:>19.0f}" for n in names)
+            + corr
+            + f"  {'yes' if r['separable'] else 'no'}"
+        )
     b = doc["best"]
     if b is None:
         print("no candidate separates the unknowns; widen the candidate speeds and torques")

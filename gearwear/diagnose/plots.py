@@ -44,16 +44,16 @@ def corner(ft: Fit):
                 ax.fill_between(x[band], dens[band], color="tab:blue", alpha=0.3, label="95 % interval")
                 ax.axvline(e["value"], color="tab:blue", ls="--", lw=1.0, label="median")
                 ax.set_yticks([])
-                ax.set_title(f"{words[i]} = {e['value']:.3g} [{e['lo95']:.3g}, {e['hi95']:.3g}] {units[i]}",
-                             fontsize=8)
+                ax.set_title(f"{words[i]} = {e['value']:.3g} [{e['lo95']:.3g}, {e['hi95']:.3g}] {units[i]}", fontsize=8)
                 if i == 0:
                     legend_outside(ax, fontsize=7)
             else:
-                p = post.joint(j, i)   # axes (j, i): x = unknown j, y = unknown i
+                p = post.joint(j, i)  # axes (j, i): x = unknown j, y = unknown i
                 X, Y = np.meshgrid(post.axes[j], post.axes[i], indexing="ij")
                 if min(p.shape) > 1:
-                    ax.contourf(X, Y, p, levels=[*_hpd_levels(p), p.max() * 1.0001], colors=["tab:blue", "navy"],
-                                alpha=0.6)
+                    ax.contourf(
+                        X, Y, p, levels=[*_hpd_levels(p), p.max() * 1.0001], colors=["tab:blue", "navy"], alpha=0.6
+                    )
                 ax.plot(*[ft.summary["estimates"][names[k]]["value"] for k in (j, i)], "w+", ms=8)
             if i == d - 1:
                 ax.set_xlabel(labels[j], fontsize=8)
@@ -84,8 +84,14 @@ def features(ft: Fit):
             ax.plot(k + 0.08, [r["fitted"] for r in h], "s", ms=4, mfc="none", label="surrogate at the estimate")
             ax.set_yscale("log")
             ax.set_xticks(k)
-        title = SIGNAL_WORDS[signal_name(s)] + ("; mean measured " + ", ".join(f"{r['measured']:.4g}" for r in m)
-                                                + ", fitted " + ", ".join(f"{r['fitted']:.4g}" for r in m) if m else "")
+        title = SIGNAL_WORDS[signal_name(s)] + (
+            "; mean measured "
+            + ", ".join(f"{r['measured']:.4g}" for r in m)
+            + ", fitted "
+            + ", ".join(f"{r['fitted']:.4g}" for r in m)
+            if m
+            else ""
+        )
         ax.set_title(title, fontsize=8)
         ax.set_ylabel(f"harmonic amplitude ({SIGNAL_UNITS[signal_name(s)][0]})", fontsize=8)
         ax.grid(alpha=0.3, which="both")

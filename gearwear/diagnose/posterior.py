@@ -33,8 +33,8 @@ from typing import Any, Callable
 
 import numpy as np
 
-LOG_TAIL = 25.0            # zoom onto log p > max - LOG_TAIL
-RESOLVED_FRACTION = 0.5    # resolved: the 95 % interval spans at most this fraction of the prior range
+LOG_TAIL = 25.0  # zoom onto log p > max - LOG_TAIL
+RESOLVED_FRACTION = 0.5  # resolved: the 95 % interval spans at most this fraction of the prior range
 Z95 = 1.959964
 
 
@@ -46,7 +46,7 @@ def noise_variance(features: list[tuple[str, int]], values: np.ndarray, rel: flo
         if k > 0:
             top[s] = max(top.get(s, 0.0), abs(v))
     floor = np.array([floor_frac * top.get(s, 0.0) for s, _ in features])
-    return (rel * values) ** 2 + floor ** 2
+    return (rel * values) ** 2 + floor**2
 
 
 @dataclass
@@ -54,8 +54,8 @@ class GridPosterior:
     """Normalised posterior on the final (zoomed) grid."""
 
     axes: list[np.ndarray]
-    density: np.ndarray          # p on the grid, sums to 1
-    stages: list[tuple[list[float], list[float]]]   # (lo, hi) of every grid box evaluated
+    density: np.ndarray  # p on the grid, sums to 1
+    stages: list[tuple[list[float], list[float]]]  # (lo, hi) of every grid box evaluated
 
     def marginal(self, j: int) -> np.ndarray:
         other = tuple(i for i in range(self.density.ndim) if i != j)
@@ -120,7 +120,7 @@ def grid_posterior(logpost: Callable[[np.ndarray], np.ndarray], lo, hi, n: int, 
             nlo[j] = max(lo[j], ax[hit[0]] - step)
             nhi[j] = min(hi[j], ax[hit[-1]] + step)
         shrink = np.min((nhi - nlo) / np.where(bhi > blo, bhi - blo, 1.0))
-        if len(stages) > zooms or shrink > 0.7:   # no axis shrank by 30 %: this grid resolves the region
+        if len(stages) > zooms or shrink > 0.7:  # no axis shrank by 30 %: this grid resolves the region
             break
         blo, bhi = nlo, nhi
     p = np.exp(L - np.max(L))
@@ -175,7 +175,13 @@ def summarise(post: GridPosterior, names: list[str], lo, hi) -> dict[str, Any]:
     est = {}
     for j, n in enumerate(names):
         a, b = post.quantile(j, 0.025), post.quantile(j, 0.975)
-        est[n] = {"value": post.quantile(j, 0.5), "lo95": a, "hi95": b, "map": float(mp[j]),
-                  "mean": float(mu[j]), "std": float(sd[j]),
-                  "interval_fraction_of_prior": (b - a) / (hi[j] - lo[j])}
+        est[n] = {
+            "value": post.quantile(j, 0.5),
+            "lo95": a,
+            "hi95": b,
+            "map": float(mp[j]),
+            "mean": float(mu[j]),
+            "std": float(sd[j]),
+            "interval_fraction_of_prior": (b - a) / (hi[j] - lo[j]),
+        }
     return {"estimates": est, "correlation": corr}

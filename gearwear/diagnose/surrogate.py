@@ -61,21 +61,20 @@ from typing import Any, Callable
 
 import numpy as np
 
+from gearwear import io
 from gearwear.core.inputs import read_bounded
 from gearwear.core.validation import InputError
-
-from gearwear import io
-from gearwear.stiffness import tables
 from gearwear.diagnose.features import MEAN_SIGNALS, SIGNALS, Feature, all_features, feature_name
+from gearwear.stiffness import tables
 
 SURROGATE_VERSION = 1
-TRAIN_DISCARD_S = 0.05      # > 6 time constants of the slowest bearing mode (2 % damping, ~1 kHz)
-TRAIN_PERIODS = 10          # kept mesh periods of a training run
+TRAIN_DISCARD_S = 0.05  # > 6 time constants of the slowest bearing mode (2 % damping, ~1 kHz)
+TRAIN_PERIODS = 10  # kept mesh periods of a training run
 CV_FOLDS = 32
-DESIGN_SEED = 20190415      # fixed: the same inputs give the same design, hence the same bytes
+DESIGN_SEED = 20190415  # fixed: the same inputs give the same design, hence the same bytes
 HOLDOUT_SEED = 7
 FINGERPRINT_ROOT = "gearwear.diagnose.surrogate"
-LABEL = "diagnose surrogate"   # how a cache line names an entry
+LABEL = "diagnose surrogate"  # how a cache line names an entry
 
 
 @dataclass(frozen=True)
@@ -88,7 +87,7 @@ class Unknown:
     scene_key: str
     unit: str
     flag: str
-    warp: str       # "sqrt" | "linear"
+    warp: str  # "sqrt" | "linear"
 
     def to_unit(self, value, lo: float, hi: float):
         """Physical value -> design coordinate in [0, 1]."""
@@ -102,8 +101,9 @@ class Unknown:
 
 UNKNOWNS: dict[str, Unknown] = {
     "wear": Unknown("wear_max_depth_um", "wear", "effects.wear.max_depth_um", "um", "--wear-range-um", "sqrt"),
-    "clearance": Unknown("clearance_um", "clearance", "effects.bearing_clearance.clearance_um", "um",
-                         "--clearance-range-um", "linear"),
+    "clearance": Unknown(
+        "clearance_um", "clearance", "effects.bearing_clearance.clearance_um", "um", "--clearance-range-um", "linear"
+    ),
     "torque": Unknown("torque_Nm", "torque", "operating.torque_Nm", "N m", "--torque-range-Nm", "linear"),
 }
 
@@ -160,16 +160,16 @@ def periodicity_residual(x: np.ndarray, S: int) -> float:
     rng = float(np.ptp(x))
     if rng == 0.0 or x.size < 2 * S:
         return 0.0 if rng == 0.0 else math.inf
-    return float(np.max(np.abs(x[-S:] - x[-2 * S:-S])) / rng)
+    return float(np.max(np.abs(x[-S:] - x[-2 * S : -S])) / rng)
 
 
-def simulate_point(raw: dict[str, Any], name: str, values: dict[str, float], solver: dict[str, float] | None,
-                   harmonics: int) -> tuple[np.ndarray, float]:
+def simulate_point(
+    raw: dict[str, Any], name: str, values: dict[str, float], solver: dict[str, float] | None, harmonics: int
+) -> tuple[np.ndarray, float]:
     """One forward run: ([Re c, Im c, means], periodicity residual). c: the complex
     harmonics 1..K of every signal of SIGNALS in its unit; means of MEAN_SIGNALS.
     Top-level, so process and Dask executors can pickle it."""
     from gearwear.dynamics.analysis import window_fourier
-
     from gearwear.jobs.simulate import run
 
     r = run(scene_at(raw, name, values, solver)).result
@@ -182,9 +182,15 @@ def simulate_point(raw: dict[str, Any], name: str, values: dict[str, float], sol
     return np.concatenate([harm.real, harm.imag, means]), resid
 
 
-def run_points(raw: dict[str, Any], name: str, points: list[dict[str, float]], solver: dict[str, float] | None,
-               harmonics: int, executor: Executor | None = None, progress: Callable[[int], None] | None = None
-               ) -> tuple[np.ndarray, np.ndarray]:
+def run_points(
+    raw: dict[str, Any],
+    name: str,
+    points: list[dict[str, float]],
+    solver: dict[str, float] | None,
+    harmonics: int,
+    executor: Executor | None = None,
+    progress: Callable[[int], None] | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
     """simulate_point at every point, in order (deterministic whatever the executor; no
     executor: in this process)."""
     out: list[Any] = [None] * len(points)
@@ -205,7 +211,7 @@ def run_points(raw: dict[str, Any], name: str, points: list[dict[str, float]], s
 def amplitudes(Y: np.ndarray, harmonics: int) -> np.ndarray:
     """[Re c, Im c, means] rows -> feature rows (all_features order): |c| then the means."""
     n = len(SIGNALS) * harmonics
-    return np.hstack([np.abs(Y[:, :n] + 1j * Y[:, n:2 * n]), Y[:, 2 * n:]])
+    return np.hstack([np.abs(Y[:, :n] + 1j * Y[:, n : 2 * n]), Y[:, 2 * n :]])
 
 
 def _rbf(U: np.ndarray, Y: np.ndarray):
@@ -223,14 +229,14 @@ class Surrogate:
     lo: np.ndarray
     hi: np.ndarray
     harmonics: int
-    X: np.ndarray              # design (n, d), physical units
-    Y: np.ndarray              # [Re c, Im c, means] at the design
-    cv: np.ndarray             # cross-validation residuals of the features at the design (n, F)
-    kappa: np.ndarray          # calibration factor per feature (F,)
-    heldout: dict[str, Any]    # the stated errors against the held-out full simulations
+    X: np.ndarray  # design (n, d), physical units
+    Y: np.ndarray  # [Re c, Im c, means] at the design
+    cv: np.ndarray  # cross-validation residuals of the features at the design (n, F)
+    kappa: np.ndarray  # calibration factor per feature (F,)
+    heldout: dict[str, Any]  # the stated errors against the held-out full simulations
     meta: dict[str, Any] = field(default_factory=dict)
     from_cache: bool = False
-    Xh: np.ndarray | None = None   # the held-out points and their [Re c, Im c, means]
+    Xh: np.ndarray | None = None  # the held-out points and their [Re c, Im c, means]
     Yh: np.ndarray | None = None
 
     def __post_init__(self):
@@ -259,7 +265,7 @@ class Surrogate:
         cv2 = self.cv[:, cols] ** 2
         out = np.empty((U.shape[0], cv2.shape[1]))
         for a in range(0, U.shape[0], chunk):
-            out[a:a + chunk] = local_rms(U[a:a + chunk], self._U, cv2, self.h)
+            out[a : a + chunk] = local_rms(U[a : a + chunk], self._U, cv2, self.h)
         return out * self.kappa[cols]
 
 
@@ -272,7 +278,7 @@ def local_rms(U: np.ndarray, Ud: np.ndarray, r2: np.ndarray, h: float) -> np.nda
     """Nadaraya-Watson kernel average of squared residuals r2 (n, F) at the design Ud,
     Gaussian kernel of width h, evaluated at U (m, d); returns its square root."""
     d2 = np.sum((U[:, None, :] - Ud[None, :, :]) ** 2, axis=-1)
-    w = np.exp(-0.5 * (d2 - d2.min(axis=1, keepdims=True)) / h ** 2)
+    w = np.exp(-0.5 * (d2 - d2.min(axis=1, keepdims=True)) / h**2)
     return np.sqrt((w @ r2) / w.sum(axis=1, keepdims=True))
 
 
@@ -325,8 +331,17 @@ def error_multiplicity(n_features: int) -> float:
     return float(max(1, n_features))
 
 
-def fit(unknowns: list[Unknown], lo, hi, harmonics: int, X: np.ndarray, Y: np.ndarray,
-        Xh: np.ndarray, Yh: np.ndarray, meta: dict[str, Any] | None = None) -> Surrogate:
+def fit(
+    unknowns: list[Unknown],
+    lo,
+    hi,
+    harmonics: int,
+    X: np.ndarray,
+    Y: np.ndarray,
+    Xh: np.ndarray,
+    Yh: np.ndarray,
+    meta: dict[str, Any] | None = None,
+) -> Surrogate:
     """The surrogate from the design (X, Y) and the held-out full simulations (Xh, Yh)."""
     lo, hi = np.asarray(lo, float), np.asarray(hi, float)
     F = len(all_features(harmonics))
@@ -349,29 +364,31 @@ def heldout_summary(Xh, Fh, Ph, Sh, harmonics: int) -> dict[str, Any]:
     rel = np.abs(err[:, harm])[big] / Fh[:, harm][big]
     per = {feature_name(f): float(np.sqrt(np.mean(err[:, i] ** 2))) for i, f in enumerate(feats)}
     inside = np.abs(err) <= 1.959964 * Sh
-    return {"points": int(len(Xh)),
-            "harmonic_relative_error_median": float(np.median(rel)),
-            "harmonic_relative_error_p90": float(np.percentile(rel, 90)),
-            "harmonic_relative_error_p95": float(np.percentile(rel, 95)),
-            "mean_abs_error": {f"{s}": float(np.sqrt(np.mean(err[:, i] ** 2))) for i, (s, k) in enumerate(feats)
-                               if k == 0},
-            "rms_error_per_feature": per,
-            "fraction_inside_error_model_95": float(np.mean(inside))}
+    return {
+        "points": int(len(Xh)),
+        "harmonic_relative_error_median": float(np.median(rel)),
+        "harmonic_relative_error_p90": float(np.percentile(rel, 90)),
+        "harmonic_relative_error_p95": float(np.percentile(rel, 95)),
+        "mean_abs_error": {f"{s}": float(np.sqrt(np.mean(err[:, i] ** 2))) for i, (s, k) in enumerate(feats) if k == 0},
+        "rms_error_per_feature": per,
+        "fraction_inside_error_model_95": float(np.mean(inside)),
+    }
 
 
 # -- building, with the cache -------------------------------------------------------------
+
 
 @dataclass
 class BuildSpec:
     """Everything a surrogate depends on (its cache key is the hash of :meth:`inputs`)."""
 
-    raw: dict[str, Any]          # the scene document (after --set), unknowns not yet set
+    raw: dict[str, Any]  # the scene document (after --set), unknowns not yet set
     name: str
     unknowns: list[Unknown]
     lo: tuple[float, ...]
     hi: tuple[float, ...]
     harmonics: int
-    design_points: int           # 2^m Sobol points (the corners come on top)
+    design_points: int  # 2^m Sobol points (the corners come on top)
     holdout_points: int
 
     def base_scene(self):
@@ -382,13 +399,23 @@ class BuildSpec:
         import scipy
 
         scene = self.base_scene()
-        return {"kind": "diagnose surrogate", "surrogate_version": SURROGATE_VERSION,
-                **io.scene_inputs(scene), "unknowns": [u.name for u in self.unknowns],
-                "lo": list(self.lo), "hi": list(self.hi), "harmonics": self.harmonics,
-                "design_points": self.design_points, "holdout_points": self.holdout_points,
-                "training_solver": training_solver(scene), "design_seed": DESIGN_SEED,
-                "holdout_seed": HOLDOUT_SEED, "cv_folds": CV_FOLDS, "code_sha256": code_fingerprint(),
-                "versions": {"numpy": np.__version__, "scipy": scipy.__version__, "numba": numba.__version__}}
+        return {
+            "kind": "diagnose surrogate",
+            "surrogate_version": SURROGATE_VERSION,
+            **io.scene_inputs(scene),
+            "unknowns": [u.name for u in self.unknowns],
+            "lo": list(self.lo),
+            "hi": list(self.hi),
+            "harmonics": self.harmonics,
+            "design_points": self.design_points,
+            "holdout_points": self.holdout_points,
+            "training_solver": training_solver(scene),
+            "design_seed": DESIGN_SEED,
+            "holdout_seed": HOLDOUT_SEED,
+            "cv_folds": CV_FOLDS,
+            "code_sha256": code_fingerprint(),
+            "versions": {"numpy": np.__version__, "scipy": scipy.__version__, "numba": numba.__version__},
+        }
 
 
 @functools.lru_cache(maxsize=None)
@@ -418,9 +445,13 @@ def _points(spec: BuildSpec, X: np.ndarray) -> list[dict[str, float]]:
     return [{u.short: float(x[j]) for j, u in enumerate(spec.unknowns)} for x in X]
 
 
-def build(spec: BuildSpec, executor: Executor | Callable[[], Executor | None] | None = None,
-          progress: Callable[[int], None] | None = None, notify: tables.Notify | None = tables.to_stderr,
-          refresh: bool = False) -> Surrogate:
+def build(
+    spec: BuildSpec,
+    executor: Executor | Callable[[], Executor | None] | None = None,
+    progress: Callable[[int], None] | None = None,
+    notify: tables.Notify | None = tables.to_stderr,
+    refresh: bool = False,
+) -> Surrogate:
     """The cached surrogate for ``spec``, or a new one (then stored). A damaged or stale
     entry is reported to ``notify`` in one line and rebuilt. ``executor``: runs the
     design (None: this process); a callable is called only when a build is needed (the
@@ -441,8 +472,12 @@ def build(spec: BuildSpec, executor: Executor | Callable[[], Executor | None] | 
     t1 = time.perf_counter()
     Yh, _ = run_points(spec.raw, spec.name, _points(spec, Xh), None, spec.harmonics, ex, progress)
     t2 = time.perf_counter()
-    meta = {"periodicity_residual_max": float(np.max(resid)), "training_runs": int(len(X)),
-            "design_wall_s": t1 - t0, "holdout_wall_s": t2 - t1}
+    meta = {
+        "periodicity_residual_max": float(np.max(resid)),
+        "training_runs": int(len(X)),
+        "design_wall_s": t1 - t0,
+        "holdout_wall_s": t2 - t1,
+    }
     sur = fit(spec.unknowns, spec.lo, spec.hi, spec.harmonics, X, Y, Xh, Yh, meta)
     sur.meta["fit_wall_s"] = time.perf_counter() - t2
     store(sur, inputs, folder, notify)
@@ -450,18 +485,25 @@ def build(spec: BuildSpec, executor: Executor | Callable[[], Executor | None] | 
     return sur
 
 
-def store(sur: Surrogate, inputs: dict[str, Any], folder: Path, notify: tables.Notify | None = tables.to_stderr
-          ) -> Path:
+def store(
+    sur: Surrogate, inputs: dict[str, Any], folder: Path, notify: tables.Notify | None = tables.to_stderr
+) -> Path:
     """Write ``<key>.npz`` then its sidecar (atomic; data first; if that fails, ``notify``
     gets one line and the surrogate is used uncached, tables.write_entry)."""
     key = tables.table_key(inputs)
     path = folder / f"{key}.npz"
     data = io.npz_bytes({"X": sur.X, "Y": sur.Y, "cv": sur.cv, "kappa": sur.kappa, "Xh": sur.Xh, "Yh": sur.Yh})
-    side = io.sidecar_bytes(path, inputs, "gearwear diagnose surrogate (RBF thin-plate spline over a Sobol design "
-                                          "of dynamics.simulate runs)",
-                            {"npz_sha256": hashlib.sha256(data).hexdigest(), "heldout": sur.heldout,
-                             "periodicity_residual_max": sur.meta.get("periodicity_residual_max"),
-                             "training_runs": sur.meta.get("training_runs")})
+    side = io.sidecar_bytes(
+        path,
+        inputs,
+        "gearwear diagnose surrogate (RBF thin-plate spline over a Sobol design of dynamics.simulate runs)",
+        {
+            "npz_sha256": hashlib.sha256(data).hexdigest(),
+            "heldout": sur.heldout,
+            "periodicity_residual_max": sur.meta.get("periodicity_residual_max"),
+            "training_runs": sur.meta.get("training_runs"),
+        },
+    )
     tables.write_entry(key, LABEL, {path: data, Path(str(path) + ".json"): side}, notify)
     return path
 
@@ -485,19 +527,35 @@ def lookup(inputs: dict[str, Any], unknowns: list[Unknown], folder: Path) -> tup
         return None, f"is not a valid surrogate ({type(exc).__name__})"
     K, d = inputs["harmonics"], len(unknowns)
     F = len(all_features(K))
-    n = inputs["design_points"] + 2 ** d
-    shapes = {"X": (n, d), "Y": (n, 2 * len(SIGNALS) * K + len(MEAN_SIGNALS)), "cv": (n, F), "kappa": (F,),
-              "Xh": (inputs["holdout_points"], d),
-              "Yh": (inputs["holdout_points"], 2 * len(SIGNALS) * K + len(MEAN_SIGNALS))}
+    n = inputs["design_points"] + 2**d
+    shapes = {
+        "X": (n, d),
+        "Y": (n, 2 * len(SIGNALS) * K + len(MEAN_SIGNALS)),
+        "cv": (n, F),
+        "kappa": (F,),
+        "Xh": (inputs["holdout_points"], d),
+        "Yh": (inputs["holdout_points"], 2 * len(SIGNALS) * K + len(MEAN_SIGNALS)),
+    }
     for k, shape in shapes.items():
         if arrays[k].shape != shape:
             return None, f"has {k} of shape {arrays[k].shape}, expected {shape}"
         if not np.all(np.isfinite(arrays[k])):
             return None, f"has non-finite values in {k}"
-    sur = Surrogate(unknowns, np.array(inputs["lo"]), np.array(inputs["hi"]), K, arrays["X"], arrays["Y"],
-                    arrays["cv"], arrays["kappa"], meta.get("heldout", {}),
-                    {"periodicity_residual_max": meta.get("periodicity_residual_max"),
-                     "training_runs": meta.get("training_runs")}, from_cache=True, Xh=arrays["Xh"], Yh=arrays["Yh"])
+    sur = Surrogate(
+        unknowns,
+        np.array(inputs["lo"]),
+        np.array(inputs["hi"]),
+        K,
+        arrays["X"],
+        arrays["Y"],
+        arrays["cv"],
+        arrays["kappa"],
+        meta.get("heldout", {}),
+        {"periodicity_residual_max": meta.get("periodicity_residual_max"), "training_runs": meta.get("training_runs")},
+        from_cache=True,
+        Xh=arrays["Xh"],
+        Yh=arrays["Yh"],
+    )
     return sur, None
 
 
@@ -510,10 +568,18 @@ def validate_range(raw: dict[str, Any], name: str, unknowns: list[Unknown], lo, 
         try:
             scene_at(raw, name, values)
         except InputError as exc:
-            bad = next((u for u in unknowns if str(exc).startswith(u.scene_key.rsplit(".", 1)[0])
-                        or str(exc).startswith(u.scene_key)), None)
+            bad = next(
+                (
+                    u
+                    for u in unknowns
+                    if str(exc).startswith(u.scene_key.rsplit(".", 1)[0]) or str(exc).startswith(u.scene_key)
+                ),
+                None,
+            )
             if bad is None:
                 raise
             j = unknowns.index(bad)
-            raise InputError(f"{bad.flag} = {lo[j]:g}:{hi[j]:g} {bad.unit}: at {values[bad.short]:g} {bad.unit} "
-                             f"the scene is refused ({exc})") from None
+            raise InputError(
+                f"{bad.flag} = {lo[j]:g}:{hi[j]:g} {bad.unit}: at {values[bad.short]:g} {bad.unit} "
+                f"the scene is refused ({exc})"
+            ) from None

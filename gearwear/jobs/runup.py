@@ -40,11 +40,10 @@ from typing import Any
 
 import numpy as np
 
-from gearwear.core.validation import InputError
-
 from gearwear import io
-from gearwear.scene.model import Scene, apply_overrides, scene_from_dict
+from gearwear.core.validation import InputError
 from gearwear.jobs.sweep import Axis, csv_cell, format_value, grid, point_label, point_sets
+from gearwear.scene.model import Scene, apply_overrides, scene_from_dict
 
 SPEED_KEY = "operating.speed_rpm"
 DIRECTIONS = ("up", "down", "both")
@@ -54,17 +53,19 @@ N_HARMONICS = 10
 @dataclass(frozen=True)
 class Settings:
     """Steady-state detection (dynamics.steady.steady_state) and the jump criterion."""
-    tol: float = 1e-6              # Poincare-section residual (distance estimate) for "periodic"
-    max_periods: int = 1500        # table periods integrated at most per speed before the kept window
-    chunk_periods: int = 40        # table periods per convergence check
-    keep_periods: int = 32         # table periods of the kept window (rounded up to a multiple of p)
-    p_max: int = 8                 # longest period looked for (table periods)
-    jump_tol: float = 0.01         # up and down K_v differ by more than this fraction: a jump
+
+    tol: float = 1e-6  # Poincare-section residual (distance estimate) for "periodic"
+    max_periods: int = 1500  # table periods integrated at most per speed before the kept window
+    chunk_periods: int = 40  # table periods per convergence check
+    keep_periods: int = 32  # table periods of the kept window (rounded up to a multiple of p)
+    p_max: int = 8  # longest period looked for (table periods)
+    jump_tol: float = 0.01  # up and down K_v differ by more than this fraction: a jump
 
 
 @dataclass
 class Chain:
     """One run-up: a parameter point, a direction and its speeds in sweep order."""
+
     point_index: int
     direction: str
     speeds: list[float]
@@ -74,37 +75,47 @@ class Chain:
 @dataclass
 class Point:
     """A parameter point: its scene (at the first speed), the dynamic model and the ISO curve."""
+
     values: dict[str, Any]
     scene: Scene
-    model: Any                    # GearDynamics at the first speed; other speeds change omega_p only
+    model: Any  # GearDynamics at the first speed; other speeds change omega_p only
     solver: dict[str, Any]
-    iso: dict[str, Any]           # ISO 6336 K_v at ``speeds`` and its inputs
+    iso: dict[str, Any]  # ISO 6336 K_v at ``speeds`` and its inputs
     eigenfrequencies_Hz: list[float]
-    speeds: tuple                 # rpm, ascending
-    mean_stiffness_N_per_m: float = math.nan   # of the scene's mesh stiffness: ISO's c_gamma
+    speeds: tuple  # rpm, ascending
+    mean_stiffness_N_per_m: float = math.nan  # of the scene's mesh stiffness: ISO's c_gamma
 
     def at_speeds(self, speeds_rpm) -> "Point":
         """The same point (model, modes) at other driver speeds (rpm, ascending): only the
         ISO 6336 curve depends on them."""
         speeds = tuple(float(v) for v in speeds_rpm)
-        return dataclasses.replace(self, speeds=speeds, iso=iso_curve(self.scene, self.mean_stiffness_N_per_m,
-                                                                      self.model.m_e, speeds))
+        return dataclasses.replace(
+            self, speeds=speeds, iso=iso_curve(self.scene, self.mean_stiffness_N_per_m, self.model.m_e, speeds)
+        )
 
 
 def build_point(values: dict[str, Any], scene: Scene, speeds_rpm) -> Point:
     """A parameter point: the scene's mesh stiffness and dynamic model (built once), its
     linear modes and the ISO 6336 curve at the driver speeds ``speeds_rpm``."""
     from gearwear.dynamics.model import linear_eigenfrequencies
-
     from gearwear.jobs.simulate import build_model, stiffness_input
 
     stiff = stiffness_input(scene)
     model = build_model(scene, stiff)
-    solver: dict[str, Any] = {k: scene.solver[k] for k in ("method", "steps_per_mesh_period", "rtol", "atol")
-                              if k in scene.solver}
+    solver: dict[str, Any] = {
+        k: scene.solver[k] for k in ("method", "steps_per_mesh_period", "rtol", "atol") if k in scene.solver
+    }
     speeds = tuple(float(v) for v in speeds_rpm)
-    return Point(values, scene, model, solver, iso_curve(scene, stiff.mean_N_per_m, model.m_e, speeds),
-                 [float(f) for f in linear_eigenfrequencies(model)], speeds, stiff.mean_N_per_m)
+    return Point(
+        values,
+        scene,
+        model,
+        solver,
+        iso_curve(scene, stiff.mean_N_per_m, model.m_e, speeds),
+        [float(f) for f in linear_eigenfrequencies(model)],
+        speeds,
+        stiff.mean_N_per_m,
+    )
 
 
 def split_speed_axis(axes: list[Axis]) -> tuple[Axis, list[Axis]]:
@@ -127,8 +138,12 @@ def iso_curve(scene: Scene, k_mean_N_per_m: float, m_e_kg: float, speeds_rpm) ->
     docstring): ISO's gear 1 is the gear with fewer teeth, turning at n z_driver / z1."""
     import numpy as np
 
-    from gearwear.analytic.iso6336 import (dynamic_factor, iso1328_deviations_um, iso6336_stiffness,
-                                           running_in_case_hardened_um)
+    from gearwear.analytic.iso6336 import (
+        dynamic_factor,
+        iso1328_deviations_um,
+        iso6336_stiffness,
+        running_in_case_hardened_um,
+    )
     from gearwear.scene.schema import Iso6336Doc
 
     doc = (scene.doc.iso6336 if scene.doc is not None else None) or Iso6336Doc()
@@ -138,8 +153,12 @@ def iso_curve(scene: Scene, k_mean_N_per_m: float, m_e_kg: float, speeds_rpm) ->
     T = scene.operating.torque_Nm
     iso = iso6336_stiffness(pair, torque_Nm=T, K_A=K_A)  # T: the driver's torque
     # ISO 6336-1 takes the larger deviation of the pair (the larger gear's ISO 1328 value)
-    f_pt, f_f = (max(v) for v in zip(*(iso1328_deviations_um(pair.module_m, 2 * g.pitch_radius_m,
-                                                             doc.accuracy_grade) for g in pair.gears)))
+    f_pt, f_f = (
+        max(v)
+        for v in zip(
+            *(iso1328_deviations_um(pair.module_m, 2 * g.pitch_radius_m, doc.accuracy_grade) for g in pair.gears)
+        )
+    )
     f_pb = doc.f_pb_um if doc.f_pb_um is not None else round(f_pt * math.cos(pair.pressure_angle_rad), 3)
     f_fa = doc.f_f_um if doc.f_f_um is not None else f_f
     y_p = doc.y_p_um if doc.y_p_um is not None else running_in_case_hardened_um(f_pb)
@@ -148,23 +167,53 @@ def iso_curve(scene: Scene, k_mean_N_per_m: float, m_e_kg: float, speeds_rpm) ->
     if C_a is None:
         tips = [r for r in (scene.flank.tip_relief if scene.flank is not None else ()) if r is not None]
         C_a = max(r.amount_m for r in tips) * 1e6 if tips else 0.0
-    c_gamma = k_mean_N_per_m / (b_mm * 1e6)   # N/m -> N/(mm um) per mm of face width
+    c_gamma = k_mean_N_per_m / (b_mm * 1e6)  # N/m -> N/(mm um) per mm of face width
     m_red = m_e_kg / b_mm
     # the driver's speed n turns ISO's gear 1 at n z_driver / z1 (the ratio first: exactly 1
     # when the driver is gear 1)
     speed_ratio = pair.teeth[0] / iso.z1
-    r = dynamic_factor(np.asarray(speeds_rpm, float) * speed_ratio, iso.z1, c_gamma, iso.c_prime_low_load, m_red,
-                       iso.line_load_N_per_mm or 0.0, f_pb - y_p, f_fa - y_f, C_a, iso.eps_alpha)
-    return {"K_v": [float(v) for v in r.K_v], "range": list(r.range_name), "n_E1_rpm": r.n_E1_rpm,
-            "n_E1_driver_rpm": r.n_E1_rpm / speed_ratio, "N_S": r.N_S, "B_p": r.B_p, "B_f": r.B_f, "B_k": r.B_k,
-            "inputs": {"z1": iso.z1, "c_gamma_N_per_mm_um": c_gamma, "c_prime_N_per_mm_um": iso.c_prime_low_load,
-                       "m_red_kg_per_mm": m_red, "line_load_N_per_mm": iso.line_load_N_per_mm,
-                       "eps_gamma": iso.eps_alpha, "accuracy_grade": doc.accuracy_grade, "f_pb_um": f_pb,
-                       "f_f_um": f_fa, "y_p_um": y_p, "y_f_um": y_f, "C_a_um": C_a, "application_factor": K_A}}
+    r = dynamic_factor(
+        np.asarray(speeds_rpm, float) * speed_ratio,
+        iso.z1,
+        c_gamma,
+        iso.c_prime_low_load,
+        m_red,
+        iso.line_load_N_per_mm or 0.0,
+        f_pb - y_p,
+        f_fa - y_f,
+        C_a,
+        iso.eps_alpha,
+    )
+    return {
+        "K_v": [float(v) for v in r.K_v],
+        "range": list(r.range_name),
+        "n_E1_rpm": r.n_E1_rpm,
+        "n_E1_driver_rpm": r.n_E1_rpm / speed_ratio,
+        "N_S": r.N_S,
+        "B_p": r.B_p,
+        "B_f": r.B_f,
+        "B_k": r.B_k,
+        "inputs": {
+            "z1": iso.z1,
+            "c_gamma_N_per_mm_um": c_gamma,
+            "c_prime_N_per_mm_um": iso.c_prime_low_load,
+            "m_red_kg_per_mm": m_red,
+            "line_load_N_per_mm": iso.line_load_N_per_mm,
+            "eps_gamma": iso.eps_alpha,
+            "accuracy_grade": doc.accuracy_grade,
+            "f_pb_um": f_pb,
+            "f_f_um": f_fa,
+            "y_p_um": y_p,
+            "y_f_um": y_f,
+            "C_a_um": C_a,
+            "application_factor": K_A,
+        },
+    }
 
 
-def plan(raw: dict[str, Any], name: str, speed: Axis, others: list[Axis], fixed: list[str],
-         direction: str) -> tuple[list[Point], list[Chain]]:
+def plan(
+    raw: dict[str, Any], name: str, speed: Axis, others: list[Axis], fixed: list[str], direction: str
+) -> tuple[list[Point], list[Chain]]:
     """Validate every (point, speed) scene before any work, build each point's stiffness
     and model once, and lay out the chains."""
     if direction not in DIRECTIONS:
@@ -174,15 +223,19 @@ def plan(raw: dict[str, Any], name: str, speed: Axis, others: list[Axis], fixed:
         sets = point_sets(values, list(fixed))
         for v in speed.values[1:]:
             scene_from_dict(apply_overrides(raw, sets + [f"{SPEED_KEY}={format_value(v)}"]), name=name)
-        scene = scene_from_dict(apply_overrides(raw, sets + [f"{SPEED_KEY}={format_value(speed.values[0])}"]),
-                                name=name)
+        scene = scene_from_dict(
+            apply_overrides(raw, sets + [f"{SPEED_KEY}={format_value(speed.values[0])}"]), name=name
+        )
         if not scene.operating.torque_Nm > 0:
             raise InputError("operating.torque_Nm = 0 N m: a run-up needs a load (K_v = max F_m / static F)")
         scenes.append((values, scene))
     points = [build_point(values, scene, speed.values) for values, scene in scenes]
     dirs = ("up", "down") if direction == "both" else (direction,)
-    chains = [Chain(i, d, list(speed.values) if d == "up" else list(speed.values[::-1]))
-              for i in range(len(points)) for d in dirs]
+    chains = [
+        Chain(i, d, list(speed.values) if d == "up" else list(speed.values[::-1]))
+        for i in range(len(points))
+        for d in dirs
+    ]
     return points, chains
 
 
@@ -192,29 +245,50 @@ def run_speed(model, speed_rpm: float, y0, solver: dict[str, Any], settings: Set
     from gearwear.dynamics.steady import steady_state
 
     m = model.with_(omega_p=speed_rpm * 2 * math.pi / 60)
-    s = steady_state(m, y0, tol=settings.tol, max_periods=settings.max_periods,
-                     chunk_periods=settings.chunk_periods, keep_periods=settings.keep_periods,
-                     p_max=settings.p_max, **solver)
+    s = steady_state(
+        m,
+        y0,
+        tol=settings.tol,
+        max_periods=settings.max_periods,
+        chunk_periods=settings.chunk_periods,
+        keep_periods=settings.keep_periods,
+        p_max=settings.p_max,
+        **solver,
+    )
     r = s.result
     F_max = float(r.signals["F_m"].max())
     d = r.stats["delta"]  # np.std / np.ptp / np.mean of r.signals["delta"] (simulate)
     h = r.harmonics_of(["delta", "F_m"], N_HARMONICS)
     f, A = r.spectrum("delta")  # the kept window: whole multiples of the period, so f_m / p is a bin
     band = (f > 0) & (f <= (N_HARMONICS + 0.5) * r.fm_Hz)
-    return {"speed_rpm": float(speed_rpm), "fm_Hz": r.fm_Hz, "label": s.label,
-            "period_mesh_periods": s.period_mesh_periods, "residual": s.residual, "zero_one_K": s.zero_one_K,
-            "periods_integrated": s.periods_integrated * m.table_periods, "K_v": float(F_max / m.F_s),
-            "F_m_max_N": F_max, "delta_ac_rms_um": d["ac_rms"] * 1e6,
-            "delta_p2p_um": d["p2p"] * 1e6, "delta_mean_um": d["mean"] * 1e6,
-            "separation_fraction": r.separation_fraction, "backside_fraction": r.backside_fraction,
-            "delta_harmonics_um": (h["delta"] * 1e6).tolist(), "F_m_harmonics_N": h["F_m"].tolist(),
-            "integration_wall_s": s.integration_wall_s, "z_end": s.z_end.tolist(),
-            # for the Campbell diagram only (not in runup.csv): delta's amplitude spectrum, bins 1, 2, ...
-            "spectrum_df_Hz": float(f[1]), "delta_spectrum_um": (A[band] * 1e6).tolist()}
+    return {
+        "speed_rpm": float(speed_rpm),
+        "fm_Hz": r.fm_Hz,
+        "label": s.label,
+        "period_mesh_periods": s.period_mesh_periods,
+        "residual": s.residual,
+        "zero_one_K": s.zero_one_K,
+        "periods_integrated": s.periods_integrated * m.table_periods,
+        "K_v": float(F_max / m.F_s),
+        "F_m_max_N": F_max,
+        "delta_ac_rms_um": d["ac_rms"] * 1e6,
+        "delta_p2p_um": d["p2p"] * 1e6,
+        "delta_mean_um": d["mean"] * 1e6,
+        "separation_fraction": r.separation_fraction,
+        "backside_fraction": r.backside_fraction,
+        "delta_harmonics_um": (h["delta"] * 1e6).tolist(),
+        "F_m_harmonics_N": h["F_m"].tolist(),
+        "integration_wall_s": s.integration_wall_s,
+        "z_end": s.z_end.tolist(),
+        # for the Campbell diagram only (not in runup.csv): delta's amplitude spectrum, bins 1, 2, ...
+        "spectrum_df_Hz": float(f[1]),
+        "delta_spectrum_um": (A[band] * 1e6).tolist(),
+    }
 
 
-def run(points: list[Point], chains: list[Chain], settings: Settings, executor: Executor,
-        progress: bool = True) -> list[Chain]:
+def run(
+    points: list[Point], chains: list[Chain], settings: Settings, executor: Executor, progress: bool = True
+) -> list[Chain]:
     """Run every chain: the first speed of each is submitted at once, and each finished speed
     submits the next speed of its chain from its end state. Results land in sweep order
     whatever the executor or the order of completion (the same inputs give the same rows)."""
@@ -227,8 +301,9 @@ def run(points: list[Point], chains: list[Chain], settings: Settings, executor: 
     total = sum(len(c.speeds) for c in chains)
     futures: dict[Any, tuple[int, int]] = {}
     parallel = min(workers_of(executor), len(chains))
-    estimate = Estimate(f"run-up of {total} speeds", parallel,
-                        math.ceil(len(chains) / parallel) * max(len(c.speeds) for c in chains))
+    estimate = Estimate(
+        f"run-up of {total} speeds", parallel, math.ceil(len(chains) / parallel) * max(len(c.speeds) for c in chains)
+    )
 
     def submit(ci: int, k: int, y0) -> None:
         c = chains[ci]
@@ -272,8 +347,9 @@ def jump_bands(up: list[dict], down: list[dict], rel: float) -> list[list[float]
     return bands
 
 
-def summary(points: list[Point], chains: list[Chain], speed: Axis, others: list[Axis],
-            settings: Settings) -> dict[str, Any]:
+def summary(
+    points: list[Point], chains: list[Chain], speed: Axis, others: list[Axis], settings: Settings
+) -> dict[str, Any]:
     """What a run-up found, per parameter point: jump bands, ISO 6336 curve and n_E1, the
     linear modes and the speeds where the first two mesh harmonics meet them, peak K_v per
     direction, label counts and the largest residual (no wall times: timing.json has them)."""
@@ -282,32 +358,54 @@ def summary(points: list[Point], chains: list[Chain], speed: Axis, others: list[
         mine = {c.direction: c for c in chains if c.point_index == i}
         z1 = p.scene.pair.teeth[0]
         entry: dict[str, Any] = {
-            "point": p.values, "torque_Nm": p.scene.operating.torque_Nm,
+            "point": p.values,
+            "torque_Nm": p.scene.operating.torque_Nm,
             "linear_eigenfrequencies_Hz": p.eigenfrequencies_Hz,
             "mode_speeds_rpm": {f"k{k}": [60 * f / (k * z1) for f in p.eigenfrequencies_Hz] for k in (1, 2)},
             "iso6336": {k: p.iso[k] for k in ("n_E1_rpm", "n_E1_driver_rpm", "N_S", "B_p", "B_f", "B_k", "inputs")},
-            "directions": {}}
+            "directions": {},
+        }
         for d, c in mine.items():
             best = max(c.rows, key=lambda r: r["K_v"])
             labels: dict[str, int] = {}
             for r in c.rows:
                 labels[r["label"]] = labels.get(r["label"], 0) + 1
             per = [r["residual"] for r in c.rows if r["label"] == "periodic"]
-            entry["directions"][d] = {"K_v_max": best["K_v"], "K_v_max_speed_rpm": best["speed_rpm"],
-                                      "labels": labels, "max_residual_periodic": max(per) if per else None,
-                                      "contact_loss_speeds": sum((r["separation_fraction"] or 0.0) > 0
-                                                                                 for r in c.rows)}
+            entry["directions"][d] = {
+                "K_v_max": best["K_v"],
+                "K_v_max_speed_rpm": best["speed_rpm"],
+                "labels": labels,
+                "max_residual_periodic": max(per) if per else None,
+                "contact_loss_speeds": sum((r["separation_fraction"] or 0.0) > 0 for r in c.rows),
+            }
         if "up" in mine and "down" in mine:
             entry["jump_bands_rpm"] = jump_bands(mine["up"].rows, mine["down"].rows, settings.jump_tol)
         out.append(entry)
     step = (speed.values[-1] - speed.values[0]) / (len(speed.values) - 1)
-    return {"speeds_rpm": [speed.values[0], speed.values[-1], len(speed.values)], "speed_step_rpm": step,
-            "swept": [a.key for a in others], "settings": settings.__dict__, "points": out}
+    return {
+        "speeds_rpm": [speed.values[0], speed.values[-1], len(speed.values)],
+        "speed_step_rpm": step,
+        "swept": [a.key for a in others],
+        "settings": settings.__dict__,
+        "points": out,
+    }
 
 
-ROW_KEYS = ("fm_Hz", "label", "period_mesh_periods", "residual", "zero_one_K", "periods_integrated", "K_v",
-            "F_m_max_N", "delta_ac_rms_um", "delta_p2p_um", "delta_mean_um", "separation_fraction",
-            "backside_fraction")
+ROW_KEYS = (
+    "fm_Hz",
+    "label",
+    "period_mesh_periods",
+    "residual",
+    "zero_one_K",
+    "periods_integrated",
+    "K_v",
+    "F_m_max_N",
+    "delta_ac_rms_um",
+    "delta_p2p_um",
+    "delta_mean_um",
+    "separation_fraction",
+    "backside_fraction",
+)
 
 
 def table_csv(points: list[Point], chains: list[Chain], others: list[Axis]) -> str:
@@ -323,8 +421,9 @@ def table_csv(points: list[Point], chains: list[Chain], others: list[Axis]) -> s
             vals += [c.direction, format_value(r["speed_rpm"])]
             for k in ROW_KEYS:
                 v = r[k]
-                vals.append("" if v is None else (v if isinstance(v, str) else (str(v) if isinstance(v, int)
-                                                                                 else f"{v:.8g}")))
+                vals.append(
+                    "" if v is None else (v if isinstance(v, str) else (str(v) if isinstance(v, int) else f"{v:.8g}"))
+                )
             vals.append(f"{iso_by_speed.get(r['speed_rpm'], float('nan')):.8g}")
             vals += [f"{x:.8g}" for x in r["delta_harmonics_um"]] + [f"{x:.8g}" for x in r["F_m_harmonics_N"]]
             lines.append(",".join(vals))
@@ -337,12 +436,19 @@ def _label(p: Point, others: list[Axis]) -> str:
 
 #: the marker of each steady state that is not plain periodic (period p > 1 cycles through PERIOD_MARKERS)
 STATE_MARKERS = {"quasi-periodic": ("D", "tab:purple"), "chaotic": ("X", "red"), "unsettled": ("*", "0.35")}
-PERIOD_MARKERS = (("^", "gold"), ("s", "darkorange"), ("v", "saddlebrown"), ("p", "olive"), ("h", "teal"),
-                  ("<", "pink"), (">", "cyan"))
+PERIOD_MARKERS = (
+    ("^", "gold"),
+    ("s", "darkorange"),
+    ("v", "saddlebrown"),
+    ("p", "olive"),
+    ("h", "teal"),
+    ("<", "pink"),
+    (">", "cyan"),
+)
 
 
 def steady_state_name(row: dict[str, Any], table_periods: int) -> str | None:
-    """"period 2" (periodic over p > 1 table periods), "quasi-periodic", "chaotic",
+    """ "period 2" (periodic over p > 1 table periods), "quasi-periodic", "chaotic",
     "unsettled", or None for a period-1 response (the stiffness table's own period)."""
     if row["label"] != "periodic":
         return row["label"]
@@ -367,14 +473,25 @@ def _mark_states(ax, points: list[Point], chains: list[Chain]) -> None:
             if name is not None:
                 found.setdefault(name, []).append((r["speed_rpm"], r["K_v"]))
     runs = sum(len(c.rows) for c in chains)
-    order = sorted(found, key=lambda n: (not n.startswith("period"), int(n.split()[1]) if n.startswith("period")
-                                         else 0, n))
+    order = sorted(
+        found, key=lambda n: (not n.startswith("period"), int(n.split()[1]) if n.startswith("period") else 0, n)
+    )
     for name in order:
         mk, col = _state_style(name)
         xy = np.array(found[name])
         what = f"{name}, sub-harmonic f_m/{name.split()[1]}" if name.startswith("period") else name
-        ax.plot(xy[:, 0], xy[:, 1], ls="none", marker=mk, ms=9, mfc=col, mec="k", mew=0.8, zorder=5,
-                label=f"steady state {what}: {len(xy)} of {runs} speed runs")
+        ax.plot(
+            xy[:, 0],
+            xy[:, 1],
+            ls="none",
+            marker=mk,
+            ms=9,
+            mfc=col,
+            mec="k",
+            mew=0.8,
+            zorder=5,
+            label=f"steady state {what}: {len(xy)} of {runs} speed runs",
+        )
 
 
 def _mode_speeds(ax, points: list[Point], summ: dict[str, Any]) -> int:
@@ -389,11 +506,16 @@ def _mode_speeds(ax, points: list[Point], summ: dict[str, Any]) -> int:
                 marks.setdefault(round(n, 6), f)
     speeds = sorted(marks)
     for n in speeds:
-        ax.axvline(n, color="0.45", lw=1.0, ls="--", zorder=1,
-                   label="f_m = a linear mode (frequency above)" if n == speeds[0] else None)
+        ax.axvline(
+            n,
+            color="0.45",
+            lw=1.0,
+            ls="--",
+            zorder=1,
+            label="f_m = a linear mode (frequency above)" if n == speeds[0] else None,
+        )
     lo, hi = ax.get_xlim()
-    return labels_above(ax, speeds, [f"{marks[n]:.0f} Hz" for n in speeds], 0.09 * (hi - lo), fontsize=8,
-                        color="0.25")
+    return labels_above(ax, speeds, [f"{marks[n]:.0f} Hz" for n in speeds], 0.09 * (hi - lo), fontsize=8, color="0.25")
 
 
 def kv_figure(points: list[Point], chains: list[Chain], others: list[Axis], summ: dict[str, Any]):
@@ -411,18 +533,32 @@ def kv_figure(points: list[Point], chains: list[Chain], others: list[Axis], summ
         lab = _label(p, others)
         for c in (c for c in chains if c.point_index == i):
             rows = sorted(c.rows, key=lambda r: r["speed_rpm"])
-            ax.plot([r["speed_rpm"] for r in rows], [r["K_v"] for r in rows], "-" if c.direction == "up" else "--",
-                    color=col, lw=1.4, marker="." if c.direction == "up" else None, ms=4,
-                    label=f"{lab}, sweep {c.direction}")
+            ax.plot(
+                [r["speed_rpm"] for r in rows],
+                [r["K_v"] for r in rows],
+                "-" if c.direction == "up" else "--",
+                color=col,
+                lw=1.4,
+                marker="." if c.direction == "up" else None,
+                ms=4,
+                label=f"{lab}, sweep {c.direction}",
+            )
         nE1 = p.iso["n_E1_driver_rpm"]  # on the run-up's (driver) speed axis
-        ax.plot(p.speeds, p.iso["K_v"], ":", color=col, lw=1.6,
-                label=f"{lab}, ISO 6336-1 method B (n_E1 = {nE1:.0f} rpm)")
+        ax.plot(
+            p.speeds, p.iso["K_v"], ":", color=col, lw=1.6, label=f"{lab}, ISO 6336-1 method B (n_E1 = {nE1:.0f} rpm)"
+        )
         if p.speeds[0] <= nE1 <= p.speeds[-1]:
             ax.axvline(nE1, color=col, lw=0.8, ls="-.", alpha=0.7, label=f"{lab}, ISO resonance speed n_E1")
         for j, (lo, hi) in enumerate(summ["points"][i].get("jump_bands_rpm", [])):
             step = summ["speed_step_rpm"]
-            ax.axvspan(lo - step / 2, hi + step / 2, color=col, alpha=0.15, lw=0,
-                       label=f"{lab}, jump band (up and down differ)" if j == 0 else None)
+            ax.axvspan(
+                lo - step / 2,
+                hi + step / 2,
+                color=col,
+                alpha=0.15,
+                lw=0,
+                label=f"{lab}, jump band (up and down differ)" if j == 0 else None,
+            )
     _mark_states(ax, points, chains)
     name_rows = _mode_speeds(ax, points, summ)
     ax.set_xlabel("pinion speed (rpm)")
@@ -467,20 +603,35 @@ def order_map_figure(points: list[Point], chains: list[Chain], others: list[Axis
         A = np.array([r["delta_harmonics_um"] for r in rows]).T
         pos = A[A > 0]
         lo = max(float(pos.max()) * 1e-5, float(pos.min())) if pos.size else 1e-12
-        im = ax.pcolormesh(n, np.arange(1, N_HARMONICS + 1), np.maximum(A, lo), shading="nearest",
-                           norm=LogNorm(vmin=lo, vmax=max(float(A.max()), lo * 10)), cmap="viridis")
+        im = ax.pcolormesh(
+            n,
+            np.arange(1, N_HARMONICS + 1),
+            np.maximum(A, lo),
+            shading="nearest",
+            norm=LogNorm(vmin=lo, vmax=max(float(A.max()), lo * 10)),
+            cmap="viridis",
+        )
         z1 = p.scene.pair.teeth[0]
         for j, f in enumerate(_modes(p)):
-            ax.plot(n, 60 * f / (z1 * n), color="w", lw=0.9, ls=("--", ":", "-.")[j % 3],
-                    label=f"k f_m = linear mode {f:.0f} Hz")
+            ax.plot(
+                n,
+                60 * f / (z1 * n),
+                color="w",
+                lw=0.9,
+                ls=("--", ":", "-.")[j % 3],
+                label=f"k f_m = linear mode {f:.0f} Hz",
+            )
         ax.set_ylim(0.5, N_HARMONICS + 0.5)
         ax.set_xlabel("pinion speed (rpm)")
         ax.set_ylabel("mesh harmonic order k (dimensionless)")
         ax.set_title(f"{_label(p, others)}, sweep {direction}", fontsize=9)
         fig.colorbar(im, ax=ax, label="amplitude of delta at k f_m (um)")
         legend_outside(ax, "below", fontsize=7, ncol=2, facecolor="0.5")
-    fig.suptitle("Order map of the dynamic transmission error delta\n(integer orders only; sub-harmonics: "
-                 f"campbell_{direction}.png)", fontsize=10)
+    fig.suptitle(
+        "Order map of the dynamic transmission error delta\n(integer orders only; sub-harmonics: "
+        f"campbell_{direction}.png)",
+        fontsize=10,
+    )
     fig.tight_layout()
     return fig
 
@@ -517,8 +668,9 @@ def campbell_grid(rows: list[dict[str, Any]], f_max_Hz: float, n_rows: int = 300
     300-row map: it shows three rows, +-f_max / n_rows); NaN above a speed's spectrum."""
     n = np.array([r["speed_rpm"] for r in rows], float)
     mid = 0.5 * (n[1:] + n[:-1])
-    x_edges = np.r_[n[0] - (mid[0] - n[0]) if n.size > 1 else n[0] - 1, mid,
-                    n[-1] + (n[-1] - mid[-1]) if n.size > 1 else n[-1] + 1]
+    x_edges = np.r_[
+        n[0] - (mid[0] - n[0]) if n.size > 1 else n[0] - 1, mid, n[-1] + (n[-1] - mid[-1]) if n.size > 1 else n[-1] + 1
+    ]
     y_edges = np.linspace(0.0, f_max_Hz, n_rows + 1)
     Z = np.column_stack([peak_hold(*campbell_spectrum(r), y_edges) for r in rows])
     padded = np.pad(Z, ((1, 1), (0, 0)), constant_values=np.nan)
@@ -546,16 +698,43 @@ def campbell_figure(points: list[Point], chains: list[Chain], others: list[Axis]
         peak = float(np.nanmax(Z)) if np.isfinite(Z).any() else 1.0
         floor = log_floor([peak])
         cmap = colormaps["viridis"].with_extremes(bad="0.92")
-        im = ax.pcolormesh(x_edges, y_edges, np.ma.masked_invalid(np.maximum(Z, floor)), shading="flat",
-                           norm=LogNorm(vmin=floor, vmax=peak), cmap=cmap)
+        im = ax.pcolormesh(
+            x_edges,
+            y_edges,
+            np.ma.masked_invalid(np.maximum(Z, floor)),
+            shading="flat",
+            norm=LogNorm(vmin=floor, vmax=peak),
+            cmap=cmap,
+        )
         for k in range(1, N_HARMONICS + 1):
-            ax.plot(n, k * z1 * n / 60, color="w", lw=0.5, ls=(0, (1, 3)), alpha=0.7,
-                    label=f"order lines k f_m, k = 1..{N_HARMONICS}" if k == 1 else None)
-        ax.plot(n, 0.5 * z1 * n / 60, color="w", lw=0.7, ls=(0, (4, 6)), alpha=0.8,
-                label="f_m / 2 (the line of a period-2 response)")
+            ax.plot(
+                n,
+                k * z1 * n / 60,
+                color="w",
+                lw=0.5,
+                ls=(0, (1, 3)),
+                alpha=0.7,
+                label=f"order lines k f_m, k = 1..{N_HARMONICS}" if k == 1 else None,
+            )
+        ax.plot(
+            n,
+            0.5 * z1 * n / 60,
+            color="w",
+            lw=0.7,
+            ls=(0, (4, 6)),
+            alpha=0.8,
+            label="f_m / 2 (the line of a period-2 response)",
+        )
         for j, f in enumerate(_modes(p)):
-            ax.axhline(f, color="red", lw=1.0, ls=":", label="linear eigenfrequencies: " + ", ".join(
-                f"{v:.0f}" for v in _modes(p)) + " Hz" if j == 0 else None)
+            ax.axhline(
+                f,
+                color="red",
+                lw=1.0,
+                ls=":",
+                label="linear eigenfrequencies: " + ", ".join(f"{v:.0f}" for v in _modes(p)) + " Hz"
+                if j == 0
+                else None,
+            )
         ax.set_xlim(x_edges[0], x_edges[-1])
         ax.set_ylim(0, f_max)
         ax.set_xlabel("pinion speed (rpm)")
@@ -563,20 +742,35 @@ def campbell_figure(points: list[Point], chains: list[Chain], others: list[Axis]
         ax.set_title(f"{_label(p, others)}, sweep {direction}", fontsize=9)
         fig.colorbar(im, ax=ax, label=f"amplitude of delta (um), {FLOOR_DB:g} dB deep")
         legend_outside(ax, "below", fontsize=7, ncol=2, facecolor="0.6")
-    fig.suptitle("Campbell diagram of the dynamic transmission error delta\n(the spectrum of the kept window at "
-                 "each speed; grey: above the computed band)", fontsize=10)
+    fig.suptitle(
+        "Campbell diagram of the dynamic transmission error delta\n(the spectrum of the kept window at "
+        "each speed; grey: above the computed band)",
+        fontsize=10,
+    )
     fig.tight_layout()
     return fig
 
 
-def write(points: list[Point], chains: list[Chain], speed: Axis, others: list[Axis], summ: dict[str, Any],
-          out: Path, inputs: dict[str, Any], labels: dict[str, Any]) -> list[Path]:
+def write(
+    points: list[Point],
+    chains: list[Chain],
+    speed: Axis,
+    others: list[Axis],
+    summ: dict[str, Any],
+    out: Path,
+    inputs: dict[str, Any],
+    labels: dict[str, Any],
+) -> list[Path]:
     """runup.csv (+ sidecar), runup_summary.json, kv.png, order_map_<direction>.png and
     campbell_<direction>.png into ``out`` (no wall times in any of them)."""
     files = []
     csv = io.write_text(out / "runup.csv", table_csv(points, chains, others))
-    files += [csv, io.sidecar(csv, inputs, "gearwear runup (dynamics.steady.steady_state per speed, natural "
-                                            "continuation)", labels)]
+    files += [
+        csv,
+        io.sidecar(
+            csv, inputs, "gearwear runup (dynamics.steady.steady_state per speed, natural continuation)", labels
+        ),
+    ]
     files.append(io.write_json(out / "runup_summary.json", io.without_timing(summ)))
     files.append(io.write_figure(kv_figure(points, chains, others, summ), out / "kv.png"))
     for d in dict.fromkeys(c.direction for c in chains):

@@ -42,31 +42,40 @@ from typing import Any
 
 import numpy as np
 
+from gearwear.core.validation import InputError, renamed
 from gearwear.dynamics import GearDynamics, damping_from_ratios, simulate
 from gearwear.dynamics.model import table_mean
 from gearwear.geometry.faults import revolution_periods
 from gearwear.geometry.operating import backlash, centre_distance
 from gearwear.geometry.spec import PairSpec
-from gearwear.core.validation import InputError, renamed
-
 from gearwear.scene.assumptions import as_dicts, for_command
-from gearwear.scene.plausibility import body_warnings, pair_warnings, response_warnings, stiffness_warnings
-from gearwear.scene.model import Scene, require_dynamics
 from gearwear.scene.checks import dynamics_fem_plane
+from gearwear.scene.model import Scene, require_dynamics
+from gearwear.scene.plausibility import body_warnings, pair_warnings, response_warnings, stiffness_warnings
 from gearwear.stiffness.sources import SOURCES, Request, curve
 
 #: SI unit of each signal of the dynamics layer (dynamics.simulate computes them in SI)
 SI_UNITS = {"y_p": "m", "x_p": "m", "y_g": "m", "x_g": "m", "q": "m", "delta": "m", "F_m": "N"}
-SIGNAL_UNITS = {"y_p": ("um", 1e6), "x_p": ("um", 1e6), "y_g": ("um", 1e6), "x_g": ("um", 1e6),
-                "q": ("um", 1e6), "delta": ("um", 1e6), "F_m": ("N", 1.0)}
+SIGNAL_UNITS = {
+    "y_p": ("um", 1e6),
+    "x_p": ("um", 1e6),
+    "y_g": ("um", 1e6),
+    "x_g": ("um", 1e6),
+    "q": ("um", 1e6),
+    "delta": ("um", 1e6),
+    "F_m": ("N", 1.0),
+}
 #: what each signal is, in words (figure labels); dynamics.model: y along the line of action
 #: (the common tangent of the base circles), x along the centre line
-SIGNAL_WORDS = {"y_p": "pinion bearing displacement y_p, line of action",
-                "x_p": "pinion bearing displacement x_p, centre line",
-                "y_g": "gear bearing displacement y_g, line of action",
-                "x_g": "gear bearing displacement x_g, centre line",
-                "q": "relative torsional displacement q", "delta": "dynamic transmission error delta",
-                "F_m": "mesh force F_m"}
+SIGNAL_WORDS = {
+    "y_p": "pinion bearing displacement y_p, line of action",
+    "x_p": "pinion bearing displacement x_p, centre line",
+    "y_g": "gear bearing displacement y_g, line of action",
+    "x_g": "gear bearing displacement x_g, centre line",
+    "q": "relative torsional displacement q",
+    "delta": "dynamic transmission error delta",
+    "F_m": "mesh force F_m",
+}
 
 
 def signal_name(key: str) -> str:
@@ -92,14 +101,17 @@ class StiffnessInput:
     source: str
     mean_N_per_m: float
     wall_s: float
-    periods: int = 1   # mesh periods the tables span (a fault: one revolution of its gear)
+    periods: int = 1  # mesh periods the tables span (a fault: one revolution of its gear)
 
 
 #: the dynamics layer's own parameter names -> scene keys
-SOLVER_KEYS = {name: f"solver.{name}" for name in ("duration_s", "discard_s", "method", "steps_per_mesh_period",
-                                                     "rtol", "atol", "y0")}
-SOLVER_KEYS.update({"k_table": "effects.mesh_stiffness", "e_table": "effects.mesh_stiffness",
-                    "phi_table": "effects.mesh_stiffness"})
+SOLVER_KEYS = {
+    name: f"solver.{name}"
+    for name in ("duration_s", "discard_s", "method", "steps_per_mesh_period", "rtol", "atol", "y0")
+}
+SOLVER_KEYS.update(
+    {"k_table": "effects.mesh_stiffness", "e_table": "effects.mesh_stiffness", "phi_table": "effects.mesh_stiffness"}
+)
 
 
 def operating_centre_distance(scene: Scene) -> float:
@@ -142,10 +154,12 @@ def stiffness_input(scene: Scene, breakpoints: bool = True) -> StiffnessInput:
     ignored = source == "table" or (source == "constant" and "transmission_error" not in scene.effects)
     if (flank is not None or faults is not None) and ignored:
         what = "[flank]" if flank is not None else "[faults]"
-        raise InputError(f"{what}: the simulation's mesh stiffness is "
-                         f"{'a user table' if source == 'table' else 'a constant without transmission_error'}, "
-                         'which cannot show it; set effects.mesh_stiffness.source = "analytic", "calibrated" or '
-                         '"fem" (or add [effects] transmission_error to a constant stiffness)')
+        raise InputError(
+            f"{what}: the simulation's mesh stiffness is "
+            f"{'a user table' if source == 'table' else 'a constant without transmission_error'}, "
+            'which cannot show it; set effects.mesh_stiffness.source = "analytic", "calibrated" or '
+            '"fem" (or add [effects] transmission_error to a constant stiffness)'
+        )
     periods = revolution_periods(pair, faults)
     plane = dynamics_fem_plane(scene.doc) if scene.doc is not None else "stress"
     if SOURCES[source].fe:
@@ -156,13 +170,20 @@ def stiffness_input(scene: Scene, breakpoints: bool = True) -> StiffnessInput:
         options = {"angle_rad": ms["angle_rad"], "k_N_per_m": ms["k_N_per_m"], "excitation_m": ms["excitation_m"]}
     elif source == "constant":
         options = {"value_N_per_m": (ms or {}).get("value_N_per_m")}
-    r = curve(source, Request(pair, T, clearance_geo, wear, flank, faults, points, plane, breakpoints,
-                              blank_torsion(ms), options))
+    r = curve(
+        source,
+        Request(pair, T, clearance_geo, wear, flank, faults, points, plane, breakpoints, blank_torsion(ms), options),
+    )
     phi, k, e = r.angle_rad, r.k_N_per_m, r.excitation_m
-    return StiffnessInput(np.asarray(phi), np.asarray(k), np.asarray(e), source,
-                          table_mean(phi, k, periods * 2 * math.pi / pair.teeth[0],
-                                     (ms or {}).get("interpolation", "linear")),
-                          time.perf_counter() - t0, periods)
+    return StiffnessInput(
+        np.asarray(phi),
+        np.asarray(k),
+        np.asarray(e),
+        source,
+        table_mean(phi, k, periods * 2 * math.pi / pair.teeth[0], (ms or {}).get("interpolation", "linear")),
+        time.perf_counter() - t0,
+        periods,
+    )
 
 
 def check_before_stiffness(scene: Scene) -> None:
@@ -202,9 +223,10 @@ def build_model(scene: Scene, stiff: StiffnessInput) -> GearDynamics:
     R_p, R_g = g1.base_radius_m, g2.base_radius_m
     Cp = operating_centre_distance(scene)
     alpha = math.acos((R_p + R_g) / Cp) if Cp != pair.centre_distance_m else pair.operating_pressure_angle_rad
-    m_e = 1.0 / (R_p ** 2 / J_p + R_g ** 2 / J_g)
-    c_h, c_b = damping_from_ratios(b.mesh_damping_ratio, b.bearing_damping_ratio, stiff.mean_N_per_m, m_e,
-                                   b.bearing_stiffness_N_per_m, m_p, m_g)
+    m_e = 1.0 / (R_p**2 / J_p + R_g**2 / J_g)
+    c_h, c_b = damping_from_ratios(
+        b.mesh_damping_ratio, b.bearing_damping_ratio, stiff.mean_N_per_m, m_e, b.bearing_stiffness_N_per_m, m_p, m_g
+    )
     if b.mesh_damping_N_s_per_m is not None:
         c_h = b.mesh_damping_N_s_per_m
     if b.bearing_damping_N_s_per_m is not None:
@@ -219,14 +241,33 @@ def build_model(scene: Scene, stiff: StiffnessInput) -> GearDynamics:
     coupling = eff.get("centre_distance", {}).get("coupling", "static")
     te = "transmission_error" in eff and bool(np.any(stiff.e != 0))
     return GearDynamics(
-        m_p=m_p, m_g=m_g, J_p=J_p, J_g=J_g, R_p=R_p, R_g=R_g, alpha=alpha, k_b=b.bearing_stiffness_N_per_m,
-        c_b=c_b, c_h=c_h, T_p=scene.operating.torque_Nm, omega_p=scene.operating.speed_rpm * 2 * math.pi / 60,
-        z_p=pair.teeth[0], phi_table=stiff.phi, k_table=stiff.k, e_table=stiff.e if te else None, tvms=tvms,
-        backlash_half_m=half_backlash, bearing_half_clearance_m=half_clear, te_excitation=te,
-        centre_distance=coupling if "centre_distance" in eff else "static", C0_m=pair.centre_distance_m,
+        m_p=m_p,
+        m_g=m_g,
+        J_p=J_p,
+        J_g=J_g,
+        R_p=R_p,
+        R_g=R_g,
+        alpha=alpha,
+        k_b=b.bearing_stiffness_N_per_m,
+        c_b=c_b,
+        c_h=c_h,
+        T_p=scene.operating.torque_Nm,
+        omega_p=scene.operating.speed_rpm * 2 * math.pi / 60,
+        z_p=pair.teeth[0],
+        phi_table=stiff.phi,
+        k_table=stiff.k,
+        e_table=stiff.e if te else None,
+        tvms=tvms,
+        backlash_half_m=half_backlash,
+        bearing_half_clearance_m=half_clear,
+        te_excitation=te,
+        centre_distance=coupling if "centre_distance" in eff else "static",
+        C0_m=pair.centre_distance_m,
         mesh_damping="paper" if eff.get("backlash", {}).get("damping_in_gap") else "off-when-separated",
         k_constant=None if tvms else stiff.mean_N_per_m,
-        interpolation=eff.get("mesh_stiffness", {}).get("interpolation", "linear"), table_periods=stiff.periods)
+        interpolation=eff.get("mesh_stiffness", {}).get("interpolation", "linear"),
+        table_periods=stiff.periods,
+    )
 
 
 @dataclass
@@ -264,34 +305,57 @@ class SimulationRun:
         ci = condition_indicators(self.scene, r)
         # the indicators assume a periodic response: say so where it is not
         ci_warn = [f"condition indicators: {ci['periodicity']}"] if ci.get("periodic") is False else []
-        return {"scene": self.scene.name, "fm_Hz": r.fm_Hz, "harmonics": harm, "mean": mean, "ac_rms": ac_rms,
-                "peak_to_peak": p2p,
-                "separation_fraction": r.separation_fraction, "backside_fraction": r.backside_fraction,
-                "bearing_contact_fraction": r.bearing_contact_fraction, "steps": int(r.steps),
-                # dopri5 rejects steps; RK4 rejects none: its second counter is the steps split
-                # where a table node falls inside them (the stage values stay the table's function)
-                **({"rk4_substeps_at_table_nodes": int(r.rejected)} if r.method == "rk4"
-                   else {"rejected_steps": int(r.rejected)}),
-                "events": int(r.events), "method": r.method,
-                "periodic_with_mesh_periods": int(r.periodic_with), "wall_s": self.wall_s,
-                "integration_wall_s": r.wall_s, "compile_s": r.compile_s, "stiffness_source": self.stiffness.source,
-                "mean_mesh_stiffness_N_per_m": self.stiffness.mean_N_per_m,
-                "effects": sorted(self.scene.effects), "duration_s": self.solver["duration_s"],
-                "stiffness_table_mesh_periods": self.stiffness.periods,
-                "condition_indicators": ci,
-                **({"flank": self.scene.flank.label()} if self.scene.flank is not None else {}),
-                **({"faults": self.scene.faults.label()} if self.scene.faults is not None else {}),
-                **contact_notes(self.scene, r),
-                "assumptions": as_dicts(for_command(self.scene, "simulate")),
-                **operating_notes(self.scene, contact_warnings(self.scene, r) + ci_warn
-                                  + pair_warnings(self.scene) + body_warnings(self.scene)
-                                  + stiffness_warnings(self.scene, self.stiffness.mean_N_per_m)
-                                  + response_warnings(r))}
+        return {
+            "scene": self.scene.name,
+            "fm_Hz": r.fm_Hz,
+            "harmonics": harm,
+            "mean": mean,
+            "ac_rms": ac_rms,
+            "peak_to_peak": p2p,
+            "separation_fraction": r.separation_fraction,
+            "backside_fraction": r.backside_fraction,
+            "bearing_contact_fraction": r.bearing_contact_fraction,
+            "steps": int(r.steps),
+            # dopri5 rejects steps; RK4 rejects none: its second counter is the steps split
+            # where a table node falls inside them (the stage values stay the table's function)
+            **(
+                {"rk4_substeps_at_table_nodes": int(r.rejected)}
+                if r.method == "rk4"
+                else {"rejected_steps": int(r.rejected)}
+            ),
+            "events": int(r.events),
+            "method": r.method,
+            "periodic_with_mesh_periods": int(r.periodic_with),
+            "wall_s": self.wall_s,
+            "integration_wall_s": r.wall_s,
+            "compile_s": r.compile_s,
+            "stiffness_source": self.stiffness.source,
+            "mean_mesh_stiffness_N_per_m": self.stiffness.mean_N_per_m,
+            "effects": sorted(self.scene.effects),
+            "duration_s": self.solver["duration_s"],
+            "stiffness_table_mesh_periods": self.stiffness.periods,
+            "condition_indicators": ci,
+            **({"flank": self.scene.flank.label()} if self.scene.flank is not None else {}),
+            **({"faults": self.scene.faults.label()} if self.scene.faults is not None else {}),
+            **contact_notes(self.scene, r),
+            "assumptions": as_dicts(for_command(self.scene, "simulate")),
+            **operating_notes(
+                self.scene,
+                contact_warnings(self.scene, r)
+                + ci_warn
+                + pair_warnings(self.scene)
+                + body_warnings(self.scene)
+                + stiffness_warnings(self.scene, self.stiffness.mean_N_per_m)
+                + response_warnings(r),
+            ),
+        }
 
 
 #: why a model without a backlash dead zone reports no separation fraction
-NO_SEPARATION = ("no [effects] backlash: the mesh is a two-sided spring, which cannot separate; "
-                 "add [effects.backlash] to model separation")
+NO_SEPARATION = (
+    "no [effects] backlash: the mesh is a two-sided spring, which cannot separate; "
+    "add [effects.backlash] to model separation"
+)
 
 
 def contact_notes(scene: Scene, r) -> dict[str, Any]:
@@ -305,10 +369,12 @@ def contact_warnings(scene: Scene, r) -> list[str]:
     if r.separation_fraction is not None or r.backside_fraction <= 0.0:
         return []
     f_min = float(np.min(r.signals["F_m"]))
-    return [f"the mesh force is negative {100 * r.backside_fraction:.2f} % of the time (down to {f_min:.4g} N): "
-            "without [effects] backlash the mesh is a two-sided spring, so the back flanks carry that load; a real "
-            "pair separates instead. Add [effects.backlash] (initial_um = the pair's normal backlash) to model "
-            "separation and back-flank impacts"]
+    return [
+        f"the mesh force is negative {100 * r.backside_fraction:.2f} % of the time (down to {f_min:.4g} N): "
+        "without [effects] backlash the mesh is a two-sided spring, so the back flanks carry that load; a real "
+        "pair separates instead. Add [effects.backlash] (initial_um = the pair's normal backlash) to model "
+        "separation and back-flank impacts"
+    ]
 
 
 def operating_notes(scene: Scene, extra: list[str] | None = None) -> dict[str, Any]:
@@ -316,21 +382,25 @@ def operating_notes(scene: Scene, extra: list[str] | None = None) -> dict[str, A
     result rests on it (below 1, part of every mesh period has no pair in contact) or on
     an extrapolated input (running hours beyond the 'severe' wear phase)."""
     from gearwear.geometry.flank import flank_warnings
-    from gearwear.geometry.operating import operating_geometry
+    from gearwear.geometry.operating import backlash, operating_geometry
     from gearwear.geometry.wear import wear_warnings
-
-    from gearwear.geometry.operating import backlash
 
     pair = scene.pair
     Cp = operating_centre_distance(scene)
     mesh = operating_geometry(pair, scene.clearance_m if Cp != pair.centre_distance_m else 0.0).mesh
     opened = backlash(pair, pair.centre_distance_m)
     if "backlash" not in scene.effects and opened > 0.0:
-        extra = [f"pair.centre_distance_mm opens {opened * 1e6:.4g} um of normal backlash, which the dynamics model "
-                 "only with [effects.backlash] (add it to let the teeth separate)"] + list(extra or [])
-    return {"contact_ratio": mesh.contact_ratio,
-            "warnings": mesh.contact_ratio_warnings() + wear_warnings(mesh, scene.wear)
-            + flank_warnings(pair, scene.flank) + list(extra or [])}
+        extra = [
+            f"pair.centre_distance_mm opens {opened * 1e6:.4g} um of normal backlash, which the dynamics model "
+            "only with [effects.backlash] (add it to let the teeth separate)"
+        ] + list(extra or [])
+    return {
+        "contact_ratio": mesh.contact_ratio,
+        "warnings": mesh.contact_ratio_warnings()
+        + wear_warnings(mesh, scene.wear)
+        + flank_warnings(pair, scene.flank)
+        + list(extra or []),
+    }
 
 
 #: signals the condition indicators are computed on: the relative acceleration along the line
@@ -360,9 +430,12 @@ def condition_indicators(scene: Scene, result) -> dict[str, Any]:
     S = int(round(result.fs_Hz / result.fm_Hz))
     revs = result.n_periods // z
     if revs < 1:
-        return {"shaft_frequency_Hz": f_shaft, "revolutions": 0,
-                "why_none": f"the kept window ({result.n_periods} mesh periods) is shorter than one revolution "
-                            f"({z} mesh periods); lengthen solver.duration_s"}
+        return {
+            "shaft_frequency_Hz": f_shaft,
+            "revolutions": 0,
+            "why_none": f"the kept window ({result.n_periods} mesh periods) is shorter than one revolution "
+            f"({z} mesh periods); lengthen solver.duration_s",
+        }
     n = revs * z * S
     acc = acceleration_signals(result)
     out: dict[str, Any] = {"shaft_frequency_Hz": f_shaft, "revolutions": revs, **periodicity_verdict(result)}
@@ -386,12 +459,14 @@ def periodicity_verdict(result) -> dict[str, Any]:
     S = int(round(result.fs_Hz / result.fm_Hz))
     p, m = periodicity_mismatch(result.signals["delta"], S, table_periods=result.table_periods)
     periodic = m <= PERIODIC_MISMATCH
-    verdict = (f"periodic with {p} mesh period{'s' if p > 1 else ''} (period-to-period mismatch "
-               f"{m:.1e} of the range)" if periodic else
-               f"not periodic over the kept window (best period {p} mesh periods repeats to only {m:.2g} of the "
-               "range): kurtosis, crest factor, FM4 and the sidebands measure the quasi-periodic or chaotic "
-               "response itself, not a tooth fault; check the steady state (gearwear runup) or lengthen "
-               "solver.duration_s")
+    verdict = (
+        f"periodic with {p} mesh period{'s' if p > 1 else ''} (period-to-period mismatch {m:.1e} of the range)"
+        if periodic
+        else f"not periodic over the kept window (best period {p} mesh periods repeats to only {m:.2g} of the "
+        "range): kurtosis, crest factor, FM4 and the sidebands measure the quasi-periodic or chaotic "
+        "response itself, not a tooth fault; check the steady state (gearwear runup) or lengthen "
+        "solver.duration_s"
+    )
     return {"periodic": periodic, "periodic_mismatch": m if math.isfinite(m) else None, "periodicity": verdict}
 
 

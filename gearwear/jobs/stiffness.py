@@ -18,18 +18,27 @@ from typing import Any
 
 import numpy as np
 
+from gearwear import io
 from gearwear.analytic.tvms import DEFAULT_POINTS, MeshStiffness
 from gearwear.core.validation import fail
 from gearwear.geometry.faults import FaultSpec
 from gearwear.geometry.flank import FlankSpec, flank_warnings
 from gearwear.geometry.spec import PairSpec
 from gearwear.geometry.wear import WearSpec
-
-from gearwear import io
 from gearwear.stiffness.sources import BLANK_TORSION, METHODS, SOURCES, Request, curve, fem_curve, iso_curve
 
-__all__ = ["BLANK_TORSION", "Curve", "check_method", "compute", "fem_curve", "figures", "harris", "iso_curve",
-           "write", "write_fields"]
+__all__ = [
+    "BLANK_TORSION",
+    "Curve",
+    "check_method",
+    "compute",
+    "fem_curve",
+    "figures",
+    "harris",
+    "iso_curve",
+    "write",
+    "write_fields",
+]
 
 
 @dataclass
@@ -72,8 +81,9 @@ class Curve:
             extra["blank_torsion"] = fe["blank_torsion"]
             extra["bore_fixed_mean_N_per_m"] = fe["bore_fixed_mean_N_per_m"]
             extra["mesh_only_mean_N_per_m"] = fe["mesh_only_mean_N_per_m"]
-            extra["blank_torsional_stiffness_Nm_per_rad"] = [None if math.isinf(k) else k
-                                                             for k in fe["blank_torsional_stiffness_Nm_per_rad"]]
+            extra["blank_torsional_stiffness_Nm_per_rad"] = [
+                None if math.isinf(k) else k for k in fe["blank_torsional_stiffness_Nm_per_rad"]
+            ]
             extra["blank_reference_radius_mm"] = [r_m * 1e3 for r_m in fe["blank_reference_radius_m"]]
         if r.periods > 1:
             extra["mesh_periods"] = r.periods
@@ -85,28 +95,41 @@ class Curve:
         def null(v: float) -> float | None:
             return None if v is None or math.isnan(v) else v
 
-        return {"method": self.method, "wear": self.wear.label if self.wear else "unworn",
-                "clearance_um": self.clearance_m * 1e6, "torque_Nm": r.torque_Nm,
-                "mean_N_per_m": r.mean_N_per_m, "min_N_per_m": r.min_N_per_m, "max_N_per_m": r.max_N_per_m,
-                "contact_ratio": r.contact_ratio, "points": int(len(r.angle_rad)),
-                "breakpoints_deg": [math.degrees(x) for x in r.breakpoints_rad], "wall_s": r.wall_s,
-                "double_zone_mean_N_per_m": null(z["double"]), "single_zone_mean_N_per_m": null(z["single"]),
-                "double_zone_length_deg": z["double_deg"], "single_zone_length_deg": z["single_deg"],
-                "zone_means_N_per_m": {str(n): v for n, v in z["by_count"].items()},
-                "zone_lengths_deg": {str(n): v for n, v in z["deg_by_count"].items()},
-                "ste_mean_um": r.mean_of(r.ste_m) * 1e6,
-                "ste_peak_to_peak_um": float(np.ptp(r.ste_m)) * 1e6,
-                "centre_distance_mm": r.mesh.centre_distance_m * 1e3,
-                "operating_pressure_angle_deg": math.degrees(r.mesh.pressure_angle_rad),
-                "warnings": r.mesh.contact_ratio_warnings() + wear_warnings(r.mesh, self.wear)
-                + flank_warnings(r.pair, r.flank), **extra}
+        return {
+            "method": self.method,
+            "wear": self.wear.label if self.wear else "unworn",
+            "clearance_um": self.clearance_m * 1e6,
+            "torque_Nm": r.torque_Nm,
+            "mean_N_per_m": r.mean_N_per_m,
+            "min_N_per_m": r.min_N_per_m,
+            "max_N_per_m": r.max_N_per_m,
+            "contact_ratio": r.contact_ratio,
+            "points": int(len(r.angle_rad)),
+            "breakpoints_deg": [math.degrees(x) for x in r.breakpoints_rad],
+            "wall_s": r.wall_s,
+            "double_zone_mean_N_per_m": null(z["double"]),
+            "single_zone_mean_N_per_m": null(z["single"]),
+            "double_zone_length_deg": z["double_deg"],
+            "single_zone_length_deg": z["single_deg"],
+            "zone_means_N_per_m": {str(n): v for n, v in z["by_count"].items()},
+            "zone_lengths_deg": {str(n): v for n, v in z["deg_by_count"].items()},
+            "ste_mean_um": r.mean_of(r.ste_m) * 1e6,
+            "ste_peak_to_peak_um": float(np.ptp(r.ste_m)) * 1e6,
+            "centre_distance_mm": r.mesh.centre_distance_m * 1e3,
+            "operating_pressure_angle_deg": math.degrees(r.mesh.pressure_angle_rad),
+            "warnings": r.mesh.contact_ratio_warnings()
+            + wear_warnings(r.mesh, self.wear)
+            + flank_warnings(r.pair, r.flank),
+            **extra,
+        }
 
 
 def write_fields(curves: list[Curve], out: Path, positions: list[int]) -> list[Path]:
     """Displacement and stress fields (.vtu) of the FE curves at the given position
     indices (over the revolution with a fault), one folder per curve
     (fem.pair.write_fields; the bodies are cached)."""
-    from gearwear.fem.pair import pair_model, write_fields as fe_fields
+    from gearwear.fem.pair import pair_model
+    from gearwear.fem.pair import write_fields as fe_fields
 
     files: list[Path] = []
     for c in curves:
@@ -122,13 +145,26 @@ def check_method(method: str, flank: FlankSpec | None, faults: FaultSpec | None)
     src = SOURCES[method]
     if (flank is not None and not src.flank) or (faults is not None and not src.faults):
         able = [n for n in METHODS if SOURCES[n].flank and SOURCES[n].faults]
-        raise fail("method", repr(method), "", f"is {src.title} and cannot show flank modifications or faults; "
-                   f"use {', '.join(able[:-1])} or {able[-1]}")
+        raise fail(
+            "method",
+            repr(method),
+            "",
+            f"is {src.title} and cannot show flank modifications or faults; use {', '.join(able[:-1])} or {able[-1]}",
+        )
 
 
-def compute(pair: PairSpec, method: str, wears: list[WearSpec | None], clearances_m: list[float],
-            torque_Nm: float, points: int, flank: FlankSpec | None = None,
-            faults: FaultSpec | None = None, plane: str = "stress", **fe_options) -> list[Curve]:
+def compute(
+    pair: PairSpec,
+    method: str,
+    wears: list[WearSpec | None],
+    clearances_m: list[float],
+    torque_Nm: float,
+    points: int,
+    flank: FlankSpec | None = None,
+    faults: FaultSpec | None = None,
+    plane: str = "stress",
+    **fe_options,
+) -> list[Curve]:
     """The curves of one method (a source of stiffness.sources.SOURCES) for every wear state
     and clearance (``plane``: the 2D state of the FE and of the analytic tooth beams, the
     scene's fem.plane resolved; ``fe_options``: the pair FE's other options, see
@@ -157,8 +193,16 @@ def harris(curves: list[Curve], pair: PairSpec, flank: FlankSpec | None):
     c = next((c for c in curves if c.method in ("ishikawa", "energy")), None)
     if c is None:
         return None
-    return harris_map(pair, flank, HARRIS_LOADS * c.result.torque_Nm, c.method, c.result.meta.get(
-        "points_per_mesh_period", DEFAULT_POINTS), c.wear, c.clearance_m, plane=c.result.meta.get("plane", "stress"))
+    return harris_map(
+        pair,
+        flank,
+        HARRIS_LOADS * c.result.torque_Nm,
+        c.method,
+        c.result.meta.get("points_per_mesh_period", DEFAULT_POINTS),
+        c.wear,
+        c.clearance_m,
+        plane=c.result.meta.get("plane", "stress"),
+    )
 
 
 def _relief(symbol: str, r) -> str:
@@ -175,8 +219,11 @@ def relief_text(flank: FlankSpec | None) -> str:
         if rel[0] is not None and rel[0] == rel[1]:
             parts.append(f"{kind} relief on both gears: {_relief(symbol, rel[0])}")
         else:
-            parts += [f"{kind} relief on the {who}: {_relief(symbol, r)}" for who, r in zip(("pinion", "gear"), rel)
-                      if r is not None]
+            parts += [
+                f"{kind} relief on the {who}: {_relief(symbol, r)}"
+                for who, r in zip(("pinion", "gear"), rel)
+                if r is not None
+            ]
     return "; ".join(parts) or "no relief"
 
 
@@ -204,14 +251,19 @@ def harris_figure(hm, torque_Nm: float, flank: FlankSpec | None = None):
 def curve_csv(c: Curve) -> str:
     r = c.result
     npair = r.pair_load_N.shape[1]
-    cols = ["angle_deg", "k_N_per_m", "pairs_in_contact"] + [f"load_pair_{j + 1}_N" for j in range(npair)] + \
-           ["ste_um", "excitation_um"]
+    cols = (
+        ["angle_deg", "k_N_per_m", "pairs_in_contact"]
+        + [f"load_pair_{j + 1}_N" for j in range(npair)]
+        + ["ste_um", "excitation_um"]
+    )
     rows = [",".join(cols)]
     n_in = r.pairs_in_contact
     for i in range(len(r.angle_rad)):
         loads = ",".join(f"{x:.9g}" for x in r.pair_load_N[i])
-        rows.append(f"{math.degrees(r.angle_rad[i]):.9g},{r.k_N_per_m[i]:.9g},{n_in[i]},{loads},"
-                    f"{r.ste_m[i] * 1e6:.9g},{r.excitation_m[i] * 1e6:.9g}")
+        rows.append(
+            f"{math.degrees(r.angle_rad[i]):.9g},{r.k_N_per_m[i]:.9g},{n_in[i]},{loads},"
+            f"{r.ste_m[i] * 1e6:.9g},{r.excitation_m[i] * 1e6:.9g}"
+        )
     return "\n".join(rows) + "\n"
 
 
@@ -237,18 +289,27 @@ def figures(curves: list[Curve]):
     ax2.set_xlabel("pinion angle from entry of a pair at A (deg), one mesh period")
     m0 = curves[0].result
     if m0.periods > 1:
-        ax2.set_xlabel(f"pinion angle from entry of tooth pair 0 at A (deg), one revolution of the faulty gear "
-                       f"({m0.periods} mesh periods)")
+        ax2.set_xlabel(
+            f"pinion angle from entry of tooth pair 0 at A (deg), one revolution of the faulty gear "
+            f"({m0.periods} mesh periods)"
+        )
         if m0.faulty_pair is not None:
             on = np.any(m0.faulty_pair & (m0.pair_load_N > 0), axis=1)
             ang = np.degrees(m0.angle_rad)
             edges = np.flatnonzero(np.diff(np.r_[0, on.astype(int), 0]))
             for k, (i0, i1) in enumerate(zip(edges[::2], edges[1::2])):
                 for a in (ax, ax2):
-                    a.axvspan(ang[i0], ang[i1 - 1], color="red", alpha=0.12,
-                              label="faulty tooth in contact" if k == 0 and a is ax else None)
-    ax.set_title(f"Time-varying mesh stiffness ({', '.join(methods)}), T = {m0.torque_Nm:g} N m, "
-                 f"b = {m0.pair.face_width_m * 1e3:g} mm")
+                    a.axvspan(
+                        ang[i0],
+                        ang[i1 - 1],
+                        color="red",
+                        alpha=0.12,
+                        label="faulty tooth in contact" if k == 0 and a is ax else None,
+                    )
+    ax.set_title(
+        f"Time-varying mesh stiffness ({', '.join(methods)}), T = {m0.torque_Nm:g} N m, "
+        f"b = {m0.pair.face_width_m * 1e3:g} mm"
+    )
     legend_outside(ax)
     ax.grid(alpha=0.3)
     ax2.grid(alpha=0.3)
@@ -257,6 +318,7 @@ def figures(curves: list[Curve]):
     clearances = sorted({c.clearance_m for c in curves})
     if len(clearances) > 1:
         fig2, axs = subplots(1, 3, figsize=(13, 4))
+
         def group(c: Curve) -> str:
             w = c.wear.label if c.wear else "unworn"
             return w if len(methods) == 1 else f"{c.method}, {w}"
@@ -269,13 +331,15 @@ def figures(curves: list[Curve]):
             style = {"color": f"C{i}", "ms": 4}
             panels[0].append((wl, x, np.array([c.result.mean_N_per_m / 1e8 for c in sel]), {"marker": "o", **style}))
             panels[1].append((f"double: {wl}", x, np.array([z["double_deg"] for z in zs]), {"marker": "o", **style}))
-            panels[1].append((f"single: {wl}", x, np.array([z["single_deg"] for z in zs]),
-                              {"marker": "s", "ls": "--", **style}))
+            panels[1].append(
+                (f"single: {wl}", x, np.array([z["single_deg"] for z in zs]), {"marker": "s", "ls": "--", **style})
+            )
             panels[2].append((wl, x, np.array([c.result.contact_ratio for c in sel]), {"marker": "o", **style}))
         for a, curves_of in zip(axs, panels):
             span = float(np.ptp(np.concatenate([c[2] for c in curves_of])))
-            plot_merged(a, curves_of, 0.01 * span,
-                        note=lambda y0, ys: f" (within {max(np.max(abs(y - y0)) for y in ys):.2g})")
+            plot_merged(
+                a, curves_of, 0.01 * span, note=lambda y0, ys: f" (within {max(np.max(abs(y - y0)) for y in ys):.2g})"
+            )
         axs[0].set_ylabel("mean mesh stiffness (1e8 N/m)")
         axs[1].set_ylabel("zone length per mesh period (deg)")
         axs[2].set_ylabel("contact ratio (dimensionless)")
@@ -289,8 +353,14 @@ def figures(curves: list[Curve]):
     return figs
 
 
-def write(curves: list[Curve], out: Path, inputs: dict[str, Any], labels: dict[str, Any] | None = None,
-          harris_map=None, assumptions: list[dict] | None = None) -> list[Path]:
+def write(
+    curves: list[Curve],
+    out: Path,
+    inputs: dict[str, Any],
+    labels: dict[str, Any] | None = None,
+    harris_map=None,
+    assumptions: list[dict] | None = None,
+) -> list[Path]:
     """One CSV + sidecar per curve, the overlay PNGs and stiffness_summary.json into the
     folder ``out``. The sidecar's hashed inputs hold every field of the wear definition
     (not only its label); ``labels`` (the scene's name) are recorded, not hashed. No
@@ -300,9 +370,20 @@ def write(curves: list[Curve], out: Path, inputs: dict[str, Any], labels: dict[s
         p = io.write_text(out / f"stiffness_{c.slug}.csv", curve_csv(c))
         summary = io.without_timing(c.summary())
         wear = None if c.wear is None else dataclasses.asdict(c.wear)
-        files += [p, io.sidecar(p, {**inputs, "wear": c.wear.label if c.wear else "unworn", "wear_spec": wear,
-                                    "clearance_um": c.clearance_m * 1e6}, c.method,
-                                {**(labels or {}), "summary": summary})]
+        files += [
+            p,
+            io.sidecar(
+                p,
+                {
+                    **inputs,
+                    "wear": c.wear.label if c.wear else "unworn",
+                    "wear_spec": wear,
+                    "clearance_um": c.clearance_m * 1e6,
+                },
+                c.method,
+                {**(labels or {}), "summary": summary},
+            ),
+        ]
     for name, fig in figures(curves).items():
         files.append(io.write_figure(fig, out / name))
     if harris_map is not None:
@@ -312,6 +393,7 @@ def write(curves: list[Curve], out: Path, inputs: dict[str, Any], labels: dict[s
         text = ",".join(rows[0]) + "\n" + "".join(",".join(f"{v:.9g}" for v in r.values()) + "\n" for r in rows)
         files.append(io.write_text(out / "harris_map.csv", text))
     extra = {} if assumptions is None else {"assumptions": assumptions}
-    files.append(io.write_json(out / "stiffness_summary.json", [{**io.without_timing(c.summary()), **extra}
-                                                                for c in curves]))
+    files.append(
+        io.write_json(out / "stiffness_summary.json", [{**io.without_timing(c.summary()), **extra} for c in curves])
+    )
     return files

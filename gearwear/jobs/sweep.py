@@ -26,10 +26,9 @@ from typing import Any
 
 import numpy as np
 
+from gearwear import io
 from gearwear.core import interrupts
 from gearwear.core.validation import InputError
-
-from gearwear import io
 from gearwear.scene.model import apply_overrides, parse_value, scene_from_dict
 
 
@@ -51,8 +50,9 @@ def parse_axis(item: str) -> Axis:
             if not (math.isfinite(start) and math.isfinite(stop)):
                 raise ValueError
         except ValueError:
-            raise InputError(f"--set {key}={spec}: START and STOP must be finite numbers and N a whole "
-                             "number") from None
+            raise InputError(
+                f"--set {key}={spec}: START and STOP must be finite numbers and N a whole number"
+            ) from None
         if count < 1 or count > 10000:
             raise InputError(f"--set {key}={spec}: N = {count} must be in [1, 10000]")
         vals = np.linspace(start, stop, count)
@@ -109,8 +109,9 @@ def point_label(axes: list[Axis], values) -> str:
 
 def point_sets(point: dict[str, Any], fixed: list[str]) -> list[str]:
     """The --set overrides of one grid point (fixed ones first)."""
-    return list(fixed) + [f"{k}={format_value(v) if not isinstance(v, str) else json.dumps(v)}"
-                          for k, v in point.items()]
+    return list(fixed) + [
+        f"{k}={format_value(v) if not isinstance(v, str) else json.dumps(v)}" for k, v in point.items()
+    ]
 
 
 def run_point(raw: dict[str, Any], name: str, point: dict[str, Any], fixed: list[str]) -> dict[str, Any]:
@@ -218,7 +219,7 @@ class DaskExecutor(_StopsOnError, Executor):
             with contextlib.suppress(Exception):
                 procs.append(psutil.Process(nanny.pid))
         with contextlib.suppress(Exception):
-            self._executor.shutdown(wait=False)   # cancels the futures
+            self._executor.shutdown(wait=False)  # cancels the futures
         with contextlib.suppress(Exception):
             self.client.close(timeout=timeout_s)
         # a worker still inside a task would get seconds of grace from the cluster's close;
@@ -249,8 +250,9 @@ def _local_workers(scheduler: str) -> int | None:
     try:
         n = int(text)
     except ValueError:
-        raise InputError(f"--scheduler = {scheduler!r}: local:N needs a whole number of workers N in "
-                         f"[1, {MAX_LOCAL_WORKERS}]") from None
+        raise InputError(
+            f"--scheduler = {scheduler!r}: local:N needs a whole number of workers N in [1, {MAX_LOCAL_WORKERS}]"
+        ) from None
     if not 1 <= n <= MAX_LOCAL_WORKERS:
         raise InputError(f"--scheduler = {scheduler!r}: N = {n} workers must be in [1, {MAX_LOCAL_WORKERS}]")
     return n
@@ -300,10 +302,18 @@ def make_executor(workers: int | None = None, scheduler: str | None = None) -> E
     # mmap threshold: every array above 128 KiB is then a fresh mmap whose pages fault in
     # zeroed, and a 1 s simulation with its summary ran 2x slower than in a plain process
     # (0.36 s against 0.18 s per scene, measured); the workers keep glibc's defaults.
-    with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}), \
-            interrupts.blocked_sigint():
-        cluster = LocalCluster(n_workers=n or os.cpu_count() or 1, threads_per_worker=1, processes=True,
-                               host="127.0.0.1", dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR)
+    with (
+        dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}),
+        interrupts.blocked_sigint(),
+    ):
+        cluster = LocalCluster(
+            n_workers=n or os.cpu_count() or 1,
+            threads_per_worker=1,
+            processes=True,
+            host="127.0.0.1",
+            dashboard_address="127.0.0.1:0",
+            silence_logs=logging.ERROR,
+        )
     try:
         return DaskExecutor(Client(cluster), cluster)
     except BaseException:
@@ -329,8 +339,10 @@ def connect(address: str, timeout_s: float = CONNECT_TIMEOUT_S):
             box["error"] = exc
 
     def bad(why: str) -> InputError:
-        return InputError(f"--scheduler = {address}: {why}; give the address of a running Dask scheduler with "
-                          "workers, e.g. tcp://host:8786, or local[:N]")
+        return InputError(
+            f"--scheduler = {address}: {why}; give the address of a running Dask scheduler with "
+            "workers, e.g. tcp://host:8786, or local[:N]"
+        )
 
     thread = threading.Thread(target=attempt, name="gearwear dask connect", daemon=True)
     thread.start()
@@ -351,8 +363,14 @@ def connect(address: str, timeout_s: float = CONNECT_TIMEOUT_S):
     return client
 
 
-def sweep(raw: dict[str, Any], name: str, axes: list[Axis], fixed: list[str] | None = None,
-          executor: Executor | None = None, progress: bool = True) -> list[dict[str, Any]]:
+def sweep(
+    raw: dict[str, Any],
+    name: str,
+    axes: list[Axis],
+    fixed: list[str] | None = None,
+    executor: Executor | None = None,
+    progress: bool = True,
+) -> list[dict[str, Any]]:
     """Run every grid point; results in grid order (deterministic whatever the executor).
     A run estimated to take longer than LONG_RUN_S says so on stderr once its first point
     is done (:class:`Estimate`)."""
@@ -389,11 +407,14 @@ def check_size(count: int, what: str, allow_large: bool) -> None:
     them: "grid points", "runs (speeds x points x directions)") is larger than MAX_POINTS
     without ``allow_large``, or than HARD_MAX_POINTS at all."""
     if count > HARD_MAX_POINTS:
-        raise InputError(f"--set: {count} {what}, more than {HARD_MAX_POINTS} (the grid is held in memory); "
-                         "split the sweep")
+        raise InputError(
+            f"--set: {count} {what}, more than {HARD_MAX_POINTS} (the grid is held in memory); split the sweep"
+        )
     if count > MAX_POINTS and not allow_large:
-        raise InputError(f"--set: {count} {what}, more than {MAX_POINTS} (hours of computation); give "
-                         "--allow-large to run them anyway (the estimated time is printed once the first is done)")
+        raise InputError(
+            f"--set: {count} {what}, more than {MAX_POINTS} (hours of computation); give "
+            "--allow-large to run them anyway (the estimated time is printed once the first is done)"
+        )
 
 
 def workers_of(executor: Executor) -> int:
@@ -426,8 +447,11 @@ class Estimate:
         first = time.perf_counter() - self.t0
         total = first * self.rounds
         if total > LONG_RUN_S:
-            write(f"gearwear: {self.what} on {self.parallel} worker{'s' if self.parallel > 1 else ''}: about "
-                  f"{duration_text(total)} in all (the first took {first:.1f} s)", file=sys.stderr)
+            write(
+                f"gearwear: {self.what} on {self.parallel} worker{'s' if self.parallel > 1 else ''}: about "
+                f"{duration_text(total)} in all (the first took {first:.1f} s)",
+                file=sys.stderr,
+            )
 
 
 def duration_text(seconds: float) -> str:
@@ -443,8 +467,13 @@ def table_csv(axes: list[Axis], results: list[dict[str, Any]]) -> str:
     first = results[0]
     sig_keys = list(first["harmonics"])
     n = len(first["harmonics"][sig_keys[0]])
-    cols = [a.key for a in axes] + ["separation_fraction", "backside_fraction", "bearing_contact_pinion",
-                                    "bearing_contact_gear", "steps"]
+    cols = [a.key for a in axes] + [
+        "separation_fraction",
+        "backside_fraction",
+        "bearing_contact_pinion",
+        "bearing_contact_gear",
+        "steps",
+    ]
     for k in sig_keys:
         cols += [f"mean_{k}", f"ac_rms_{k}", f"p2p_{k}"] + [f"h{j}_{k}" for j in range(1, n + 1)]
     rows = [",".join(cols)]
@@ -452,12 +481,17 @@ def table_csv(axes: list[Axis], results: list[dict[str, Any]]) -> str:
         vals = [csv_cell(r["point"][a.key]) for a in axes]
         bc = r["bearing_contact_fraction"]
         sep = r["separation_fraction"]  # None (empty cell): no backlash dead zone, the mesh cannot separate
-        vals += ["" if sep is None else f"{sep:.6g}", f"{r['backside_fraction']:.6g}",
-                 f"{bc.get('pinion', float('nan')):.6g}", f"{bc.get('gear', float('nan')):.6g}",
-                 str(r["steps"])]
+        vals += [
+            "" if sep is None else f"{sep:.6g}",
+            f"{r['backside_fraction']:.6g}",
+            f"{bc.get('pinion', float('nan')):.6g}",
+            f"{bc.get('gear', float('nan')):.6g}",
+            str(r["steps"]),
+        ]
         for k in sig_keys:
-            vals += [f"{r[q][k]:.8g}" for q in ("mean", "ac_rms", "peak_to_peak")] \
-                + [f"{x:.8g}" for x in r["harmonics"][k]]
+            vals += [f"{r[q][k]:.8g}" for q in ("mean", "ac_rms", "peak_to_peak")] + [
+                f"{x:.8g}" for x in r["harmonics"][k]
+            ]
         rows.append(",".join(vals))
     return "\n".join(rows) + "\n"
 
@@ -468,9 +502,9 @@ def figures(axes: list[Axis], results: list[dict[str, Any]]):
     in words with units from the schema (any swept key) and the signal table; every
     y axis starts at 0 and each panel's title gives the range in % of its mean, so a
     5 % change looks like 5 %."""
+    from gearwear.jobs.simulate import SIGNAL_WORDS, signal_label, signal_name
     from gearwear.plotting import from_zero, legend_outside, range_text, subplots
     from gearwear.scene.reference import key_label
-    from gearwear.jobs.simulate import SIGNAL_WORDS, signal_label, signal_name
 
     ax0 = axes[0]
     others = axes[1:]
@@ -507,15 +541,22 @@ def figures(axes: list[Axis], results: list[dict[str, Any]]):
             axs[k // ncol][k % ncol].set_visible(False)
         if others:
             legend_outside(axs[0][ncol - 1], fontsize=7)
-        fig.suptitle(f"Mesh harmonics k f_m of the {SIGNAL_WORDS[signal_name(key)]} versus the "
-                     f"{xlabel}; y axes from 0", fontsize=10)
+        fig.suptitle(
+            f"Mesh harmonics k f_m of the {SIGNAL_WORDS[signal_name(key)]} versus the {xlabel}; y axes from 0",
+            fontsize=10,
+        )
         fig.tight_layout()
         figs[f"harmonics_{key}.png"] = fig
     return figs
 
 
-def write(axes: list[Axis], results: list[dict[str, Any]], out: Path, inputs: dict[str, Any],
-          labels: dict[str, Any] | None = None) -> list[Path]:
+def write(
+    axes: list[Axis],
+    results: list[dict[str, Any]],
+    out: Path,
+    inputs: dict[str, Any],
+    labels: dict[str, Any] | None = None,
+) -> list[Path]:
     """sweep.csv (+ sidecar; no wall times, they go to timing.json) and the
     harmonics-versus-parameter PNGs into the folder ``out``."""
     files = []

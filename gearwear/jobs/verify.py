@@ -20,10 +20,9 @@ from typing import Any
 
 import numpy as np
 
+from gearwear import io
 from gearwear.geometry.spec import PairSpec
 from gearwear.geometry.wear import WearSpec
-
-from gearwear import io
 from gearwear.stiffness.comparison import tooth_vs_analytic
 
 
@@ -42,14 +41,20 @@ class PhaseResult:
     elements: int
 
     def to_json(self) -> dict[str, Any]:
-        return {"radius_mm": self.radius_mm.tolist(), "roll_angle_deg": self.roll_angle_deg.tolist(),
-                "fem_compliance_um_per_N_per_mm": self.fem.tolist(),
-                "ishikawa_compliance_um_per_N_per_mm": self.ishikawa.tolist(),
-                "energy_compliance_um_per_N_per_mm": self.energy.tolist(),
-                "ishikawa_difference_percent": (100 * (self.ishikawa / self.fem - 1)).tolist(),
-                "energy_difference_percent": (100 * (self.energy / self.fem - 1)).tolist(),
-                "wall_s": self.fem_wall_s, "ishikawa_wall_s": self.ishikawa_wall_s,
-                "energy_wall_s": self.energy_wall_s, "fem_dofs": self.dofs, "fem_elements": self.elements}
+        return {
+            "radius_mm": self.radius_mm.tolist(),
+            "roll_angle_deg": self.roll_angle_deg.tolist(),
+            "fem_compliance_um_per_N_per_mm": self.fem.tolist(),
+            "ishikawa_compliance_um_per_N_per_mm": self.ishikawa.tolist(),
+            "energy_compliance_um_per_N_per_mm": self.energy.tolist(),
+            "ishikawa_difference_percent": (100 * (self.ishikawa / self.fem - 1)).tolist(),
+            "energy_difference_percent": (100 * (self.energy / self.fem - 1)).tolist(),
+            "wall_s": self.fem_wall_s,
+            "ishikawa_wall_s": self.ishikawa_wall_s,
+            "energy_wall_s": self.energy_wall_s,
+            "fem_dofs": self.dofs,
+            "fem_elements": self.elements,
+        }
 
 
 @dataclass
@@ -68,14 +73,29 @@ def run_phase(pair: PairSpec, wear: WearSpec | None, positions: int = 21, plane:
 
     fe = single_tooth_compliance(pair, gear_index=0, wear=wear, positions=positions, plane=plane)
     cmp = tooth_vs_analytic(fe)
-    return PhaseResult(wear.label if wear else "unworn", fe.radius_mm, fe.roll_angle_deg,
-                       fe.fem_compliance_um_per_N_per_mm, cmp.ishikawa_um_per_N_per_mm,
-                       cmp.energy_um_per_N_per_mm, fe.wall_s, cmp.ishikawa_wall_s, cmp.energy_wall_s, int(fe.ndofs),
-                       int(fe.n_elements))
+    return PhaseResult(
+        wear.label if wear else "unworn",
+        fe.radius_mm,
+        fe.roll_angle_deg,
+        fe.fem_compliance_um_per_N_per_mm,
+        cmp.ishikawa_um_per_N_per_mm,
+        cmp.energy_um_per_N_per_mm,
+        fe.wall_s,
+        cmp.ishikawa_wall_s,
+        cmp.energy_wall_s,
+        int(fe.ndofs),
+        int(fe.n_elements),
+    )
 
 
-def run(pair: PairSpec, wears: list[WearSpec | None], positions: int = 21, convergence: bool = True,
-        progress=None, plane: str = "stress") -> Verification:
+def run(
+    pair: PairSpec,
+    wears: list[WearSpec | None],
+    positions: int = 21,
+    convergence: bool = True,
+    progress=None,
+    plane: str = "stress",
+) -> Verification:
     """The FE (2D idealisation ``plane``, the scene's fem.plane) against the analytic
     models for every wear state, and with ``convergence`` the h/p convergence and the pair
     consistency check."""
@@ -88,21 +108,33 @@ def run(pair: PairSpec, wears: list[WearSpec | None], positions: int = 21, conve
     conv = acc = None
     if convergence:
         from gearwear.fem.convergence import acceptance, convergence_table
-        conv = convergence_table(pair, None, positions=positions, plane=plane,
-                                 progress=(lambda row: progress(f"convergence P{row['order']} scale "
-                                                                f"{row['mesh_scale']:.3f}")) if progress else None)
+
+        conv = convergence_table(
+            pair,
+            None,
+            positions=positions,
+            plane=plane,
+            progress=(lambda row: progress(f"convergence P{row['order']} scale {row['mesh_scale']:.3f}"))
+            if progress
+            else None,
+        )
         acc = acceptance(conv)
         from gearwear.stiffness.comparison import pair_consistency
+
         cons = pair_consistency(pair, plane=plane)  # ~8 s: the pair model and two single-tooth runs
-        return Verification(pair, phases, conv, acc, time.perf_counter() - t0, pair_consistency=cons,
-                            meta={"plane": plane})
+        return Verification(
+            pair, phases, conv, acc, time.perf_counter() - t0, pair_consistency=cons, meta={"plane": plane}
+        )
     return Verification(pair, phases, conv, acc, time.perf_counter() - t0, meta={"plane": plane})
 
 
 #: curves closer than this fraction of their panel's range are drawn once ("unworn = mild")
 COINCIDE = 0.01
-METHOD_STYLES = (("FE", "fem", {"marker": "o", "ms": 4, "ls": "-"}), ("Ishikawa", "ishikawa", {"ls": "--"}),
-                 ("energy", "energy", {"ls": ":"}))
+METHOD_STYLES = (
+    ("FE", "fem", {"marker": "o", "ms": 4, "ls": "-"}),
+    ("Ishikawa", "ishikawa", {"ls": "--"}),
+    ("energy", "energy", {"ls": ":"}),
+)
 
 
 def _panel(ax, curves, note) -> None:
@@ -137,15 +169,23 @@ def figures(v: Verification):
     colours = {ph.label: f"C{i}" for i, ph in enumerate(v.phases)}
 
     def curves(y_of, phases, methods=METHOD_STYLES):
-        return [(f"{name}: {ph.label}", ph.radius_mm, y_of(ph, attr), {"color": colours[ph.label], **style})
-                for name, attr, style in methods for ph in phases]
+        return [
+            (f"{name}: {ph.label}", ph.radius_mm, y_of(ph, attr), {"color": colours[ph.label], **style})
+            for name, attr, style in methods
+            for ph in phases
+        ]
 
     _panel(ax, curves(lambda ph, a: getattr(ph, a), v.phases), _relative)
     _panel(ax2, curves(lambda ph, a: 100 * (getattr(ph, a) / ph.fem - 1), v.phases, METHOD_STYLES[1:]), _points)
     base = next((ph for ph in v.phases if ph.label == "unworn"), None)
     if base is not None:
-        _panel(ax3, curves(lambda ph, a: 100 * (getattr(ph, a) / getattr(base, a) - 1),
-                           [ph for ph in v.phases if ph is not base]), _points)
+        _panel(
+            ax3,
+            curves(
+                lambda ph, a: 100 * (getattr(ph, a) / getattr(base, a) - 1), [ph for ph in v.phases if ph is not base]
+            ),
+            _points,
+        )
     ax.set_ylabel("tooth compliance (um per N/mm)")
     ax.set_title("Single-tooth compliance: FE (full gear, bore fixed) vs analytic bending+shear+foundation")
     ax.grid(alpha=0.3)
@@ -168,61 +208,87 @@ def _per_gear(values) -> str:
 
 def markdown(v: Verification, files: dict[str, str]) -> str:
     p = v.pair
-    lines = ["# Verification: analytic tooth compliance against FE", "",
-             f"Pair: z = {p.teeth[0]}/{p.teeth[1]}, m = {p.module_m * 1e3:g} mm, alpha = "
-             f"{np.degrees(p.pressure_angle_rad):g} deg, b = {p.face_width_m * 1e3:g} mm, E = "
-             f"{_per_gear(m.youngs_modulus_Pa / 1e9 for m in p.materials)} GPa, nu = "
-             f"{_per_gear(m.poisson_ratio for m in p.materials)}, bore radius "
-             f"{p.hub_radius_m[0] * 1e3:g} mm. FE: full gear (all teeth), bore fixed, "
-             f"plane {v.meta.get('plane', 'stress')}, P2 "
-             "triangles, load along the line of action as a Hertzian pressure patch; the deflection is the "
-             "displacement of the tooth centre line at the load radius projected on the load direction. "
-             "Compliance = deflection per load per unit face width (um per N/mm). Analytic: Ishikawa/Weber "
-             "delta_1 + delta_2 (paper Eqs. 2-4) and the potential-energy method (bending + shear + axial + "
-             "Sainsot foundation), without the Hertz term.", ""]
+    lines = [
+        "# Verification: analytic tooth compliance against FE",
+        "",
+        f"Pair: z = {p.teeth[0]}/{p.teeth[1]}, m = {p.module_m * 1e3:g} mm, alpha = "
+        f"{np.degrees(p.pressure_angle_rad):g} deg, b = {p.face_width_m * 1e3:g} mm, E = "
+        f"{_per_gear(m.youngs_modulus_Pa / 1e9 for m in p.materials)} GPa, nu = "
+        f"{_per_gear(m.poisson_ratio for m in p.materials)}, bore radius "
+        f"{p.hub_radius_m[0] * 1e3:g} mm. FE: full gear (all teeth), bore fixed, "
+        f"plane {v.meta.get('plane', 'stress')}, P2 "
+        "triangles, load along the line of action as a Hertzian pressure patch; the deflection is the "
+        "displacement of the tooth centre line at the load radius projected on the load direction. "
+        "Compliance = deflection per load per unit face width (um per N/mm). Analytic: Ishikawa/Weber "
+        "delta_1 + delta_2 (paper Eqs. 2-4) and the potential-energy method (bending + shear + axial + "
+        "Sainsot foundation), without the Hertz term.",
+        "",
+    ]
     if "compliance.png" in files:
         lines += [f"![compliance]({files['compliance.png']})", ""]
     for ph in v.phases:
-        lines += [f"## Wear: {ph.label}", "",
-                  f"FE: {ph.dofs} dofs, {ph.elements} elements, {len(ph.radius_mm)} positions (wall times: "
-                  "timing.json).",
-                  "", "| radius (mm) | roll (deg) | FE | Ishikawa | diff % | energy | diff % |",
-                  "|---|---|---|---|---|---|---|"]
+        lines += [
+            f"## Wear: {ph.label}",
+            "",
+            f"FE: {ph.dofs} dofs, {ph.elements} elements, {len(ph.radius_mm)} positions (wall times: timing.json).",
+            "",
+            "| radius (mm) | roll (deg) | FE | Ishikawa | diff % | energy | diff % |",
+            "|---|---|---|---|---|---|---|",
+        ]
         for k in range(len(ph.radius_mm)):
-            lines.append(f"| {ph.radius_mm[k]:.3f} | {ph.roll_angle_deg[k]:.2f} | {ph.fem[k]:.5f} | "
-                         f"{ph.ishikawa[k]:.5f} | {100 * (ph.ishikawa[k] / ph.fem[k] - 1):+.1f} | "
-                         f"{ph.energy[k]:.5f} | {100 * (ph.energy[k] / ph.fem[k] - 1):+.1f} |")
+            lines.append(
+                f"| {ph.radius_mm[k]:.3f} | {ph.roll_angle_deg[k]:.2f} | {ph.fem[k]:.5f} | "
+                f"{ph.ishikawa[k]:.5f} | {100 * (ph.ishikawa[k] / ph.fem[k] - 1):+.1f} | "
+                f"{ph.energy[k]:.5f} | {100 * (ph.energy[k] / ph.fem[k] - 1):+.1f} |"
+            )
         lines.append("")
     if v.convergence:
-        lines += ["## FE convergence (unworn, h- and p-refinement, Richardson extrapolation)", "",
-                  "```", _table(v.convergence), "```", ""]
+        lines += [
+            "## FE convergence (unworn, h- and p-refinement, Richardson extrapolation)",
+            "",
+            "```",
+            _table(v.convergence),
+            "```",
+            "",
+        ]
         if "convergence.png" in files:
             lines += [f"![convergence]({files['convergence.png']})", ""]
         a = v.acceptance or {}
-        lines += [f"Default level: {a.get('default_dofs')} dofs; "
-                  f"change to the next finer P2 level {a.get('default_vs_finer_change_pct', float('nan')):.3f} %; "
-                  f"two finest P2 levels differ by {a.get('finest_p2_change_pct', float('nan')):.3f} %; "
-                  f"error vs extrapolation {a.get('default_error_vs_extrapolation_pct', float('nan')):.3f} %.", ""]
+        lines += [
+            f"Default level: {a.get('default_dofs')} dofs; "
+            f"change to the next finer P2 level {a.get('default_vs_finer_change_pct', float('nan')):.3f} %; "
+            f"two finest P2 levels differ by {a.get('finest_p2_change_pct', float('nan')):.3f} %; "
+            f"error vs extrapolation {a.get('default_error_vs_extrapolation_pct', float('nan')):.3f} %.",
+            "",
+        ]
     if v.pair_consistency:
-        lines += ["## Pair FE in single contact: local approach c_local against Weber", "",
-                  "c_1, c_2: deflection of the tooth centre-line points where the load line crosses them, per N, "
-                  "read in the resolved pair FE and by the single-tooth FE (own mesh, Hertz patch); c_local = "
-                  "STE / F - c_1 - c_2 (pair FE). Units 1e-9 m/N.", "",
-                  "| d (mm) | c_1 pair | c_1 tooth | c_2 pair | c_2 tooth | c_local | Weber stress | Weber strain "
-                  "| k pair (N/m) | 1/(c_1+c_2+c_local) |", "|---|---|---|---|---|---|---|---|---|---|"]
+        lines += [
+            "## Pair FE in single contact: local approach c_local against Weber",
+            "",
+            "c_1, c_2: deflection of the tooth centre-line points where the load line crosses them, per N, "
+            "read in the resolved pair FE and by the single-tooth FE (own mesh, Hertz patch); c_local = "
+            "STE / F - c_1 - c_2 (pair FE). Units 1e-9 m/N.",
+            "",
+            "| d (mm) | c_1 pair | c_1 tooth | c_2 pair | c_2 tooth | c_local | Weber stress | Weber strain "
+            "| k pair (N/m) | 1/(c_1+c_2+c_local) |",
+            "|---|---|---|---|---|---|---|---|---|---|",
+        ]
         for r in v.pair_consistency:
             f = 1e9
-            lines.append(f"| {r['d_m'] * 1e3:.3f} | {r['c1_m_per_N'] * f:.4f} | {r['c1_tooth_m_per_N'] * f:.4f} | "
-                         f"{r['c2_m_per_N'] * f:.4f} | {r['c2_tooth_m_per_N'] * f:.4f} | "
-                         f"{r['c_local_m_per_N'] * f:.4f} | {r['weber_stress_m_per_N'] * f:.4f} | "
-                         f"{r['weber_strain_m_per_N'] * f:.4f} | {r['k_pair_N_per_m']:.5e} | "
-                         f"{r['k_identity_N_per_m']:.5e} |")
+            lines.append(
+                f"| {r['d_m'] * 1e3:.3f} | {r['c1_m_per_N'] * f:.4f} | {r['c1_tooth_m_per_N'] * f:.4f} | "
+                f"{r['c2_m_per_N'] * f:.4f} | {r['c2_tooth_m_per_N'] * f:.4f} | "
+                f"{r['c_local_m_per_N'] * f:.4f} | {r['weber_stress_m_per_N'] * f:.4f} | "
+                f"{r['weber_strain_m_per_N'] * f:.4f} | {r['k_pair_N_per_m']:.5e} | "
+                f"{r['k_identity_N_per_m']:.5e} |"
+            )
         lines.append("")
     return "\n".join(lines)
 
 
 def _table(rows: list[dict]) -> str:
     from gearwear.fem.convergence import format_table
+
     return format_table(rows, wall_time=False)  # a result file: wall times go to timing.json
 
 
@@ -236,16 +302,24 @@ def write(v: Verification, out: Path, inputs: dict[str, Any], labels: dict[str, 
         names[name] = name
     if v.convergence:
         from gearwear.fem.convergence import convergence_figure
-        files.append(io.write_figure(convergence_figure(v.convergence, wall_time=False), out / "convergence.png",
-                                     dpi=120))
+
+        files.append(
+            io.write_figure(convergence_figure(v.convergence, wall_time=False), out / "convergence.png", dpi=120)
+        )
         names["convergence.png"] = "convergence.png"
     files.append(io.write_text(out / "verification.md", markdown(v, names)))
     js = io.without_timing(to_json(v))
     # a JSON result carries its provenance inside instead of a .json.json sidecar
     from gearwear import __version__
-    js["provenance"] = {"software": "gearwear", "version": __version__, "inputs": inputs,
-                        "input_sha256": io.input_hash(inputs),
-                        "method": "fem.tooth vs analytic.ishikawa / analytic.energy", **(labels or {})}
+
+    js["provenance"] = {
+        "software": "gearwear",
+        "version": __version__,
+        "inputs": inputs,
+        "input_sha256": io.input_hash(inputs),
+        "method": "fem.tooth vs analytic.ishikawa / analytic.energy",
+        **(labels or {}),
+    }
     files.append(io.write_json(out / "verification.json", js, indent=1))
     return files
 

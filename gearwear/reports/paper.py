@@ -11,42 +11,42 @@ from __future__ import annotations
 
 import json
 import math
-import textwrap
 import sys
+import textwrap
 import time
 from pathlib import Path
 from typing import Any, Callable
 
 import numpy as np
 
+from gearwear import io
 from gearwear.analytic import TABLE_POINTS_PER_MESH_PERIOD
 from gearwear.geometry.operating import operating_geometry
 from gearwear.geometry.spec import default_pair
 from gearwear.geometry.wear import PHASE_DEPTHS_M, WearSpec
-
-from gearwear import io
-from gearwear.plotting import from_zero, legend_outside, range_text, subplots
 from gearwear.jobs.simulate import signal_label
-
+from gearwear.plotting import from_zero, legend_outside, range_text, subplots
 from gearwear.reports.paper_study import CLEAR_FIGS, CLEARANCES_UM, PHASES, SIGNALS, WEAR_FIGS
 from gearwear.reports.paper_trends import trends
 
-
 # -- computation -----------------------------------------------------------------------
+
 
 def _scene(base: str, sets: list[str]):
     from gearwear.scene.model import apply_overrides, builtin_scene_dict, scene_from_dict
+
     return scene_from_dict(apply_overrides(builtin_scene_dict(base), sets), name=base)
 
 
-def compute(progress: Callable[[str], None] | None = None,
-            notify: Callable[[str], None] | None = None) -> dict[str, Any]:
+def compute(
+    progress: Callable[[str], None] | None = None, notify: Callable[[str], None] | None = None
+) -> dict[str, Any]:
     """Every number of the paper report. ``notify`` receives the cache's one-line notes
     (a damaged entry being recomputed); the FE calibration of a wear phase runs only
     when one of its tables is not in the cache."""
+    from gearwear.jobs.simulate import run
     from gearwear.stiffness import tables
     from gearwear.stiffness.calibration import Calibration, calibrated_table, run_fe
-    from gearwear.jobs.simulate import run
 
     tables.cache_dir()  # a bad GEARWEAR_CACHE stops here, before any FE run
     say = progress or (lambda msg: None)
@@ -62,32 +62,48 @@ def compute(progress: Callable[[str], None] | None = None,
                 fe_runs[p] = run_fe(pair, wears[p])
                 say(f"FE single-tooth compliance ({p})")
             return fe_runs[p]
+
         return get
 
     cal = {p: calibration(p) for p in PHASES}
     # wear study: the built-in wear scenes (10 um clearance, static coupling)
     tabs_wear, sims_wear = {}, {}
     for p in PHASES:
-        tabs_wear[p] = calibrated_table(pair, wears[p], 10e-6, T, TABLE_POINTS_PER_MESH_PERIOD, calibration=cal[p],
-                                        notify=note)
+        tabs_wear[p] = calibrated_table(
+            pair, wears[p], 10e-6, T, TABLE_POINTS_PER_MESH_PERIOD, calibration=cal[p], notify=note
+        )
         say(f"calibrated table + FE pair ({p})")
         sims_wear[p] = run(_scene(f"paper-wear-{p}", ['effects.mesh_stiffness={source = "calibrated"}']))
         say(f"simulation, wear {p}")
     tabs_cl, sims_cl = {}, {}
     for c in CLEARANCES_UM:
-        tabs_cl[c] = calibrated_table(pair, None, c * 1e-6, T, TABLE_POINTS_PER_MESH_PERIOD, calibration=cal["unworn"],
-                                      notify=note)
+        tabs_cl[c] = calibrated_table(
+            pair, None, c * 1e-6, T, TABLE_POINTS_PER_MESH_PERIOD, calibration=cal["unworn"], notify=note
+        )
         say(f"calibrated table + FE pair (clearance {c:g} um)")
-        sims_cl[c] = run(_scene("paper-clearance", ['effects.mesh_stiffness={source = "calibrated"}',
-                                                    f"effects.bearing_clearance.clearance_um={c}"]))
+        sims_cl[c] = run(
+            _scene(
+                "paper-clearance",
+                ['effects.mesh_stiffness={source = "calibrated"}', f"effects.bearing_clearance.clearance_um={c}"],
+            )
+        )
         say(f"simulation, clearance {c:g} um")
     cl_fine = np.linspace(0.0, 100.0, 21)
     geo = [operating_geometry(pair, c * 1e-6, T, 2.6e8, 50e-6) for c in cl_fine]
-    return {"pair": pair, "tabs_wear": tabs_wear, "sims_wear": sims_wear, "tabs_cl": tabs_cl,
-            "sims_cl": sims_cl, "cl_fine": cl_fine, "geo": geo, "cal": cal}
+    return {
+        "pair": pair,
+        "tabs_wear": tabs_wear,
+        "sims_wear": sims_wear,
+        "tabs_cl": tabs_cl,
+        "sims_cl": sims_cl,
+        "cl_fine": cl_fine,
+        "geo": geo,
+        "cal": cal,
+    }
 
 
 # -- figures ---------------------------------------------------------------------------
+
 
 def _stiffness_fig(tabs: dict, labeler, title: str, zoom: bool = False):
     fig, ax = subplots(figsize=(8.5, 4.2))
@@ -153,24 +169,35 @@ def _harmonics_fig(x, xlabel, H: np.ndarray, unit: str, name: str, title: str, x
 def figures(res: dict[str, Any]) -> dict[str, Any]:
     figs: dict[str, Any] = {}
     figs["fig06_stiffness_wear.png"] = _stiffness_fig(
-        res["tabs_wear"], lambda p: f"{p} ({PHASE_DEPTHS_M[p] * 1e6:g} um max depth)",
-        "Fig. 6: mesh stiffness per wear phase (FE-calibrated, 40 N m, 10 um clearance)")
+        res["tabs_wear"],
+        lambda p: f"{p} ({PHASE_DEPTHS_M[p] * 1e6:g} um max depth)",
+        "Fig. 6: mesh stiffness per wear phase (FE-calibrated, 40 N m, 10 um clearance)",
+    )
     xw = np.arange(3)
     for name, unit, scale, desc in SIGNALS:
         f1, f2 = WEAR_FIGS[name]
         figs[f"fig{f1:02d}_{name}_wear.png"] = _response_fig(
-            res["sims_wear"], name, unit, scale, lambda p: p, f"Fig. {f1}: {desc} per wear phase")
+            res["sims_wear"], name, unit, scale, lambda p: p, f"Fig. {f1}: {desc} per wear phase"
+        )
         H = np.array([res["sims_wear"][p].result.harmonics(name, 4) * scale for p in PHASES])
         figs[f"fig{f2:02d}_{name}_harmonics_wear.png"] = _harmonics_fig(
-            xw, "wear phase (category)", H, unit, name, f"Fig. {f2}: harmonics of {desc} versus wear phase",
-            xticklabels=list(PHASES))
+            xw,
+            "wear phase (category)",
+            H,
+            unit,
+            name,
+            f"Fig. {f2}: harmonics of {desc} versus wear phase",
+            xticklabels=list(PHASES),
+        )
     # Fig. 15: operating geometry versus clearance
     geo, c = res["geo"], res["cl_fine"]
     fig, axs = subplots(1, 4, figsize=(15, 3.6))
-    data = [("centre distance (mm)", [g.centre_distance_m * 1e3 for g in geo]),
-            ("operating pressure angle (deg)", [math.degrees(g.pressure_angle_rad) for g in geo]),
-            ("contact line length (mm)", [g.contact_line_length_m * 1e3 for g in geo]),
-            ("contact ratio (dimensionless)", [g.contact_ratio for g in geo])]
+    data = [
+        ("centre distance (mm)", [g.centre_distance_m * 1e3 for g in geo]),
+        ("operating pressure angle (deg)", [math.degrees(g.pressure_angle_rad) for g in geo]),
+        ("contact line length (mm)", [g.contact_line_length_m * 1e3 for g in geo]),
+        ("contact ratio (dimensionless)", [g.contact_ratio for g in geo]),
+    ]
     for a, (lab, y) in zip(axs, data):
         a.plot(c, y, "o-", ms=3)
         a.set_xlabel("bearing clearance (um)")
@@ -189,58 +216,78 @@ def figures(res: dict[str, Any]) -> dict[str, Any]:
     fig.tight_layout()
     figs["fig16_mean_stiffness_clearance.png"] = fig
     figs["fig17_stiffness_clearance.png"] = _stiffness_fig(
-        res["tabs_cl"], lambda x: f"clearance {x:g} um", "Fig. 17: mesh stiffness versus bearing clearance")
+        res["tabs_cl"], lambda x: f"clearance {x:g} um", "Fig. 17: mesh stiffness versus bearing clearance"
+    )
     sel = {x: res["sims_cl"][x] for x in (CLEARANCES_UM[0], CLEARANCES_UM[len(CLEARANCES_UM) // 2], CLEARANCES_UM[-1])}
     for name, unit, scale, desc in SIGNALS:
         f1, f2 = CLEAR_FIGS[name]
         figs[f"fig{f1:02d}_{name}_clearance.png"] = _response_fig(
-            sel, name, unit, scale, lambda x: f"{x:g} um", f"Fig. {f1}: {desc} versus bearing clearance")
+            sel, name, unit, scale, lambda x: f"{x:g} um", f"Fig. {f1}: {desc} versus bearing clearance"
+        )
         nh = 10 if name == "F_m" else 4
         H = np.array([res["sims_cl"][x].result.harmonics(name, nh) * scale for x in CLEARANCES_UM])
         figs[f"fig{f2:02d}_{name}_harmonics_clearance.png"] = _harmonics_fig(
-            cl, "bearing clearance (um)", H, unit, name, f"Fig. {f2}: harmonics of {desc} versus bearing clearance")
+            cl, "bearing clearance (um)", H, unit, name, f"Fig. {f2}: harmonics of {desc} versus bearing clearance"
+        )
     return figs
 
 
 # -- markdown ---------------------------------------------------------------------------
 
+
 def markdown(res: dict[str, Any], rows: list[dict[str, str]], figs: list[str]) -> str:
     pair = res["pair"]
     n_agree = sum(r["verdict"] == "agree" for r in rows)
-    L = ["# Reproduction of Zhang et al. (2019) with gearwear", "",
-         "Every numerical figure of the paper regenerated with this tool (`gearwear report paper`). Stiffness: "
-         "FE-calibrated tables (Ishikawa model with the tooth compliance corrected to the full-gear FE and a "
-         "per-contact-state factor from the FE tooth-pair contact); dynamics: the 6-DOF model with the paper's "
-         "typos fixed. Wear study: built-in scenes `paper-wear-unworn|mild|severe` (40 N m, 1200 rpm, 10 um "
-         "clearance, 50 um initial backlash, static centre distance); clearance study: `paper-clearance` "
-         f"(unworn) at {', '.join(f'{c:g}' for c in CLEARANCES_UM)} um.", "",
-         f"Trend claims: {len(rows)}, of which {n_agree} agree with this tool.", "",
-         "## Trends: the paper versus this tool", "",
-         "| where | paper says | this tool finds | verdict | why |", "|---|---|---|---|---|"]
+    L = [
+        "# Reproduction of Zhang et al. (2019) with gearwear",
+        "",
+        "Every numerical figure of the paper regenerated with this tool (`gearwear report paper`). Stiffness: "
+        "FE-calibrated tables (Ishikawa model with the tooth compliance corrected to the full-gear FE and a "
+        "per-contact-state factor from the FE tooth-pair contact); dynamics: the 6-DOF model with the paper's "
+        "typos fixed. Wear study: built-in scenes `paper-wear-unworn|mild|severe` (40 N m, 1200 rpm, 10 um "
+        "clearance, 50 um initial backlash, static centre distance); clearance study: `paper-clearance` "
+        f"(unworn) at {', '.join(f'{c:g}' for c in CLEARANCES_UM)} um.",
+        "",
+        f"Trend claims: {len(rows)}, of which {n_agree} agree with this tool.",
+        "",
+        "## Trends: the paper versus this tool",
+        "",
+        "| where | paper says | this tool finds | verdict | why |",
+        "|---|---|---|---|---|",
+    ]
     for r in rows:
         L.append(f"| {r['where']} | {r['paper']} | {r['ours']} | {r['verdict']} | {r['why']} |")
-    L += ["", "## Assumed parameters (not given in the paper)", "",
-          "| quantity | value |", "|---|---|",
-          f"| face width | {pair.face_width_m * 1e3:g} mm |",
-          f"| Young's modulus, Poisson, density | {pair.materials[0].youngs_modulus_Pa / 1e9:g} GPa, "
-          f"{pair.materials[0].poisson_ratio:g}, {pair.materials[0].density_kg_per_m3:g} kg/m^3 |",
-          f"| basic rack | h_a* {pair.addendum_coefficient:g}, h_f* {pair.dedendum_coefficient:g}, "
-          f"rho_f* {pair.rack_tip_radius_coefficient:g} |",
-          f"| hub (bore) radius | {pair.hub_radius_m[0] * 1e3:g} mm |",
-          "| wear phases (max depth on the pinion flank, Archard shape) | unworn 0, mild 10 um, severe 30 um |",
-          "| damping ratios | mesh 0.05, bearings 0.02 |",
-          "| inertia | J = m r^2 / 2 (solid disc at the pitch radius) |",
-          "| initial backlash | 50 um (total normal) |",
-          "| bearing clearance in the wear study | 10 um (total radial play BC) |", "",
-          "## Corrections to the paper's equations", "",
-          "* Eq. 2 (garbled): read as Castigliano on the slice cantilever, including the sin^2 w x_F^2 term.",
-          "* Eq. 1: the square root is half the Hertz contact width; Eq. 1 = I_h (2 a |zeta|) N.",
-          "* Eq. 11: BC is the total radial play of each bearing (dead zones of half-width BC/2 in Eqs. 7-10).",
-          "* Eq. 15: normal backlash 2 C cos(a)(inv a' - inv a); the printed form uses C' "
-          "(switch `form = \"printed\"`).",
-          "* Eq. 17: the gear's torsion uses the output torque T_g = T_p R_g / R_p and R_g.",
-          "* Eq. 19: no damping force through a backlash gap (switch `damping_in_gap = true` for the literal form).",
-          "* Eq. 20: the third branch is delta < -b.", "", "## Figures", ""]
+    L += [
+        "",
+        "## Assumed parameters (not given in the paper)",
+        "",
+        "| quantity | value |",
+        "|---|---|",
+        f"| face width | {pair.face_width_m * 1e3:g} mm |",
+        f"| Young's modulus, Poisson, density | {pair.materials[0].youngs_modulus_Pa / 1e9:g} GPa, "
+        f"{pair.materials[0].poisson_ratio:g}, {pair.materials[0].density_kg_per_m3:g} kg/m^3 |",
+        f"| basic rack | h_a* {pair.addendum_coefficient:g}, h_f* {pair.dedendum_coefficient:g}, "
+        f"rho_f* {pair.rack_tip_radius_coefficient:g} |",
+        f"| hub (bore) radius | {pair.hub_radius_m[0] * 1e3:g} mm |",
+        "| wear phases (max depth on the pinion flank, Archard shape) | unworn 0, mild 10 um, severe 30 um |",
+        "| damping ratios | mesh 0.05, bearings 0.02 |",
+        "| inertia | J = m r^2 / 2 (solid disc at the pitch radius) |",
+        "| initial backlash | 50 um (total normal) |",
+        "| bearing clearance in the wear study | 10 um (total radial play BC) |",
+        "",
+        "## Corrections to the paper's equations",
+        "",
+        "* Eq. 2 (garbled): read as Castigliano on the slice cantilever, including the sin^2 w x_F^2 term.",
+        "* Eq. 1: the square root is half the Hertz contact width; Eq. 1 = I_h (2 a |zeta|) N.",
+        "* Eq. 11: BC is the total radial play of each bearing (dead zones of half-width BC/2 in Eqs. 7-10).",
+        "* Eq. 15: normal backlash 2 C cos(a)(inv a' - inv a); the printed form uses C' (switch `form = \"printed\"`).",
+        "* Eq. 17: the gear's torsion uses the output torque T_g = T_p R_g / R_p and R_g.",
+        "* Eq. 19: no damping force through a backlash gap (switch `damping_in_gap = true` for the literal form).",
+        "* Eq. 20: the third branch is delta < -b.",
+        "",
+        "## Figures",
+        "",
+    ]
     for f in figs:
         L += [f"![{f}]({f})", ""]
     return "\n".join(L) + "\n"
@@ -250,10 +297,17 @@ def provenance(res: dict[str, Any]) -> dict[str, Any]:
     """What the report was made from: the resolved scene of every simulation (by its
     SHA-256, see gearwear.io.scene_inputs) and the fixed study parameters."""
     scenes = {f"wear {p}": io.scene_inputs(res["sims_wear"][p].scene)["scene_sha256"] for p in PHASES}
-    scenes.update({f"clearance {c:g} um": io.scene_inputs(res["sims_cl"][c].scene)["scene_sha256"]
-                   for c in CLEARANCES_UM})
-    return {"report": "paper", "phases": list(PHASES), "clearances_um": list(CLEARANCES_UM),
-            "table_points": 360, "torque_Nm": 40.0, "scene_sha256": scenes}
+    scenes.update(
+        {f"clearance {c:g} um": io.scene_inputs(res["sims_cl"][c].scene)["scene_sha256"] for c in CLEARANCES_UM}
+    )
+    return {
+        "report": "paper",
+        "phases": list(PHASES),
+        "clearances_um": list(CLEARANCES_UM),
+        "table_points": 360,
+        "torque_Nm": 40.0,
+        "scene_sha256": scenes,
+    }
 
 
 def write(res: dict[str, Any], out: Path) -> list[Path]:
@@ -276,9 +330,12 @@ def run_report(out: Path, progress: bool = True) -> list[Path]:
     t0 = time.perf_counter()
     steps = 3 + 2 * len(PHASES) + 2 * len(CLEARANCES_UM)
     with tqdm(total=steps, desc="report paper", unit="step", disable=not progress) as bar:
+
         def say(msg):
             bar.set_postfix_str(msg[:40])
             bar.update(1)
+
         res = compute(say, notify=lambda m: tqdm.write(f"gearwear: {m}", file=sys.stderr))
-    return io.write_folder(out, "report paper", provenance(res), lambda d: write(res, d),
-                           {"total_s": time.perf_counter() - t0})
+    return io.write_folder(
+        out, "report paper", provenance(res), lambda d: write(res, d), {"total_s": time.perf_counter() - t0}
+    )

@@ -17,12 +17,10 @@ from typing import Any, Callable
 import numpy as np
 
 from gearwear.geometry.curves import harmonic_amplitudes
-
-
 from gearwear.reports.paper_study import CLEARANCES_UM, PHASES, SIGNALS
 
-
 # -- trend classification -----------------------------------------------------------
+
 
 def classify(y) -> str:
     """increase | decrease | decrease-then-increase | increase-then-decrease | nonlinear | flat."""
@@ -78,10 +76,15 @@ def change_text(y) -> str:
 
 #: mechanism texts by key: (the direction of change they explain, text or format string)
 MECHANISMS: dict[str, tuple[str, str]] = {
-    "wear_gaps": ("decrease", "thinner teeth and, above all, wear gaps: the entering and leaving pairs carry no "
-                              "load until the elastic approach closes their gaps"),
-    "tips_compliant": ("decrease", "with the larger centre distance the contacts move toward the tips, where the "
-                                   "teeth are more compliant"),
+    "wear_gaps": (
+        "decrease",
+        "thinner teeth and, above all, wear gaps: the entering and leaving pairs carry no "
+        "load until the elastic approach closes their gaps",
+    ),
+    "tips_compliant": (
+        "decrease",
+        "with the larger centre distance the contacts move toward the tips, where the teeth are more compliant",
+    ),
     "double_zone_shorter": ("decrease", "the double-contact share of the period shortens ({a:.3f} -> {b:.3f})"),
     "contact_ratio": ("decrease", "the contact ratio falls ({a:.4f} -> {b:.4f})"),
     "eq11": ("increase", "Eq. 11: C' grows with the clearance, {slope:.3g} mm per mm of clearance"),
@@ -89,10 +92,14 @@ MECHANISMS: dict[str, tuple[str, str]] = {
     "tips_fixed": ("decrease", "the tip circles are fixed while C' grows"),
     "pitch_radius": ("increase", "r_w = r_b / cos a' grows with a'; base and tip radii are machined dimensions"),
     "backlash": ("increase", "2 (r_b1 + r_b2)(inv a' - inv a) grows with C'"),
-    "dead_zone": ("increase", "the shaft crosses the dead zone BC/2 before the bearing carries: "
-                              "{slope:.3g} um per um of clearance"),
-    "half_backlash": ("increase", "in contact delta = j_n/2 + F/k, and half the backlash grows {db:.1f} um "
-                                  "over the same range"),
+    "dead_zone": (
+        "increase",
+        "the shaft crosses the dead zone BC/2 before the bearing carries: {slope:.3g} um per um of clearance",
+    ),
+    "half_backlash": (
+        "increase",
+        "in contact delta = j_n/2 + F/k, and half the backlash grows {db:.1f} um over the same range",
+    ),
 }
 
 
@@ -123,8 +130,10 @@ def describe_change(values, labels) -> str:
     if found in ("decrease-then-increase", "increase-then-decrease"):
         k = int(np.argmin(y)) if found == "decrease-then-increase" else int(np.argmax(y))
         first, second = ("falls", "rises") if found == "decrease-then-increase" else ("rises", "falls")
-        return (f"{first} by {_pct(y[0], y[k])} ({labels[0]} -> {labels[k]}), then {second} by "
-                f"{_pct(y[k], y[-1])} ({labels[k]} -> {labels[-1]})")
+        return (
+            f"{first} by {_pct(y[0], y[k])} ({labels[0]} -> {labels[k]}), then {second} by "
+            f"{_pct(y[k], y[-1])} ({labels[k]} -> {labels[-1]})"
+        )
     if found == "flat":
         return f"stays flat {ends}"
     d = np.diff(y)
@@ -134,8 +143,14 @@ def describe_change(values, labels) -> str:
     return f"changes direction {turns} times, net {net} {_pct(y[0], y[-1])} {ends}"
 
 
-_CLAIM_WORDS = {"increase": "a rise", "decrease": "a fall", "decrease-then-increase": "a fall, then a rise",
-                "increase-then-decrease": "a rise, then a fall", "nonlinear": "a nonlinear change", "flat": "no change"}
+_CLAIM_WORDS = {
+    "increase": "a rise",
+    "decrease": "a fall",
+    "decrease-then-increase": "a fall, then a rise",
+    "increase-then-decrease": "a rise, then a fall",
+    "nonlinear": "a nonlinear change",
+    "flat": "no change",
+}
 
 
 def _why(values, labels, claim: str, verdict: str, mechanisms=(), context: str = "") -> str:
@@ -192,8 +207,9 @@ def _zone_drops(base, worn) -> tuple[float, float]:
     union of their nodes, the trapezoid rule on it."""
     P = base.span_rad
     x = np.union1d(base.angle_rad, worn.angle_rad)
-    drop = 1 - (np.interp(x, worn.angle_rad, worn.k_N_per_m, period=P)
-                / np.interp(x, base.angle_rad, base.k_N_per_m, period=P))
+    drop = 1 - (
+        np.interp(x, worn.angle_rad, worn.k_N_per_m, period=P) / np.interp(x, base.angle_rad, base.k_N_per_m, period=P)
+    )
     xs, ds = np.r_[x, x[0] + P], np.r_[drop, drop[:1]]
     area, length = 0.5 * (ds[1:] + ds[:-1]) * np.diff(xs), np.diff(xs)
     a, _, n = _segments(base)
@@ -218,16 +234,20 @@ def _why_harmonic(name: str, k: int, runs: list, tables: list, labels: list) -> 
         else:
             j = int(np.searchsorted(modes, f))
             where = f"between the {modes[j - 1]:.0f} and {modes[j]:.0f} Hz modes"
-        parts.append(f"{lab}: modes {', '.join(f'{m:.0f}' for m in modes)} Hz, {k} x fm = {f:.0f} Hz is {where} "
-                     f"(nearest {near:.0f} Hz, {100 * abs(f / near - 1):.0f} % away)")
+        parts.append(
+            f"{lab}: modes {', '.join(f'{m:.0f}' for m in modes)} Hz, {k} x fm = {f:.0f} Hz is {where} "
+            f"(nearest {near:.0f} Hz, {100 * abs(f / near - 1):.0f} % away)"
+        )
         if len(runs) == 1 or np.allclose(_modes_Hz(runs[0]), _modes_Hz(runs[-1]), rtol=0.02):
             parts[-1] = parts[-1].replace(f"{lab}: ", "")
             break
     a0, a1 = (_harmonic_amplitude(t, k) for t in (tables[0], tables[-1]))
     change = f"{100 * (a1 / a0 - 1):+.3g} %" if a0 > 0 else "n/a"
-    return ("Context: " + "; ".join(parts) + f". Harmonic {k} of the stiffness table changes by {change} "
-            f"({labels[0]} -> {labels[-1]}). Which response harmonic grows depends on that excitation and on the "
-            "mode placement, which the paper's unstated inertias and damping set.")
+    return (
+        "Context: " + "; ".join(parts) + f". Harmonic {k} of the stiffness table changes by {change} "
+        f"({labels[0]} -> {labels[-1]}). Which response harmonic grows depends on that excitation and on the "
+        "mode placement, which the paper's unstated inertias and damping set."
+    )
 
 
 # -- the claims (gearwear/data/claims/paper.toml) and what they are checked against ------
@@ -249,8 +269,14 @@ def load_claims() -> list[dict[str, Any]]:
             claims.append(entry)
             continue
         for k, direction in family.items():
-            claims.append({**entry, "k": int(k), "claim": direction,
-                           "paper": entry["paper"].format(k=int(k), direction=direction.replace("-", " "))})
+            claims.append(
+                {
+                    **entry,
+                    "k": int(k),
+                    "claim": direction,
+                    "paper": entry["paper"].format(k=int(k), direction=direction.replace("-", " ")),
+                }
+            )
     return claims
 
 
@@ -275,6 +301,7 @@ def _quantity(name: str, study: str):
     def register(fn):
         QUANTITIES[name] = (study, fn)
         return fn
+
     return register
 
 
@@ -298,6 +325,7 @@ def _geometry(attr: str, fn: Callable[[Any], float]):
     @_quantity(f"{attr}_vs_clearance", "clearance_fine")
     def values(res, c):
         return [fn(g) for g in res["geo"]]
+
     return values
 
 
@@ -383,21 +411,28 @@ def _context_harmonic(res, c):
 
 def _context_stiffness_p2p(res, c):
     p2p_k = [float(np.ptp(res["tabs_wear"][p].k_N_per_m)) for p in PHASES]
-    return ("Context: the peak-to-peak of the stiffness table changes by "
-            f"{100 * (p2p_k[-1] / p2p_k[0] - 1):+.3g} % ({PHASES[0]} -> {PHASES[-1]}); the response also depends "
-            "on the mode placement.")
+    return (
+        "Context: the peak-to-peak of the stiffness table changes by "
+        f"{100 * (p2p_k[-1] / p2p_k[0] - 1):+.3g} % ({PHASES[0]} -> {PHASES[-1]}); the response also depends "
+        "on the mode placement."
+    )
 
 
 def _context_bearings(res, c):
     sc = res["sims_cl"]
-    bcf = [min(sc[x].result.bearing_contact_fraction.values()) for x in CLEARANCES_UM
-           if sc[x].result.bearing_contact_fraction]
+    bcf = [
+        min(sc[x].result.bearing_contact_fraction.values())
+        for x in CLEARANCES_UM
+        if sc[x].result.bearing_contact_fraction
+    ]
     if not bcf:
         return ""
     if min(bcf) >= 0.999:
-        return (f"Context: the bearings stay pressed into their clearance in every run (lowest bearing contact "
-                f"fraction {min(bcf):.3g}), so the clearance shifts the shafts and changes the dynamics only "
-                "through the mesh geometry.")
+        return (
+            f"Context: the bearings stay pressed into their clearance in every run (lowest bearing contact "
+            f"fraction {min(bcf):.3g}), so the clearance shifts the shafts and changes the dynamics only "
+            "through the mesh geometry."
+        )
     return f"Context: the bearings leave their contact (lowest bearing contact fraction {min(bcf):.3g})."
 
 
@@ -415,14 +450,21 @@ def _row_zone_drops(res, c):
     ok = dd > ds
     double = f"{'loses' if dd >= 0 else 'gains'} {abs(dd):.1f} %"
     single = f"the single zone {'loses' if ds >= 0 else 'gains'} {abs(ds):.2f} %"
-    why = (f"Measured: where the unworn pair shares the load with a second pair k_h {double} on average, "
-           f"{single}" + (", as the paper says." if ok else "; the paper claims the larger change in the "
-                                                             "double zone, which this tool does not find."))
+    why = f"Measured: where the unworn pair shares the load with a second pair k_h {double} on average, {single}" + (
+        ", as the paper says."
+        if ok
+        else "; the paper claims the larger change in the double zone, which this tool does not find."
+    )
     if ok:
-        why += (" Why: wear is deepest near root and tip (large sliding), which are in contact only in the "
-                "double zone; at the pitch point (single zone) it is zero.")
-    return {"ours": f"mean drop double zone {dd:.1f} %, single zone {ds:.2f} %",
-            "verdict": "agree" if ok else "disagree", "why": why}
+        why += (
+            " Why: wear is deepest near root and tip (large sliding), which are in contact only in the "
+            "double zone; at the pitch point (single zone) it is zero."
+        )
+    return {
+        "ours": f"mean drop double zone {dd:.1f} %, single zone {ds:.2f} %",
+        "verdict": "agree" if ok else "disagree",
+        "why": why,
+    }
 
 
 def _row_nonlinearity(res, c):
@@ -434,15 +476,25 @@ def _row_nonlinearity(res, c):
         lin.append(float(np.max(np.abs(H4[:, k] - fit)) / max(np.ptp(H4[:, k]), 1e-300)))
     verdict = "agree" if min(lin) > 0.1 else "partly" if max(lin) > 0.1 else "disagree"
     bent = [k + 1 for k, v in enumerate(lin) if v > 0.1]
-    why = (f"Measured: the largest deviation of a harmonic from its straight-line fit is {100 * max(lin):.0f} % of its "
-           f"range (harmonic {int(np.argmax(lin)) + 1}); " + (
-               "every one of the four bends by more than 10 %, as the paper says." if verdict == "agree" else
-               f"harmonics {', '.join(map(str, bent))} bend by more than 10 %, the others are nearly straight."
-               if verdict == "partly" else
-               "all four are nearly straight lines (within 10 %); the paper claims a nonlinear change, which this "
-               "tool does not find."))
-    return {"ours": "largest deviation from a straight line, per harmonic: "
-            + ", ".join(f"{100 * v:.0f} %" for v in lin) + " of its range", "verdict": verdict, "why": why}
+    why = (
+        f"Measured: the largest deviation of a harmonic from its straight-line fit is {100 * max(lin):.0f} % of its "
+        f"range (harmonic {int(np.argmax(lin)) + 1}); "
+        + (
+            "every one of the four bends by more than 10 %, as the paper says."
+            if verdict == "agree"
+            else f"harmonics {', '.join(map(str, bent))} bend by more than 10 %, the others are nearly straight."
+            if verdict == "partly"
+            else "all four are nearly straight lines (within 10 %); the paper claims a nonlinear change, which this "
+            "tool does not find."
+        )
+    )
+    return {
+        "ours": "largest deviation from a straight line, per harmonic: "
+        + ", ".join(f"{100 * v:.0f} %" for v in lin)
+        + " of its range",
+        "verdict": verdict,
+        "why": why,
+    }
 
 
 def _row_top_harmonics(res, c):
@@ -455,15 +507,19 @@ def _row_top_harmonics(res, c):
     ok = bool(set(top) & {7, 8, 9})
     modes = _modes_Hz(run)
     top_f = ", ".join(f"{(k + 1) * r.fm_Hz:.0f}" for k in top)
-    return {"ours": f"largest: {', '.join(f'{k + 1} x fm' for k in top)}", "verdict": "agree" if ok else "disagree",
-            "why": (f"Measured: the largest harmonics are {', '.join(str(k + 1) for k in top)} x fm "
-                    f"({top_f} Hz at f_m = {r.fm_Hz:.0f} Hz)" + (", as the paper says" if ok else
-                                                                 "; the paper claims the 8th-10th, "
-                                                                 "which this tool does not find")
-                    + f"; the model's modes are {', '.join(f'{m:.0f}' for m in modes)} Hz (first run of the "
-                      f"{lab} study); the mode nearest the largest harmonic is "
-                      f"{modes[int(np.argmin(np.abs(modes - (top[0] + 1) * r.fm_Hz)))]:.0f} Hz. The paper's "
-                      "resonance depends on its unstated masses, inertias and damping.")}
+    return {
+        "ours": f"largest: {', '.join(f'{k + 1} x fm' for k in top)}",
+        "verdict": "agree" if ok else "disagree",
+        "why": (
+            f"Measured: the largest harmonics are {', '.join(str(k + 1) for k in top)} x fm "
+            f"({top_f} Hz at f_m = {r.fm_Hz:.0f} Hz)"
+            + (", as the paper says" if ok else "; the paper claims the 8th-10th, which this tool does not find")
+            + f"; the model's modes are {', '.join(f'{m:.0f}' for m in modes)} Hz (first run of the "
+            f"{lab} study); the mode nearest the largest harmonic is "
+            f"{modes[int(np.argmin(np.abs(modes - (top[0] + 1) * r.fm_Hz)))]:.0f} Hz. The paper's "
+            "resonance depends on its unstated masses, inertias and damping."
+        ),
+    }
 
 
 #: row name -> (the claim it evaluates, row(res, claim) -> ours, verdict, why): rows whose
@@ -488,12 +544,16 @@ def trends(res: dict[str, Any]) -> list[dict[str, str]]:
         found = classify(values)
         verdict = agrees(c["claim"], found)
         mechanisms = [_mech(key, **MECHANISM_PARAMS.get(key, lambda res: {})(res)) for key in c.get("mechanisms", ())]
-        context = " ".join(t for t in (c.get("context", ""),
-                                       CONTEXTS[c["context_from"]](res, c) if "context_from" in c else "") if t)
+        context = " ".join(
+            t for t in (c.get("context", ""), CONTEXTS[c["context_from"]](res, c) if "context_from" in c else "") if t
+        )
         note = c.get("note", "")
-        rows.append({**head, "ours": f"{found}: {change_text(values)}" + (f" {note}" if note else ""),
-                     "verdict": verdict, "why": _why(values, _labels(res, study), c["claim"], verdict, mechanisms,
-                                                     context)})
+        rows.append(
+            {
+                **head,
+                "ours": f"{found}: {change_text(values)}" + (f" {note}" if note else ""),
+                "verdict": verdict,
+                "why": _why(values, _labels(res, study), c["claim"], verdict, mechanisms, context),
+            }
+        )
     return rows
-
-

@@ -105,73 +105,136 @@ def scene_assumptions(scene) -> list[Assumption]:
     rack = "ISO 53 profile A basic rack"
     if not _given(p, "pressure_angle_deg"):
         add("pair.pressure_angle_deg", p.pressure_angle_deg, "deg", "the standard pressure angle", "geometry")
-    for key, why in (("addendum_coefficient", f"{rack}, h_a* = 1"), ("dedendum_coefficient", f"{rack}, h_f* = 1.25"),
-                     ("rack_tip_radius_coefficient", f"{rack}, rho_fP* = 0.38")):
+    for key, why in (
+        ("addendum_coefficient", f"{rack}, h_a* = 1"),
+        ("dedendum_coefficient", f"{rack}, h_f* = 1.25"),
+        ("rack_tip_radius_coefficient", f"{rack}, rho_fP* = 0.38"),
+    ):
         if not _given(p, key) and not (key == "dedendum_coefficient" and p.root_diameter_mm is not None):
             add(f"pair.{key}", getattr(p, key), "", why, "geometry")
     if not _given(p, "profile_shift"):
         add("pair.profile_shift", _per_gear(p.profile_shift), "", "no profile shift", "geometry")
     if p.centre_distance_mm is None:
-        add("pair.centre_distance_mm", round(pair.centre_distance_m * 1e3, 6), "mm",
-            "the zero-backlash working centre distance of the profile shifts", "geometry")
+        add(
+            "pair.centre_distance_mm",
+            round(pair.centre_distance_m * 1e3, 6),
+            "mm",
+            "the zero-backlash working centre distance of the profile shifts",
+            "geometry",
+        )
     if p.hub_radius_mm is None:
-        add("pair.hub_radius_mm", _per_gear(round(r * 1e3, 4) for r in pair.hub_radius_m), "mm",
+        add(
+            "pair.hub_radius_mm",
+            _per_gear(round(r * 1e3, 4) for r in pair.hub_radius_m),
+            "mm",
             "bore radius: half of each root radius; the FE holds the bodies there and the masses exclude it",
-            "bore")
+            "bore",
+        )
     if not _given(mat, "youngs_modulus_GPa"):
         add("material.youngs_modulus_GPa", _per_gear(mat.youngs_modulus_GPa), "GPa", "steel", "elastic")
     if not _given(mat, "poisson_ratio"):
         add("material.poisson_ratio", _per_gear(mat.poisson_ratio), "", "steel", "elastic")
     bodies = scene.bodies
-    blank = ("each gear's blank: its generated section with the teeth, minus the bore, "
-             + ("solid" if doc.blank is None else "with the [blank] web where given")
-             + " over the face width, times the density")
+    blank = (
+        "each gear's blank: its generated section with the teeth, minus the bore, "
+        + ("solid" if doc.blank is None else "with the [blank] web where given")
+        + " over the face width, times the density"
+    )
     if bodies.mass_from == "blank" or bodies.inertia_from != "scene":
         if not _given(mat, "density_kg_per_m3"):
             add("material.density_kg_per_m3", _per_gear(mat.density_kg_per_m3), "kg/m^3", "steel", "bodies")
     if bodies.mass_from == "blank":
         add("bodies.mass_kg", _per_gear(round(m, 6) for m in bodies.mass_kg), "kg", f"from {blank}", "bodies")
     if bodies.inertia_from == "blank":
-        add("bodies.inertia_kg_m2", _per_gear(float(f"{j:.6g}") for j in bodies.inertia_kg_m2), "kg m^2",
-            f"from {blank}", "bodies")
+        add(
+            "bodies.inertia_kg_m2",
+            _per_gear(float(f"{j:.6g}") for j in bodies.inertia_kg_m2),
+            "kg m^2",
+            f"from {blank}",
+            "bodies",
+        )
     elif bodies.inertia_from != "scene":
-        add("bodies.inertia_kg_m2", _per_gear(float(f"{j:.6g}") for j in bodies.inertia_kg_m2), "kg m^2",
-            "the given mass at the radius of gyration of each gear's blank, J = m J_blank / m_blank", "bodies")
+        add(
+            "bodies.inertia_kg_m2",
+            _per_gear(float(f"{j:.6g}") for j in bodies.inertia_kg_m2),
+            "kg m^2",
+            "the given mass at the radius of gyration of each gear's blank, J = m J_blank / m_blank",
+            "bodies",
+        )
     if b.bearing_damping_ratio is None and b.bearing_damping_N_s_per_m is None:
-        add("bodies.bearing_damping_ratio", DEFAULT_BEARING_DAMPING_RATIO, "", "a typical rolling-bearing "
-            "support; c_b = 2 zeta_b sqrt(k_b m)", "dynamics")
+        add(
+            "bodies.bearing_damping_ratio",
+            DEFAULT_BEARING_DAMPING_RATIO,
+            "",
+            "a typical rolling-bearing support; c_b = 2 zeta_b sqrt(k_b m)",
+            "dynamics",
+        )
     if b.mesh_damping_ratio is None and b.mesh_damping_N_s_per_m is None:
-        add("bodies.mesh_damping_ratio", DEFAULT_MESH_DAMPING_RATIO, "", "mid-range of the 0.03-0.1 usual for "
-            "spur meshes; c_h = 2 zeta_m sqrt(k_mean m_e)", "dynamics")
+        add(
+            "bodies.mesh_damping_ratio",
+            DEFAULT_MESH_DAMPING_RATIO,
+            "",
+            "mid-range of the 0.03-0.1 usual for spur meshes; c_h = 2 zeta_m sqrt(k_mean m_e)",
+            "dynamics",
+        )
     if e.mesh_stiffness is None:
-        add("effects.mesh_stiffness", "absent", "", "a constant mesh stiffness, the mean of the analytic "
-            "(Ishikawa) curve; add [effects] mesh_stiffness for the time-varying one", "dynamics")
+        add(
+            "effects.mesh_stiffness",
+            "absent",
+            "",
+            "a constant mesh stiffness, the mean of the analytic "
+            "(Ishikawa) curve; add [effects] mesh_stiffness for the time-varying one",
+            "dynamics",
+        )
     w = e.wear
     if w is not None:
         if w.phase is not None and w.phase != "unworn":
             depth = round(PHASE_DEPTHS_M[w.phase] * 1e6, 9)
-            add(f"effects.wear.phase = \"{w.phase}\": max_depth_um", depth, "um", "this project's reading of the "
-                "paper's phases (it gives no depths); give max_depth_um for your own", "wear")
+            add(
+                f"effects.wear.phase = \"{w.phase}\": max_depth_um",
+                depth,
+                "um",
+                "this project's reading of the paper's phases (it gives no depths); give max_depth_um for your own",
+                "wear",
+            )
         if w.hours is not None:
             if not _given(w, "model"):
                 add("effects.wear.model", w.model, "", "Archard's law (Flodin & Andersson 1997)", "wear")
             if w.model == "archard" and w.archard_k_m2_per_N is None:
-                add("effects.wear.archard_k_m2_per_N", WearSpec.archard_k_m2_per_N, "m^2/N", "boundary-lubricated "
-                    "steel (Flodin & Andersson 1997); the depth scales with it", "wear")
+                add(
+                    "effects.wear.archard_k_m2_per_N",
+                    WearSpec.archard_k_m2_per_N,
+                    "m^2/N",
+                    "boundary-lubricated steel (Flodin & Andersson 1997); the depth scales with it",
+                    "wear",
+                )
             if w.model == "paper_eq1" and w.wear_intensity is None:
-                add("effects.wear.wear_intensity", WearSpec.wear_intensity, "", "I_h of the paper's Eq. 1 "
-                    "(assumed; the paper gives none)", "wear")
+                add(
+                    "effects.wear.wear_intensity",
+                    WearSpec.wear_intensity,
+                    "",
+                    "I_h of the paper's Eq. 1 (assumed; the paper gives none)",
+                    "wear",
+                )
         if not _given(w, "taper_mm") and not (w.phase == "unworn"):
             add("effects.wear.taper_mm", w.taper_mm, "mm", "run-out of the depth beyond the active profile", "wear")
     if not _given(doc.fem, "plane"):
         b_m = doc.pair.face_width_mm / doc.pair.module_mm
         state = resolved_plane("auto", doc.pair.face_width_mm, doc.pair.module_mm)
-        add("fem.plane", state, "", f"auto: b/m = {b_m:.3g} is {'at or above' if state == 'strain' else 'below'} "
+        add(
+            "fem.plane",
+            state,
+            "",
+            f"auto: b/m = {b_m:.3g} is {'at or above' if state == 'strain' else 'below'} "
             f"{PLANE_STRAIN_FROM_B_OVER_M:g}, where the 3D check (reports/plane) finds plane {state} the closer 2D "
-            "state of a tooth's compliance", "fem")
+            "state of a tooth's compliance",
+            "fem",
+        )
     iso = doc.iso6336 or Iso6336Doc()
-    for key, why in (("accuracy_grade", "ISO 1328-1 grade of the deviations not given"),
-                     ("application_factor", "K_A = 1, a uniform drive")):
+    for key, why in (
+        ("accuracy_grade", "ISO 1328-1 grade of the deviations not given"),
+        ("application_factor", "K_A = 1, a uniform drive"),
+    ):
         if not _given(doc.iso6336, key):
             add(f"iso6336.{key}", getattr(iso, key), "", why, "iso")
     return out

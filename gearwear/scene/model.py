@@ -45,6 +45,7 @@ class Bodies:
     coefficients (the coefficients replace the ratios; a scene may give one form per
     damper). ``mass_from`` / ``inertia_from``: "scene" or "blank" per gear (inertia also
     "blank radius of gyration": J = m J_blank / m_blank for a given mass)."""
+
     mass_kg: tuple[float, float]
     inertia_kg_m2: tuple[float, float]
     bearing_stiffness_N_per_m: float | None
@@ -75,19 +76,28 @@ def resolve_bodies(b, pair: PairSpec) -> Bodies:
     else:
         inertia = tuple(m * p.inertia_kg_m2 / p.mass_kg for m, p in zip(mass, blank))
         inertia_from = "blank radius of gyration"
-    return Bodies(mass, inertia, b.bearing_stiffness_N_per_m,  # type: ignore[arg-type]
-                  DEFAULT_BEARING_DAMPING_RATIO if b.bearing_damping_ratio is None else b.bearing_damping_ratio,
-                  DEFAULT_MESH_DAMPING_RATIO if b.mesh_damping_ratio is None else b.mesh_damping_ratio,
-                  b.bearing_damping_N_s_per_m, b.mesh_damping_N_s_per_m, mass_from, inertia_from)
+    return Bodies(
+        mass,
+        inertia,
+        b.bearing_stiffness_N_per_m,  # type: ignore[arg-type]
+        DEFAULT_BEARING_DAMPING_RATIO if b.bearing_damping_ratio is None else b.bearing_damping_ratio,
+        DEFAULT_MESH_DAMPING_RATIO if b.mesh_damping_ratio is None else b.mesh_damping_ratio,
+        b.bearing_damping_N_s_per_m,
+        b.mesh_damping_N_s_per_m,
+        mass_from,
+        inertia_from,
+    )
 
 
 def require_dynamics(scene: "Scene") -> None:
     """The inputs only the 6-DOF dynamics need, checked before any work of a dynamic
     command (simulate, sweep, runup, diagnose)."""
     if scene.bodies.bearing_stiffness_N_per_m is None:
-        raise InputError("bodies.bearing_stiffness_N_per_m: missing; the 6-DOF dynamics need the radial bearing "
-                         "stiffness (it sets the lateral modes the mesh excites and spans orders of magnitude, "
-                         "about 1e7 to 1e10 N/m, between designs, so no default would be right for your pair)")
+        raise InputError(
+            "bodies.bearing_stiffness_N_per_m: missing; the 6-DOF dynamics need the radial bearing "
+            "stiffness (it sets the lateral modes the mesh excites and spans orders of magnitude, "
+            "about 1e7 to 1e10 N/m, between designs, so no default would be right for your pair)"
+        )
     if scene.doc is not None:
         dynamics_fem_plane(scene.doc)  # a given fem.plane only where the mesh stiffness has a 2D state
 
@@ -143,17 +153,23 @@ class Scene:
 
 
 #: geometry's own parameter names -> scene keys (with unit conversion)
-PAIR_KEYS = {"teeth": "pair.teeth", "addendum_coefficient": "pair.addendum_coefficient",
-             "dedendum_coefficient": "pair.dedendum_coefficient",
-             "rack_tip_radius_coefficient": "pair.rack_tip_radius_coefficient",
-             "profile_shift": "pair.profile_shift", "hub_radius_m": ("pair.hub_radius_mm", 1e3, "mm"),
-             "tip_diameter_m": ("pair.tip_diameter_mm", 1e3, "mm"),
-             "root_diameter_m": ("pair.root_diameter_mm", 1e3, "mm"),
-             "installed_centre_distance_m": ("pair.centre_distance_mm", 1e3, "mm")}
+PAIR_KEYS = {
+    "teeth": "pair.teeth",
+    "addendum_coefficient": "pair.addendum_coefficient",
+    "dedendum_coefficient": "pair.dedendum_coefficient",
+    "rack_tip_radius_coefficient": "pair.rack_tip_radius_coefficient",
+    "profile_shift": "pair.profile_shift",
+    "hub_radius_m": ("pair.hub_radius_mm", 1e3, "mm"),
+    "tip_diameter_m": ("pair.tip_diameter_mm", 1e3, "mm"),
+    "root_diameter_m": ("pair.root_diameter_mm", 1e3, "mm"),
+    "installed_centre_distance_m": ("pair.centre_distance_mm", 1e3, "mm"),
+}
 
 #: unitless own names that a geometry message may mention after its key ("profile_shift[0] >= 0.3")
-_PAIR_WORDS = re.compile(r"(?<![\w.])(profile_shift|allow_undercut|addendum_coefficient|teeth)"
-                         r"(?=\[\d\]|\s*(?:>=|<=|=))")
+_PAIR_WORDS = re.compile(
+    r"(?<![\w.])(profile_shift|allow_undercut|addendum_coefficient|teeth)"
+    r"(?=\[\d\]|\s*(?:>=|<=|=))"
+)
 
 
 def renamed_pair_error(exc: InputError) -> InputError:
@@ -164,8 +180,9 @@ def renamed_pair_error(exc: InputError) -> InputError:
         web_key, factor, unit = WEB_KEYS[exc.key]
         f = exc.field
         if f is not None:
-            return fail_range(web_key, exc.value * factor, Field(unit, f.lo * factor, f.hi * factor, f.lo_open,
-                                                                 f.hi_open), exc.note)
+            return fail_range(
+                web_key, exc.value * factor, Field(unit, f.lo * factor, f.hi * factor, f.lo_open, f.hi_open), exc.note
+            )
         return fail(web_key, exc.value * factor, unit, exc.why)
     out = renamed(exc, PAIR_KEYS)
     text = str(out)
@@ -192,35 +209,54 @@ def default_bore_radii_m(spec: PairSpec) -> tuple[float, float]:
 
 
 def _web(doc) -> Web | None:
-    return None if doc is None else Web(doc.web_thickness_mm * 1e-3, doc.rim_thickness_mm * 1e-3,
-                                        doc.hub_outer_radius_mm * 1e-3)
+    return (
+        None
+        if doc is None
+        else Web(doc.web_thickness_mm * 1e-3, doc.rim_thickness_mm * 1e-3, doc.hub_outer_radius_mm * 1e-3)
+    )
 
 
 #: geometry's web keys -> scene keys, per gear index
-WEB_KEYS = {f"web.{own}[{i}]": (f"blank.{gear}.{key}", 1e3, "mm")
-            for i, gear in enumerate(("pinion", "gear"))
-            for own, key in (("thickness_m", "web_thickness_mm"), ("rim_thickness_m", "rim_thickness_mm"),
-                             ("hub_radius_m", "hub_outer_radius_mm"))}
+WEB_KEYS = {
+    f"web.{own}[{i}]": (f"blank.{gear}.{key}", 1e3, "mm")
+    for i, gear in enumerate(("pinion", "gear"))
+    for own, key in (
+        ("thickness_m", "web_thickness_mm"),
+        ("rim_thickness_m", "rim_thickness_mm"),
+        ("hub_radius_m", "hub_outer_radius_mm"),
+    )
+}
 
 
 def pair_spec(doc: SceneDoc) -> PairSpec:
     """The SI pair spec of a validated document, checked for geometric consistency."""
     p, m = doc.pair, doc.material
+
     def mm(v):
         return None if v is None else (v[0] * 1e-3, v[1] * 1e-3)
 
     webs = (None, None) if doc.blank is None else (_web(doc.blank.pinion), _web(doc.blank.gear))
     spec = PairSpec(
-        teeth=p.teeth, module_m=p.module_mm * 1e-3, pressure_angle_rad=math.radians(p.pressure_angle_deg),
-        face_width_m=p.face_width_mm * 1e-3, addendum_coefficient=p.addendum_coefficient,
-        dedendum_coefficient=p.dedendum_coefficient, rack_tip_radius_coefficient=p.rack_tip_radius_coefficient,
-        profile_shift=p.profile_shift, hub_radius_m=(1e-9, 1e-9) if p.hub_radius_mm is None else
-        (p.hub_radius_mm[0] * 1e-3, p.hub_radius_mm[1] * 1e-3), webs=webs,
+        teeth=p.teeth,
+        module_m=p.module_mm * 1e-3,
+        pressure_angle_rad=math.radians(p.pressure_angle_deg),
+        face_width_m=p.face_width_mm * 1e-3,
+        addendum_coefficient=p.addendum_coefficient,
+        dedendum_coefficient=p.dedendum_coefficient,
+        rack_tip_radius_coefficient=p.rack_tip_radius_coefficient,
+        profile_shift=p.profile_shift,
+        hub_radius_m=(1e-9, 1e-9)
+        if p.hub_radius_mm is None
+        else (p.hub_radius_mm[0] * 1e-3, p.hub_radius_mm[1] * 1e-3),
+        webs=webs,
         allow_undercut=p.allow_undercut,
-        materials=tuple(Material(m.youngs_modulus_GPa[i] * 1e9, m.poisson_ratio[i], m.density_kg_per_m3[i])
-                        for i in (0, 1)),  # type: ignore[arg-type]
-        tip_diameter_m=mm(p.tip_diameter_mm), root_diameter_m=mm(p.root_diameter_mm),
-        installed_centre_distance_m=None if p.centre_distance_mm is None else p.centre_distance_mm * 1e-3)
+        materials=tuple(
+            Material(m.youngs_modulus_GPa[i] * 1e9, m.poisson_ratio[i], m.density_kg_per_m3[i]) for i in (0, 1)
+        ),  # type: ignore[arg-type]
+        tip_diameter_m=mm(p.tip_diameter_mm),
+        root_diameter_m=mm(p.root_diameter_mm),
+        installed_centre_distance_m=None if p.centre_distance_mm is None else p.centre_distance_mm * 1e-3,
+    )
     if p.hub_radius_mm is None:
         spec = replace(spec, hub_radius_m=default_bore_radii_m(spec))
     try:
@@ -241,8 +277,11 @@ def pair_from_dict(data: Mapping[str, Any]) -> PairSpec:
 
 
 #: geometry.wear's own parameter names -> scene keys
-WEAR_KEYS = {"max_depth_m": ("effects.wear.max_depth_um", 1e6, "um"), "hours": "effects.wear.hours",
-             "phase": "effects.wear.phase"}
+WEAR_KEYS = {
+    "max_depth_m": ("effects.wear.max_depth_um", 1e6, "um"),
+    "hours": "effects.wear.hours",
+    "phase": "effects.wear.phase",
+}
 
 
 def wear_spec(w: WearDoc, operating: OperatingDoc, pair: PairSpec | None = None) -> WearSpec:
@@ -251,8 +290,13 @@ def wear_spec(w: WearDoc, operating: OperatingDoc, pair: PairSpec | None = None)
     With ``pair``, wear deeper than ``geometry.wear.MAX_DEPTH_FRACTION`` (1/3) of the
     tooth's half thickness where it is deepest is refused (``geometry.wear.check_wear``,
     on the nominal mesh), naming ``effects.wear.max_depth_um`` / ``hours`` / ``phase``."""
-    kw: dict[str, Any] = {"phase": w.phase, "model": w.model, "torque_Nm": operating.torque_Nm,
-                          "speed_rpm": operating.speed_rpm, "taper_m": w.taper_mm * 1e-3}
+    kw: dict[str, Any] = {
+        "phase": w.phase,
+        "model": w.model,
+        "torque_Nm": operating.torque_Nm,
+        "speed_rpm": operating.speed_rpm,
+        "taper_m": w.taper_mm * 1e-3,
+    }
     if w.max_depth_um is not None:
         kw["max_depth_m"] = w.max_depth_um * 1e-6
     if w.hours is not None:
@@ -270,15 +314,18 @@ def wear_spec(w: WearDoc, operating: OperatingDoc, pair: PairSpec | None = None)
     return spec
 
 
-def wear_from_dict(table: Mapping[str, Any] | str, torque_Nm: float = 40.0, speed_rpm: float = 1200.0,
-                   pair: PairSpec | None = None) -> WearSpec:
+def wear_from_dict(
+    table: Mapping[str, Any] | str, torque_Nm: float = 40.0, speed_rpm: float = 1200.0, pair: PairSpec | None = None
+) -> WearSpec:
     """A wear spec from an ``[effects] wear`` table (or a phase name), validated (with
     ``pair``: also against the depth limit of that pair, see :func:`wear_spec`)."""
     from gearwear.scene.checks import check_wear_table
     from gearwear.scene.schema import validate_tables
 
-    t = validate_tables({"effects": {"wear": table}, "operating": {"torque_Nm": torque_Nm, "speed_rpm": speed_rpm}},
-                        ("effects", "operating"))
+    t = validate_tables(
+        {"effects": {"wear": table}, "operating": {"torque_Nm": torque_Nm, "speed_rpm": speed_rpm}},
+        ("effects", "operating"),
+    )
     assert t["effects"].wear is not None
     check_wear_table(t["effects"].wear)
     return wear_spec(t["effects"].wear, t["operating"], pair)
@@ -286,8 +333,11 @@ def wear_from_dict(table: Mapping[str, Any] | str, torque_Nm: float = 40.0, spee
 
 #: the command line's short flags (and the Python API's keywords of the same names): the
 #: scene key each stands for
-SHORT_KEYS = {"torque_Nm": "operating.torque_Nm", "clearance_um": "effects.bearing_clearance.clearance_um",
-              "wear": "effects.wear"}
+SHORT_KEYS = {
+    "torque_Nm": "operating.torque_Nm",
+    "clearance_um": "effects.bearing_clearance.clearance_um",
+    "wear": "effects.wear",
+}
 
 
 def wear_table(text: str) -> dict[str, Any]:
@@ -299,16 +349,17 @@ def wear_table(text: str) -> dict[str, Any]:
     for suffix, key in (("um", "max_depth_um"), ("h", "hours")):
         if t.endswith(suffix):
             try:
-                return {key: float(t[:-len(suffix)])}
+                return {key: float(t[: -len(suffix)])}
             except ValueError:
                 break
-    raise InputError(f"--wear = {text!r}: must be one of {', '.join(PHASE_DEPTHS_M)}, a depth like 25um, "
-                     "or running hours like 500h")
+    raise InputError(
+        f"--wear = {text!r}: must be one of {', '.join(PHASE_DEPTHS_M)}, a depth like 25um, or running hours like 500h"
+    )
 
 
 def wear_override(text: str) -> str:
     """The ``--wear`` shorthand as the ``--set`` it stands for."""
-    (key, value), = wear_table(text).items()
+    ((key, value),) = wear_table(text).items()
     return f"effects.wear={{{key}={value!r}}}".replace("'", '"')
 
 
@@ -330,17 +381,23 @@ def scene_from_doc(doc: SceneDoc) -> Scene:
     if e.wear is not None:
         effects["wear"] = e.wear.model_dump(exclude_none=True)
     if e.backlash is not None:
-        effects["backlash"] = {"initial_m": e.backlash.initial_um * 1e-6, "form": e.backlash.form,
-                               "damping_in_gap": e.backlash.damping_in_gap}
+        effects["backlash"] = {
+            "initial_m": e.backlash.initial_um * 1e-6,
+            "form": e.backlash.form,
+            "damping_in_gap": e.backlash.damping_in_gap,
+        }
     if e.bearing_clearance is not None:
         from gearwear.geometry.operating import max_clearance_m
 
         bc_max = max_clearance_m(pair)
         if not e.bearing_clearance.clearance_um * 1e-6 < bc_max:
-            raise fail_range("effects.bearing_clearance.clearance_um", e.bearing_clearance.clearance_um,
-                             Field("um", 0.0, math.floor(bc_max * 1e7) / 10, hi_open=True),
-                             "below the clearance that moves the centres apart until the tip circles no longer "
-                             "overlap on the line of action (out of mesh)")
+            raise fail_range(
+                "effects.bearing_clearance.clearance_um",
+                e.bearing_clearance.clearance_um,
+                Field("um", 0.0, math.floor(bc_max * 1e7) / 10, hi_open=True),
+                "below the clearance that moves the centres apart until the tip circles no longer "
+                "overlap on the line of action (out of mesh)",
+            )
         effects["bearing_clearance"] = {"clearance_m": e.bearing_clearance.clearance_um * 1e-6}
     if e.centre_distance is not None:
         effects["centre_distance"] = {"coupling": e.centre_distance.coupling}
@@ -352,8 +409,10 @@ def scene_from_doc(doc: SceneDoc) -> Scene:
         tab = read_stiffness_table(ms["path"], pair.teeth[0])
         ms["angle_rad"], ms["k_N_per_m"], ms["excitation_m"] = tab
         if "transmission_error" in effects and tab[2] is None:
-            raise InputError(f"effects.transmission_error: the table {ms['path']} has no excitation_um column, "
-                             f"so there is no excitation to apply; add the column or drop the effect")
+            raise InputError(
+                f"effects.transmission_error: the table {ms['path']} has no excitation_um column, "
+                f"so there is no excitation to apply; add the column or drop the effect"
+            )
     solver = doc.solver.model_dump(exclude_none=True)
     solver["method"] = resolved_method(doc)
     flank = flank_spec(doc.flank, pair) if doc.flank is not None else None
@@ -362,29 +421,47 @@ def scene_from_doc(doc: SceneDoc) -> Scene:
 
 
 #: geometry.flank's own keys -> scene keys (diameters in m -> mm, depths in m -> um)
-FLANK_KEYS: dict[str, Any] = {f"{t}.{k}": (f"flank.{t}.{k.replace('_m', '_um' if 'amount' in k else '_mm')}",
-                          1e6 if "amount" in k else 1e3, "um" if "amount" in k else "mm")
-              for t in ("tip_relief", "root_relief") for k in ("amount_m", "start_diameter_m")}
-FLANK_KEYS.update({"tip_relief.shape": "flank.tip_relief.shape", "root_relief.shape": "flank.root_relief.shape",
-                   "deviation.diameter_m": "flank.deviation_csv"})
-FAULT_KEYS: dict[str, Any] = {"crack.tooth": "faults.crack.tooth", "spall.tooth": "faults.spall.tooth",
-              "spall.start_diameter_m": ("faults.spall.start_diameter_mm", 1e3, "mm"),
-              "spall.length_m": ("faults.spall.length_mm", 1e3, "mm"),
-              "spall.depth_m": ("faults.spall.depth_um", 1e6, "um"),
-              "depth_m": ("faults.crack.depth_mm", 1e3, "mm"),
-              "angle_rad": ("faults.crack.angle_deg", 180 / math.pi, "deg")}
+FLANK_KEYS: dict[str, Any] = {
+    f"{t}.{k}": (
+        f"flank.{t}.{k.replace('_m', '_um' if 'amount' in k else '_mm')}",
+        1e6 if "amount" in k else 1e3,
+        "um" if "amount" in k else "mm",
+    )
+    for t in ("tip_relief", "root_relief")
+    for k in ("amount_m", "start_diameter_m")
+}
+FLANK_KEYS.update(
+    {
+        "tip_relief.shape": "flank.tip_relief.shape",
+        "root_relief.shape": "flank.root_relief.shape",
+        "deviation.diameter_m": "flank.deviation_csv",
+    }
+)
+FAULT_KEYS: dict[str, Any] = {
+    "crack.tooth": "faults.crack.tooth",
+    "spall.tooth": "faults.spall.tooth",
+    "spall.start_diameter_m": ("faults.spall.start_diameter_mm", 1e3, "mm"),
+    "spall.length_m": ("faults.spall.length_mm", 1e3, "mm"),
+    "spall.depth_m": ("faults.spall.depth_um", 1e6, "um"),
+    "depth_m": ("faults.crack.depth_mm", 1e3, "mm"),
+    "angle_rad": ("faults.crack.angle_deg", 180 / math.pi, "deg"),
+}
 
 
 def flank_spec(f: FlankDoc, pair: PairSpec) -> FlankSpec | None:
     """The SI flank spec of a validated ``[flank]`` table (deviation CSVs read), checked
     against the pair (geometry.flank.check_flank, errors renamed to scene keys)."""
+
     def relief(doc, i):
         return None if doc is None else Relief(doc.amount_um[i] * 1e-6, doc.start_diameter_mm[i] * 1e-3, doc.shape)
+
     csv = f.deviation_csv or ("", "")
     devs = tuple(read_deviation_csv(path, i) if path else None for i, path in enumerate(csv))
-    spec = FlankSpec(tip_relief=(relief(f.tip_relief, 0), relief(f.tip_relief, 1)),
-                     root_relief=(relief(f.root_relief, 0), relief(f.root_relief, 1)),
-                     deviation=devs)  # type: ignore[arg-type]
+    spec = FlankSpec(
+        tip_relief=(relief(f.tip_relief, 0), relief(f.tip_relief, 1)),
+        root_relief=(relief(f.root_relief, 0), relief(f.root_relief, 1)),
+        deviation=devs,
+    )  # type: ignore[arg-type]
     try:
         check_flank(pair, spec)
     except InputError as exc:
@@ -412,10 +489,13 @@ def fault_spec(f: FaultsDoc, pair: PairSpec) -> FaultSpec | None:
 
         q_max = max_depth_m(tooth_profile(pair.gear(crack.gear_index)), crack.angle_rad)
         if crack.depth_m > q_max:
-            raise fail_range("faults.crack.depth_mm", f.crack.depth_mm,
-                             Field("mm", 0.0, math.floor(q_max * 1e7) / 1e4, lo_open=True),
-                             f"at angle_deg = {f.crack.angle_deg:g} the crack tip must stay on the loaded side of "
-                             "the tooth centre line and outside the bore (Chen & Shao's reduced-section range)")
+            raise fail_range(
+                "faults.crack.depth_mm",
+                f.crack.depth_mm,
+                Field("mm", 0.0, math.floor(q_max * 1e7) / 1e4, lo_open=True),
+                f"at angle_deg = {f.crack.angle_deg:g} the crack tip must stay on the loaded side of "
+                "the tooth centre line and outside the bore (Chen & Shao's reduced-section range)",
+            )
     return None if spec.is_empty else spec
 
 
@@ -425,8 +505,9 @@ def read_deviation_csv(path: str | Path, gear_index: int) -> Deviation:
     increasing (checked against the flank by geometry.flank.check_flank)."""
     key = f"flank.deviation_csv[{gear_index}]"
     _, data = _read_csv(path, key, ("diameter_mm", "deviation_um"), min_rows=2, what="deviation file")
-    return Deviation(tuple(float(x) for x in data[:, 0] * 1e-3), tuple(float(x) for x in data[:, 1] * 1e-6),
-                     source=Path(path).name)
+    return Deviation(
+        tuple(float(x) for x in data[:, 0] * 1e-3), tuple(float(x) for x in data[:, 1] * 1e-6), source=Path(path).name
+    )
 
 
 def scene_from_dict(data: Mapping[str, Any], name: str = "scene") -> Scene:
@@ -434,8 +515,15 @@ def scene_from_dict(data: Mapping[str, Any], name: str = "scene") -> Scene:
     return scene_from_doc(validate_document(data, name=name))
 
 
-def _read_csv(path: str | Path, key: str, required: tuple[str, ...], optional: tuple[str, ...] = (),
-              min_rows: int = 2, what: str = "table", also: str | None = None):
+def _read_csv(
+    path: str | Path,
+    key: str,
+    required: tuple[str, ...],
+    optional: tuple[str, ...] = (),
+    min_rows: int = 2,
+    what: str = "table",
+    also: str | None = None,
+):
     """(header, rows as a float array) of a small numeric CSV a scene refers to: the header
     starts with the ``required`` columns, may add ``optional`` ones and columns whose names
     match the regular expression ``also`` (read, not used: the other columns of a file the
@@ -457,7 +545,7 @@ def _read_csv(path: str | Path, key: str, required: tuple[str, ...], optional: t
     allowed = required + optional
     other = re.compile(also) if also else None
     known = [c in allowed or (other is not None and other.fullmatch(c) is not None) for c in head]
-    if head[:len(required)] != list(required) or not all(known) or len(set(head)) != len(head):
+    if head[: len(required)] != list(required) or not all(known) or len(set(head)) != len(head):
         extra = f" with an optional {', '.join(optional)} column" if optional else ""
         raise fail(key, repr(str(p)), "", f"header {','.join(head)!r}: must be {','.join(required)}{extra}")
     try:
@@ -466,8 +554,7 @@ def _read_csv(path: str | Path, key: str, required: tuple[str, ...], optional: t
         raise fail(key, repr(str(p)), "", f"non-numeric value ({exc})") from None
     if data.ndim != 2 or data.shape[0] < min_rows or data.shape[1] != len(head):
         n = data.shape[0] if data.ndim == 2 else 0
-        raise fail(key, repr(str(p)), "", f"needs >= {min_rows} complete rows of {len(head)} "
-                   f"columns, got {n}")
+        raise fail(key, repr(str(p)), "", f"needs >= {min_rows} complete rows of {len(head)} columns, got {n}")
     if not np.all(np.isfinite(data)):
         r = int(np.argwhere(~np.isfinite(data))[0, 0]) + 2
         raise fail(key, repr(str(p)), "", f"row {r} (line {r}): values must be finite numbers")
@@ -486,13 +573,25 @@ def read_stiffness_table(path: str | Path, z_pinion: int):
     key = "effects.mesh_stiffness.path"
     p = Path(path)
     # the tool's own stiffness CSVs (gearwear stiffness, calibrate) read back as they are
-    head, data = _read_csv(p, key, ("angle_deg", "k_N_per_m"), ("excitation_um",), TABLE_MIN_ROWS,
-                           "stiffness table", also=TOOL_TABLE_COLUMNS)
+    head, data = _read_csv(
+        p,
+        key,
+        ("angle_deg", "k_N_per_m"),
+        ("excitation_um",),
+        TABLE_MIN_ROWS,
+        "stiffness table",
+        also=TOOL_TABLE_COLUMNS,
+    )
     period = 360.0 / z_pinion
     ang, k = data[:, 0], data[:, 1]
     if ang[0] < 0 or ang[-1] >= period:
-        raise fail(key, repr(str(p)), "", f"angle_deg must lie in [0, {period:g}) deg (one mesh period "
-                   f"of the {z_pinion}-tooth pinion), got {ang.min():g} to {ang.max():g} deg")
+        raise fail(
+            key,
+            repr(str(p)),
+            "",
+            f"angle_deg must lie in [0, {period:g}) deg (one mesh period "
+            f"of the {z_pinion}-tooth pinion), got {ang.min():g} to {ang.max():g} deg",
+        )
     if np.any(np.diff(ang) <= 0):
         r = int(np.argmax(np.diff(ang) <= 0)) + 3
         raise fail(key, repr(str(p)), "", f"angle_deg must be strictly increasing (line {r})")
@@ -503,8 +602,13 @@ def read_stiffness_table(path: str | Path, z_pinion: int):
         raise fail(key, repr(str(p)), "", "k_N_per_m is 0 everywhere: no mesh stiffness")
     wrap = ang[0] + period - ang[-1]
     if wrap > np.max(np.diff(ang)) * (1 + 1e-9):
-        raise fail(key, repr(str(p)), "", f"the rows do not cover one mesh period ({period:g} deg): "
-                   f"{ang[0]:g} to {ang[-1]:g} deg leaves a {wrap:g} deg gap")
+        raise fail(
+            key,
+            repr(str(p)),
+            "",
+            f"the rows do not cover one mesh period ({period:g} deg): "
+            f"{ang[0]:g} to {ang[-1]:g} deg leaves a {wrap:g} deg gap",
+        )
     e = data[:, head.index("excitation_um")] * 1e-6 if "excitation_um" in head else None
     return np.radians(ang), k, e
 
@@ -512,6 +616,7 @@ def read_stiffness_table(path: str | Path, z_pinion: int):
 def _resolve_table_path(data: dict[str, Any], base: Path) -> dict[str, Any]:
     """Relative paths of the files a scene refers to (the stiffness table, the measured
     deviations) are relative to the scene file's folder."""
+
     def resolve(p):
         return str(base / p) if isinstance(p, str) and p and not Path(p).is_absolute() else p
 
@@ -557,6 +662,7 @@ def apply_overrides(data: dict[str, Any], overrides: list[str]) -> dict[str, Any
     (``--set effects.backlash=none`` drops the effect; a removed key takes its default). The
     result is validated like a file, so a bad override gets the same one-line error."""
     import copy
+
     out = copy.deepcopy(data)
     check_sets(overrides or [])
     for item in overrides or []:
@@ -581,12 +687,16 @@ def check_sets(items: list[str]) -> None:
         if "=" not in item:
             raise InputError(f"--set {item!r}: must be KEY=VALUE with a dotted key, e.g. operating.speed_rpm=6000")
         if "\n" in item or "\r" in item:
-            raise InputError(f"--set {item.splitlines()[0]!r}...: a value is one line (a newline could inject TOML "
-                             "tables); give one KEY=VALUE per --set")
+            raise InputError(
+                f"--set {item.splitlines()[0]!r}...: a value is one line (a newline could inject TOML "
+                "tables); give one KEY=VALUE per --set"
+            )
         key, value = (x.strip() for x in item.split("=", 1))
         if key in seen:
-            raise InputError(f"--set {key}: given twice ({seen[key]!r} and {value!r}); give each key once "
-                             "(a short flag such as --torque-Nm sets its key too)")
+            raise InputError(
+                f"--set {key}: given twice ({seen[key]!r} and {value!r}); give each key once "
+                "(a short flag such as --torque-Nm sets its key too)"
+            )
         seen[key] = value
 
 
@@ -627,8 +737,9 @@ def load_toml(path: str | Path) -> dict[str, Any]:
 
     p = Path(path)
     if not os.path.lexists(p):
-        raise InputError(f"{p}: no such scene file, and not a built-in scene "
-                         f"(built-in: {', '.join(builtin_scene_names())})")
+        raise InputError(
+            f"{p}: no such scene file, and not a built-in scene (built-in: {', '.join(builtin_scene_names())})"
+        )
     data = read_input(p, "scene", "scene file", SCENE_LIMIT_BYTES)
     try:
         return tomllib.loads(data.decode("utf-8"))
@@ -666,8 +777,12 @@ def _extended(data: dict[str, Any], path: Path, depth: int) -> dict[str, Any]:
     elif base_name in builtin_scene_names():
         base = builtin_scene_dict(base_name)
     else:
-        raise fail("extends", repr(base_name), "", f"no such scene file, and not a built-in scene (built-in: "
-                   f"{', '.join(builtin_scene_names())})")
+        raise fail(
+            "extends",
+            repr(base_name),
+            "",
+            f"no such scene file, and not a built-in scene (built-in: {', '.join(builtin_scene_names())})",
+        )
     base.pop("name", None)
     base.pop("description", None)
     return _merge(base, data)

@@ -46,20 +46,26 @@ def pair_warnings(scene: Scene) -> list[str]:
         name = ("pinion", "gear")[i]
         e = m.youngs_modulus_Pa / 1e9
         if _outside(e, *E_RANGE_GPA):
-            out.append(f"material.youngs_modulus_GPa = {e:g} GPa for the {name} is outside "
-                       f"{E_RANGE_GPA[0]:g}-{E_RANGE_GPA[1]:g} GPa, "
-                       "the range of gear materials from plastics to carbide")
+            out.append(
+                f"material.youngs_modulus_GPa = {e:g} GPa for the {name} is outside "
+                f"{E_RANGE_GPA[0]:g}-{E_RANGE_GPA[1]:g} GPa, "
+                "the range of gear materials from plastics to carbide"
+            )
     T = scene.operating.torque_Nm
     if T > 0:
         w = T / pair.gear(0).pitch_radius_m / (pair.face_width_m * 1e3)
         if _outside(w, *LINE_LOAD_RANGE_N_PER_MM):
-            out.append(f"operating.torque_Nm = {T:g} N m is a line load of {w:.3g} N/mm on the face, outside "
-                       f"{LINE_LOAD_RANGE_N_PER_MM[0]:g}-{LINE_LOAD_RANGE_N_PER_MM[1]:g} N/mm (below: lost in "
-                       "round-off; above: the teeth of any steel pair would break)")
+            out.append(
+                f"operating.torque_Nm = {T:g} N m is a line load of {w:.3g} N/mm on the face, outside "
+                f"{LINE_LOAD_RANGE_N_PER_MM[0]:g}-{LINE_LOAD_RANGE_N_PER_MM[1]:g} N/mm (below: lost in "
+                "round-off; above: the teeth of any steel pair would break)"
+            )
     v = scene.operating.speed_rpm * 2 * math.pi / 60 * pair.gear(0).pitch_radius_m
     if v > MAX_PITCH_LINE_SPEED_M_PER_S:
-        out.append(f"operating.speed_rpm = {scene.operating.speed_rpm:g} rpm is a pitch-line velocity of {v:.4g} "
-                   f"m/s, above the {MAX_PITCH_LINE_SPEED_M_PER_S:g} m/s of the fastest turbo gears")
+        out.append(
+            f"operating.speed_rpm = {scene.operating.speed_rpm:g} rpm is a pitch-line velocity of {v:.4g} "
+            f"m/s, above the {MAX_PITCH_LINE_SPEED_M_PER_S:g} m/s of the fastest turbo gears"
+        )
     return out
 
 
@@ -73,20 +79,28 @@ def body_warnings(scene: Scene) -> list[str]:
         name = ("pinion", "gear")[i]
         rho = g.material.density_kg_per_m3
         if b.mass_from == "blank" and _outside(rho, *DENSITY_RANGE):
-            out.append(f"material.density_kg_per_m3 = {rho:g} kg/m^3 for the {name} is outside "
-                       f"{DENSITY_RANGE[0]:g}-{DENSITY_RANGE[1]:g} kg/m^3 (plastics to tungsten)")
+            out.append(
+                f"material.density_kg_per_m3 = {rho:g} kg/m^3 for the {name} is outside "
+                f"{DENSITY_RANGE[0]:g}-{DENSITY_RANGE[1]:g} kg/m^3 (plastics to tungsten)"
+            )
         blank = body_properties(g, pair.face_width_m)
-        for key, value, own, unit in (("mass_kg", b.mass_kg[i], blank.mass_kg, "kg"),
-                                      ("inertia_kg_m2", b.inertia_kg_m2[i], blank.inertia_kg_m2, "kg m^2")):
+        for key, value, own, unit in (
+            ("mass_kg", b.mass_kg[i], blank.mass_kg, "kg"),
+            ("inertia_kg_m2", b.inertia_kg_m2[i], blank.inertia_kg_m2, "kg m^2"),
+        ):
             from_scene = (b.mass_from if key == "mass_kg" else b.inertia_from) == "scene"
             if from_scene and _outside(value / own, 1.0 / BODY_FACTOR, BODY_FACTOR):
-                out.append(f"bodies.{key} = {value:g} {unit} for the {name} is {value / own:.3g} times its blank's "
-                           f"({own:.4g} {unit}: its section over the face width at its density): more than a factor "
-                           f"of {BODY_FACTOR:g} from the body the geometry describes")
+                out.append(
+                    f"bodies.{key} = {value:g} {unit} for the {name} is {value / own:.3g} times its blank's "
+                    f"({own:.4g} {unit}: its section over the face width at its density): more than a factor "
+                    f"of {BODY_FACTOR:g} from the body the geometry describes"
+                )
     k_b = b.bearing_stiffness_N_per_m
     if k_b is not None and _outside(k_b, *BEARING_RANGE_N_PER_M):
-        out.append(f"bodies.bearing_stiffness_N_per_m = {k_b:g} N/m is outside {BEARING_RANGE_N_PER_M[0]:g}-"
-                   f"{BEARING_RANGE_N_PER_M[1]:g} N/m, the range of gear bearings")
+        out.append(
+            f"bodies.bearing_stiffness_N_per_m = {k_b:g} N/m is outside {BEARING_RANGE_N_PER_M[0]:g}-"
+            f"{BEARING_RANGE_N_PER_M[1]:g} N/m, the range of gear bearings"
+        )
     return out
 
 
@@ -106,14 +120,18 @@ def stiffness_warnings(scene: Scene, mean_N_per_m: float) -> list[str]:
     ratio = mean_N_per_m / iso
     if _outside(ratio, 1.0 / STIFFNESS_FACTOR, STIFFNESS_FACTOR):
         what = "the user table's mean" if source == "table" else "effects.mesh_stiffness.value_N_per_m"
-        return [f"{what} ({mean_N_per_m:.4g} N/m) is {ratio:.3g} times ISO 6336's mesh stiffness of this pair "
-                f"({iso:.4g} N/m): more than a factor of {STIFFNESS_FACTOR:g} from any steel tooth pair of this size"]
+        return [
+            f"{what} ({mean_N_per_m:.4g} N/m) is {ratio:.3g} times ISO 6336's mesh stiffness of this pair "
+            f"({iso:.4g} N/m): more than a factor of {STIFFNESS_FACTOR:g} from any steel tooth pair of this size"
+        ]
     return []
 
 
 def response_warnings(result: Any) -> list[str]:
     """A response with no tooth contact at all (the teeth never touch in the kept window)."""
     if result.separation_fraction is not None and result.separation_fraction >= 1.0:
-        return ["the teeth never touch in the kept window (separation 100 % of the time): the mesh carries no load; "
-                "check the backlash, the torque and the speed"]
+        return [
+            "the teeth never touch in the kept window (separation 100 % of the time): the mesh carries no load; "
+            "check the backlash, the torque and the speed"
+        ]
     return []

@@ -27,10 +27,14 @@ def json_schema() -> dict[str, Any]:
 def reference_markdown() -> str:
     """The scene reference (docs/scene-reference.md), generated from the models: every
     table, key, type, unit, allowed range, default and description."""
-    lines = ["# Scene reference", "",
-             "Generated from `gearwear/scene/schema.py` by `gearwear scene --reference`; do not edit by hand.",
-             "A scene is a TOML document; units are in the key names. `gearwear scene NAME|FILE` prints a",
-             "scene with every default filled in, `gearwear scene --schema` the JSON Schema.", ""]
+    lines = [
+        "# Scene reference",
+        "",
+        "Generated from `gearwear/scene/schema.py` by `gearwear scene --reference`; do not edit by hand.",
+        "A scene is a TOML document; units are in the key names. `gearwear scene NAME|FILE` prints a",
+        "scene with every default filled in, `gearwear scene --schema` the JSON Schema.",
+        "",
+    ]
     for name, info in SceneDoc.model_fields.items():
         model = _model_in(info.annotation)
         if model is None:
@@ -71,8 +75,7 @@ CROSS_CHECKS = (
     "accepted: the unworn baseline of a wear study, whose excitation is the tip-corner contact)",
     '`centre_distance` with `coupling = "static"` needs `bearing_clearance`',
     "a damper is given as a ratio or as a coefficient, not both",
-    "`material.density_kg_per_m3` not with both `bodies.mass_kg` and `bodies.inertia_kg_m2` (it would change "
-    "nothing)",
+    "`material.density_kg_per_m3` not with both `bodies.mass_kg` and `bodies.inertia_kg_m2` (it would change nothing)",
     "`solver.discard_s` < `solver.duration_s`; `rtol`/`atol` only for dopri5, "
     "`steps_per_mesh_period` only for rk4 (after `auto` is resolved)",
     "`fem.plane` only where a model with a 2D state runs: `stiffness --method fem|ishikawa|energy`, `verify`, "
@@ -87,15 +90,27 @@ def _key_table(model: type[BaseModel]) -> list[str]:
         extra = info.json_schema_extra if isinstance(info.json_schema_extra, dict) else {}
         names = _literal_names(info.annotation)
         sub = _model_in(info.annotation)
-        kind = ("one of " + ", ".join(f"`{n}`" for n in names) if names
-                else "per gear" if extra.get("per_gear")
-                else f"table, see [{model_table_name(model, key)}] below" if sub is not None
-                else _type_name(info.annotation))
+        kind = (
+            "one of " + ", ".join(f"`{n}`" for n in names)
+            if names
+            else "per gear"
+            if extra.get("per_gear")
+            else f"table, see [{model_table_name(model, key)}] below"
+            if sub is not None
+            else _type_name(info.annotation)
+        )
         default = None if info.is_required() else info.get_default(call_default_factory=True)
-        shown = ("required" if info.is_required() else "absent" if default is None
-                 else f"`{to_toml({'v': default}).split(' = ', 1)[1].strip()}`")
-        rows.append(f"| `{key}` | {kind} | {extra.get('unit', '') or ''} | {extra.get('range', '')} | {shown} | "
-                    f"{(info.description or '').replace('|', '/')} |")
+        shown = (
+            "required"
+            if info.is_required()
+            else "absent"
+            if default is None
+            else f"`{to_toml({'v': default}).split(' = ', 1)[1].strip()}`"
+        )
+        rows.append(
+            f"| `{key}` | {kind} | {extra.get('unit', '') or ''} | {extra.get('range', '')} | {shown} | "
+            f"{(info.description or '').replace('|', '/')} |"
+        )
     return rows + [""]
 
 
@@ -152,8 +167,12 @@ def _reads_as_words(phrase: str) -> bool:
     """A phrase of words ("pinion speed"), not a symbol ("zeta_b"), a condition ("With
     source = ...") or a code list ("0 pinion")."""
     words = phrase.split()
-    return bool(words) and phrase[:1].isalpha() and words[0].lower() != "with" and \
-        any(len(w) >= 3 and w.isalpha() for w in words)
+    return (
+        bool(words)
+        and phrase[:1].isalpha()
+        and words[0].lower() != "with"
+        and any(len(w) >= 3 and w.isalpha() for w in words)
+    )
 
 
 def _name_words(name: str, unit: str) -> str:
@@ -183,11 +202,13 @@ def _type_name(annotation: Any) -> str:
         return f"[{', '.join(_type_name(a) for a in inner)}]"
     text = getattr(annotation, "__name__", None) or str(annotation)
     return {"float": "number", "int": "whole number", "bool": "true/false", "str": "string"}.get(
-        text, "list" if "list" in text else text.replace("|", "or"))
+        text, "list" if "list" in text else text.replace("|", "or")
+    )
 
 
 def to_toml(data: Mapping[str, Any]) -> str:
     """A resolved document as TOML (scalars, arrays and one level of effect tables)."""
+
     def val(v: Any) -> str:
         if isinstance(v, bool):
             return "true" if v else "false"
@@ -206,5 +227,4 @@ def to_toml(data: Mapping[str, Any]) -> str:
     return "\n".join(lines) + "\n"
 
 
-__all__ = ["CROSS_CHECKS", "json_schema", "key_label", "key_words", "model_table_name", "reference_markdown",
-           "to_toml"]
+__all__ = ["CROSS_CHECKS", "json_schema", "key_label", "key_words", "model_table_name", "reference_markdown", "to_toml"]

@@ -61,7 +61,6 @@ from gearwear.geometry.faults import FaultSpec
 from gearwear.geometry.flank import FlankSpec
 from gearwear.geometry.spec import PairSpec
 from gearwear.geometry.wear import WearSpec
-
 from gearwear.stiffness import tables
 from gearwear.stiffness.comparison import pair_vs_analytic, tooth_vs_analytic
 
@@ -80,6 +79,7 @@ FINGERPRINT_SKIP = frozenset({"gearwear"})
 
 
 # -- code fingerprint ------------------------------------------------------------------
+
 
 @functools.lru_cache(maxsize=None)
 def _spec(name: str):
@@ -121,7 +121,7 @@ def _imports(name: str, source: bytes) -> set[str]:
         level = len(mod) - len(mod.lstrip("."))
         if level:
             parts = package.split(".")
-            base = ".".join(parts[:len(parts) - level + 1] + ([mod[level:]] if mod[level:] else []))
+            base = ".".join(parts[: len(parts) - level + 1] + ([mod[level:]] if mod[level:] else []))
         else:
             base = mod
         found.add(base)
@@ -137,8 +137,9 @@ def _imports(name: str, source: bytes) -> set[str]:
     return {m for m in out if (m == "gearwear" or m.startswith("gearwear.")) and _spec(m) is not None}
 
 
-def dependencies(root: str, read: Callable[[str], bytes] = _source_bytes,
-                 skip: Iterable[str] = FINGERPRINT_SKIP) -> tuple[str, ...]:
+def dependencies(
+    root: str, read: Callable[[str], bytes] = _source_bytes, skip: Iterable[str] = FINGERPRINT_SKIP
+) -> tuple[str, ...]:
     """``root`` and every gearwear module reachable from it through imports, sorted."""
     skip = frozenset(skip)
     seen: set[str] = set()
@@ -178,13 +179,13 @@ def code_fingerprint() -> str:
 class Correction:
     """FE / analytic tooth-compliance ratio r(R) for one gear."""
 
-    radius_m: np.ndarray        # FE load radii
-    ratio: np.ndarray           # c_FE / c_A at those radii
-    coeffs: np.ndarray          # polynomial in t = (R - R0) / (R1 - R0)
+    radius_m: np.ndarray  # FE load radii
+    ratio: np.ndarray  # c_FE / c_A at those radii
+    coeffs: np.ndarray  # polynomial in t = (R - R0) / (R1 - R0)
     r0: float
     r1: float
-    fit_residual: float         # max |fit / ratio - 1| on the fitting (even) positions
-    check_residual: float       # the same on the held-out (odd) positions
+    fit_residual: float  # max |fit / ratio - 1| on the fitting (even) positions
+    check_residual: float  # the same on the held-out (odd) positions
 
     def factor(self, R) -> np.ndarray:
         t = (np.asarray(R, dtype=float) - self.r0) / (self.r1 - self.r0)
@@ -217,8 +218,8 @@ class Calibration:
 
     pair: PairSpec
     wear: WearSpec | None
-    fe: tuple            # fem.tooth.ToothFE per gear
-    corrections: tuple   # Correction per gear
+    fe: tuple  # fem.tooth.ToothFE per gear
+    corrections: tuple  # Correction per gear
     error_estimate: float  # relative FE discretisation error estimate (max over positions)
     wall_s: float
 
@@ -229,9 +230,9 @@ class PairCorrection:
 
     double: float
     single: float
-    check_residual: float     # max |k_stage1 s / k_FE - 1| on the odd (held-out) FE positions
-    check_rms: float          # rms of the same
-    fit_residual: float       # the same on the even (fitting) positions
+    check_residual: float  # max |k_stage1 s / k_FE - 1| on the odd (held-out) FE positions
+    check_rms: float  # rms of the same
+    fit_residual: float  # the same on the even (fitting) positions
     fe_mean_N_per_m: float
     stage1_mean_at_fe_N_per_m: float
     fe_wall_s: float
@@ -245,16 +246,30 @@ class PairCorrection:
     fe_mesh_only_mean_N_per_m: float = float("nan")
 
 
-def pair_correction(pair: PairSpec, wear: WearSpec | None, clearance_m: float, torque_Nm: float,
-                    corr: tuple, positions: int = 24, executor: Executor | None = None,
-                    plane: str = "stress") -> PairCorrection:
+def pair_correction(
+    pair: PairSpec,
+    wear: WearSpec | None,
+    clearance_m: float,
+    torque_Nm: float,
+    corr: tuple,
+    positions: int = 24,
+    executor: Executor | None = None,
+    plane: str = "stress",
+) -> PairCorrection:
     """Fit the per-zone pair factor on the even FE positions, check on the odd ones
     (``executor``: where the FE positions are solved, fem.pair.pair_contact; the same
     result to the bit)."""
     from gearwear.fem.pair import pair_contact
 
-    fe = pair_contact(pair, wear=wear, positions=positions, torque_Nm=torque_Nm, clearance_m=clearance_m,
-                      executor=executor, plane=plane)
+    fe = pair_contact(
+        pair,
+        wear=wear,
+        positions=positions,
+        torque_Nm=torque_Nm,
+        clearance_m=clearance_m,
+        executor=executor,
+        plane=plane,
+    )
     st1 = pair_vs_analytic(fe, correction=corr)["analytic"]
     ratio = fe.k_N_per_m / st1.k_N_per_m
     # two or more loaded pairs: only there can the rim couple them
@@ -265,23 +280,41 @@ def pair_correction(pair: PairSpec, wear: WearSpec | None, clearance_m: float, t
         sel = zone & even
         # median: the few positions at a zone change (where the analytic tip-corner contact
         # and the FE differ most) must not drag the factor of the whole zone
-        factors[name] = (float(np.median(ratio[sel])) if sel.any()
-                         else float(np.median(ratio[zone])) if zone.any() else 1.0)
+        factors[name] = (
+            float(np.median(ratio[sel])) if sel.any() else float(np.median(ratio[zone])) if zone.any() else 1.0
+        )
     s = np.where(dbl, factors["double"], factors["single"])
     res = np.abs(s / ratio - 1.0)
-    table_error = {"max": float(res.max()), "rms": float(np.sqrt(np.mean(res ** 2))),
-                   **{name: float(res[zone].max()) if zone.any() else None
-                      for name, zone in (("single", ~dbl), ("double", dbl))}}
+    table_error = {
+        "max": float(res.max()),
+        "rms": float(np.sqrt(np.mean(res**2))),
+        **{name: float(res[zone].max()) if zone.any() else None for name, zone in (("single", ~dbl), ("double", dbl))},
+    }
     rb = [g.base_radius_m for g in pair.gears]
     blank = sum(r * r / k for r, k in zip(rb, fe.meta["blank_torsional_stiffness_Nm_per_rad"]))
-    return PairCorrection(factors["double"], factors["single"], float(res[~even].max()),
-                          float(np.sqrt(np.mean(res[~even] ** 2))), float(res[even].max()),
-                          fe.mean_N_per_m, st1.mean_N_per_m, float(fe.timings.get("total_s", float("nan"))),
-                          table_error, float(blank), fe.meta["mesh_only_mean_N_per_m"])
+    return PairCorrection(
+        factors["double"],
+        factors["single"],
+        float(res[~even].max()),
+        float(np.sqrt(np.mean(res[~even] ** 2))),
+        float(res[even].max()),
+        fe.mean_N_per_m,
+        st1.mean_N_per_m,
+        float(fe.timings.get("total_s", float("nan"))),
+        table_error,
+        float(blank),
+        fe.meta["mesh_only_mean_N_per_m"],
+    )
 
 
-def run_fe(pair: PairSpec, wear: WearSpec | None, positions: int = 21, estimate_error: bool = True,
-           executor: Executor | None = None, plane: str = "stress") -> Calibration:
+def run_fe(
+    pair: PairSpec,
+    wear: WearSpec | None,
+    positions: int = 21,
+    estimate_error: bool = True,
+    executor: Executor | None = None,
+    plane: str = "stress",
+) -> Calibration:
     """FE single-tooth compliance of both gears and the fitted corrections.
 
     Identical gears (same spec apart from the name) carry identical worn flanks, so
@@ -294,13 +327,18 @@ def run_fe(pair: PairSpec, wear: WearSpec | None, positions: int = 21, estimate_
 
     t0 = time.perf_counter()
     same = dataclasses.replace(pair.gear(0), name="") == dataclasses.replace(pair.gear(1), name="")
-    runs = [{"gear_index": 0}] + ([] if same else [{"gear_index": 1}]) \
+    runs = (
+        [{"gear_index": 0}]
+        + ([] if same else [{"gear_index": 1}])
         + ([{"gear_index": 0, "mesh_scale": math.sqrt(2)}] if estimate_error else [])
+    )
     if executor is None:
         done = [single_tooth_compliance(pair, wear=wear, positions=positions, plane=plane, **kw) for kw in runs]
     else:
-        futures = [executor.submit(single_tooth_compliance, pair, wear=wear, positions=positions, plane=plane, **kw)
-                   for kw in runs]
+        futures = [
+            executor.submit(single_tooth_compliance, pair, wear=wear, positions=positions, plane=plane, **kw)
+            for kw in runs
+        ]
         done = [f.result() for f in futures]
     fe0 = done[0]
     fe1 = fe0 if same else done[1]
@@ -309,8 +347,10 @@ def run_fe(pair: PairSpec, wear: WearSpec | None, positions: int = 21, estimate_
         coarse = done[-1]
         diff = np.abs(coarse.fem_compliance_um_per_N_per_mm / fe0.fem_compliance_um_per_N_per_mm - 1.0)
         err = float(diff.max() / (math.sqrt(2) ** 2 - 1.0))
-    corr = tuple(fit_correction(f.radius_m, f.fem_compliance_um_per_N_per_mm,
-                                tooth_vs_analytic(f).ishikawa_um_per_N_per_mm) for f in (fe0, fe1))
+    corr = tuple(
+        fit_correction(f.radius_m, f.fem_compliance_um_per_N_per_mm, tooth_vs_analytic(f).ishikawa_um_per_N_per_mm)
+        for f in (fe0, fe1)
+    )
     return Calibration(pair, wear, (fe0, fe1), corr, err, time.perf_counter() - t0)
 
 
@@ -323,10 +363,12 @@ def crack_correction(pair: PairSpec, faults: FaultSpec, positions: int = 21, pla
     from gearwear.fem.tooth import single_tooth_compliance
 
     assert faults.crack is not None
-    fe = single_tooth_compliance(pair, gear_index=faults.crack.gear_index, positions=positions,
-                                 crack=faults.crack.crack, plane=plane)
-    return fit_correction(fe.radius_m, fe.fem_compliance_um_per_N_per_mm,
-                          tooth_vs_analytic(fe).ishikawa_um_per_N_per_mm)
+    fe = single_tooth_compliance(
+        pair, gear_index=faults.crack.gear_index, positions=positions, crack=faults.crack.crack, plane=plane
+    )
+    return fit_correction(
+        fe.radius_m, fe.fem_compliance_um_per_N_per_mm, tooth_vs_analytic(fe).ishikawa_um_per_N_per_mm
+    )
 
 
 @functools.lru_cache(maxsize=1)
@@ -345,25 +387,54 @@ def library_versions() -> dict[str, str]:
     return out
 
 
-def table_inputs(pair: PairSpec, wear: WearSpec | None, clearance_m: float, torque_Nm: float, points: int,
-                 positions: int, flank: FlankSpec | None = None, faults: FaultSpec | None = None,
-                 plane: str = "stress") -> dict[str, Any]:
+def table_inputs(
+    pair: PairSpec,
+    wear: WearSpec | None,
+    clearance_m: float,
+    torque_Nm: float,
+    points: int,
+    positions: int,
+    flank: FlankSpec | None = None,
+    faults: FaultSpec | None = None,
+    plane: str = "stress",
+) -> dict[str, Any]:
     from gearwear.fem import pair as fe_pair
     from gearwear.fem import tooth
 
     # flank and faults enter the key only when present, so the keys of plain tables stay valid
-    extra: dict[str, Any] = {k: dataclasses.asdict(v) for k, v in (("flank", flank), ("faults", faults))
-                             if v is not None}
-    return {**extra, "kind": "calibrated mesh stiffness", "pair": dataclasses.asdict(pair), "wear": _wear_inputs(wear),
-            "clearance_m": clearance_m, "torque_Nm": torque_Nm, "points": points,
-            "fe": {"positions": positions, "order": 2, "plane": plane, "mesh_scale": 1.0,
-                   "sizes": dataclasses.asdict(tooth.mesh_sizes(1.0)), "fit_degree": FIT_DEGREE},
-            "calibration_version": CALIBRATION_VERSION, "code_sha256": code_fingerprint(),
-            "libraries": library_versions(),
-            "fe_pair": {"positions": PAIR_POSITIONS, "order": 2, "plane": plane, "local_contact": "resolved",
-                        "contact_elements_per_half_width": fe_pair.ELEMENTS_PER_HALF_WIDTH,
-                        "candidate_half_widths": fe_pair.WINDOW_HALF_WIDTHS, "corner_contact": True,
-                        "zone_factors": "median"}}
+    extra: dict[str, Any] = {
+        k: dataclasses.asdict(v) for k, v in (("flank", flank), ("faults", faults)) if v is not None
+    }
+    return {
+        **extra,
+        "kind": "calibrated mesh stiffness",
+        "pair": dataclasses.asdict(pair),
+        "wear": _wear_inputs(wear),
+        "clearance_m": clearance_m,
+        "torque_Nm": torque_Nm,
+        "points": points,
+        "fe": {
+            "positions": positions,
+            "order": 2,
+            "plane": plane,
+            "mesh_scale": 1.0,
+            "sizes": dataclasses.asdict(tooth.mesh_sizes(1.0)),
+            "fit_degree": FIT_DEGREE,
+        },
+        "calibration_version": CALIBRATION_VERSION,
+        "code_sha256": code_fingerprint(),
+        "libraries": library_versions(),
+        "fe_pair": {
+            "positions": PAIR_POSITIONS,
+            "order": 2,
+            "plane": plane,
+            "local_contact": "resolved",
+            "contact_elements_per_half_width": fe_pair.ELEMENTS_PER_HALF_WIDTH,
+            "candidate_half_widths": fe_pair.WINDOW_HALF_WIDTHS,
+            "corner_contact": True,
+            "zone_factors": "median",
+        },
+    }
 
 
 def without_blank_torsion(tab: tables.StiffnessTable) -> tables.StiffnessTable:
@@ -396,12 +467,21 @@ def require_overlap(pair: PairSpec, clearance_m: float) -> None:
         raise renamed(exc, {"method": "effects.mesh_stiffness.source"}) from None
 
 
-def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float = 0.0, torque_Nm: float = 40.0,
-                     points: int = DEFAULT_POINTS, positions: int = 21,
-                     calibration: Calibration | Callable[[], Calibration] | None = None,
-                     refresh: bool = False, notify: tables.Notify | None = tables.to_stderr,
-                     flank: FlankSpec | None = None, faults: FaultSpec | None = None,
-                     executor: Executor | None = None, plane: str = "stress") -> tables.StiffnessTable:
+def calibrated_table(
+    pair: PairSpec,
+    wear: WearSpec | None,
+    clearance_m: float = 0.0,
+    torque_Nm: float = 40.0,
+    points: int = DEFAULT_POINTS,
+    positions: int = 21,
+    calibration: Calibration | Callable[[], Calibration] | None = None,
+    refresh: bool = False,
+    notify: tables.Notify | None = tables.to_stderr,
+    flank: FlankSpec | None = None,
+    faults: FaultSpec | None = None,
+    executor: Executor | None = None,
+    plane: str = "stress",
+) -> tables.StiffnessTable:
     """The calibrated k_h table, from the cache when these exact inputs were run before.
 
     ``flank`` (modifications, measured deviations) and ``faults`` enter the load sharing of
@@ -437,9 +517,19 @@ def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float =
         raise ValueError(f"calibration run in plane {cal.fe[0].plane}, table asked for plane {plane}")
     corr = tuple(c.grid() for c in cal.corrections)
     cc = crack_correction(pair, faults, positions, plane) if faults is not None and faults.crack is not None else None
-    r = mesh_stiffness(pair, method="ishikawa", points=points, torque_Nm=torque_Nm, clearance_m=clearance_m,
-                       wear=wear, correction=corr, flank=flank, faults=faults,
-                       crack_correction=None if cc is None else cc.grid(), plane=plane)
+    r = mesh_stiffness(
+        pair,
+        method="ishikawa",
+        points=points,
+        torque_Nm=torque_Nm,
+        clearance_m=clearance_m,
+        wear=wear,
+        correction=corr,
+        flank=flank,
+        faults=faults,
+        crack_correction=None if cc is None else cc.grid(),
+        plane=plane,
+    )
     pc = pair_correction(pair, wear, clearance_m, torque_Nm, corr, PAIR_POSITIONS, executor, plane)
     s = np.where(r.pairs_in_contact >= 2, pc.double, pc.single)
     k = r.k_N_per_m * s
@@ -449,29 +539,55 @@ def calibrated_table(pair: PairSpec, wear: WearSpec | None, clearance_m: float =
     tab = tables.StiffnessTable(r.angle_rad, k, r.excitation_m, ste, r.pairs_in_contact, {}, span_rad=r.span_rad)
     fe0 = cal.fe[0]
     method = "ishikawa slices corrected to FE single-tooth compliance (fem.tooth)"
-    tables.store(tab, inputs, method, folder, label=table_label(wear, clearance_m), notify=notify, extra={
-        "code_modules": list(code_modules()),
-        "fe_mesh": {"dofs": int(fe0.ndofs), "elements": int(fe0.n_elements), "order": fe0.order,
-                    "plane": fe0.plane},
-        "fe_estimated_relative_error": cal.error_estimate,
-        "fit_residual": [c.fit_residual for c in cal.corrections],
-        "check_residual": [c.check_residual for c in cal.corrections],
-        "correction_ratio_range": [[float(c.ratio.min()), float(c.ratio.max())] for c in cal.corrections],
-        "stage1_mean_N_per_m": r.mean_N_per_m,
-        "pair_zone_factors": {"double": pc.double, "single": pc.single},
-        "pair_check_residual": pc.check_residual, "pair_check_rms": pc.check_rms,
-        "pair_fit_residual": pc.fit_residual,
-        # what a user of the table needs: its error against the pair FE it was calibrated to
-        "table_vs_pair_fe": pc.table_error,
-        **({} if cc is None else {"crack_correction_ratio_range": [float(cc.ratio.min()), float(cc.ratio.max())],
-                                  "crack_check_residual": cc.check_residual}),
-        "fe_pair_mean_N_per_m": pc.fe_mean_N_per_m,
-        # the blanks' torsion (fem.pair) the table holds in series, for without_blank_torsion
-        "blank_compliance_m_per_N": pc.blank_compliance_m_per_N,
-        "fe_pair_mesh_only_mean_N_per_m": pc.fe_mesh_only_mean_N_per_m,
-        "uncorrected_mean_N_per_m": mesh_stiffness(pair, points=points, torque_Nm=torque_Nm,
-                                                   clearance_m=clearance_m, wear=wear, flank=flank,
-                                                   faults=faults, plane=plane).mean_N_per_m,
-    })
+    tables.store(
+        tab,
+        inputs,
+        method,
+        folder,
+        label=table_label(wear, clearance_m),
+        notify=notify,
+        extra={
+            "code_modules": list(code_modules()),
+            "fe_mesh": {
+                "dofs": int(fe0.ndofs),
+                "elements": int(fe0.n_elements),
+                "order": fe0.order,
+                "plane": fe0.plane,
+            },
+            "fe_estimated_relative_error": cal.error_estimate,
+            "fit_residual": [c.fit_residual for c in cal.corrections],
+            "check_residual": [c.check_residual for c in cal.corrections],
+            "correction_ratio_range": [[float(c.ratio.min()), float(c.ratio.max())] for c in cal.corrections],
+            "stage1_mean_N_per_m": r.mean_N_per_m,
+            "pair_zone_factors": {"double": pc.double, "single": pc.single},
+            "pair_check_residual": pc.check_residual,
+            "pair_check_rms": pc.check_rms,
+            "pair_fit_residual": pc.fit_residual,
+            # what a user of the table needs: its error against the pair FE it was calibrated to
+            "table_vs_pair_fe": pc.table_error,
+            **(
+                {}
+                if cc is None
+                else {
+                    "crack_correction_ratio_range": [float(cc.ratio.min()), float(cc.ratio.max())],
+                    "crack_check_residual": cc.check_residual,
+                }
+            ),
+            "fe_pair_mean_N_per_m": pc.fe_mean_N_per_m,
+            # the blanks' torsion (fem.pair) the table holds in series, for without_blank_torsion
+            "blank_compliance_m_per_N": pc.blank_compliance_m_per_N,
+            "fe_pair_mesh_only_mean_N_per_m": pc.fe_mesh_only_mean_N_per_m,
+            "uncorrected_mean_N_per_m": mesh_stiffness(
+                pair,
+                points=points,
+                torque_Nm=torque_Nm,
+                clearance_m=clearance_m,
+                wear=wear,
+                flank=flank,
+                faults=faults,
+                plane=plane,
+            ).mean_N_per_m,
+        },
+    )
     # store() leaves in tab what a later cache hit returns: cold and cached calls are bit-identical
     return tab

@@ -54,8 +54,10 @@ class ToothComparison:
 
     def rows(self) -> list[dict]:
         """The FE rows (fem.tooth.ToothFE.rows) with the Ishikawa column and the difference."""
-        return [{**row, "ishikawa_um_per_N_per_mm": float(i), "difference_percent": float(d)}
-                for row, i, d in zip(self.fe.rows(), self.ishikawa_um_per_N_per_mm, self.difference_percent)]
+        return [
+            {**row, "ishikawa_um_per_N_per_mm": float(i), "difference_percent": float(d)}
+            for row, i, d in zip(self.fe.rows(), self.ishikawa_um_per_N_per_mm, self.difference_percent)
+        ]
 
 
 def tooth_vs_analytic(fe: ToothFE) -> ToothComparison:
@@ -70,16 +72,29 @@ def tooth_vs_analytic(fe: ToothFE) -> ToothComparison:
     t0 = time.perf_counter()
     crack = getattr(fe, "crack", None)  # the same root crack in the analytic models (reduced section)
     # like with like: the analytic beams in the FE's 2D state (analytic.plane)
-    ish = ishikawa.tooth_compliance(fe.loaded, fe.radius_m, fe.loaded.gear.material, pair.face_width_m,
-                                    opposite=fe.nominal,
-                                    crack=crack, plane=fe.plane)
+    ish = ishikawa.tooth_compliance(
+        fe.loaded,
+        fe.radius_m,
+        fe.loaded.gear.material,
+        pair.face_width_m,
+        opposite=fe.nominal,
+        crack=crack,
+        plane=fe.plane,
+    )
     t1 = time.perf_counter()
-    en = energy.tooth_compliance(fe.loaded, fe.radius_m, fe.loaded.gear.material, pair.face_width_m,
-                                 opposite=fe.nominal,
-                                 crack=crack, plane=fe.plane)
+    en = energy.tooth_compliance(
+        fe.loaded,
+        fe.radius_m,
+        fe.loaded.gear.material,
+        pair.face_width_m,
+        opposite=fe.nominal,
+        crack=crack,
+        plane=fe.plane,
+    )
     t2 = time.perf_counter()
-    return ToothComparison(fe, ish.total_m_per_N * to_um_per_N_per_mm, en.total_m_per_N * to_um_per_N_per_mm,
-                           t1 - t0, t2 - t1)
+    return ToothComparison(
+        fe, ish.total_m_per_N * to_um_per_N_per_mm, en.total_m_per_N * to_um_per_N_per_mm, t1 - t0, t2 - t1
+    )
 
 
 def pair_vs_analytic(fe: PairFE, corner_contact: bool = True, correction=None) -> dict:
@@ -90,9 +105,17 @@ def pair_vs_analytic(fe: PairFE, corner_contact: bool = True, correction=None) -
     the FE curve's zones (N/m) and the mean STE (m). The analytic tooth beams are in the
     FE's 2D state (fe.meta["plane"])."""
     # at exactly the FE positions (not a table with breakpoints): compared position by position
-    an = mesh_stiffness(fe.pair, method="ishikawa", torque_Nm=fe.torque_Nm,
-                        clearance_m=fe.meta.get("clearance_m", 0.0), wear=fe.wear, corner_contact=corner_contact,
-                        correction=correction, angles_rad=fe.angle_rad, plane=fe.meta.get("plane", "stress"))
+    an = mesh_stiffness(
+        fe.pair,
+        method="ishikawa",
+        torque_Nm=fe.torque_Nm,
+        clearance_m=fe.meta.get("clearance_m", 0.0),
+        wear=fe.wear,
+        corner_contact=corner_contact,
+        correction=correction,
+        angles_rad=fe.angle_rad,
+        plane=fe.meta.get("plane", "stress"),
+    )
     zones = fe.zone_masks()
     z_fe, z_an = zone_means(fe.k_N_per_m, zones), zone_means(an.k_N_per_m, zones)
     return {
@@ -101,9 +124,12 @@ def pair_vs_analytic(fe: PairFE, corner_contact: bool = True, correction=None) -
         "mean_analytic_N_per_m": an.mean_N_per_m,
         "mean_rel_diff": fe.mean_N_per_m / an.mean_N_per_m - 1.0,
         "per_position_rel_diff": fe.k_N_per_m / an.k_N_per_m - 1.0,
-        "single_fe": z_fe["single"], "single_analytic": z_an["single"],
-        "double_fe": z_fe["double"], "double_analytic": z_an["double"],
-        "ste_mean_fe_m": float(np.mean(fe.ste_m)), "ste_mean_analytic_m": float(np.mean(an.ste_m)),
+        "single_fe": z_fe["single"],
+        "single_analytic": z_an["single"],
+        "double_fe": z_fe["double"],
+        "double_analytic": z_an["double"],
+        "ste_mean_fe_m": float(np.mean(fe.ste_m)),
+        "ste_mean_analytic_m": float(np.mean(an.ste_m)),
     }
 
 
@@ -121,8 +147,7 @@ def _plane_constants(E: float, nu: float, plane: str) -> tuple[float, float]:
     raise fail("plane", repr(plane), "", "must be 'stress' or 'strain'")
 
 
-def weber_approach_m(F_N, h1_m, h2_m, R_star_m, E_Pa, nu, b_m: float,
-                     plane: str = "strain") -> np.ndarray:
+def weber_approach_m(F_N, h1_m, h2_m, R_star_m, E_Pa, nu, b_m: float, plane: str = "strain") -> np.ndarray:
     """Weber (1949) approach of the two centre-line points of a line contact (m), the sum
     of each body's own term
 
@@ -137,24 +162,26 @@ def weber_approach_m(F_N, h1_m, h2_m, R_star_m, E_Pa, nu, b_m: float,
     Fs = np.where(F > 0, F, 1.0)
     if np.ndim(E_Pa) == 0 and np.ndim(nu) == 0:
         Ep, nup = _plane_constants(float(E_Pa), float(nu), plane)
-        E_star = Ep / (2.0 * (1.0 - nup ** 2))
+        E_star = Ep / (2.0 * (1.0 - nup**2))
         a = np.sqrt(4.0 * (Fs / b_m) * np.asarray(R_star_m) / (math.pi * E_star))
         br = np.log(2.0 * np.asarray(h1_m) / a) + np.log(2.0 * np.asarray(h2_m) / a) - nup / (1.0 - nup)
-        return np.where(F > 0, 2.0 * F * (1.0 - nup ** 2) / (math.pi * Ep * b_m) * br, 0.0)
+        return np.where(F > 0, 2.0 * F * (1.0 - nup**2) / (math.pi * Ep * b_m) * br, 0.0)
     Es = np.broadcast_to(np.asarray(E_Pa, dtype=float), (2,))
     nus = np.broadcast_to(np.asarray(nu, dtype=float), (2,))
     consts = [_plane_constants(float(e), float(n), plane) for e, n in zip(Es, nus)]
-    E_star = 1.0 / sum((1.0 - n ** 2) / e for e, n in consts)
+    E_star = 1.0 / sum((1.0 - n**2) / e for e, n in consts)
     a = np.sqrt(4.0 * (Fs / b_m) * np.asarray(R_star_m) / (math.pi * E_star))
     out = 0.0
     for (e, n), h in zip(consts, (h1_m, h2_m)):
-        out = out + 2.0 * F * (1.0 - n ** 2) / (math.pi * e * b_m) * (np.log(2.0 * np.asarray(h) / a)
-                                                                      - n / (2.0 * (1.0 - n)))
+        out = out + 2.0 * F * (1.0 - n**2) / (math.pi * e * b_m) * (
+            np.log(2.0 * np.asarray(h) / a) - n / (2.0 * (1.0 - n))
+        )
     return np.where(F > 0, out, 0.0)
 
 
-def pair_consistency(pair: PairSpec, torque_Nm: float = 40.0, positions: int = 24, contact_scale: float = 1.0,
-                     plane: str = "stress") -> list[dict]:
+def pair_consistency(
+    pair: PairSpec, torque_Nm: float = 40.0, positions: int = 24, contact_scale: float = 1.0, plane: str = "stress"
+) -> list[dict]:
     """At every single-contact position of the cycle: c_1, c_2 read in the pair FE and
     by the single-tooth FE (fem.tooth on its own mesh, Hertz patch, read at the same
     centre-line points), c_local (fem.pair_centre_line), Weber's approach
@@ -183,10 +210,21 @@ def pair_consistency(pair: PairSpec, torque_Nm: float = 40.0, positions: int = 2
             r[f"c{gi + 1}_tooth_m_per_N"] = float(ci)
     for r in rows:
         for pl in ("stress", "strain"):
-            r[f"weber_{pl}_m_per_N"] = float(weber_approach_m(r["load_N"], r["h1_m"], r["h2_m"], r["R_star_m"],
-                                                              tuple(m.youngs_modulus_Pa for m in mats),
-                                                              tuple(m.poisson_ratio for m in mats),
-                                                              pair.face_width_m, pl)) / r["load_N"]
+            r[f"weber_{pl}_m_per_N"] = (
+                float(
+                    weber_approach_m(
+                        r["load_N"],
+                        r["h1_m"],
+                        r["h2_m"],
+                        r["R_star_m"],
+                        tuple(m.youngs_modulus_Pa for m in mats),
+                        tuple(m.poisson_ratio for m in mats),
+                        pair.face_width_m,
+                        pl,
+                    )
+                )
+                / r["load_N"]
+            )
         r["k_pair_N_per_m"] = 1.0 / r["c_pair_m_per_N"]
         r["k_identity_N_per_m"] = 1.0 / (r["c1_tooth_m_per_N"] + r["c2_tooth_m_per_N"] + r["c_local_m_per_N"])
     return rows

@@ -97,14 +97,25 @@ class Source:
 
 # -- the curve functions -------------------------------------------------------------------
 
+
 def _analytic(method: str) -> Callable[[Request], "MeshStiffness"]:
     def curve(rq: Request) -> "MeshStiffness":
         """analytic.tvms.mesh_stiffness: load sharing over the slice or energy compliances."""
         from gearwear.analytic.tvms import mesh_stiffness
 
-        return mesh_stiffness(rq.pair, method=method, points=SOURCES[method].points(rq), torque_Nm=rq.torque_Nm,
-                              clearance_m=rq.clearance_m, wear=rq.wear, flank=rq.flank, faults=rq.faults,
-                              breakpoints=rq.breakpoints, plane=rq.plane)
+        return mesh_stiffness(
+            rq.pair,
+            method=method,
+            points=SOURCES[method].points(rq),
+            torque_Nm=rq.torque_Nm,
+            clearance_m=rq.clearance_m,
+            wear=rq.wear,
+            flank=rq.flank,
+            faults=rq.faults,
+            breakpoints=rq.breakpoints,
+            plane=rq.plane,
+        )
+
     return curve
 
 
@@ -113,9 +124,17 @@ def _scene_analytic(rq: Request) -> "MeshStiffness":
     default arguments of analytic.tvms.mesh_stiffness."""
     from gearwear.analytic.tvms import mesh_stiffness
 
-    return mesh_stiffness(rq.pair, points=SOURCES["analytic"].points(rq), torque_Nm=rq.torque_Nm,
-                          clearance_m=rq.clearance_m, wear=rq.wear, flank=rq.flank, faults=rq.faults,
-                          breakpoints=rq.breakpoints, plane=rq.plane)
+    return mesh_stiffness(
+        rq.pair,
+        points=SOURCES["analytic"].points(rq),
+        torque_Nm=rq.torque_Nm,
+        clearance_m=rq.clearance_m,
+        wear=rq.wear,
+        flank=rq.flank,
+        faults=rq.faults,
+        breakpoints=rq.breakpoints,
+        plane=rq.plane,
+    )
 
 
 def iso_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float) -> "MeshStiffness":
@@ -135,14 +154,35 @@ def iso_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float)
     F = torque_Nm / pair.gear(0).base_radius_m
     contacts = og.mesh.contacts(theta)
     share = np.where(contacts.active, F / np.maximum(contacts.count, 1)[:, None], 0.0)
-    return MeshStiffness("iso6336", pair, og.mesh, torque_Nm, None, theta, k, F / k, np.zeros(points),
-                         share, contacts.d, contacts.active, time.perf_counter() - t0,
-                         meta={"iso": dataclasses.asdict(iso)})
+    return MeshStiffness(
+        "iso6336",
+        pair,
+        og.mesh,
+        torque_Nm,
+        None,
+        theta,
+        k,
+        F / k,
+        np.zeros(points),
+        share,
+        contacts.d,
+        contacts.active,
+        time.perf_counter() - t0,
+        meta={"iso": dataclasses.asdict(iso)},
+    )
 
 
-def fem_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float,
-              wear: WearSpec | None, flank: FlankSpec | None = None, faults: FaultSpec | None = None,
-              blank_torsion: str = "in_series", **fe_options) -> "MeshStiffness":
+def fem_curve(
+    pair: PairSpec,
+    points: int,
+    torque_Nm: float,
+    clearance_m: float,
+    wear: WearSpec | None,
+    flank: FlankSpec | None = None,
+    faults: FaultSpec | None = None,
+    blank_torsion: str = "in_series",
+    **fe_options,
+) -> "MeshStiffness":
     """Resolved FE contact of both gear bodies (fem.pair) as a MeshStiffness curve, over
     one revolution of the faulty gear with ``faults`` (``fe_options``: pair_contact's
     mesh_scale, contact_scale, plane, extended, executor, progress). ``blank_torsion``:
@@ -156,16 +196,43 @@ def fem_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float,
 
     if blank_torsion not in BLANK_TORSION:
         raise fail("blank_torsion", repr(blank_torsion), "", f"must be one of {', '.join(BLANK_TORSION)}")
-    fe = pair_contact(pair, wear=wear, positions=points, torque_Nm=torque_Nm, clearance_m=clearance_m,
-                      flank=flank, faults=faults, **fe_options)
-    meta = {**{k: v for k, v in fe.meta.items() if k != "pair_gap_m"}, "blank_torsion": blank_torsion,
-            "bore_fixed_mean_N_per_m": fe.mean_N_per_m}
+    fe = pair_contact(
+        pair,
+        wear=wear,
+        positions=points,
+        torque_Nm=torque_Nm,
+        clearance_m=clearance_m,
+        flank=flank,
+        faults=faults,
+        **fe_options,
+    )
+    meta = {
+        **{k: v for k, v in fe.meta.items() if k != "pair_gap_m"},
+        "blank_torsion": blank_torsion,
+        "bore_fixed_mean_N_per_m": fe.mean_N_per_m,
+    }
     if blank_torsion == "excluded":
         fe = fe.without_blank_torsion()
-    return MeshStiffness("fem", pair, fe.mesh, torque_Nm, wear, fe.angle_rad, fe.k_N_per_m, fe.ste_m,
-                         fe.excitation_m, fe.pair_load_N, fe.pair_d_m, fe.pair_in_path,
-                         float(fe.timings.get("total_s", float("nan"))), meta={"fe": meta}, flank=flank,
-                         faults=fe.faults, periods=fe.periods, faulty_pair=fe.faulty_pair)
+    return MeshStiffness(
+        "fem",
+        pair,
+        fe.mesh,
+        torque_Nm,
+        wear,
+        fe.angle_rad,
+        fe.k_N_per_m,
+        fe.ste_m,
+        fe.excitation_m,
+        fe.pair_load_N,
+        fe.pair_d_m,
+        fe.pair_in_path,
+        float(fe.timings.get("total_s", float("nan"))),
+        meta={"fe": meta},
+        flank=flank,
+        faults=fe.faults,
+        periods=fe.periods,
+        faulty_pair=fe.faulty_pair,
+    )
 
 
 def _iso(rq: Request) -> "MeshStiffness":
@@ -173,12 +240,31 @@ def _iso(rq: Request) -> "MeshStiffness":
 
 
 def _fem(rq: Request) -> "MeshStiffness":
-    return fem_curve(rq.pair, SOURCES["fem"].points(rq), rq.torque_Nm, rq.clearance_m, rq.wear, rq.flank,
-                     rq.faults, blank_torsion=rq.blank_torsion, plane=rq.plane, **rq.options)
+    return fem_curve(
+        rq.pair,
+        SOURCES["fem"].points(rq),
+        rq.torque_Nm,
+        rq.clearance_m,
+        rq.wear,
+        rq.flank,
+        rq.faults,
+        blank_torsion=rq.blank_torsion,
+        plane=rq.plane,
+        **rq.options,
+    )
 
 
-def table_curve(name: str, rq: Request, angle_rad, k_N_per_m, excitation_m, ste_m=None, wall_s: float = 0.0,
-                meta: Mapping[str, Any] | None = None, periods: int = 1) -> "MeshStiffness":
+def table_curve(
+    name: str,
+    rq: Request,
+    angle_rad,
+    k_N_per_m,
+    excitation_m,
+    ste_m=None,
+    wall_s: float = 0.0,
+    meta: Mapping[str, Any] | None = None,
+    periods: int = 1,
+) -> "MeshStiffness":
     """A k_h(phi), e(phi) table as the common curve type. A table carries no pair loads or
     contact positions: those arrays have no columns (shape (n, 0)), and an unknown loaded
     STE is NaN, never a made-up number."""
@@ -190,10 +276,25 @@ def table_curve(name: str, rq: Request, angle_rad, k_N_per_m, excitation_m, ste_
     phi = np.asarray(angle_rad, dtype=float)
     n = len(phi)
     ste = np.full(n, np.nan) if ste_m is None else np.asarray(ste_m, dtype=float)
-    return MeshStiffness(name, rq.pair, operating_geometry(rq.pair, rq.clearance_m).mesh, rq.torque_Nm, rq.wear,
-                         phi, np.asarray(k_N_per_m, dtype=float), ste, np.asarray(excitation_m, dtype=float),
-                         np.zeros((n, 0)), np.zeros((n, 0)), np.zeros((n, 0), dtype=bool), wall_s,
-                         meta=dict(meta or {}), flank=rq.flank, faults=rq.faults, periods=periods)
+    return MeshStiffness(
+        name,
+        rq.pair,
+        operating_geometry(rq.pair, rq.clearance_m).mesh,
+        rq.torque_Nm,
+        rq.wear,
+        phi,
+        np.asarray(k_N_per_m, dtype=float),
+        ste,
+        np.asarray(excitation_m, dtype=float),
+        np.zeros((n, 0)),
+        np.zeros((n, 0)),
+        np.zeros((n, 0), dtype=bool),
+        wall_s,
+        meta=dict(meta or {}),
+        flank=rq.flank,
+        faults=rq.faults,
+        periods=periods,
+    )
 
 
 def _calibrated(rq: Request) -> "MeshStiffness":
@@ -203,12 +304,29 @@ def _calibrated(rq: Request) -> "MeshStiffness":
     from gearwear.stiffness.calibration import calibrated_table, without_blank_torsion
 
     t0 = time.perf_counter()
-    tab = calibrated_table(rq.pair, rq.wear, rq.clearance_m, rq.torque_Nm, SOURCES["calibrated"].points(rq),
-                           flank=rq.flank, faults=rq.faults, plane=rq.plane)
+    tab = calibrated_table(
+        rq.pair,
+        rq.wear,
+        rq.clearance_m,
+        rq.torque_Nm,
+        SOURCES["calibrated"].points(rq),
+        flank=rq.flank,
+        faults=rq.faults,
+        plane=rq.plane,
+    )
     if rq.blank_torsion == "excluded":
         tab = without_blank_torsion(tab)
-    return table_curve("calibrated", rq, tab.angle_rad, tab.k_N_per_m, tab.excitation_m, tab.ste_m,
-                       time.perf_counter() - t0, {"table": tab.meta}, revolution_periods(rq.pair, rq.faults))
+    return table_curve(
+        "calibrated",
+        rq,
+        tab.angle_rad,
+        tab.k_N_per_m,
+        tab.excitation_m,
+        tab.ste_m,
+        time.perf_counter() - t0,
+        {"table": tab.meta},
+        revolution_periods(rq.pair, rq.faults),
+    )
 
 
 def _user_table(rq: Request) -> "MeshStiffness":
@@ -235,19 +353,29 @@ def _constant(rq: Request) -> "MeshStiffness":
 
 
 #: every stiffness source, by name (the order is the order of the command line's choices)
-SOURCES: dict[str, Source] = {s.name: s for s in (
-    Source("ishikawa", "Ishikawa/Weber slice model (paper Eqs. 2-6)", _analytic("ishikawa"), command=True),
-    Source("energy", "potential-energy method (Yang & Lin, Sainsot foundation)", _analytic("energy"),
-           command=True),
-    Source("iso6336", "one constant (ISO 6336-1 method B)", _iso, command=True, flank=False, faults=False,
-           plane=False),
-    Source("constant", "one value (default: the analytic mean)", _constant, scene=True, plane=False),
-    Source("analytic", "Ishikawa/Weber slice model, as a table for the dynamics", _scene_analytic, scene=True),
-    Source("calibrated", "FE-calibrated analytic tables (cached by input hash)", _calibrated, scene=True, fe=True),
-    Source("fem", "resolved pair FE of both gear bodies", _fem, default_points=FE_POSITIONS, command=True,
-           scene=True, fe=True),
-    Source("table", "a user's k_h(phi) CSV", _user_table, scene=True, flank=False, faults=False, plane=False),
-)}
+SOURCES: dict[str, Source] = {
+    s.name: s
+    for s in (
+        Source("ishikawa", "Ishikawa/Weber slice model (paper Eqs. 2-6)", _analytic("ishikawa"), command=True),
+        Source("energy", "potential-energy method (Yang & Lin, Sainsot foundation)", _analytic("energy"), command=True),
+        Source(
+            "iso6336", "one constant (ISO 6336-1 method B)", _iso, command=True, flank=False, faults=False, plane=False
+        ),
+        Source("constant", "one value (default: the analytic mean)", _constant, scene=True, plane=False),
+        Source("analytic", "Ishikawa/Weber slice model, as a table for the dynamics", _scene_analytic, scene=True),
+        Source("calibrated", "FE-calibrated analytic tables (cached by input hash)", _calibrated, scene=True, fe=True),
+        Source(
+            "fem",
+            "resolved pair FE of both gear bodies",
+            _fem,
+            default_points=FE_POSITIONS,
+            command=True,
+            scene=True,
+            fe=True,
+        ),
+        Source("table", "a user's k_h(phi) CSV", _user_table, scene=True, flank=False, faults=False, plane=False),
+    )
+}
 
 #: ``gearwear stiffness --method`` and ``gw.mesh_stiffness(method=...)``
 METHODS = tuple(n for n, s in SOURCES.items() if s.command)

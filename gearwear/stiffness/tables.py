@@ -42,11 +42,10 @@ from typing import Any, Callable
 
 import numpy as np
 
+from gearwear import io
 from gearwear.core.inputs import read_bounded
 from gearwear.core.validation import fail
 from gearwear.geometry.curves import curve_mean
-
-from gearwear import io
 
 #: the largest cache file read (a table of 10^6 rows is ~80 MB; a surrogate of 65536 runs ~0.5 GB)
 ENTRY_LIMIT_BYTES = 1 << 30
@@ -102,7 +101,7 @@ class StiffnessTable:
     meta: dict[str, Any]
     from_cache: bool = False
     span_rad: float = math.nan
-    csv_bytes: bytes = field(default=b"", repr=False)   # the checked CSV bytes (cache or store)
+    csv_bytes: bytes = field(default=b"", repr=False)  # the checked CSV bytes (cache or store)
 
     @property
     def sidecar_bytes(self) -> bytes:
@@ -116,8 +115,7 @@ class StiffnessTable:
 
     def to_csv(self) -> str:
         rows = [HEADER]
-        for a, k, s, e, n in zip(self.angle_rad, self.k_N_per_m, self.ste_m, self.excitation_m,
-                                 self.pairs_in_contact):
+        for a, k, s, e, n in zip(self.angle_rad, self.k_N_per_m, self.ste_m, self.excitation_m, self.pairs_in_contact):
             rows.append(f"{math.degrees(a):.12g},{k:.12g},{s * 1e6:.12g},{e * 1e6:.12g},{int(n)}")
         return "\n".join(rows) + "\n"
 
@@ -138,7 +136,7 @@ def table_key(inputs: dict[str, Any]) -> str:
 def _parse(text: str, points: int | None) -> tuple[np.ndarray | None, str | None]:
     """The data rows of a table CSV as an (n, 5) array, or the reason they are not valid."""
     lines = text.split("\n")
-    complete = lines[-1] == ""   # every row written ends with a newline
+    complete = lines[-1] == ""  # every row written ends with a newline
     if complete:
         lines.pop()
     if not lines or lines[0].strip() != HEADER:
@@ -154,17 +152,22 @@ def _parse(text: str, points: int | None) -> tuple[np.ndarray | None, str | None
         except ValueError:
             if i == len(body) - 1 and not complete:
                 n = len(rows)
-                return None, (f"is truncated ({n} of {points} rows, the last one cut)" if points
-                              else f"is truncated (row {n + 1} cut)")
+                return None, (
+                    f"is truncated ({n} of {points} rows, the last one cut)"
+                    if points
+                    else f"is truncated (row {n + 1} cut)"
+                )
             shown = line if len(line) <= 40 else line[:37] + "..."
             return None, f"has an unreadable line {i + 2} ({shown!r})"
     n = len(rows)
     if not complete:  # the last row parsed but has no newline: it may be cut inside its last number
-        return None, (f"is truncated ({n} of {points} rows, the last one cut)" if points
-                      else "is truncated (no newline at the end)")
+        return None, (
+            f"is truncated ({n} of {points} rows, the last one cut)"
+            if points
+            else "is truncated (no newline at the end)"
+        )
     if points is not None and n != points:
-        return None, (f"is truncated ({n} of {points} rows)" if n < points
-                      else f"has {n} rows, expected {points}")
+        return None, (f"is truncated ({n} of {points} rows)" if n < points else f"has {n} rows, expected {points}")
     if n == 0:
         return None, "has no rows"
     data = np.array(rows, dtype=float)
@@ -180,8 +183,9 @@ def _parse(text: str, points: int | None) -> tuple[np.ndarray | None, str | None
         return None, f"has an invalid pairs_in_contact ({pairs[bad[0]]:g}) on line {bad[0] + 2}"
     bad = np.nonzero(((pairs > 0) & ~(k > 0)) | (k < 0))[0]
     if bad.size:
-        return None, (f"has k_N_per_m = {k[bad[0]]:g} on line {bad[0] + 2} with {int(pairs[bad[0]])} "
-                      "pair(s) in contact")
+        return None, (
+            f"has k_N_per_m = {k[bad[0]]:g} on line {bad[0] + 2} with {int(pairs[bad[0]])} pair(s) in contact"
+        )
     bad = np.nonzero(np.diff(angle) <= 0)[0]
     if bad.size:
         return None, f"has angles that do not increase (line {bad[0] + 3})"
@@ -221,8 +225,17 @@ def check(raw: bytes, meta: dict[str, Any], points: int | None = None) -> tuple[
     span = meta.get("span_rad")
     if not isinstance(span, (int, float)) or not span > data[-1, 0] * math.pi / 180:
         return None, "has no valid span_rad in its sidecar (the table's period, beyond its last angle)"
-    tab = StiffnessTable(np.radians(data[:, 0]), data[:, 1], data[:, 3] * 1e-6, data[:, 2] * 1e-6,
-                         data[:, 4].astype(int), meta, from_cache=True, span_rad=float(span), csv_bytes=raw)
+    tab = StiffnessTable(
+        np.radians(data[:, 0]),
+        data[:, 1],
+        data[:, 3] * 1e-6,
+        data[:, 2] * 1e-6,
+        data[:, 4].astype(int),
+        meta,
+        from_cache=True,
+        span_rad=float(span),
+        csv_bytes=raw,
+    )
     return tab, None
 
 
@@ -278,8 +291,10 @@ def write_entry(key: str, label: str, files: dict[Path, bytes], notify: Notify |
         return True
     except OSError as exc:
         if notify is not None:
-            notify(f"cache entry {key[:8]}... ({label}) could not be stored ({exc.strerror or exc}); the result "
-                   "is used without caching it")
+            notify(
+                f"cache entry {key[:8]}... ({label}) could not be stored ({exc.strerror or exc}); the result "
+                "is used without caching it"
+            )
         return False
 
 
@@ -288,8 +303,9 @@ def entry_message(key: str, label: str, reason: str) -> str:
     return f"cache entry {key[:8]}... ({label}) {reason}; recomputing"
 
 
-def cached(inputs: dict[str, Any], folder: Path | None = None, notify: Notify | None = None,
-           label: str = "") -> StiffnessTable | None:
+def cached(
+    inputs: dict[str, Any], folder: Path | None = None, notify: Notify | None = None, label: str = ""
+) -> StiffnessTable | None:
     """The valid cached table for exactly these inputs, or None (a bad entry is reported
     to ``notify``, if given, as one line)."""
     tab, reason = lookup(inputs, folder)
@@ -298,8 +314,15 @@ def cached(inputs: dict[str, Any], folder: Path | None = None, notify: Notify | 
     return tab
 
 
-def store(table: StiffnessTable, inputs: dict[str, Any], method: str, folder: Path | None = None,
-          extra: dict[str, Any] | None = None, label: str = "table", notify: Notify | None = to_stderr) -> Path:
+def store(
+    table: StiffnessTable,
+    inputs: dict[str, Any],
+    method: str,
+    folder: Path | None = None,
+    extra: dict[str, Any] | None = None,
+    label: str = "table",
+    notify: Notify | None = to_stderr,
+) -> Path:
     """Write the table and its sidecar into the cache (atomic; if that fails, ``notify``
     gets one line and the table is used uncached, :func:`write_entry`); returns the CSV path.
 
@@ -311,9 +334,18 @@ def store(table: StiffnessTable, inputs: dict[str, Any], method: str, folder: Pa
     key = table_key(inputs)
     csv = folder / f"{key}.csv"
     data = table.to_csv().encode("utf-8")
-    side = io.sidecar_bytes(csv, inputs, method, {**(extra or {}), "mean_N_per_m": table.mean_N_per_m,
-                                                  "rows": int(len(table.angle_rad)), "span_rad": table.span_rad,
-                                                  "csv_sha256": hashlib.sha256(data).hexdigest()})
+    side = io.sidecar_bytes(
+        csv,
+        inputs,
+        method,
+        {
+            **(extra or {}),
+            "mean_N_per_m": table.mean_N_per_m,
+            "rows": int(len(table.angle_rad)),
+            "span_rad": table.span_rad,
+            "csv_sha256": hashlib.sha256(data).hexdigest(),
+        },
+    )
     # sidecar first would let a reader see metadata without data; write data first
     write_entry(key, label, {csv: data, Path(str(csv) + ".json"): side}, notify)
     meta = json.loads(side)
@@ -322,7 +354,6 @@ def store(table: StiffnessTable, inputs: dict[str, Any], method: str, folder: Pa
     if back is None:
         raise ValueError(f"{csv}: the computed table {reason}")
     table.angle_rad, table.k_N_per_m, table.excitation_m = back.angle_rad, back.k_N_per_m, back.excitation_m
-    table.ste_m, table.pairs_in_contact, table.meta, table.from_cache = (back.ste_m, back.pairs_in_contact,
-                                                                        meta, False)
+    table.ste_m, table.pairs_in_contact, table.meta, table.from_cache = (back.ste_m, back.pairs_in_contact, meta, False)
     table.csv_bytes = data
     return csv
