@@ -80,7 +80,7 @@ def main() -> dict:
     from gearwear.diagnose import job as dj
     from gearwear.diagnose import surrogate as ds
     from gearwear.jobs.sweep import make_executor
-    from gearwear.scene.model import load_scene_dict
+    from gearwear.scene.files import load_scene_dict
 
     raw, name = load_scene_dict(str(SCENE))
     unknowns = [ds.UNKNOWNS["wear"], ds.UNKNOWNS["clearance"]]

@@ -36,7 +36,7 @@ for p in (str(ROOT), str(HERE)):
         sys.path.insert(0, p)
 
 from gearwear.jobs.sweep import make_executor, parse_axis, sweep  # noqa: E402
-from gearwear.scene.model import load_scene_dict  # noqa: E402
+from gearwear.scene.files import load_scene_dict  # noqa: E402
 
 N_SCENES = 100
 FIXED = ["solver.duration_s=1.0", "solver.discard_s=0.3"]

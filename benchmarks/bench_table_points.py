@@ -26,7 +26,9 @@ import numpy as np
 from gearwear.analytic import TABLE_POINTS_PER_MESH_PERIOD
 from gearwear.geometry.curves import harmonic_amplitudes
 from gearwear.jobs.simulate import run, stiffness_input
-from gearwear.scene.model import apply_overrides, builtin_scene_dict, scene_from_dict
+from gearwear.scene.files import builtin_scene_dict
+from gearwear.scene.model import scene_from_dict
+from gearwear.scene.overrides import apply_overrides
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "reports" / "breakpoints"

@@ -19,7 +19,8 @@ from typing import Any, Mapping, Sequence
 from gearwear.core.validation import InputError
 from gearwear.geometry.spec import PairSpec, default_pair
 from gearwear.geometry.wear import WearSpec
-from gearwear.scene.model import SHORT_KEYS, Scene, pair_from_dict, parse_wear_arg, wear_from_dict, wear_table
+from gearwear.scene.model import Scene, pair_from_dict, parse_wear_arg, wear_from_dict
+from gearwear.scene.overrides import SHORT_KEYS, wear_table
 from gearwear.stiffness.sources import METHODS, SOURCES
 
 
@@ -126,7 +127,7 @@ def sweep(
     """Run a scene over the Cartesian grid of ``axes`` ({dotted key: values}) on local
     processes; one summary dict per point, in grid order."""
     from gearwear.jobs import sweep as sw
-    from gearwear.scene.model import load_scene_dict
+    from gearwear.scene.files import load_scene_dict
 
     if isinstance(scene, Scene):
         raise InputError("sweep: give the scene as a built-in name or a file path (a sweep re-reads it per point)")

@@ -8,7 +8,7 @@ from __future__ import annotations
 import copy
 from typing import Any
 
-from gearwear.scene.model import builtin_scene_dict
+from gearwear.scene.files import builtin_scene_dict
 
 
 def paper_doc(name: str = "paper-default") -> dict[str, Any]:

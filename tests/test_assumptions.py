@@ -13,7 +13,8 @@ import sys
 import pytest
 
 from gearwear.scene.assumptions import for_command, scene_assumptions
-from gearwear.scene.model import scene_from_dict, set_key
+from gearwear.scene.model import scene_from_dict
+from gearwear.scene.overrides import set_key
 
 #: the least a scene gives: its pair and its operating point
 MINIMAL = {

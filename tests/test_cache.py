@@ -335,7 +335,8 @@ def surrogate(tmp_path_factory):
 
     from gearwear.cli import diagnose as dc
     from gearwear.diagnose import surrogate as ds
-    from gearwear.scene.model import load_scene_dict, scene_from_dict
+    from gearwear.scene.files import load_scene_dict
+    from gearwear.scene.model import scene_from_dict
 
     folder = tmp_path_factory.mktemp("surrogate-cache")
     old = os.environ.get("GEARWEAR_CACHE")

@@ -24,7 +24,7 @@ from gearwear.diagnose import job as dj
 from gearwear.diagnose import posterior as dp
 from gearwear.diagnose import surrogate as ds
 from gearwear.diagnose.features import fourier_fit, read_measurement, time_series_features
-from gearwear.scene.model import load_scene_dict
+from gearwear.scene.files import load_scene_dict
 
 FM = 600.0
 K = 10

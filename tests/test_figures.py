@@ -237,7 +237,8 @@ def problems(fig) -> list[str]:
 @cache
 def simulation():
     from gearwear.jobs.simulate import run
-    from gearwear.scene.model import builtin_scene_dict, scene_from_dict
+    from gearwear.scene.files import builtin_scene_dict
+    from gearwear.scene.model import scene_from_dict
 
     return run(scene_from_dict(builtin_scene_dict("paper-wear-severe"), name="paper-wear-severe"))
 
@@ -280,7 +281,8 @@ def stiffness_curves(example: str, wears=None, clearances_m=None, points: int = 
 
     sc = load_scene(str(EXAMPLES / example)) if example.endswith(".toml") else None
     if sc is None:
-        from gearwear.scene.model import builtin_scene_dict, scene_from_dict
+        from gearwear.scene.files import builtin_scene_dict
+        from gearwear.scene.model import scene_from_dict
 
         sc = scene_from_dict(builtin_scene_dict(example), name=example)
     curves = compute(
@@ -330,7 +332,7 @@ def runup():
     settles period 2, and 2100 rpm is above f_m = 1036 Hz, a linear mode."""
     from gearwear.jobs import runup as runup_job
     from gearwear.jobs.sweep import parse_axis
-    from gearwear.scene.model import load_scene_dict
+    from gearwear.scene.files import load_scene_dict
 
     data, name = load_scene_dict(str(EXAMPLES / "runup_backlash.toml"))
     speed, others = runup_job.split_speed_axis([parse_axis("operating.speed_rpm=1500:2100:3")])

@@ -54,7 +54,9 @@ def _fem_summary_coarse():
     through the summary and strict JSON the CLI prints."""
     from gearwear import io
     from gearwear.jobs.stiffness import Curve, fem_curve
-    from gearwear.scene.model import apply_overrides, builtin_scene_dict, scene_from_dict
+    from gearwear.scene.files import builtin_scene_dict
+    from gearwear.scene.model import scene_from_dict
+    from gearwear.scene.overrides import apply_overrides
 
     sets = [HIGH_CR[i + 1] for i in range(0, len(HIGH_CR), 2)]
     pair = scene_from_dict(apply_overrides(builtin_scene_dict("paper-default"), sets)).pair

@@ -62,7 +62,7 @@ def test_the_data_file_loads_with_known_fields():
 
 
 def test_the_claims_file_is_not_a_scene():
-    from gearwear.scene.model import builtin_scene_names
+    from gearwear.scene.files import builtin_scene_names
 
     assert all("claim" not in name and name != "paper" for name in builtin_scene_names())
 

@@ -118,7 +118,7 @@ def test_plan_sentences_against_plan_json():
 def test_clearance_identity_figure():
     """Recomputed: the paper pair without centre-distance coupling, two clearances."""
     from gearwear.diagnose.surrogate import simulate_point
-    from gearwear.scene.model import load_scene_dict
+    from gearwear.scene.files import load_scene_dict
 
     raw, name = load_scene_dict("paper-wear-severe")
     del raw["effects"]["centre_distance"]

@@ -23,7 +23,8 @@ import pytest
 
 from gearwear import io
 from gearwear.analytic.tvms import mesh_stiffness
-from gearwear.scene.model import load_scene_dict, scene_from_dict
+from gearwear.scene.files import load_scene_dict
+from gearwear.scene.model import scene_from_dict
 
 ROOT = Path(__file__).resolve().parents[1]
 from scenes import published_text  # noqa: E402

@@ -436,7 +436,9 @@ def report_unworn(calibrated):
     """The wear study's unworn run of `gearwear report paper` (calibrated table from the
     fixture's cache, so no FE is rerun)."""
     from gearwear.jobs.simulate import run
-    from gearwear.scene.model import apply_overrides, builtin_scene_dict, scene_from_dict
+    from gearwear.scene.files import builtin_scene_dict
+    from gearwear.scene.model import scene_from_dict
+    from gearwear.scene.overrides import apply_overrides
 
     sc = scene_from_dict(
         apply_overrides(builtin_scene_dict("paper-wear-unworn"), ['effects.mesh_stiffness={source = "calibrated"}']),

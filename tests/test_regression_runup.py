@@ -48,7 +48,7 @@ def bands(b) -> str:
 def test_committed_report_matches_a_cheap_recomputation(name):
     from gearwear.jobs import runup as runup_job
     from gearwear.jobs.sweep import parse_axis
-    from gearwear.scene.model import load_scene_dict
+    from gearwear.scene.files import load_scene_dict
 
     scene, speeds = RUNS[name]
     pt, rows = report(name)

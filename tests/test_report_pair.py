@@ -116,7 +116,9 @@ def assert_page(out: Path, scene_args: list[str]) -> dict:
     """What every report page holds: the files, every method and the FE, the numbers of
     report.json, ISO's curve, the assumptions of the scene."""
     from gearwear.scene.assumptions import for_command
-    from gearwear.scene.model import apply_overrides, load_scene_dict, scene_from_dict
+    from gearwear.scene.files import load_scene_dict
+    from gearwear.scene.model import scene_from_dict
+    from gearwear.scene.overrides import apply_overrides
 
     names = sorted(p.name for p in out.iterdir())
     assert names == sorted(io.OUTPUT_NAMES["report pair"] + (io.MANIFEST, io.TIMING))

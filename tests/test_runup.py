@@ -244,7 +244,8 @@ def test_iso_curve_takes_the_gear_with_fewer_teeth_as_gear_1():
     import numpy as np
 
     from gearwear.jobs import runup as runup_job
-    from gearwear.scene.model import load_scene_dict, scene_from_dict
+    from gearwear.scene.files import load_scene_dict
+    from gearwear.scene.model import scene_from_dict
 
     data, _ = load_scene_dict("paper-default")
     big_drives, small_drives = copy.deepcopy(data), copy.deepcopy(data)

@@ -11,7 +11,8 @@ import pytest
 
 from gearwear.core.validation import InputError
 from gearwear.scene.checks import resolved_dict
-from gearwear.scene.model import builtin_scene_dict, builtin_scene_names, scene_from_dict
+from gearwear.scene.files import builtin_scene_dict, builtin_scene_names
+from gearwear.scene.model import scene_from_dict
 from gearwear.scene.reference import json_schema, reference_markdown, to_toml
 from gearwear.scene.schema import validate_document
 
@@ -174,7 +175,7 @@ def test_every_command_takes_a_built_in_name_and_set(command):
 
 def test_set_none_removes_an_effect_or_a_key():
     """Round trip (issue 24): there was no way to remove an effect with --set."""
-    from gearwear.scene.model import apply_overrides
+    from gearwear.scene.overrides import apply_overrides
 
     base = builtin_scene_dict("paper-wear-severe")
     sc = scene_from_dict(

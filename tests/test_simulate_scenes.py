@@ -9,7 +9,9 @@ import numpy as np
 import pytest
 
 from gearwear.jobs.simulate import run
-from gearwear.scene.model import apply_overrides, builtin_scene_dict, scene_from_dict
+from gearwear.scene.files import builtin_scene_dict
+from gearwear.scene.model import scene_from_dict
+from gearwear.scene.overrides import apply_overrides
 
 SHORT = ["solver.duration_s=0.06", "solver.discard_s=0.03"]
 

@@ -13,7 +13,9 @@ from scipy.integrate import solve_ivp
 
 from gearwear.core.validation import InputError
 from gearwear.jobs import simulate as simulate_job
-from gearwear.scene.model import apply_overrides, load_scene_dict, scene_from_dict
+from gearwear.scene.files import load_scene_dict
+from gearwear.scene.model import scene_from_dict
+from gearwear.scene.overrides import apply_overrides
 
 from scenes import with_paper
 
@@ -174,7 +176,7 @@ def test_the_tools_own_stiffness_csv_is_a_user_table(tmp_path, method):
 
     import numpy as np
 
-    from gearwear.scene.model import read_stiffness_table
+    from gearwear.scene.files import read_stiffness_table
 
     out = tmp_path / "st"
     points = "24" if method == "fem" else "90"

@@ -50,15 +50,66 @@ def imports(name: str, path: Path, known: set[str]) -> set[str]:
     return {m for m in found if m in known and m != name}
 
 
+def _components(graph: dict[str, set[str]]) -> dict[str, int]:
+    """Strongly connected components (Tarjan, iterative): module -> component number."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    comp: dict[str, int] = {}
+    stack: list[str] = []
+    on: set[str] = set()
+    counter = 0
+    for root in graph:
+        if root in index:
+            continue
+        work = [(root, iter(sorted(graph[root])))]
+        index[root] = low[root] = counter
+        counter += 1
+        stack.append(root)
+        on.add(root)
+        while work:
+            v, it = work[-1]
+            w = next(it, None)
+            if w is None:
+                work.pop()
+                if work:
+                    low[work[-1][0]] = min(low[work[-1][0]], low[v])
+                if low[v] == index[v]:
+                    n = len(set(comp.values()))
+                    while True:
+                        x = stack.pop()
+                        on.discard(x)
+                        comp[x] = n
+                        if x == v:
+                            break
+            elif w not in index:
+                index[w] = low[w] = counter
+                counter += 1
+                stack.append(w)
+                on.add(w)
+                work.append((w, iter(sorted(graph[w]))))
+            elif w in on:
+                low[v] = min(low[v], index[w])
+    return comp
+
+
 def main(root: Path) -> None:
     mods = modules(root)
     known = set(mods)
     graph = {m: imports(m, p, known) for m, p in mods.items()}
 
+    # the longest import chain: over the graph with every import cycle (a strongly connected
+    # component) taken as one node, the most modules on one path (a cycle counts once)
+    comp = _components(graph)
+    dag: dict[int, set[int]] = {}
+    for m, deps in graph.items():
+        dag.setdefault(comp[m], set()).update(comp[d] for d in deps if comp[d] != comp[m])
+
     @lru_cache(maxsize=None)
-    def depth(m: str, stack: frozenset = frozenset()) -> int:
-        nxt = [d for d in graph[m] if d not in stack]
-        return 1 + max((depth(d, stack | {m}) for d in nxt), default=0)
+    def chain(c: int) -> int:
+        return 1 + max((chain(d) for d in dag.get(c, ())), default=0)
+
+    def depth(m: str) -> int:
+        return chain(comp[m])
 
     def folder(m: str) -> str:
         parts = m.split(".")

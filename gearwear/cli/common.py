@@ -46,7 +46,7 @@ def fem_plane(doc: Any, runs_fem: bool, what: str) -> str:
 def alias_sets(args: argparse.Namespace, skip: tuple[str, ...] = ()) -> list[str]:
     """The single-valued short flags as the --set overrides they stand for (``skip``: flags
     whose value the caller sets itself, one variant at a time)."""
-    from gearwear.scene.model import wear_override
+    from gearwear.scene.overrides import wear_override
 
     sets = []
     if getattr(args, "torque_Nm", None) is not None:
@@ -75,7 +75,9 @@ def load_scene(
     """The command's scene: file or built-in name, short-flag aliases, then --set. A bad
     value given through a short flag is reported under the flag's name. ``loaded``: the
     command computes load sharing, so the torque must be > 0."""
-    from gearwear.scene.model import SHORT_KEYS, apply_overrides, load_scene_dict, scene_from_dict
+    from gearwear.scene.files import load_scene_dict
+    from gearwear.scene.model import scene_from_dict
+    from gearwear.scene.overrides import SHORT_KEYS, apply_overrides
 
     data, name = load_scene_dict(args.scene, default=default)
     try:
@@ -99,7 +101,7 @@ def load_scene(
 def variants(args: argparse.Namespace) -> "tuple[Scene, list, list[float]]":
     """(scene, wear specs, clearances in m) for commands that overlay several --wear and
     --clearance-um values: each value is the scene with that alias applied."""
-    from gearwear.scene.model import wear_override
+    from gearwear.scene.overrides import wear_override
 
     scene = load_scene(args)
     wears = [

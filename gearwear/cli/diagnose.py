@@ -327,7 +327,9 @@ def write_plan(doc: dict[str, Any], folder: Path, inp: dict[str, Any], labels: d
 def run(args: argparse.Namespace) -> int:
     from gearwear.cli import diagnose as dc
     from gearwear.diagnose.surrogate import BuildSpec, validate_range
-    from gearwear.scene.model import apply_overrides, load_scene_dict, require_dynamics, scene_from_dict
+    from gearwear.scene.files import load_scene_dict
+    from gearwear.scene.model import require_dynamics, scene_from_dict
+    from gearwear.scene.overrides import apply_overrides
 
     data, name = load_scene_dict(args.scene, default="paper-wear-severe")
     unknowns = dc.parse_unknowns(args.unknowns)

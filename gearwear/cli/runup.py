@@ -30,7 +30,9 @@ def run(args: argparse.Namespace) -> int:
 
     from gearwear.jobs import runup as runup_job
     from gearwear.jobs import sweep
-    from gearwear.scene.model import apply_overrides, load_scene_dict, require_dynamics, scene_from_dict
+    from gearwear.scene.files import load_scene_dict
+    from gearwear.scene.model import require_dynamics, scene_from_dict
+    from gearwear.scene.overrides import apply_overrides
 
     data, name = load_scene_dict(args.scene, default="paper-default")
     out = check_out(args.out, "runup")

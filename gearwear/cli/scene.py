@@ -11,7 +11,7 @@ from gearwear.core.validation import InputError
 
 def run(args: argparse.Namespace) -> int:
     from gearwear.scene.checks import resolved_dict
-    from gearwear.scene.model import builtin_scene_names
+    from gearwear.scene.files import builtin_scene_names
     from gearwear.scene.reference import json_schema, reference_markdown, to_toml
 
     if (args.reference or args.schema or args.list) and (args.scene or args.set or args.json):

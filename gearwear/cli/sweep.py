@@ -20,12 +20,14 @@ from gearwear.core.validation import InputError
 
 def run(args: argparse.Namespace) -> int:
     from gearwear.jobs import sweep
-    from gearwear.scene.model import load_scene_dict, require_dynamics
+    from gearwear.scene.files import load_scene_dict
+    from gearwear.scene.model import require_dynamics
 
     data, name = load_scene_dict(args.scene, default="paper-wear-severe")
     out = check_out(args.out, "sweep")
     axes, fixed = sweep.split_sets(alias_sets(args))
-    from gearwear.scene.model import apply_overrides, scene_from_dict
+    from gearwear.scene.model import scene_from_dict
+    from gearwear.scene.overrides import apply_overrides
 
     require_dynamics(scene_from_dict(apply_overrides(data, fixed), name=name))  # the fixed keys are checked first
     if not axes:

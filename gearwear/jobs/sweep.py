@@ -29,7 +29,8 @@ import numpy as np
 from gearwear import io
 from gearwear.core import interrupts
 from gearwear.core.validation import InputError
-from gearwear.scene.model import apply_overrides, parse_value, scene_from_dict
+from gearwear.scene.model import scene_from_dict
+from gearwear.scene.overrides import apply_overrides, parse_value
 
 
 @dataclass(frozen=True)
@@ -66,7 +67,7 @@ def parse_axis(item: str) -> Axis:
 def split_sets(items: list[str]) -> tuple[list[Axis], list[str]]:
     """--set items as swept axes (KEY=START:STOP:N, KEY=a,b,c) and fixed overrides (the rest,
     and any value that is a TOML array, table or string)."""
-    from gearwear.scene.model import check_sets
+    from gearwear.scene.overrides import check_sets
 
     check_sets(items)  # one line per --set, each key once (a swept key too)
     axes: list[Axis] = []

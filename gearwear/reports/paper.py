@@ -33,7 +33,9 @@ from gearwear.reports.paper_trends import trends
 
 
 def _scene(base: str, sets: list[str]):
-    from gearwear.scene.model import apply_overrides, builtin_scene_dict, scene_from_dict
+    from gearwear.scene.files import builtin_scene_dict
+    from gearwear.scene.model import scene_from_dict
+    from gearwear.scene.overrides import apply_overrides
 
     return scene_from_dict(apply_overrides(builtin_scene_dict(base), sets), name=base)
 
