@@ -20,7 +20,7 @@ from gearwear.diagnose.features import SIGNALS, time_series_features
 from gearwear.diagnose.job import perturb
 from gearwear.diagnose.surrogate import scene_at
 from gearwear.jobs.simulate import run
-from gearwear.scene.model import load_scene_dict
+from gearwear.scene.files import load_scene_dict
 
 HERE = Path(__file__).resolve().parent
 TRUTH = {"wear": 18.0, "clearance": 24.0}
