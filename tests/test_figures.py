@@ -527,12 +527,12 @@ def _sweep(name, two_torques=False):
 
 
 def _runup(kind, direction="up", every_state=False):
-    from gearwear.jobs import runup as runup_job
+    from gearwear.jobs import runup_figures
 
     points, chains, others, summ = runup_with_every_state() if every_state else runup()
     if kind == "kv":
-        return runup_job.kv_figure(points, chains, others, summ)
-    return getattr(runup_job, f"{kind}_figure")(points, chains, others, direction)
+        return runup_figures.kv_figure(points, chains, others, summ)
+    return getattr(runup_figures, f"{kind}_figure")(points, chains, others, direction)
 
 
 def _pair_report(name):
@@ -659,7 +659,7 @@ def test_equal_curves_are_drawn_once_and_named_with_equals():
 
 
 def test_runup_marks_every_steady_state_and_names_the_mode_speeds():
-    from gearwear.jobs import runup as runup_job
+    from gearwear.jobs import runup_figures
 
     fig = _runup("kv", every_state=True)
     drawn(fig)
@@ -679,7 +679,7 @@ def test_runup_marks_every_steady_state_and_names_the_mode_speeds():
     ]
     names = [t.get_text() for t in ax.texts]
     assert sorted(names) == sorted({f"{f:.0f} Hz" for f in inside})
-    assert runup_job.steady_state_name({"label": "periodic", "period_mesh_periods": 30}, 30) is None
+    assert runup_figures.steady_state_name({"label": "periodic", "period_mesh_periods": 30}, 30) is None
 
 
 # -- 4. sweep labels from the schema ------------------------------------------------------------
@@ -778,20 +778,21 @@ def test_the_harris_title_states_the_relief():
 
 def test_the_campbell_diagram_shows_the_subharmonic_of_a_period_2_response():
     from gearwear.jobs import runup as runup_job
+    from gearwear.jobs import runup_figures
 
     points, chains, others, _ = runup()
     up = next(c for c in chains if c.direction == "up")
     row = up.rows[0]
     assert (row["speed_rpm"], row["label"], row["period_mesh_periods"]) == (1500.0, "periodic", 2)
     fm = row["fm_Hz"]
-    f, A = runup_job.campbell_spectrum(row)
+    f, A = runup_figures.campbell_spectrum(row)
     i = int(np.argmin(abs(f - fm / 2)))
     assert f[i] == pytest.approx(fm / 2, rel=1e-12)  # an exact bin: the kept window is whole periods
     assert f.max() >= (runup_job.N_HARMONICS + 0.5) * fm - row["spectrum_df_Hz"]
     between = A[(f > 0.1 * fm) & (f < 0.4 * fm)]  # below f_m / 2: nothing but noise
     assert A[i] > 1e-3 * A.max() and A[i] > 1e4 * between.max()
     # the figure's colour map holds that line at f_m / 2 in the 1500 rpm column
-    fig = runup_job.campbell_figure(points, chains, others, "up")
+    fig = runup_figures.campbell_figure(points, chains, others, "up")
     mesh = next(c for c in fig.axes[0].collections if hasattr(c, "get_coordinates"))
     y = mesh.get_coordinates()[:, 0, 1]
     col = np.ma.filled(mesh.get_array(), np.nan).reshape(len(y) - 1, -1)[:, 0]
@@ -800,12 +801,12 @@ def test_the_campbell_diagram_shows_the_subharmonic_of_a_period_2_response():
     assert col[int(np.searchsorted(y, fm / 2)) - 1] > 1e3 * np.nanmax(col[(mid > 0.1 * fm) & (mid < 0.4 * fm)])
     # a period-1 response has nothing there
     one = next(r for r in up.rows if r["period_mesh_periods"] == 1)
-    f1, A1 = runup_job.campbell_spectrum(one)
+    f1, A1 = runup_figures.campbell_spectrum(one)
     assert A1[np.argmin(abs(f1 - one["fm_Hz"] / 2))] < 1e-6 * A1.max()
 
 
 def test_peak_hold_keeps_a_one_bin_line_on_coarse_rows():
-    from gearwear.jobs.runup import peak_hold
+    from gearwear.jobs.runup_figures import peak_hold
 
     f = np.arange(1, 1001) * 10.0  # bins of 10 Hz
     A = np.full(f.size, 1e-9)
