@@ -14,7 +14,7 @@ from gearwear.scene.checks import resolved_dict
 from gearwear.scene.files import builtin_scene_dict, builtin_scene_names
 from gearwear.scene.model import scene_from_dict
 from gearwear.scene.reference import json_schema, reference_markdown, to_toml
-from gearwear.scene.schema import validate_document
+from gearwear.scene.validate import validate_document
 
 from scenes import with_paper
 

@@ -28,7 +28,8 @@ from gearwear.scene.checks import (
 )
 from gearwear.scene.files import builtin_scene_dict, load_scene_dict, read_deviation_csv, read_stiffness_table
 from gearwear.scene.overrides import apply_overrides, set_key, wear_override
-from gearwear.scene.schema import FaultsDoc, FlankDoc, OperatingDoc, SceneDoc, WearDoc, validate_document
+from gearwear.scene.schema import FaultsDoc, FlankDoc, OperatingDoc, SceneDoc, WearDoc
+from gearwear.scene.validate import validate_document
 
 
 @dataclass(frozen=True)
@@ -265,7 +266,7 @@ def pair_from_dict(data: Mapping[str, Any]) -> PairSpec:
     validated."""
     from types import SimpleNamespace
 
-    from gearwear.scene.schema import validate_tables
+    from gearwear.scene.validate import validate_tables
 
     return pair_spec(SimpleNamespace(**validate_tables(data, ("pair", "material", "blank"))))  # type: ignore[arg-type]
 
@@ -314,7 +315,7 @@ def wear_from_dict(
     """A wear spec from an ``[effects] wear`` table (or a phase name), validated (with
     ``pair``: also against the depth limit of that pair, see :func:`wear_spec`)."""
     from gearwear.scene.checks import check_wear_table
-    from gearwear.scene.schema import validate_tables
+    from gearwear.scene.validate import validate_tables
 
     t = validate_tables(
         {"effects": {"wear": table}, "operating": {"torque_Nm": torque_Nm, "speed_rpm": speed_rpm}},

@@ -9,11 +9,8 @@ from typing import Any, Mapping
 from pydantic import BaseModel
 
 from gearwear.scene.checks import cross_check
-from gearwear.scene.schema import (
-    SceneDoc,
-    _literal_names,
-    _model_in,
-)
+from gearwear.scene.schema import SceneDoc
+from gearwear.scene.validate import _literal_names, _model_in
 
 
 def json_schema() -> dict[str, Any]:
