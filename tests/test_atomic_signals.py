@@ -62,6 +62,19 @@ def _write_file(target: Path) -> None:
     atomic.atomic_write_bytes(target, b"new")
 
 
+@pytest.fixture(autouse=True)
+def python_sigint_handler():
+    """Python's own SIGINT handler, SIGINT unblocked, for the test: an earlier in-process test of
+    the same pytest worker may have left another handler or mask (gearwear's command line keeps
+    its handlers after a signal, as the process is ending; CI's make test saw 0 of the signals
+    land in three of these cases under pytest-xdist)."""
+    old = signal.signal(signal.SIGINT, signal.default_int_handler)
+    mask = signal.pthread_sigmask(signal.SIG_UNBLOCK, [signal.SIGINT])
+    yield
+    signal.pthread_sigmask(signal.SIG_SETMASK, mask)
+    signal.signal(signal.SIGINT, old)
+
+
 @pytest.mark.parametrize("kind", ["folder", "file"])
 @pytest.mark.parametrize("existing", [True, False], ids=["replace", "create"])
 def test_a_signal_at_any_line_leaves_old_or_new_and_nothing_hidden(tmp_path, kind, existing):

@@ -123,7 +123,7 @@ def test_an_edit_of_a_callee_module_recompiles_the_cached_caller(tmp_path):
     assert probe() == (2.0, 0)  # (F_s - F_m) / m_e = 2, compiled
     assert probe() == (2.0, 1)  # loaded from the cache
     rhs = pkg / "kernel_rhs.py"
-    old = "          (p[P_FS] - F) / p[P_ME])"
+    old = "(p[P_FS] - F) / p[P_ME],"  # the torsional acceleration term of _rhs
     assert rhs.read_text().count(old) == 1
-    rhs.write_text(rhs.read_text().replace(old, "          (p[P_FS] - F) / p[P_ME] + 1.0)"))
+    rhs.write_text(rhs.read_text().replace(old, "(p[P_FS] - F) / p[P_ME] + 1.0,"))
     assert probe() == (3.0, 0)  # recompiled with the edited _rhs, not the cached one
