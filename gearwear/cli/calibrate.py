@@ -15,6 +15,7 @@ from gearwear.cli.common import (
     fe_executor,
     fem_plane,
     int_arg,
+    output_options,
     print_assumed,
     scene_options,
     unworn_as_none,
@@ -166,6 +167,5 @@ def add_parser(sub) -> None:
         "in this process, where every gear body is built once for all wear states)",
     )
     c.add_argument("--scheduler", help=SCHEDULER_HELP)
-    c.add_argument("--out", help="copy the tables (CSV + JSON sidecar) here")
-    c.add_argument("--json", action="store_true", help="print one JSON object")
+    output_options(c, "copy the tables (CSV + JSON sidecar) here")
     c.set_defaults(func=run)

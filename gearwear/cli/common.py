@@ -297,3 +297,18 @@ def scene_options(
         )
     if "torque" in aliases:
         sp.add_argument("--torque-Nm", help="alias of --set operating.torque_Nm=X, pinion torque in N m")
+
+
+def output_options(
+    sp: argparse.ArgumentParser, out_help: str = "output folder", json_help: str = "print one JSON object"
+) -> None:
+    """--out FOLDER and --json, which every command that writes results takes."""
+    sp.add_argument("--out", help=out_help)
+    sp.add_argument("--json", action="store_true", help=json_help)
+
+
+def pool_options(sp: argparse.ArgumentParser) -> None:
+    """--workers, --scheduler and --allow-large of the commands that run a grid of scenes."""
+    sp.add_argument("--workers", help="local worker processes (default: all cores)")
+    sp.add_argument("--scheduler", help=SCHEDULER_HELP)
+    sp.add_argument("--allow-large", action="store_true", help=ALLOW_LARGE_HELP)

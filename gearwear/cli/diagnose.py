@@ -22,7 +22,15 @@ from pathlib import Path
 from typing import Any
 
 from gearwear import io
-from gearwear.cli.common import alias_sets, bounded_float, check_out, scene_options, worker_count, write_output
+from gearwear.cli.common import (
+    alias_sets,
+    bounded_float,
+    check_out,
+    output_options,
+    scene_options,
+    worker_count,
+    write_output,
+)
 from gearwear.core.validation import InputError
 from gearwear.diagnose import job as dj
 from gearwear.diagnose import surrogate as ds
@@ -461,6 +469,5 @@ def add_parser(sub) -> None:
     )
     dg.add_argument("--torques-Nm", help="--plan: candidate torques, comma-separated (default 0.5, 1, 2 x the scene's)")
     dg.add_argument("--refresh", action="store_true", help="rebuild the surrogate even if it is cached")
-    dg.add_argument("--out", help="output folder")
-    dg.add_argument("--json", action="store_true", help="print one JSON object")
+    output_options(dg)
     dg.set_defaults(func=run)

@@ -10,6 +10,7 @@ from gearwear.cli.common import (
     check_out,
     fem_plane,
     load_scene,
+    output_options,
     pair_inputs,
     print_assumed,
     scene_options,
@@ -146,6 +147,9 @@ def add_parser(sub) -> None:
         action="store_true",
         help="with --out: skip the Gmsh mesh (without --out none is built: the table needs none)",
     )
-    g.add_argument("--out", help="output folder for profile.csv, tooth.png, pinion_mesh.vtu, summary.json")
-    g.add_argument("--json", action="store_true", help="print one JSON object instead of the table")
+    output_options(
+        g,
+        "output folder for profile.csv, tooth.png, pinion_mesh.vtu, summary.json",
+        "print one JSON object instead of the table",
+    )
     g.set_defaults(func=run)

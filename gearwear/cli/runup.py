@@ -8,12 +8,12 @@ import time
 
 from gearwear import io
 from gearwear.cli.common import (
-    ALLOW_LARGE_HELP,
-    SCHEDULER_HELP,
     alias_sets,
     bounded_float,
     check_out,
     int_arg,
+    output_options,
+    pool_options,
     scene_options,
     worker_count,
     write_output,
@@ -157,9 +157,6 @@ def add_parser(sub) -> None:
         default="0.01",
         help="up and down K_v differing by more than this fraction mark a jump band (default 0.01)",
     )
-    ru.add_argument("--workers", help="local worker processes (default: all cores)")
-    ru.add_argument("--scheduler", help=SCHEDULER_HELP)
-    ru.add_argument("--allow-large", action="store_true", help=ALLOW_LARGE_HELP)
-    ru.add_argument("--out", help="output folder")
-    ru.add_argument("--json", action="store_true", help="print one JSON object (the summary)")
+    pool_options(ru)
+    output_options(ru, "output folder", "print one JSON object (the summary)")
     ru.set_defaults(func=run)

@@ -6,7 +6,7 @@ import argparse
 import sys
 
 from gearwear import io
-from gearwear.cli.common import check_out, load_scene, scene_options, write_output
+from gearwear.cli.common import check_out, load_scene, output_options, scene_options, write_output
 
 
 def run(args: argparse.Namespace) -> int:
@@ -51,6 +51,5 @@ def add_parser(sub) -> None:
         "signals (NPZ + CSV), time-trace and spectrum PNGs and summary.json.",
     )
     scene_options(sm, "paper-wear-severe")
-    sm.add_argument("--out", help="output folder")
-    sm.add_argument("--json", action="store_true", help="print one JSON object")
+    output_options(sm)
     sm.set_defaults(func=run)

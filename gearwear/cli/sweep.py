@@ -7,10 +7,10 @@ import math
 
 from gearwear import io
 from gearwear.cli.common import (
-    ALLOW_LARGE_HELP,
-    SCHEDULER_HELP,
     alias_sets,
     check_out,
+    output_options,
+    pool_options,
     scene_options,
     worker_count,
     write_output,
@@ -77,9 +77,6 @@ def add_parser(sub) -> None:
         "point) and harmonics-versus-parameter PNGs (paper Figs. 8-14, 19-25).",
     )
     scene_options(sw, "paper-wear-severe")
-    sw.add_argument("--workers", help="local worker processes (default: all cores)")
-    sw.add_argument("--scheduler", help=SCHEDULER_HELP)
-    sw.add_argument("--allow-large", action="store_true", help=ALLOW_LARGE_HELP)
-    sw.add_argument("--out", help="output folder")
-    sw.add_argument("--json", action="store_true", help="print one JSON object")
+    pool_options(sw)
+    output_options(sw)
     sw.set_defaults(func=run)

@@ -11,6 +11,7 @@ from gearwear.cli.common import (
     check_out,
     fem_plane,
     int_arg,
+    output_options,
     pair_inputs,
     print_assumed,
     scene_options,
@@ -106,6 +107,5 @@ def add_parser(sub) -> None:
     scene_options(v, "paper-default", multi=True, aliases=("wear", "torque"))
     v.add_argument("--positions", default="21", help="load positions from SAP to tip (default 21)")
     v.add_argument("--no-convergence", action="store_true", help="skip the h/p convergence study (~1-3 min)")
-    v.add_argument("--out", help="output folder")
-    v.add_argument("--json", action="store_true", help="print one JSON object")
+    output_options(v)
     v.set_defaults(func=run)

@@ -98,15 +98,17 @@ class Source:
 # -- the curve functions -------------------------------------------------------------------
 
 
-def _analytic(method: str) -> Callable[[Request], "MeshStiffness"]:
+def _analytic(method: str, name: str | None = None) -> Callable[[Request], "MeshStiffness"]:
+    """The curve of analytic.tvms.mesh_stiffness (load sharing over the slice or energy
+    compliances) with ``method``, at the default points of source ``name`` (default: the method's)."""
+
     def curve(rq: Request) -> "MeshStiffness":
-        """analytic.tvms.mesh_stiffness: load sharing over the slice or energy compliances."""
         from gearwear.analytic.tvms import mesh_stiffness
 
         return mesh_stiffness(
             rq.pair,
             method=method,
-            points=SOURCES[method].points(rq),
+            points=SOURCES[name or method].points(rq),
             torque_Nm=rq.torque_Nm,
             clearance_m=rq.clearance_m,
             wear=rq.wear,
@@ -119,22 +121,8 @@ def _analytic(method: str) -> Callable[[Request], "MeshStiffness"]:
     return curve
 
 
-def _scene_analytic(rq: Request) -> "MeshStiffness":
-    """The dynamics' ``analytic`` source: Ishikawa's slice model (the paper's), with the
-    default arguments of analytic.tvms.mesh_stiffness."""
-    from gearwear.analytic.tvms import mesh_stiffness
-
-    return mesh_stiffness(
-        rq.pair,
-        points=SOURCES["analytic"].points(rq),
-        torque_Nm=rq.torque_Nm,
-        clearance_m=rq.clearance_m,
-        wear=rq.wear,
-        flank=rq.flank,
-        faults=rq.faults,
-        breakpoints=rq.breakpoints,
-        plane=rq.plane,
-    )
+#: the dynamics' ``analytic`` source: Ishikawa's slice model (the paper's)
+_scene_analytic = _analytic("ishikawa", "analytic")
 
 
 def iso_curve(pair: PairSpec, points: int, torque_Nm: float, clearance_m: float) -> "MeshStiffness":
