@@ -12,6 +12,7 @@ reports no error.
 from __future__ import annotations
 
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -21,6 +22,9 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def main() -> int:
+    # setuptools builds in ROOT/build/lib and never deletes a module that has since moved: a stale
+    # copy would enter the wheel and be type-checked (a moved module's old imports fail)
+    shutil.rmtree(ROOT / "build" / "lib", ignore_errors=True)
     with tempfile.TemporaryDirectory() as tmp:
         out, site = Path(tmp) / "wheel", Path(tmp) / "site"
         subprocess.run(

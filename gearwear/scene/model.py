@@ -72,7 +72,7 @@ def resolve_bodies(b, pair: PairSpec) -> Bodies:
         inertia = tuple(m * p.inertia_kg_m2 / p.mass_kg for m, p in zip(mass, blank))
         inertia_from = "blank radius of gyration"
     return Bodies(
-        mass,
+        mass,  # type: ignore[arg-type]
         inertia,
         b.bearing_stiffness_N_per_m,  # type: ignore[arg-type]
         DEFAULT_BEARING_DAMPING_RATIO if b.bearing_damping_ratio is None else b.bearing_damping_ratio,
@@ -423,8 +423,8 @@ def flank_spec(f: FlankDoc, pair: PairSpec) -> FlankSpec | None:
     spec = FlankSpec(
         tip_relief=(relief(f.tip_relief, 0), relief(f.tip_relief, 1)),
         root_relief=(relief(f.root_relief, 0), relief(f.root_relief, 1)),
-        deviation=devs,
-    )  # type: ignore[arg-type]
+        deviation=devs,  # type: ignore[arg-type]
+    )
     try:
         check_flank(pair, spec)
     except InputError as exc:

@@ -90,8 +90,8 @@ def _per_gear(
         extra["limits"] = limits
         doc = f"{doc} Limits: {limits}."
     return Annotated[
-        tuple[item, item],  # type: ignore[valid-type]
-        BeforeValidator(_pair_of, json_schema_input_type=Union[item, tuple[item, item]]),  # type: ignore[valid-type]
+        tuple[item, item],
+        BeforeValidator(_pair_of, json_schema_input_type=Union[item, tuple[item, item]]),
         PField(description=doc + " One value for both gears or [pinion, gear].", json_schema_extra=extra),
     ]
 
@@ -110,29 +110,29 @@ class PairDoc(_Table):
     other keys have stated defaults (ISO 53 profile A rack, 20 deg, no profile shift, a bore
     of half the root radius), each listed as an ``assumed:`` line when a result uses it."""
 
-    teeth: _per_gear("", 5, 1000, integer=True, doc="Number of teeth.")  # type: ignore[valid-type]
-    module_mm: _num("mm", 0.05, 100, doc="Normal module m (ISO 54 fine pitch starts at 0.05 mm).")  # type: ignore[valid-type]
+    teeth: _per_gear("", 5, 1000, integer=True, doc="Number of teeth.")
+    module_mm: _num("mm", 0.05, 100, doc="Normal module m (ISO 54 fine pitch starts at 0.05 mm).")
     pressure_angle_deg: _num(
         "deg",
         10,
-        35,  # type: ignore[valid-type]
+        35,
         doc="Reference pressure angle alpha (standard racks: 14.5 to 25 deg).",
     ) = 20.0
-    face_width_mm: _num("mm", 0, 2000, lo_open=True, doc="Face width b.")  # type: ignore[valid-type]
-    addendum_coefficient: _num("", 0, 2, lo_open=True, doc="Rack addendum h_a* (gear addendum).") = 1.0  # type: ignore[valid-type]
-    dedendum_coefficient: _num("", 0, 3, lo_open=True, doc="Rack dedendum h_f*.") = 1.25  # type: ignore[valid-type]
-    rack_tip_radius_coefficient: _num("", 0, 1, doc="Rack tip round rho_fP* (cuts the fillet).") = 0.38  # type: ignore[valid-type]
-    profile_shift: _per_gear("", -1.5, 2.0, doc="Profile shift coefficient x.") = (0.0, 0.0)  # type: ignore[valid-type]
+    face_width_mm: _num("mm", 0, 2000, lo_open=True, doc="Face width b.")
+    addendum_coefficient: _num("", 0, 2, lo_open=True, doc="Rack addendum h_a* (gear addendum).") = 1.0
+    dedendum_coefficient: _num("", 0, 3, lo_open=True, doc="Rack dedendum h_f*.") = 1.25
+    rack_tip_radius_coefficient: _num("", 0, 1, doc="Rack tip round rho_fP* (cuts the fillet).") = 0.38
+    profile_shift: _per_gear("", -1.5, 2.0, doc="Profile shift coefficient x.") = (0.0, 0.0)
     hub_radius_mm: _per_gear(
         "mm",
         0,
         10000,
-        lo_open=True,  # type: ignore[valid-type]
+        lo_open=True,
         doc="Bore radius: the FE holds each body there, and the body masses and inertias "
         "exclude it. Absent: half the root radius (assumed).",
     ) = None
     allow_undercut: bool = PField(False, description="Generate undercut profiles instead of refusing them.")
-    tip_diameter_mm: _per_gear(  # type: ignore[valid-type]
+    tip_diameter_mm: _per_gear(
         "mm",
         0,
         20000,
@@ -144,7 +144,7 @@ class PairDoc(_Table):
         "at most 2 a_w - d_f of the mate (tip clearance), and free of tip/root interference with the "
         "mate",
     ) = None
-    centre_distance_mm: _num(  # type: ignore[valid-type]
+    centre_distance_mm: _num(
         "mm",
         0,
         1e5,
@@ -156,7 +156,7 @@ class PairDoc(_Table):
         limits="at least a_w (closer, the flanks interpenetrate), below the distance where the tip circles stop "
         "overlapping on the line of action",
     ) = None
-    root_diameter_mm: _per_gear(  # type: ignore[valid-type]
+    root_diameter_mm: _per_gear(
         "mm",
         0,
         20000,
@@ -175,13 +175,13 @@ class MaterialDoc(_Table):
     ISO 6336 the equivalent modulus 2 E1 E2 / (E1 + E2), the FE per body, the wear law E').
     Absent keys: steel, 206 GPa, 0.3, 7850 kg/m^3 (stated as assumed in every output)."""
 
-    youngs_modulus_GPa: _per_gear("GPa", 0, 2000, lo_open=True, doc="Young's modulus E.") = (206.0, 206.0)  # type: ignore[valid-type]
-    poisson_ratio: _per_gear("", 0, 0.5, hi_open=True, doc="Poisson's ratio nu.") = (0.3, 0.3)  # type: ignore[valid-type]
+    youngs_modulus_GPa: _per_gear("GPa", 0, 2000, lo_open=True, doc="Young's modulus E.") = (206.0, 206.0)
+    poisson_ratio: _per_gear("", 0, 0.5, hi_open=True, doc="Poisson's ratio nu.") = (0.3, 0.3)
     density_kg_per_m3: _per_gear(
         "kg/m^3",
         0,
         1e5,
-        lo_open=True,  # type: ignore[valid-type]
+        lo_open=True,
         doc="Density: the body masses and inertias are computed from it.",
     ) = (7850.0, 7850.0)
 
@@ -196,7 +196,7 @@ class WebDoc(_Table):
         0,
         2000,
         lo_open=True,
-        doc="Axial web thickness b_s.",  # type: ignore[valid-type]
+        doc="Axial web thickness b_s.",
         limits="at most the face width",
     )
     rim_thickness_mm: _num(
@@ -204,15 +204,14 @@ class WebDoc(_Table):
         0,
         10000,
         lo_open=True,
-        doc="Radial rim thickness s_R below the root "  # type: ignore[valid-type]
-        "circle.",
+        doc="Radial rim thickness s_R below the root circle.",
         limits="below the root radius minus the bore radius",
     )
     hub_outer_radius_mm: _num(
         "mm",
         0,
         10000,
-        lo_open=True,  # type: ignore[valid-type]
+        lo_open=True,
         doc="Outer radius of the hub (the web runs from here to the rim).",
         limits="between the bore and the rim's inside radius",
     )
@@ -236,14 +235,14 @@ class BodiesDoc(_Table):
         "kg",
         0,
         1e6,
-        lo_open=True,  # type: ignore[valid-type]
+        lo_open=True,
         doc="Gear body mass; absent: from the blank and the density.",
     ) = None
     inertia_kg_m2: _per_gear(
         "kg m^2",
         0,
         1e6,
-        lo_open=True,  # type: ignore[valid-type]
+        lo_open=True,
         doc="Polar moment of inertia; absent: from the blank (with a given mass_kg: the "
         "blank's radius of gyration, J = m J_blank / m_blank).",
     ) = None
@@ -251,25 +250,25 @@ class BodiesDoc(_Table):
         "N/m",
         0,
         1e13,
-        lo_open=True,  # type: ignore[valid-type]
+        lo_open=True,
         doc="Radial bearing stiffness k_b. Required by the dynamics (simulate, sweep, "
         "runup, diagnose): it sets the lateral modes the mesh excites and spans "
         "orders of magnitude between designs, so no default would be right.",
     ) = None
-    bearing_damping_ratio: _num("", 0, 1, doc="zeta_b; default 0.02 unless bearing_damping_N_s_per_m is given.") = None  # type: ignore[valid-type]
-    mesh_damping_ratio: _num("", 0, 1, doc="zeta_m; default 0.05 unless mesh_damping_N_s_per_m is given.") = None  # type: ignore[valid-type]
-    bearing_damping_N_s_per_m: _per_gear("N s/m", 0, 1e9, doc="Bearing damping coefficient c_b.") = None  # type: ignore[valid-type]
-    mesh_damping_N_s_per_m: _num("N s/m", 0, 1e9, doc="Mesh damping coefficient c_h.") = None  # type: ignore[valid-type]
+    bearing_damping_ratio: _num("", 0, 1, doc="zeta_b; default 0.02 unless bearing_damping_N_s_per_m is given.") = None
+    mesh_damping_ratio: _num("", 0, 1, doc="zeta_m; default 0.05 unless mesh_damping_N_s_per_m is given.") = None
+    bearing_damping_N_s_per_m: _per_gear("N s/m", 0, 1e9, doc="Bearing damping coefficient c_b.") = None
+    mesh_damping_N_s_per_m: _num("N s/m", 0, 1e9, doc="Mesh damping coefficient c_h.") = None
 
 
 class OperatingDoc(_Table):
     """The operating point of the pinion (driver)."""
 
-    speed_rpm: _num("rpm", 0, 1e6, lo_open=True, doc="Pinion speed.")  # type: ignore[valid-type]
+    speed_rpm: _num("rpm", 0, 1e6, lo_open=True, doc="Pinion speed.")
     torque_Nm: _num(
         "N m",
         0,
-        1e7,  # type: ignore[valid-type]
+        1e7,
         doc="Pinion torque (0: unloaded geometry only; the mesh stiffness and the dynamics need a load).",
     )
 
@@ -278,7 +277,7 @@ class MeshStiffnessDoc(_Table):
     """Where the time-varying mesh stiffness k_h(phi) comes from."""
 
     # the scene's sources, from the registry (stiffness.sources.SCENE_SOURCES)
-    source: Literal[SCENE_SOURCES] = PField(  # type: ignore[valid-type]
+    source: Literal[SCENE_SOURCES] = PField(
         "analytic",
         description="analytic (Ishikawa), calibrated (FE-corrected), fem (FE pair contact), "
         "constant, or table (a user CSV).",
@@ -287,7 +286,7 @@ class MeshStiffnessDoc(_Table):
         "N/m",
         0,
         1e13,
-        lo_open=True,  # type: ignore[valid-type]
+        lo_open=True,
         doc='With source = "constant": the value (default: the analytic mean).',
     ) = None
     path: str | None = PField(
@@ -307,7 +306,7 @@ class MeshStiffnessDoc(_Table):
         "bore) taken out (for a model that carries the blank torsion itself). Not with the other "
         "sources: they have no blank term.",
     )
-    points_per_mesh_period: _num(  # type: ignore[valid-type]
+    points_per_mesh_period: _num(
         "",
         8,
         100000,
@@ -330,7 +329,7 @@ class WearDoc(_Table):
     max_depth_um: _num(
         "um",
         0,
-        20000,  # type: ignore[valid-type]
+        20000,
         doc="Maximum pinion flank depth. Refused beyond 1/3 of the local half tooth thickness where "
         "either flank wears deepest (the message gives the maximum for the pair; 1554 um for "
         "the paper pair).",
@@ -338,7 +337,7 @@ class WearDoc(_Table):
     hours: _num(
         "h",
         0,
-        1e7,  # type: ignore[valid-type]
+        1e7,
         doc="Running hours at the operating point (magnitude from the model). Refused when the depth "
         "would pass the 1/3 half-thickness limit; a depth beyond the severe phase (30 um) is "
         "accepted with a warning in the outputs.",
@@ -350,23 +349,23 @@ class WearDoc(_Table):
         "m^2/N",
         0,
         1e-9,
-        lo_open=True,  # type: ignore[valid-type]
+        lo_open=True,
         doc="Archard wear coefficient (with hours and model archard; default 5.3e-16).",
     ) = None
     wear_intensity: _num(
         "",
         0,
         1e-2,
-        lo_open=True,  # type: ignore[valid-type]
+        lo_open=True,
         doc="I_h of Eq. 1 (with hours and model paper_eq1; default 1e-8).",
     ) = None
-    taper_mm: _num("mm", 0, 5, doc="Run-out of the depth beyond the active profile.") = 0.2  # type: ignore[valid-type]
+    taper_mm: _num("mm", 0, 5, doc="Run-out of the depth beyond the active profile.") = 0.2
 
 
 class BacklashDoc(_Table):
     """Backlash dead zone (paper Eq. 20)."""
 
-    initial_um: _num("um", 0, 1e4, doc="Normal backlash at the nominal centre distance.") = 0.0  # type: ignore[valid-type]
+    initial_um: _num("um", 0, 1e4, doc="Normal backlash at the nominal centre distance.") = 0.0
     form: Literal["consistent", "printed"] = PField(
         "consistent", description="Backlash formula: consistent (derived) or printed (Eq. 15)."
     )
@@ -376,7 +375,7 @@ class BacklashDoc(_Table):
 class BearingClearanceDoc(_Table):
     """Radial bearing clearance dead zones (paper Eqs. 7-10)."""
 
-    clearance_um: _num("um", 0, 1e4, doc="Radial bearing clearance BC.") = 0.0  # type: ignore[valid-type]
+    clearance_um: _num("um", 0, 1e4, doc="Radial bearing clearance BC.") = 0.0
 
 
 class CentreDistanceDoc(_Table):
@@ -413,14 +412,14 @@ class ReliefDoc(_Table):
     amount_um: _per_gear(
         "um",
         0,
-        1000,  # type: ignore[valid-type]
+        1000,
         doc="Relief amount: C_a at the tip (tip relief), C_f at the start of active profile (root relief).",
     )
     start_diameter_mm: _per_gear(
         "mm",
         0,
         20000,
-        lo_open=True,  # type: ignore[valid-type]
+        lo_open=True,
         doc="Diameter where the relief starts (0 there, growing toward the tip or root). "
         "A long tip relief starts at the HPSTC diameter that `gearwear geometry` "
         "prints.",
@@ -457,50 +456,50 @@ class CrackDoc(_Table):
     """A straight root crack on one tooth, from the critical fillet point (ISO 6336-3 30 deg
     tangent) into the tooth (geometry.crack)."""
 
-    gear: _num("", 0, 1, integer=True, doc="0 pinion, 1 gear.") = 0  # type: ignore[valid-type]
+    gear: _num("", 0, 1, integer=True, doc="0 pinion, 1 gear.") = 0
     tooth: _num(
         "",
         0,
         999,
-        integer=True,  # type: ignore[valid-type]
+        integer=True,
         doc="Tooth index: 0 enters contact at pinion angle 0, then in meshing order.",
     ) = 0
-    depth_mm: _num("mm", 0, 100, lo_open=True, doc="Crack length from the fillet surface.")  # type: ignore[valid-type]
+    depth_mm: _num("mm", 0, 100, lo_open=True, doc="Crack length from the fillet surface.")
     angle_deg: _num(
         "deg",
         5,
-        90,  # type: ignore[valid-type]
+        90,
         doc="Angle between the crack and the tooth centre line (the crack runs inward and "
         "downward; 45 deg as in Chen & Shao 2011).",
-    ) = 45.0  # type: ignore[valid-type]
+    ) = 45.0
 
 
 class SpallDoc(_Table):
     """A through-width spall (pit) on one tooth's flank (geometry.faults)."""
 
-    gear: _num("", 0, 1, integer=True, doc="0 pinion, 1 gear.") = 0  # type: ignore[valid-type]
+    gear: _num("", 0, 1, integer=True, doc="0 pinion, 1 gear.") = 0
     tooth: _num(
         "",
         0,
         999,
-        integer=True,  # type: ignore[valid-type]
+        integer=True,
         doc="Tooth index: 0 enters contact at pinion angle 0, then in meshing order.",
     ) = 0
     start_diameter_mm: _num(
         "mm",
         0,
         20000,
-        lo_open=True,  # type: ignore[valid-type]
+        lo_open=True,
         doc="Diameter of the spall's lower edge (on the active flank).",
     )
     length_mm: _num(
         "mm",
         0,
         100,
-        lo_open=True,  # type: ignore[valid-type]
+        lo_open=True,
         doc="Length along the involute toward the tip.",
     )
-    depth_um: _num("um", 0, 1000, lo_open=True, doc="Depth of the pit.")  # type: ignore[valid-type]
+    depth_um: _num("um", 0, 1000, lo_open=True, doc="Depth of the pit.")
 
 
 class FaultsDoc(_Table):
@@ -521,21 +520,21 @@ class Iso6336Doc(_Table):
         "",
         1,
         12,
-        integer=True,  # type: ignore[valid-type]
+        integer=True,
         doc="ISO 1328-1:1995 accuracy grade of the deviations that are not given.",
     ) = 6
-    f_pb_um: _num("um", 0, 1000, doc="Transverse base pitch deviation f_pb (the larger of the pair).") = None  # type: ignore[valid-type]
-    f_f_um: _num("um", 0, 1000, doc="Profile form deviation f_f_alpha (the larger of the pair).") = None  # type: ignore[valid-type]
-    y_p_um: _num("um", 0, 1000, doc="Running-in allowance of the base pitch deviation y_p.") = None  # type: ignore[valid-type]
-    y_f_um: _num("um", 0, 1000, doc="Running-in allowance of the profile form deviation y_f.") = None  # type: ignore[valid-type]
+    f_pb_um: _num("um", 0, 1000, doc="Transverse base pitch deviation f_pb (the larger of the pair).") = None
+    f_f_um: _num("um", 0, 1000, doc="Profile form deviation f_f_alpha (the larger of the pair).") = None
+    y_p_um: _num("um", 0, 1000, doc="Running-in allowance of the base pitch deviation y_p.") = None
+    y_f_um: _num("um", 0, 1000, doc="Running-in allowance of the profile form deviation y_f.") = None
     C_a_um: _num(
         "um",
         0,
-        1000,  # type: ignore[valid-type]
+        1000,
         doc="Tip relief C_a; absent: the larger [flank] tip relief amount, else 0 (ISO would take "
         "the running-in amount C_ay, about 2 um for case-hardened steel).",
     ) = None
-    application_factor: _num("", 1, 10, doc="Application factor K_A.") = 1.0  # type: ignore[valid-type]
+    application_factor: _num("", 1, 10, doc="Application factor K_A.") = 1.0
 
 
 class FemDoc(_Table):
@@ -568,11 +567,11 @@ class SolverDoc(_Table):
     """Time integration. auto: RK4 without backlash and bearing clearance, else dopri5."""
 
     method: Literal["auto", "rk4", "dopri5"] = "auto"
-    steps_per_mesh_period: _num("", 8, 65536, integer=True, doc="RK4 steps per mesh period.") = 256  # type: ignore[valid-type]
-    duration_s: _num("s", 0, 100, lo_open=True, doc="Simulated time.") = 0.5  # type: ignore[valid-type]
-    discard_s: _num("s", 0, 100, doc="Start-up transient left out of the statistics.") = 0.3  # type: ignore[valid-type]
-    rtol: _num("", 1e-14, 1e-2, doc="dopri5 relative tolerance.") = 1e-8  # type: ignore[valid-type]
-    atol: _num("m", 0, 1, lo_open=True, doc="dopri5 absolute displacement tolerance.") = None  # type: ignore[valid-type]
+    steps_per_mesh_period: _num("", 8, 65536, integer=True, doc="RK4 steps per mesh period.") = 256
+    duration_s: _num("s", 0, 100, lo_open=True, doc="Simulated time.") = 0.5
+    discard_s: _num("s", 0, 100, doc="Start-up transient left out of the statistics.") = 0.3
+    rtol: _num("", 1e-14, 1e-2, doc="dopri5 relative tolerance.") = 1e-8
+    atol: _num("m", 0, 1, lo_open=True, doc="dopri5 absolute displacement tolerance.") = None
 
 
 class OutputDoc(_Table):
@@ -582,7 +581,7 @@ class OutputDoc(_Table):
         default_factory=lambda: ["y_p", "x_p", "delta", "F_m"],  # type: ignore[arg-type]
         description="Signals to keep and analyse.",
     )
-    harmonics: _num("", 1, 100, integer=True, doc="Mesh harmonics reported.") = 10  # type: ignore[valid-type]
+    harmonics: _num("", 1, 100, integer=True, doc="Mesh harmonics reported.") = 10
 
 
 class SceneDoc(_Table):
