@@ -20,9 +20,9 @@ from numba import njit
 
 from .dormand_prince import P as DENSE_P
 from .kernel_dp_step import _dense, _dp_energy, _dp_stages, _dp_store, _f_first
-from .kernel_events import EV_COLS, _ev_put, _g_arr, _illinois, _modes_tuple
+from .kernel_events import EV_COLS, _ev_put, _first_rows, _g_arr, _illinois, _modes_tuple
 from .kernel_rhs import NG
-from .kernel_state import ST_BUDGET, ST_DIVERGED, ST_HMIN, ST_OK, _tup
+from .kernel_state import ST_BUDGET, ST_DIVERGED, ST_HMIN, ST_OK, _counters, _tup
 from .kernel_tables import _next_node_time, _segment
 
 # the Dormand-Prince 5(4) tableau and Shampine's dense output (dynamics.dormand_prince)
@@ -81,12 +81,21 @@ def dopri5(
     znew = np.empty(nz)
     zt = np.empty(nz)  # scratch for the event root finder
     zd = np.empty(nz)
-    act = np.zeros(NG, dtype=np.bool_)
-    g = np.zeros(NG)
-    gs = np.zeros(NG)
-    gcur = np.zeros(NG)
-    gprev = np.zeros(NG)
-    roots = np.full(NG, 2.0)
+    # np.empty and element stores throughout: np.zeros, np.full and slice stores each
+    # compile their own numpy overloads on a first run
+    act = np.empty(NG, dtype=np.bool_)
+    g = np.empty(NG)
+    gs = np.empty(NG)
+    gcur = np.empty(NG)
+    gprev = np.empty(NG)
+    roots = np.empty(NG)
+    for q in range(NG):
+        act[q] = False
+        g[q] = 0.0
+        gs[q] = 0.0
+        gcur[q] = 0.0
+        gprev[q] = 0.0
+        roots[q] = 2.0
     ng = gidx.shape[0]
     t = 0.0
     clip = (sw_tv is not None) or (sw_te is not None)
@@ -140,7 +149,7 @@ def dopri5(
             sc = atol[r] + rtol * max(abs(z[r]), abs(zn[r]))
             en += (errt[r] / sc) ** 2
         en = math.sqrt(en / nerr)
-        if not np.isfinite(en):
+        if not math.isfinite(en):
             en = 1e10
         if en > 1.0:
             n_rej += 1
@@ -267,7 +276,10 @@ def dopri5(
                 if th < 0.0:
                     th = 0.0
                 if th >= 1.0:
-                    out[ko, :] = znew
+                    # an element loop: a slice assignment compiles numba's shape-mismatch
+                    # error message (string formatting), 6 s of a first run's compile
+                    for r in range(nz):
+                        out[ko, r] = znew[r]
                 else:
                     _dense(z, K, h_used, th, PD, out[ko], nz)
                 ko += 1
@@ -280,7 +292,7 @@ def dopri5(
             for r in range(nz):
                 z[r] = znew[r]
             n_acc += 1
-        if not (np.isfinite(z[4]) and abs(z[4]) < zlim and abs(z[0]) < zlim and abs(z[2]) < zlim):
+        if not (math.isfinite(z[4]) and abs(z[4]) < zlim and abs(z[0]) < zlim and abs(z[2]) < zlim):
             status = ST_DIVERGED
             break
         if clip and t >= tn:
@@ -315,5 +327,5 @@ def dopri5(
                 hp = max(hp, h * fac) if fac >= 1.0 else min(hp, h * fac)
             else:
                 hp = h * fac
-    counters = np.array([n_acc, n_rej, n_ev, ko, status, int(1000.0 * ev_rate)], dtype=np.int64)
-    return out, counters, z, t, ev[:n_rec].copy()
+    counters = _counters(n_acc, n_rej, n_ev, ko, status, int(1000.0 * ev_rate))
+    return out, counters, z, t, _first_rows(ev, n_rec, n_rec)

@@ -91,13 +91,23 @@ def _illinois(
 
 
 @njit(cache=True)
+def _first_rows(ev, n, rows):
+    """A new (rows, EV_COLS) buffer holding the first n rows of ev (rows >= n). Element
+    loops, not ``new[:n] = ev[:n]``: numba's slice assignment compiles its broadcasting and
+    error-message machinery, seconds on a first run."""
+    new = np.empty((rows, EV_COLS))
+    for a in range(n):
+        for c in range(EV_COLS):
+            new[a, c] = ev[a, c]
+    return new
+
+
+@njit(cache=True)
 def _ev_put(ev, n, t, z, f0, f1):
     """Row n of the event record (grown by doubling when full): time, state, one-sided
     derivatives. Returns the (possibly new) buffer."""
     if n == ev.shape[0]:
-        grown = np.empty((2 * n, EV_COLS))
-        grown[:n] = ev
-        ev = grown
+        ev = _first_rows(ev, n, 2 * n)
     ev[n, EV_T] = t
     for r in range(10):
         ev[n, EV_Z + r] = z[r]

@@ -21,7 +21,7 @@ import numpy as np
 from numba import njit
 
 from .kernel_rhs import _rhs
-from .kernel_state import ST_DIVERGED, ST_OK, _lc1, _lc4, _put, _tup
+from .kernel_state import ST_DIVERGED, ST_OK, _counters, _lc1, _lc4, _put, _tup
 from .params import P_KC
 
 
@@ -54,7 +54,7 @@ def rk4(z0, h, n_steps, t_out, zlim, p, hs, toff, kq, eq, dkq, deq, ends, sw_tv,
     table value. Samples at the sorted times ``t_out``: the sub-step state where a
     sample falls on a sub-step end (step boundaries and table nodes), else cubic
     Hermite inside the sub-step.
-    Returns (out (n_out, 10 or 14), counters [steps, sub-steps, 0, samples, status], z_end)."""
+    Returns (out (n_out, 10 or 14), counters [steps, sub-steps, 0, samples, status, 0], z_end)."""
     nz = z0.shape[0]
     n_out = t_out.shape[0]
     out = np.empty((n_out, nz))
@@ -146,5 +146,5 @@ def rk4(z0, h, n_steps, t_out, zlim, p, hs, toff, kq, eq, dkq, deq, ends, sw_tv,
             n_per += 1
     zend = np.empty(nz)
     _put(zend, z, W, sw_en)
-    counters = np.array([n_done, n_sub, 0, ko, status], dtype=np.int64)
+    counters = _counters(n_done, n_sub, 0, ko, status, 0)
     return out, counters, zend

@@ -16,9 +16,24 @@ exhausted, ``ST_HMIN`` 2 step size below the minimum, ``ST_DIVERGED`` 3 diverged
 
 from __future__ import annotations
 
+import numpy as np
 from numba import njit
 
 ST_OK, ST_BUDGET, ST_HMIN, ST_DIVERGED = 0, 1, 2, 3
+
+
+@njit(cache=True)
+def _counters(a, b, c, d, e, f):
+    """The integrators' int64 counter array. Element stores, not ``np.array([...])``:
+    numba compiles list-to-array conversion with its reflection machinery (slow first run)."""
+    out = np.empty(6, dtype=np.int64)
+    out[0] = a
+    out[1] = b
+    out[2] = c
+    out[3] = d
+    out[4] = e
+    out[5] = f
+    return out
 
 
 @njit(cache=True)

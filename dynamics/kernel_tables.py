@@ -18,10 +18,25 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
 
 from .params import P_DPHI, P_KC, P_OM, P_PER, P_PHI0, P_UNI
+
+
+@njit(cache=True)
+def _bisect_right(a, x):
+    """The index j with a[j-1] <= x < a[j] in the sorted array a (0 .. len(a)), as
+    ``np.searchsorted(a, x, side="right")``. Written out because numba's searchsorted
+    compiles its string argument and every array-kind variant: seconds on a first run."""
+    lo = 0
+    hi = a.shape[0]
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if x < a[mid]:
+            hi = mid
+        else:
+            lo = mid + 1
+    return lo
 
 
 @njit(cache=True)
@@ -36,7 +51,7 @@ def _segment(tseg, p, phx):
     if p[P_UNI] > 0.5:
         i = int(math.floor((u - p[P_PHI0]) / p[P_DPHI])) + 1
     else:
-        i = int(np.searchsorted(phx, u, side="right")) - 1
+        i = _bisect_right(phx, u) - 1
     if i < 0:
         i = 0
     if i > n2 - 2:
@@ -72,7 +87,7 @@ def _next_node_time(t, p, phi):
     ph = om * t
     m = math.floor(ph / P)
     u = ph - m * P
-    j = int(np.searchsorted(phi, u, side="right"))
+    j = _bisect_right(phi, u)
     kk = int(m) * n + j
     for _ in range(3):
         tn = (phi[kk % n] + (kk // n) * P) / om
