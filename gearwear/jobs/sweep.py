@@ -29,6 +29,7 @@ import numpy as np
 from gearwear import io
 from gearwear.core import interrupts
 from gearwear.core.validation import InputError
+from gearwear.jobs.table_memo import TableMemo
 from gearwear.scene.model import scene_from_dict
 from gearwear.scene.overrides import apply_overrides, parse_value
 
@@ -115,12 +116,25 @@ def point_sets(point: dict[str, Any], fixed: list[str]) -> list[str]:
     ]
 
 
+#: this process's stiffness tables of sweep points (a worker keeps them from point to point)
+TABLES = TableMemo()
+
+
+def point_stiffness(scene):
+    """The stiffness tables of a point's scene, through this process's :data:`TABLES`: a
+    point whose stiffness inputs equal an earlier one's (a speed sweep: all of them) reuses
+    its curve (gearwear.jobs.table_memo)."""
+    from gearwear.jobs.simulate import stiffness_input
+
+    return stiffness_input(scene, tables=TABLES)
+
+
 def run_point(raw: dict[str, Any], name: str, point: dict[str, Any], fixed: list[str]) -> dict[str, Any]:
     """One grid point (top-level function so process and Dask executors can pickle it)."""
     from gearwear.jobs.simulate import run
 
     scene = scene_from_dict(apply_overrides(raw, point_sets(point, fixed)), name=name)
-    summary = run(scene).summary()
+    summary = run(scene, stiffness=point_stiffness(scene)).summary()
     summary["point"] = point
     return summary
 
