@@ -158,6 +158,12 @@ def bearing_f(model: GearDynamics, u):
 
 
 def _accelerations(model: GearDynamics, t, z, k=None, e=None) -> np.ndarray:
+    return accelerations_and_state(model, t, z, k, e)[0]
+
+
+def accelerations_and_state(model: GearDynamics, t, z, k=None, e=None) -> tuple[np.ndarray, dict]:
+    """The accelerations (..., 5) of Eq. 17 and the :func:`mesh_state` they come from (one
+    evaluation of the mesh state for callers that need both, e.g. a_delta = G . a)."""
     ms = mesh_state(model, t, z, k, e)
     # generalised mesh forces: -F G + k (f_drive - f_back) Gb
     Q = -ms["F_m"][..., None] * ms["G"]
@@ -170,4 +176,4 @@ def _accelerations(model: GearDynamics, t, z, k=None, e=None) -> np.ndarray:
     a[..., 2] = (Q[..., 2] - cbg * z[..., 7] - model.k_b * fb[..., 2]) / model.m_g
     a[..., 3] = (Q[..., 3] - cbg * z[..., 8] - model.k_b * fb[..., 3]) / model.m_g
     a[..., 4] = (model.F_s + Q[..., 4]) / model.m_e
-    return a
+    return a, ms
