@@ -136,10 +136,11 @@ def revolution_bins(n_samples: int, fs_Hz: float, f_mesh_Hz: float, f_shaft_Hz: 
     return R, z
 
 
-def _amplitudes(x: np.ndarray) -> np.ndarray:
-    """Single-sided amplitudes of the DFT bins 0..N//2 (rectangular window)."""
+def _amplitudes(x: np.ndarray, X: np.ndarray | None = None) -> np.ndarray:
+    """Single-sided amplitudes of the DFT bins 0..N//2 (rectangular window); ``X``: the
+    rfft of x if already computed."""
     N = x.size
-    A = np.abs(np.fft.rfft(x)) / N
+    A = np.abs(np.fft.rfft(x) if X is None else X) / N
     A[1:] *= 2.0
     if N % 2 == 0:
         A[-1] /= 2.0
@@ -251,8 +252,9 @@ def difference_signal(
     return _difference(x, R, z, H, ns)
 
 
-def _difference(x, R, z, H, ns):
-    X = np.fft.rfft(x)
+def _difference(x, R, z, H, ns, X: np.ndarray | None = None):
+    """The difference signal; ``X``: the rfft of x if already computed (not modified)."""
+    X = np.fft.rfft(x) if X is None else X.copy()
     X[_removed_bins(x.size, R, z, H, ns)] = 0.0
     return np.fft.irfft(X, n=x.size)
 
@@ -384,7 +386,8 @@ def gear_indicators(
     H = _harmonic_count(x.size, R, z, n_harmonics)
     ns = _count("n_shaft_orders", n_shaft_orders, 0)
     K, N_sb = _sb_check(x.size, R, z, K, N_sb)
-    A = _amplitudes(x)
+    X = np.fft.rfft(x)  # one transform for the amplitudes and the difference signal
+    A = _amplitudes(x, X)
     why = []
     kur, r = _kurtosis(x)
     why += [("kurtosis", r)] if r else []
@@ -392,7 +395,7 @@ def gear_indicators(
     why += [("crest_factor", r)] if r else []
     f0, r = _fm0(x, A, R, z, H)
     why += [("FM0", r)] if r else []
-    f4, r = _fm4(x, _difference(x, R, z, H, ns))
+    f4, r = _fm4(x, _difference(x, R, z, H, ns, X))
     why += [("FM4", r)] if r else []
     sb, me, db, r = _sidebands(A, R, z, K, N_sb)
     why += [("sideband_ratio_dB", r)] if r else []
