@@ -6,7 +6,14 @@ import numpy as np
 
 from gearwear.core.validation import fail_text
 
-from .equations import _accelerations, accelerations_and_state, bearing_f, has_flank_law, mesh_state
+from .equations import (
+    _accelerations,
+    accelerations_and_state,
+    accelerations_from_force,
+    bearing_f,
+    has_flank_law,
+    mesh_state,
+)
 from .model import GearDynamics
 
 _trapezoid = getattr(np, "trapezoid", None) or getattr(np, "trapz")
@@ -475,10 +482,17 @@ def acceleration_signals(result) -> dict:
     return accelerations_at(model, result.t, result.states)
 
 
-def accelerations_at(model: GearDynamics, t, Z) -> dict:
+def accelerations_at(model: GearDynamics, t, Z, F_m=None) -> dict:
     """:func:`acceleration_signals` at the times t and states Z (a part of the samples: the
-    same numbers there, each sample's acceleration depends on its own state only)."""
-    a, ms = accelerations_and_state(model, t, Z)
+    same numbers there, each sample's acceleration depends on its own state only).
+    ``F_m``: the mesh force at those states if known (the result's signal); with the
+    static coupling the accelerations then follow from it without evaluating the mesh
+    state again (equations.accelerations_from_force)."""
+    if F_m is not None and model.centre_distance != "dynamic":
+        a, G = accelerations_from_force(model, Z, F_m)
+    else:
+        a, ms = accelerations_and_state(model, t, Z)
+        G = ms["G"]
     out = {name: a[:, i].copy() for i, name in enumerate(("a_y_p", "a_x_p", "a_y_g", "a_x_g", "a_q"))}
-    out["a_delta"] = np.sum(ms["G"] * a, axis=1)
+    out["a_delta"] = np.sum(G * a, axis=1)
     return out

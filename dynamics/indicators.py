@@ -189,8 +189,9 @@ def _kurtosis(x: np.ndarray):
     if _flat(x):
         return None, "the signal is constant (to 1e-12 of its magnitude): 4th moment over a zero variance"
     ac = x - np.mean(x)
-    m2 = float(np.mean(ac * ac))
-    return float(np.mean(ac**4) / (m2 * m2)), None
+    a2 = ac * ac  # (ac^2)^2, not ac**4: numpy's power takes pow() for 4, ~10x slower
+    m2 = float(np.mean(a2))
+    return float(np.mean(a2 * a2) / (m2 * m2)), None
 
 
 def kurtosis(x) -> float | None:
@@ -267,7 +268,8 @@ def _fm4(x, d):
             "the difference signal is at the rounding level: nothing is left after "
             "removing the shaft orders, mesh harmonics and first-order sidebands"
         )
-    return float(np.mean(d**4) / np.mean(d * d) ** 2), None
+    d2 = d * d
+    return float(np.mean(d2 * d2) / np.mean(d2) ** 2), None
 
 
 def fm4(

@@ -440,7 +440,7 @@ def condition_indicators(scene: Scene, result) -> dict[str, Any]:
         }
     n = revs * z * S
     # the accelerations of the last n samples only (each sample's depends on its own state)
-    acc = accelerations_at(result.model, result.t[-n:], result.states[-n:])
+    acc = accelerations_at(result.model, result.t[-n:], result.states[-n:], result.signals["F_m"][-n:])
     out: dict[str, Any] = {"shaft_frequency_Hz": f_shaft, "revolutions": revs, **periodicity_verdict(result)}
     for name, key in INDICATOR_SIGNALS.items():
         out[key] = gear_indicators(acc[name], result.fs_Hz, result.fm_Hz, f_shaft, unit="m/s^2").to_dict()
