@@ -553,10 +553,15 @@ def figure_png(axes: list[Axis], results: list[dict[str, Any]], key: str) -> byt
 
 
 def warm_figures() -> None:
-    """Import the plotting stack in a worker (queued behind a sweep's points: a worker
-    with no point left imports it while the others finish their last ones)."""
-    import gearwear.plotting  # noqa: F401
+    """Import the plotting stack in a worker and draw a small figure (the first drawing
+    loads the fonts: ~1 s more than the next one), queued behind a sweep's points: a worker
+    with no point left does it while the others finish their last ones."""
+    from gearwear.plotting import subplots
     from gearwear.scene.reference import key_label  # noqa: F401
+
+    fig, ax = subplots(figsize=(1.0, 1.0))
+    ax.set_title("k = 1", fontsize=8)
+    io.figure_bytes(fig, dpi=20)
 
 
 def figure(axes: list[Axis], results: list[dict[str, Any]], key: str):
