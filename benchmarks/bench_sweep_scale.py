@@ -16,16 +16,35 @@ exact harmonics and condition indicators). For each executor:
 * scaling 1 -> 2 workers = run wall with 1 / run wall with 2.
 
 The target is at most 20 s for the 100 scenes on this 2-core machine (start-up included).
+
+Issue 27 (a sweep costs what its integrations cost) adds two measurements on the issue's own
+sweep, ``gearwear sweep paper-default --set operating.speed_rpm=1000:3000:100`` (100 scenes
+of 0.5 s simulated, 0.3 s discarded, RK4):
+
+* split: the cost of one point phase by phase, in-process (benchmarks/sweep_split.py:
+  scene validation, stiffness table, model build, integration, the rest of the
+  simulation, exact harmonics and means, condition indicators, the rest of the summary,
+  transport), each point's minimum over 2 passes, averaged over every 5th point; the
+  target is overhead (everything but the integration) <= the integration;
+* command: the wall time of the whole command (process start to exit, files written)
+  with 1 and 2 workers, the minimum of 2 runs after a warm-up run (numba's disk cache
+  warm); the target is <= 4 s with 2 workers.
+
+``--only split,command`` skips the executor comparison above (minutes on a busy machine).
 Writes benchmarks/results/bench_sweep_scale.json.
 """
 
 from __future__ import annotations
 
+import argparse
 import datetime
 import json
 import os
 import platform
+import shutil
+import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -85,7 +104,87 @@ def measure(kind: str, workers: int) -> dict:
     }
 
 
+#: the sweep of issue 27
+SPEEDS = "operating.speed_rpm=1000:3000:100"
+
+
+def split() -> dict:
+    """Per-point phases of the issue's sweep, in-process, with one BLAS thread as in a worker."""
+    from sweep_split import grid_split
+    from threadpoolctl import threadpool_limits
+
+    from gearwear.jobs.sweep import grid
+
+    threadpool_limits(limits=1, user_api="blas")
+    warm()
+    data, name = load_scene_dict("paper-default")
+    points = grid([parse_axis(SPEEDS)])[::5]
+    return grid_split(data, name, points, [], repeats=2)
+
+
+def command(workers: int, runs: int = 2) -> float:
+    """Minimum wall time (s) of the whole ``gearwear sweep`` command over ``runs``."""
+    exe = Path(sys.executable).with_name("gearwear")
+    best = float("inf")
+    with tempfile.TemporaryDirectory() as tmp:
+        for i in range(runs):
+            out = Path(tmp) / f"run{i}"
+            cmd = [str(exe), "sweep", "paper-default", "--set", SPEEDS, "--out", str(out), "--workers", str(workers)]
+            t0 = time.perf_counter()
+            subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            best = min(best, time.perf_counter() - t0)
+            shutil.rmtree(out, ignore_errors=True)
+    return best
+
+
+def issue27() -> dict:
+    """The split per scene and the whole command's time (1 and 2 workers), printed."""
+    exe = Path(sys.executable).with_name("gearwear")
+    with tempfile.TemporaryDirectory() as tmp:  # the kernels into numba's disk cache first
+        subprocess.run(
+            [str(exe), "sweep", "paper-default", "--set", "operating.speed_rpm=1000:3000:3", "--out", f"{tmp}/w"],
+            check=True,
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
+    ms = split()
+    print(f"gearwear sweep paper-default --set {SPEEDS}: one point in-process (ms, mean over every 5th point)")
+    for k, v in ms.items():
+        print(f"  {k:<14}{v:>9.2f}")
+    print(f"  overhead / integration = {ms['overhead'] / ms['integration']:.2f} (target <= 1)")
+    cmd = {str(w): command(w) for w in (1, 2)}
+    for w, t in cmd.items():
+        print(f"  whole command, {w} worker(s), numba cache warm: {t:.2f} s (target <= 4 s with 2)")
+    return {"sweep": f"paper-default --set {SPEEDS}", "split_ms": ms, "command_s": cmd, "numba_cache": "warm"}
+
+
 def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--only", default="executors,split,command", help="comma-separated: executors, split, command")
+    only = set(ap.parse_args().only.split(","))
+    out = HERE / "results" / "bench_sweep_scale.json"
+    old = json.loads(out.read_text()) if out.exists() else {}
+    record: dict = {
+        **old,
+        "date": datetime.date.today().isoformat(),
+        "machine": platform.platform(),
+        "cores": os.cpu_count(),
+        "load_average_at_start": os.getloadavg()[0],
+    }
+    if only & {"split", "command"}:
+        record["issue27"] = issue27()
+    if "executors" in only:
+        record.update(executors())
+        record["executors_measured"] = record["date"]
+    else:  # the executor comparison kept from its own run, with its own date
+        record["executors_measured"] = old.get("executors_measured", old.get("date"))
+    out.parent.mkdir(exist_ok=True)
+    out.write_text(json.dumps(record, indent=2) + "\n")
+    print(f"wrote {out.relative_to(ROOT)}")
+
+
+def executors() -> dict:
+    """The executor comparison (start-up, run, overhead per scene) of the module docstring."""
     try:
         import dask.distributed  # noqa: F401
 
@@ -113,22 +212,7 @@ def main() -> None:
             f"{k}: 1 -> 2 workers speed-up {one['run_s'] / two['run_s']:.2f} (run), "
             f"{one['total_s'] / two['total_s']:.2f} (with start-up)"
         )
-    out = HERE / "results" / "bench_sweep_scale.json"
-    out.parent.mkdir(exist_ok=True)
-    out.write_text(
-        json.dumps(
-            {
-                "date": datetime.date.today().isoformat(),
-                "machine": platform.platform(),
-                "cores": os.cpu_count(),
-                "scenes": N_SCENES,
-                "results": res,
-            },
-            indent=2,
-        )
-        + "\n"
-    )
-    print(f"wrote {out.relative_to(ROOT)}")
+    return {"scenes": N_SCENES, "results": res}
 
 
 if __name__ == "__main__":

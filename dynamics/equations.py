@@ -158,10 +158,24 @@ def bearing_f(model: GearDynamics, u):
 
 
 def _accelerations(model: GearDynamics, t, z, k=None, e=None) -> np.ndarray:
-    ms = mesh_state(model, t, z, k, e)
-    # generalised mesh forces: -F G + k (f_drive - f_back) Gb
-    Q = -ms["F_m"][..., None] * ms["G"]
-    Q[..., :4] += (ms["k_h"] * (ms["f_drive"] - ms["f_back"]))[..., None] * ms["Gb"]
+    return accelerations_and_state(model, t, z, k, e)[0]
+
+
+def accelerations_from_force(model: GearDynamics, z, F_m) -> tuple[np.ndarray, np.ndarray]:
+    """(a, G): the accelerations of :func:`_accelerations` from the mesh force F_m already
+    known at the states z, for the static (or no) centre-distance coupling, where G is
+    constant and Gb = 0 (so Q = -F_m G): the same numbers without a second evaluation of
+    the mesh state (the tables, the contact law). G is (5,)."""
+    if model.centre_distance == "dynamic":
+        raise ValueError("accelerations_from_force: the dynamic coupling's G depends on the state")
+    sa, ca = math.sin(model.alpha), math.cos(model.alpha)
+    G = np.array([ca, sa, -ca, -sa, 1.0])
+    Q = -np.asarray(F_m, float)[..., None] * G
+    return _bearing_accelerations(model, z, Q), G
+
+
+def _bearing_accelerations(model: GearDynamics, z, Q) -> np.ndarray:
+    """Eq. 17 reduced, from the generalised mesh forces Q (..., 5)."""
     cbp, cbg = model.c_b_pair
     fb = bearing_f(model, z[..., :4])
     a = np.empty(z.shape[:-1] + (5,))
@@ -171,3 +185,13 @@ def _accelerations(model: GearDynamics, t, z, k=None, e=None) -> np.ndarray:
     a[..., 3] = (Q[..., 3] - cbg * z[..., 8] - model.k_b * fb[..., 3]) / model.m_g
     a[..., 4] = (model.F_s + Q[..., 4]) / model.m_e
     return a
+
+
+def accelerations_and_state(model: GearDynamics, t, z, k=None, e=None) -> tuple[np.ndarray, dict]:
+    """The accelerations (..., 5) of Eq. 17 and the :func:`mesh_state` they come from (one
+    evaluation of the mesh state for callers that need both, e.g. a_delta = G . a)."""
+    ms = mesh_state(model, t, z, k, e)
+    # generalised mesh forces: -F G + k (f_drive - f_back) Gb
+    Q = -ms["F_m"][..., None] * ms["G"]
+    Q[..., :4] += (ms["k_h"] * (ms["f_drive"] - ms["f_back"]))[..., None] * ms["Gb"]
+    return _bearing_accelerations(model, np.asarray(z, float), Q), ms

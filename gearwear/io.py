@@ -109,9 +109,15 @@ def write_json(path: str | Path, obj: Any, indent: int | None = 2) -> Path:
 
 def write_figure(fig, path: str | Path, dpi: int = 130) -> Path:
     """Save a matplotlib figure atomically (PNG, deterministic metadata)."""
+    return write_bytes(path, figure_bytes(fig, dpi))
+
+
+def figure_bytes(fig, dpi: int = 130) -> bytes:
+    """The PNG bytes :func:`write_figure` writes (a figure rendered in another process, e.g. a
+    sweep's worker, comes back as bytes)."""
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=dpi, metadata={"Software": None}, bbox_inches="tight")
-    return write_bytes(path, buf.getvalue())
+    return buf.getvalue()
 
 
 def npz_bytes(arrays: dict[str, Any]) -> bytes:

@@ -33,19 +33,22 @@ def run(args: argparse.Namespace) -> int:
     if not axes:
         raise InputError("--set: give at least one swept key, KEY=START:STOP:N or KEY=a,b,c")
     sweep.check_size(math.prod(len(a.values) for a in axes), "grid points", args.allow_large)
-    with sweep.make_executor(worker_count(args), args.scheduler) as executor:
-        results = sweep.sweep(data, name, axes, fixed, executor=executor, progress=not args.json)
     base = scene_from_dict(apply_overrides(data, fixed), name=name)  # the scene every point starts from
     inputs = {**io.scene_inputs(base), "axes": {a.key: list(a.values) for a in axes}}
     labels = {**io.scene_labels(base), "fixed": fixed}
-    files = write_output(
-        out,
-        "sweep",
-        base,
-        {**inputs, "fixed": fixed},
-        lambda d: sweep.write(axes, results, d, inputs, labels),
-        {"points": [{"point": r["point"], "wall_s": r["wall_s"]} for r in results]},
-    )
+    # the files are written while the workers are still up: they render the figures
+    with sweep.make_executor(worker_count(args), args.scheduler) as executor:
+        results = sweep.sweep(
+            data, name, axes, fixed, executor=executor, progress=not args.json, warm_figures_after=out is not None
+        )
+        files = write_output(
+            out,
+            "sweep",
+            base,
+            {**inputs, "fixed": fixed},
+            lambda d: sweep.write(axes, results, d, inputs, labels, executor=executor),
+            {"points": [{"point": r["point"], "wall_s": r["wall_s"]} for r in results]},
+        )
     if args.json:
         print(io.json_text({"points": results, "files": [str(f) for f in files]}, indent=None))
     else:

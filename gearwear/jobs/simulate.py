@@ -38,7 +38,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
@@ -136,13 +136,15 @@ def blank_torsion(ms: dict | None) -> str:
     return (ms or {}).get("blank_torsion") or "in_series"
 
 
-def stiffness_input(scene: Scene, breakpoints: bool = True) -> StiffnessInput:
+def stiffness_input(scene: Scene, breakpoints: bool = True, tables: Callable | None = None) -> StiffnessInput:
     """The k_h(phi), e(phi) tables the scene asks for (arrays over the table's mesh
     periods; the analytic and calibrated tables have
     ``effects.mesh_stiffness.points_per_mesh_period`` uniform nodes per mesh period and
     the breakpoints of the load sharing on top, analytic.tvms.mesh_stiffness).
     ``breakpoints = False``: the analytic table on the uniform nodes only (for the
-    convergence study, benchmarks/bench_table_points.py)."""
+    convergence study, benchmarks/bench_table_points.py). ``tables(source, request)``: where
+    the curve comes from (default :func:`gearwear.stiffness.sources.curve`; a sweep passes
+    its per-process :class:`gearwear.jobs.table_memo.TableMemo`)."""
     t0 = time.perf_counter()
     pair, T = scene.pair, scene.operating.torque_Nm
     Cp = operating_centre_distance(scene)
@@ -170,7 +172,7 @@ def stiffness_input(scene: Scene, breakpoints: bool = True) -> StiffnessInput:
         options = {"angle_rad": ms["angle_rad"], "k_N_per_m": ms["k_N_per_m"], "excitation_m": ms["excitation_m"]}
     elif source == "constant":
         options = {"value_N_per_m": (ms or {}).get("value_N_per_m")}
-    r = curve(
+    r = (tables or curve)(
         source,
         Request(pair, T, clearance_geo, wear, flank, faults, points, plane, breakpoints, blank_torsion(ms), options),
     )
@@ -423,7 +425,7 @@ def condition_indicators(scene: Scene, result) -> dict[str, Any]:
     """RMS, kurtosis, crest factor, FM0, FM4 and sideband energy (dynamics.indicators) of
     the indicator signals over the last whole revolutions of the kept window (of the faulty
     gear's shaft), or the reason there are none."""
-    from gearwear.dynamics.analysis import acceleration_signals
+    from gearwear.dynamics.analysis import accelerations_at
     from gearwear.dynamics.indicators import gear_indicators
 
     f_shaft, z = shaft_frequency_Hz(scene)
@@ -437,10 +439,11 @@ def condition_indicators(scene: Scene, result) -> dict[str, Any]:
             f"({z} mesh periods); lengthen solver.duration_s",
         }
     n = revs * z * S
-    acc = acceleration_signals(result)
+    # the accelerations of the last n samples only (each sample's depends on its own state)
+    acc = accelerations_at(result.model, result.t[-n:], result.states[-n:], result.signals["F_m"][-n:])
     out: dict[str, Any] = {"shaft_frequency_Hz": f_shaft, "revolutions": revs, **periodicity_verdict(result)}
     for name, key in INDICATOR_SIGNALS.items():
-        out[key] = gear_indicators(acc[name][-n:], result.fs_Hz, result.fm_Hz, f_shaft, unit="m/s^2").to_dict()
+        out[key] = gear_indicators(acc[name], result.fs_Hz, result.fm_Hz, f_shaft, unit="m/s^2").to_dict()
     return out
 
 

@@ -29,6 +29,7 @@ import numpy as np
 from gearwear import io
 from gearwear.core import interrupts
 from gearwear.core.validation import InputError
+from gearwear.jobs.table_memo import TableMemo
 from gearwear.scene.model import scene_from_dict
 from gearwear.scene.overrides import apply_overrides, parse_value
 
@@ -115,12 +116,46 @@ def point_sets(point: dict[str, Any], fixed: list[str]) -> list[str]:
     ]
 
 
+#: this process's stiffness tables of sweep points (a worker keeps them from point to point)
+TABLES = TableMemo()
+
+
+def point_stiffness(scene):
+    """The stiffness tables of a point's scene, through this process's :data:`TABLES`: a
+    point whose stiffness inputs equal an earlier one's (a speed sweep: all of them) reuses
+    its curve (gearwear.jobs.table_memo)."""
+    from gearwear.jobs.simulate import stiffness_input
+
+    return stiffness_input(scene, tables=TABLES)
+
+
+_BLAS_LIMITED = False
+
+
+def single_thread_blas() -> None:
+    """One BLAS thread in a worker process, set once (the parent process is left alone).
+    A point's BLAS work is small matrix-vector products (the exact harmonics' phasors, 11
+    x ~2000 complex): a second thread only adds its wake-up and, on a busy machine, its
+    spinning: the window integrals of a 0.5 s paper scene took 60-150 ms with two BLAS
+    threads and 9 ms with one (measured on 2 shared cores)."""
+    global _BLAS_LIMITED
+    import multiprocessing
+
+    if _BLAS_LIMITED or multiprocessing.parent_process() is None:
+        return
+    from threadpoolctl import threadpool_limits
+
+    threadpool_limits(limits=1, user_api="blas")
+    _BLAS_LIMITED = True
+
+
 def run_point(raw: dict[str, Any], name: str, point: dict[str, Any], fixed: list[str]) -> dict[str, Any]:
     """One grid point (top-level function so process and Dask executors can pickle it)."""
     from gearwear.jobs.simulate import run
 
+    single_thread_blas()
     scene = scene_from_dict(apply_overrides(raw, point_sets(point, fixed)), name=name)
-    summary = run(scene).summary()
+    summary = run(scene, stiffness=point_stiffness(scene)).summary()
     summary["point"] = point
     return summary
 
@@ -371,10 +406,12 @@ def sweep(
     fixed: list[str] | None = None,
     executor: Executor | None = None,
     progress: bool = True,
+    warm_figures_after: bool = False,
 ) -> list[dict[str, Any]]:
     """Run every grid point; results in grid order (deterministic whatever the executor).
     A run estimated to take longer than LONG_RUN_S says so on stderr once its first point
-    is done (:class:`Estimate`)."""
+    is done (:class:`Estimate`). ``warm_figures_after``: queue one :func:`warm_figures`
+    per worker behind the points (the caller renders the figures on the same executor)."""
     from tqdm import tqdm
 
     points = grid(axes)
@@ -387,6 +424,9 @@ def sweep(
         parallel = min(workers_of(ex), len(points))
         estimate = Estimate(f"sweep of {len(points)} points", parallel, math.ceil(len(points) / parallel))
         futures = {ex.submit(run_point, raw, name, p, list(fixed or [])): i for i, p in enumerate(points)}
+        if warm_figures_after:
+            for _ in range(parallel):
+                ex.submit(warm_figures)
         with tqdm(total=len(points), desc="sweep", unit="point", disable=not progress, file=sys.stderr) as bar:
             for fut in as_completed(futures):
                 results[futures[fut]] = fut.result()
@@ -503,52 +543,72 @@ def figures(axes: list[Axis], results: list[dict[str, Any]]):
     in words with units from the schema (any swept key) and the signal table; every
     y axis starts at 0 and each panel's title gives the range in % of its mean, so a
     5 % change looks like 5 %."""
+    return {f"harmonics_{key}.png": figure(axes, results, key) for key in results[0]["harmonics"]}
+
+
+def figure_png(axes: list[Axis], results: list[dict[str, Any]], key: str) -> bytes:
+    """The PNG of :func:`figure` (a task for a worker: the figures of a sweep render in
+    parallel, and only the bytes come back)."""
+    return io.figure_bytes(figure(axes, results, key))
+
+
+def warm_figures() -> None:
+    """Import the plotting stack in a worker and draw a small figure (the first drawing
+    loads the fonts: ~1 s more than the next one), queued behind a sweep's points: a worker
+    with no point left does it while the others finish their last ones."""
+    from gearwear.plotting import subplots
+    from gearwear.scene.reference import key_label  # noqa: F401
+
+    fig, ax = subplots(figsize=(1.0, 1.0))
+    ax.set_title("k = 1", fontsize=8)
+    io.figure_bytes(fig, dpi=20)
+
+
+def figure(axes: list[Axis], results: list[dict[str, Any]], key: str):
+    """The harmonics-versus-parameter figure of signal ``key`` (:func:`figures`); reads
+    each result's ``point`` and ``harmonics`` only."""
     from gearwear.jobs.simulate import SIGNAL_WORDS, signal_label, signal_name
     from gearwear.plotting import from_zero, legend_outside, range_text, subplots
     from gearwear.scene.reference import key_label
 
     ax0 = axes[0]
     others = axes[1:]
-    figs = {}
-    sig_keys = list(results[0]["harmonics"])
     xlabel = key_label(ax0.key)
-    for key in sig_keys:
-        nh = min(10 if key.startswith("F_m") else 4, len(results[0]["harmonics"][key]))
-        ncol = 5 if nh > 4 else max(nh, 1)
-        nrow = math.ceil(nh / ncol)
-        fig, axs = subplots(nrow, ncol, figsize=(3.2 * ncol, 2.9 * nrow), squeeze=False)
-        groups: dict[tuple, list[dict]] = {}
-        for r in results:
-            groups.setdefault(tuple(r["point"][a.key] for a in others), []).append(r)
-        xs_str = any(isinstance(v, str) for v in ax0.values)
-        for gkey, rs in groups.items():
-            label = point_label(others, gkey) or None
-            x = list(range(len(rs))) if xs_str else [r["point"][ax0.key] for r in rs]
-            for k in range(nh):
-                a = axs[k // ncol][k % ncol]
-                a.plot(x, [r["harmonics"][key][k] for r in rs], "o-", ms=4, label=label)
-                if xs_str:
-                    a.set_xticks(range(len(rs)))
-                    a.set_xticklabels([str(r["point"][ax0.key]) for r in rs], fontsize=8)
+    nh = min(10 if key.startswith("F_m") else 4, len(results[0]["harmonics"][key]))
+    ncol = 5 if nh > 4 else max(nh, 1)
+    nrow = math.ceil(nh / ncol)
+    fig, axs = subplots(nrow, ncol, figsize=(3.2 * ncol, 2.9 * nrow), squeeze=False)
+    groups: dict[tuple, list[dict]] = {}
+    for r in results:
+        groups.setdefault(tuple(r["point"][a.key] for a in others), []).append(r)
+    xs_str = any(isinstance(v, str) for v in ax0.values)
+    for gkey, rs in groups.items():
+        label = point_label(others, gkey) or None
+        x = list(range(len(rs))) if xs_str else [r["point"][ax0.key] for r in rs]
         for k in range(nh):
             a = axs[k // ncol][k % ncol]
-            y = np.array([r["harmonics"][key][k] for r in results], float)
-            from_zero(a, y)
-            a.set_title(f"k = {k + 1}: {range_text(y)}", fontsize=8)
-            a.set_xlabel(xlabel, fontsize=8)
-            a.set_ylabel(textwrap.fill(signal_label(key, "harmonic k"), 32), fontsize=8)
-            a.grid(alpha=0.3)
-        for k in range(nh, nrow * ncol):
-            axs[k // ncol][k % ncol].set_visible(False)
-        if others:
-            legend_outside(axs[0][ncol - 1], fontsize=7)
-        fig.suptitle(
-            f"Mesh harmonics k f_m of the {SIGNAL_WORDS[signal_name(key)]} versus the {xlabel}; y axes from 0",
-            fontsize=10,
-        )
-        fig.tight_layout()
-        figs[f"harmonics_{key}.png"] = fig
-    return figs
+            a.plot(x, [r["harmonics"][key][k] for r in rs], "o-", ms=4, label=label)
+            if xs_str:
+                a.set_xticks(range(len(rs)))
+                a.set_xticklabels([str(r["point"][ax0.key]) for r in rs], fontsize=8)
+    for k in range(nh):
+        a = axs[k // ncol][k % ncol]
+        y = np.array([r["harmonics"][key][k] for r in results], float)
+        from_zero(a, y)
+        a.set_title(f"k = {k + 1}: {range_text(y)}", fontsize=8)
+        a.set_xlabel(xlabel, fontsize=8)
+        a.set_ylabel(textwrap.fill(signal_label(key, "harmonic k"), 32), fontsize=8)
+        a.grid(alpha=0.3)
+    for k in range(nh, nrow * ncol):
+        axs[k // ncol][k % ncol].set_visible(False)
+    if others:
+        legend_outside(axs[0][ncol - 1], fontsize=7)
+    fig.suptitle(
+        f"Mesh harmonics k f_m of the {SIGNAL_WORDS[signal_name(key)]} versus the {xlabel}; y axes from 0",
+        fontsize=10,
+    )
+    fig.tight_layout()
+    return fig
 
 
 def write(
@@ -557,12 +617,25 @@ def write(
     out: Path,
     inputs: dict[str, Any],
     labels: dict[str, Any] | None = None,
+    executor: Executor | None = None,
 ) -> list[Path]:
     """sweep.csv (+ sidecar; no wall times, they go to timing.json) and the
-    harmonics-versus-parameter PNGs into the folder ``out``."""
+    harmonics-versus-parameter PNGs into the folder ``out``. With an ``executor`` (the
+    sweep's own workers) the figures render there, one task each, in parallel (a second
+    or more each: the parent's largest cost after the points), and come back as PNG bytes,
+    the same bytes :func:`gearwear.io.write_figure` writes."""
+    keys = list(results[0]["harmonics"])
+    pngs = None
+    if executor is not None:
+        slim = [{"point": r["point"], "harmonics": r["harmonics"]} for r in results]
+        pngs = [executor.submit(figure_png, axes, slim, key) for key in keys]
     files = []
     csv = io.write_text(out / "sweep.csv", table_csv(axes, results))
     files += [csv, io.sidecar(csv, inputs, "gearwear sweep (dynamics.simulate per point)", labels)]
-    for name, fig in figures(axes, results).items():
-        files.append(io.write_figure(fig, out / name))
+    for i, key in enumerate(keys):
+        name = f"harmonics_{key}.png"
+        if pngs is not None:
+            files.append(io.write_bytes(out / name, pngs[i].result()))
+        else:
+            files.append(io.write_figure(figure(axes, results, key), out / name))
     return files
