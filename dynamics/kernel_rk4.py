@@ -116,18 +116,22 @@ def rk4(z0, h, n_steps, t_out, zlim, p, hs, toff, kq, eq, dkq, deq, ends, sw_tv,
         n_sub += 1
         t1 = n_per * T + toff[q]
         tol_t = tol + 8.9e-16 * t1  # 4 ulp of t: the grids are computed differently
+        have_fb = False
         while ko < n_out and t_out[ko] <= t1 + tol_t:
             if t_out[ko] >= t1 - tol_t:
                 _put(out[ko], z1, W, sw_en)
             else:
-                # inside a sub-step (the output grid is not on the sub-step grid): cubic
-                # Hermite with the exact f at both ends (k is linear inside a sub-step)
-                fB, _, _ = _rhs(z1, kc, ec, 0.0, 0.0, p, None, sw_bl, sw_cl, sw_dyn, sw_en)
-                for i in range(10):
-                    za[i] = z[i]
-                    fa[i] = d1[i]
-                    zc[i] = z1[i]
-                    fb[i] = fB[i]
+                # inside a sub-step (the output grid is not on the sub-step grid, or table
+                # nodes the schedule left inside it): cubic Hermite with the exact f at
+                # both ends, the end's f once per sub-step
+                if not have_fb:
+                    fB, _, _ = _rhs(z1, kc, ec, 0.0, 0.0, p, None, sw_bl, sw_cl, sw_dyn, sw_en)
+                    for i in range(10):
+                        za[i] = z[i]
+                        fa[i] = d1[i]
+                        zc[i] = z1[i]
+                        fb[i] = fB[i]
+                    have_fb = True
                 _hermite10(za, fa, zc, fb, max((t_out[ko] - t_prev) / hq, 0.0), hq, out[ko])
                 if sw_en is not None:
                     for i in range(4):
