@@ -485,8 +485,17 @@ def simulate(
             f"{max_output_bytes / 2**30:.3g} GiB); shorten duration_s - discard_s or "
             f"lower the speed",
         )
-    t_out = np.union1d(t_uni, nodes) if nodes.size else t_uni
-    uni = np.searchsorted(t_out, t_uni) if nodes.size else np.arange(t_uni.size)
+    if nodes.size:
+        # merge two sorted grids (no sort of the run's node times): each uniform sample
+        # goes after the nodes before it
+        uni = np.arange(t_uni.size) + np.searchsorted(nodes, t_uni)
+        t_out = np.empty(t_uni.size + nodes.size)
+        t_out[uni] = t_uni
+        rest = np.ones(t_out.size, dtype=bool)
+        rest[uni] = False
+        t_out[rest] = nodes
+    else:
+        t_out, uni = t_uni, np.arange(t_uni.size)
     t_end = float(t_uni[-1])
     if method == "rk4":
         check_rk4_stable(model, steps_per_mesh_period)

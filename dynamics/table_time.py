@@ -240,6 +240,7 @@ def table_node_times(model: GearDynamics, t0: float, t1: float) -> np.ndarray:
     P = model.table_period_rad
     w = model.omega_p
     phi = derived(model)[1]
+    # one period's nodes (sorted, in [0, P)) tiled over the periods: sorted without a sort
     m = np.arange(np.floor(w * t0 / P) - 1, np.ceil(w * t1 / P) + 1)
     t = ((phi[None, :] + P * m[:, None]) / w).ravel()
-    return np.sort(t[(t > t0) & (t < t1)])
+    return t[np.searchsorted(t, t0, side="right") : np.searchsorted(t, t1, side="left")]

@@ -63,8 +63,8 @@ def test_schedule_samples_the_interpolant_at_every_stage(L, N):
     split, unsplit = split_nodes(m, N)
     assert np.all(on_end[np.isin(m.phi_table[kink], split)])
     assert np.all(np.isin(m.phi_table[kink][~on_end], unsplit))
-    # on these sharp-edged tables most kinks are split (the order test above needs them)
-    assert split.size > 0
+    # on these sharp-edged tables kinks off the step ends are split (the order test needs them)
+    assert split.size > 0 or on_end.all()
 
 
 def test_harmonics_of_a_sampled_kinked_signal_are_exact():
