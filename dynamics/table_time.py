@@ -63,8 +63,9 @@ def peano(p: int, theta):
 
 #: a step is split at its breaks when its kink weight (``split_nodes``) exceeds this
 SPLIT_WEIGHT = 1e-6
-#: at most this many breaks are split inside one step (the largest jumps): the schedule
-#: never holds more than (1 + SPLIT_MAX_PER_STEP) sub-steps per step, whatever the table
+#: at most this many breaks are split per step on average over a table period (the steps
+#: with the largest weight first): the schedule never holds more than
+#: (1 + SPLIT_MAX_PER_STEP) sub-steps per step on average, whatever the table
 SPLIT_MAX_PER_STEP = 8
 
 
@@ -99,8 +100,8 @@ def split_nodes(model: GearDynamics, steps_per_period: int, snap: float = 1e-9) 
 
         W = dphi^p (|sum_j E_p(theta_j) [d^p k/dphi^p]_j| / k_m + |sum_j E_p(theta_j) [d^p e/dphi^p]_j| / delta_s)
 
-    A step with W > SPLIT_WEIGHT is split at its breaks (at most SPLIT_MAX_PER_STEP, the
-    largest jumps), the others are not. Sharp edges (large, same-signed slope jumps) are
+    A step with W > SPLIT_WEIGHT is split at its breaks, the others are not (at most
+    SPLIT_MAX_PER_STEP N breaks per period: the steps with the largest W first). Sharp edges (large, same-signed slope jumps) are
     split as before; a smooth curve sampled finer than the steps is not (its jumps
     alternate around the curve's curvature and their Simpson errors cancel: the signed
     sum is the table's own O(node spacing^2) interpolation error, not a solver error), so
@@ -123,12 +124,11 @@ def split_nodes(model: GearDynamics, steps_per_period: int, snap: float = 1e-9) 
         W += np.abs(np.bincount(step, weights=E * je[idx], minlength=N)) / max(ds, 1e-300)
         size += np.abs(je[idx]) / max(ds, 1e-300)
     cand = np.flatnonzero(W[step] > SPLIT_WEIGHT)
-    # rank the breaks of a split step by the size of their jump; keep the first few
-    order = cand[np.lexsort((-size[cand], step[cand]))]
-    s = step[order]
-    first = np.searchsorted(s, s, side="left")
+    # the steps with the largest weight first, within a step the largest jumps; at most
+    # SPLIT_MAX_PER_STEP breaks per step on average over the period
+    order = cand[np.lexsort((-size[cand], step[cand], -W[step[cand]]))]
     keep = np.zeros(idx.size, dtype=bool)
-    keep[order[np.arange(order.size) - first < SPLIT_MAX_PER_STEP]] = True
+    keep[order[: SPLIT_MAX_PER_STEP * N]] = True
     return ph[keep], ph[~keep]
 
 
