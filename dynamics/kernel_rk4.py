@@ -1,4 +1,4 @@
-"""Classical fixed-step RK4 (compiled), kink-free on the stiffness table.
+"""Classical fixed-step RK4 (compiled) on the precomputed table schedule.
 
     k1 = f(t, z),  k2 = f(t + h/2, z + h/2 k1),  k3 = f(t + h/2, z + h/2 k2),  k4 = f(t + h, z + h k3)
     z(t + h) = z + h/6 (k1 + 2 k2 + 2 k3 + k4)
@@ -6,10 +6,11 @@
 Steps ``h = T_m / N`` from t = 0 (T_m the mesh period in s, N ``steps_per_mesh_period``):
 the step grid repeats every table period (``table_periods`` mesh periods), so
 ``dynamics.table_time.rk4_schedule`` builds one table period's grid once, before
-integrating: steps that contain table nodes are split into sub-steps ending on them (RK4
-across a kink of the interpolant drops to second order), and k, e are sampled exactly at
-each sub-step's three stage times. The loop reads them by index (no interpolation in the
-hot loop; any table length, any N; 4th order throughout). The contact modes follow the
+integrating: steps whose table breaks would show are split into sub-steps ending on them
+(RK4 across a kink of the interpolant is Simpson's rule on a slope jump; the policy and
+the stated error of the breaks left inside steps: ``table_time.split_nodes``,
+``kink_defect``), and k, e are sampled exactly at each sub-step's three stage times. The
+loop reads them by index (no interpolation in the hot loop). The contact modes follow the
 stage states (a piecewise right-hand side, first order across contact events; ``dopri5``
 locates them). Samples between sub-step ends: cubic Hermite with the exact derivative at
 both ends.
@@ -44,7 +45,7 @@ def _hermite10(z0, f0, z1, f1, th, h, dst):
 
 @njit(cache=True)
 def rk4(z0, h, n_steps, t_out, zlim, p, hs, toff, kq, eq, dkq, deq, ends, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en):
-    """Classical RK4 on the fixed grid h = T_m / N from t = 0, split at table kinks.
+    """Classical RK4 on the fixed grid h = T_m / N from t = 0, split at significant table kinks.
 
     (hs, toff, kq, eq, dkq, deq, ends) is one table period's schedule
     (``model.rk4_schedule``; ``table_periods`` mesh periods, one for a healthy pair):

@@ -7,10 +7,12 @@ every table period ``P = table_periods 2 pi / z_p`` (``GearDynamics.table_period
 
 with ``k~`` the periodic interpolant (``dynamics.interpolant``; the same for e). The
 interpolant's breaks (slope jumps of the linear interpolant, every node of the cubic
-spline) are where exact window integrals and the solvers split: ``table_node_times`` gives
-the times at which phi passes a node, ``rk4_schedule`` the fixed-step RK4 grid of one table
-period split at the breaks, with k and e at every stage time (RK4 across a kink is only
-second order). Times in s, k in N/m, e in m.
+spline) are where exact window integrals and the adaptive solver split:
+``table_node_times`` gives the times at which phi passes a node (one period's sorted nodes
+tiled, no sort), ``rk4_schedule`` the fixed-step RK4 grid of one table period, with k and e
+at every stage time, split at the breaks where their error would show (``split_nodes``:
+RK4 across a kink is Simpson's rule on a slope jump, second order locally; the error of
+the breaks left inside steps is ``kink_defect``). Times in s, k in N/m, e in m.
 """
 
 from __future__ import annotations
@@ -98,14 +100,17 @@ def split_nodes(model: GearDynamics, steps_per_period: int, snap: float = 1e-9) 
     makes across the breaks j inside it (``peano``), relative to the step's mesh impulse
     h k_m delta_s (k_m the mean stiffness, N/m; delta_s = |F_s| / k_m + max|e|, m):
 
-        W = dphi^p (|sum_j E_p(theta_j) [d^p k/dphi^p]_j| / k_m + |sum_j E_p(theta_j) [d^p e/dphi^p]_j| / delta_s)
+        W = dphi^p (|sum_j E_p(theta_j) [k^(p)]_j| / k_m + |sum_j E_p(theta_j) [e^(p)]_j| / delta_s)
+
+    ([k^(p)]_j the jump of d^p k / dphi^p at break j, theta_j its place in the step)
 
     A step with W > SPLIT_WEIGHT is split at its breaks, the others are not (at most
-    SPLIT_MAX_PER_STEP N breaks per period: the steps with the largest W first). Sharp edges (large, same-signed slope jumps) are
-    split as before; a smooth curve sampled finer than the steps is not (its jumps
-    alternate around the curve's curvature and their Simpson errors cancel: the signed
-    sum is the table's own O(node spacing^2) interpolation error, not a solver error), so
-    its cost is the step count's. Returns (split, unsplit): phases (rad) in [0, P)."""
+    SPLIT_MAX_PER_STEP N breaks per period: the steps with the largest W first). Sharp
+    edges (large, same-signed slope jumps) are split as before; a smooth curve sampled
+    finer than the steps is not (its jumps follow the curve's curvature and their Simpson
+    errors cancel: the signed sum is of the order of the table's own O(spacing^2)
+    interpolation error), so its cost is the step count's. Returns (split, unsplit): the
+    phases (rad) in [0, P) of the breaks split and of those left inside steps."""
     par, phi, phx, kc, ec = derived(model)
     N = int(steps_per_period) * model.table_periods
     dph = par[P_PER] / N
@@ -143,19 +148,19 @@ def kink_defect(model: GearDynamics, steps_per_period: int, snap: float = 1e-9) 
     jumps in time units, omega_p^p times those in phi). RK4 integrates the explicit time
     dependence of the mesh force F = c_h delta' + k(t) (delta - e(t)) by Simpson's rule
     (stages at 0, h/2, h), so, to leading order in h omega (omega the fastest mode), the
-    sub-step differs from the exact flow of the interpolated model by the velocity change
-    of a mesh-force impulse
+    sub-step differs from the exact flow of the interpolated model as if the mesh force
+    lacked the impulse
 
         I_q = Sk_q (delta - e) - k Se_q,    |I_q| <= |Sk_q| max|delta - e| + max(k) |Se_q|   (N s)
 
-    (q' changes by -I_q / m_e, the bearing-plane velocities by I_q cos a / m, I_q sin a / m
-    with the signs of the mesh force), on top of RK4's own O(h^5). Zero for a schedule split
-    at all its breaks."""
+    (q' high by I_q / m_e, y_p' by I_q cos a / m_p, x_p' by I_q sin a / m_p, the gear's
+    velocities the opposite), on top of RK4's own O(h^5). Zero for a schedule split at all
+    its breaks."""
     par, phi, phx, kc, ec = derived(model)
     N = int(steps_per_period) * model.table_periods
     w = model.omega_p
-    _, unsplit = split_nodes(model, steps_per_period, snap)
-    pts = np.union1d(np.arange(N + 1) * (par[P_PER] / N), split_nodes(model, steps_per_period, snap)[0])
+    split, unsplit = split_nodes(model, steps_per_period, snap)
+    pts = np.union1d(np.arange(N + 1) * (par[P_PER] / N), split)
     q = np.clip(np.searchsorted(pts, unsplit, side="right") - 1, 0, pts.size - 2)
     hq = np.diff(pts)
     theta = (unsplit - pts[q]) / hq[q]
@@ -177,10 +182,11 @@ def rk4_schedule(model: GearDynamics, steps_per_period: int, snap: float = 1e-9)
     holds L N steps (for L = 1 one mesh period, as before). The periodic linear
     interpolant has a kink at every table node (a cubic spline a jump of its third
     derivative); RK4 across a kink is only second-order accurate locally (Simpson's rule
-    on a function with a slope jump). A step that holds breaks with a large kink weight
-    (``split_nodes``: w > SPLIT_WEIGHT, at most SPLIT_MAX_PER_STEP per step) is split into
+    on a function with a slope jump). A step whose breaks have a large kink weight
+    (``split_nodes``: W > SPLIT_WEIGHT, at most SPLIT_MAX_PER_STEP per step on average) is
+    split into
     sub-steps that end on them; the other breaks stay inside their steps, and their
-    error is bounded by ``kink_defect``. Each stage samples k(t) and e(t), the table's
+    leading-order error is ``kink_defect``. Each stage samples k(t) and e(t), the table's
     interpolant, exactly at its time (start, middle, end of the sub-step), whether or not
     a break lies between them. A node within ``snap`` steps of a step boundary is taken
     as on it (its error is O(snap h^2)). The sub-steps per table period are L N plus the
