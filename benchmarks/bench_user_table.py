@@ -13,8 +13,13 @@ Timed in one run, interleaved rounds, minimum of the rounds (the machine is shar
 * ``simulate``: ``dynamics.simulate(model, 1.0, 0.5, method="rk4")`` end to end (stability
   check, static equilibrium, schedule, the dense output at every table node in the kept
   window, signals), without and with ``dense`` output;
+* ``kernel_all_effects``: the same table with 50 um backlash, 20 um bearing clearance and
+  the dynamic centre distance (the model the C loop integrates; final states compared);
 * ``C``: ``benchmarks/c_rk4/rk4.c`` (every effect's code on, ``gcc -O3 -march=native``) on
   the same parameters over a 256-sub-step-per-period schedule: the cost of 256 steps.
+
+``dopri5``: ``simulate(..., method="dopri5", rtol=1e-8, dense=False)`` wall (kernel) for
+the same second: its steps end on every table node (measured; not changed here).
 
 ``before``: the schedule that splits every step at every table node inside it (the old
 contract; ``SPLIT_WEIGHT = -1``, no budget), timed in the same run.
@@ -46,7 +51,7 @@ if str(HERE) not in sys.path:
     sys.path.insert(0, str(HERE))
 
 import numpy as np  # noqa: E402
-from bench_rk4_vs_c import Case, build_c  # noqa: E402
+from bench_rk4_vs_c import Case, agreement, build_c  # noqa: E402
 
 from gearwear.core.atomic import atomic_write_bytes  # noqa: E402
 from gearwear.dynamics import simulate  # noqa: E402
@@ -102,6 +107,14 @@ def main() -> dict:
         assert new.Q == STEPS, new.Q
         c_case = new
         new.numba(), old.numba()
+        # the same table with every effect of the C loop on (its own model): same-model ratio
+        model_all = model.with_(backlash_half_m=25e-6, bearing_half_clearance_m=10e-6, centre_distance="dynamic")
+        all_new = Case(model_all, STEPS, DURATION)
+        with _AllSplit():
+            all_old = Case(model_all, STEPS, DURATION)
+        z_all, _ = all_new.numba()
+        all_old.numba()
+        agree = agreement(z_all, all_new.c(lib)[0]) if lib is not None else None
         sim = lambda dense: simulate(model, DURATION, 0.5, method="rk4", steps_per_mesh_period=STEPS, dense=dense)  # noqa: E731
 
         def sim_old(dense):
@@ -115,6 +128,8 @@ def main() -> dict:
                 "c",
                 "kernel",
                 "kernel_before",
+                "kernel_all_effects",
+                "kernel_all_effects_before",
                 "schedule",
                 "schedule_before",
                 "sim",
@@ -128,6 +143,8 @@ def main() -> dict:
                 t["c"].append(_clock(lambda: c_case.c(lib)))
             t["kernel"].append(_clock(new.numba))
             t["kernel_before"].append(_clock(old.numba))
+            t["kernel_all_effects"].append(_clock(all_new.numba))
+            t["kernel_all_effects_before"].append(_clock(all_old.numba))
             t["schedule"].append(_clock(lambda: tt.rk4_schedule(model, STEPS)))
             with _AllSplit():
                 t["schedule_before"].append(_clock(lambda: tt.rk4_schedule(model, STEPS)))
@@ -149,6 +166,20 @@ def main() -> dict:
         ref = simulate(model, D, Dd, method="rk4", steps_per_mesh_period=8 * STEPS).harmonics("F_m")
         h_old = simulate(model, D, Dd, method="rk4", steps_per_mesh_period=STEPS).harmonics("F_m")
     dp = simulate(model, D, Dd, method="dopri5", rtol=1e-11).harmonics("F_m")
+    # dopri5 on the same table (its steps end on every table node: measured, not changed)
+    simulate(model, 4 / fm, 0.0, method="dopri5")
+    d_walls, d_res = [], None
+    for _ in range(2):
+        d_res = simulate(model, DURATION, 0.5, method="dopri5", rtol=1e-8, dense=False)
+        d_walls.append(d_res.wall_s)
+    dopri = dict(
+        rtol=1e-8,
+        kernel_wall_s=min(d_walls),
+        ratio_to_c=(min(d_walls) / c) if c else None,
+        accepted_steps=d_res.steps,
+        rejected=d_res.rejected,
+        steps_per_mesh_period=d_res.steps / (DURATION * fm),
+    )
     Sk, Se = tt.kink_defect(model, STEPS)
     dmax = float(np.max(np.abs(r.signals["delta"])) + np.max(np.abs(model.e_table)))  # >= max|delta - e|
     defect = float(np.sum(np.abs(Sk)) * dmax + np.max(model.k_table) * np.sum(np.abs(Se)))
@@ -169,10 +200,14 @@ def main() -> dict:
         steps_per_mesh_period=STEPS,
         simulated_s=DURATION,
         substeps_per_period=dict(now=new.Q, before=old.Q),
+        all_effects_model="the same table with 50 um backlash, 20 um bearing clearance, dynamic centre distance "
+        "(the C loop's model)",
+        all_effects_agreement_numba_vs_c=agree,
         seconds_per_simulated_second_min_of_rounds=best,
         ratio_to_c=ratio,
         rounds_s=t,
         accuracy=acc,
+        dopri5=dopri,
     )
     print(f"user table, 4096 rows, {STEPS} steps per mesh period, 1 s simulated; min of {ROUNDS} rounds")
     print(f"  sub-steps per period: now {new.Q}, before {old.Q}")
@@ -180,6 +215,8 @@ def main() -> dict:
         "c",
         "kernel",
         "kernel_before",
+        "kernel_all_effects",
+        "kernel_all_effects_before",
         "schedule",
         "schedule_before",
         "sim",
@@ -195,6 +232,11 @@ def main() -> dict:
         f"(before {acc['rel_error_before_vs_reference']:.2e}); "
         f"reference vs dopri5 {acc['reference_vs_dopri5_rtol_1e11']:.1e}; stated kink defect "
         f"{acc['kink_defect_rel_to_mean_impulse']:.1e} of the mean impulse per period"
+    )
+    print(
+        f"  dopri5 rtol 1e-8 (kernel, 1 s): {dopri['kernel_wall_s']:.3f} s, x C "
+        f"{'-' if dopri['ratio_to_c'] is None else format(dopri['ratio_to_c'], '.1f')}, "
+        f"{dopri['steps_per_mesh_period']:.0f} steps per mesh period (one per table node)"
     )
     atomic_write_bytes(OUT_JSON, (json.dumps(res, indent=1) + "\n").encode())
     print(f"wrote {OUT_JSON.relative_to(ROOT)}")
