@@ -485,6 +485,7 @@ def simulate(
             f"{max_output_bytes / 2**30:.3g} GiB); shorten duration_s - discard_s or "
             f"lower the speed",
         )
+    t_out: np.ndarray
     if nodes.size:
         # merge two sorted grids (no sort of the run's node times): each uniform sample
         # goes after the nodes before it

@@ -119,7 +119,8 @@ def split_nodes(model: GearDynamics, steps_per_period: int, snap: float = 1e-9) 
     _, je = _jumps(model, ec)
     E = peano(p, theta) * dph**p
     km = max(abs(model.k_mean), 1e-300)
-    ds = abs(model.F_s) / km + (float(np.max(np.abs(model.e_table))) if model.te_excitation else 0.0)
+    e_max = float(np.max(np.abs(np.asarray(model.e_table, float)))) if model.te_excitation else 0.0
+    ds = abs(model.F_s) / km + e_max
     W = np.zeros(N)
     size = np.zeros(idx.size)
     if model.tvms:
