@@ -65,6 +65,9 @@ def peano(p: int, theta):
 
 #: a step is split at its breaks when its kink weight (``split_nodes``) exceeds this
 SPLIT_WEIGHT = 1e-6
+#: a step that holds at most this many breaks is split at them whatever their weight (a
+#: table as coarse as the step grid there: exact, for at most 1 + SPLIT_ALWAYS sub-steps)
+SPLIT_ALWAYS = 2
 #: at most this many breaks are split per step on average over a table period (the steps
 #: with the largest weight first): the schedule never holds more than
 #: (1 + SPLIT_MAX_PER_STEP) sub-steps per step on average, whatever the table
@@ -104,7 +107,8 @@ def split_nodes(model: GearDynamics, steps_per_period: int, snap: float = 1e-9) 
 
     ([k^(p)]_j the jump of d^p k / dphi^p at break j, theta_j its place in the step)
 
-    A step with W > SPLIT_WEIGHT is split at its breaks, the others are not (at most
+    A step with W > SPLIT_WEIGHT, or with at most SPLIT_ALWAYS breaks (the table as coarse
+    as the steps there), is split at its breaks, the others are not (at most
     SPLIT_MAX_PER_STEP N breaks per period: the steps with the largest W first). Sharp
     edges (large, same-signed slope jumps) are split as before; a smooth curve sampled
     finer than the steps is not (its jumps follow the curve's curvature and their Simpson
@@ -129,6 +133,9 @@ def split_nodes(model: GearDynamics, steps_per_period: int, snap: float = 1e-9) 
     if model.te_excitation:
         W += np.abs(np.bincount(step, weights=E * je[idx], minlength=N)) / max(ds, 1e-300)
         size += np.abs(je[idx]) / max(ds, 1e-300)
+    # a coarse step (at most SPLIT_ALWAYS breaks) is split whatever its weight: exact, at
+    # most 1 + SPLIT_ALWAYS sub-steps
+    W[np.bincount(step, minlength=N) <= SPLIT_ALWAYS] = np.inf
     cand = np.flatnonzero(W[step] > SPLIT_WEIGHT)
     # the steps with the largest weight first, within a step the largest jumps; at most
     # SPLIT_MAX_PER_STEP breaks per step on average over the period
