@@ -57,12 +57,15 @@ cubic spline, ``GearDynamics.interpolation``), at the exact time of every stage:
   I cos a / m, I sin a / m (``table_time.kink_defect`` gives Sk and Se per sub-step;
   ``tests/test_rk4_dense_tables.py`` checks the term to 5 % against a resolved step).
   A step whose signed sums exceed SPLIT_WEIGHT = 1e-6 of its mean impulse
-  (|Sk| / (h k_m) + |Se| / (h delta_s)) is split at its breaks, the largest first, at
-  most 8 per step on average over the period: sharp edges and jumps (every kink of a
-  coarse table: 4th order as before), not smooth stretches sampled finer than the steps,
-  whose kinks' Simpson errors cancel to the table's own interpolation error. The cost is
-  at most 9 sub-steps per step, and one per step for a smooth table of >= 2048 rows per
-  mesh period (a 4096-row user table at 256 steps: 256 sub-steps per period, was 4096).
+  (|Sk| / (h k_m) + |Se| / (h delta_s)) is split at its breaks, and so is a step that
+  holds at most 2 breaks (the table as coarse as the steps there); the largest sums
+  first, at most 8 splits per step on average over the period. So sharp edges and jumps
+  are split and a coarse table at every kink (4th order, the schedule as before), not
+  smooth stretches sampled finer than the steps, whose kinks' Simpson errors cancel to
+  the table's own interpolation error. The cost is at most 9 sub-steps per step on
+  average, and one per step for a smooth table with more than 2 rows per step and >= 2048
+  rows per mesh period (a 4096-row user table at 256 steps: 256 sub-steps per period,
+  was 4096).
 * Dormand-Prince: every step ends on the next table node (the interpolant's kinks
   are at known times), so each step integrates a polynomial right-hand side; inside
   a step the table segment is fixed and evaluated at each stage time. Switching events
