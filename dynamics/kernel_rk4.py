@@ -1,4 +1,4 @@
-"""Classical fixed-step RK4 (compiled), kink-free on the stiffness table.
+"""Classical fixed-step RK4 (compiled) on the precomputed table schedule.
 
     k1 = f(t, z),  k2 = f(t + h/2, z + h/2 k1),  k3 = f(t + h/2, z + h/2 k2),  k4 = f(t + h, z + h k3)
     z(t + h) = z + h/6 (k1 + 2 k2 + 2 k3 + k4)
@@ -6,10 +6,11 @@
 Steps ``h = T_m / N`` from t = 0 (T_m the mesh period in s, N ``steps_per_mesh_period``):
 the step grid repeats every table period (``table_periods`` mesh periods), so
 ``dynamics.table_time.rk4_schedule`` builds one table period's grid once, before
-integrating: steps that contain table nodes are split into sub-steps ending on them (RK4
-across a kink of the interpolant drops to second order), and k, e are sampled exactly at
-each sub-step's three stage times. The loop reads them by index (no interpolation in the
-hot loop; any table length, any N; 4th order throughout). The contact modes follow the
+integrating: steps whose table breaks would show are split into sub-steps ending on them
+(RK4 across a kink of the interpolant is Simpson's rule on a slope jump; the policy and
+the stated error of the breaks left inside steps: ``table_time.split_nodes``,
+``kink_defect``), and k, e are sampled exactly at each sub-step's three stage times. The
+loop reads them by index (no interpolation in the hot loop). The contact modes follow the
 stage states (a piecewise right-hand side, first order across contact events; ``dopri5``
 locates them). Samples between sub-step ends: cubic Hermite with the exact derivative at
 both ends.
@@ -44,7 +45,7 @@ def _hermite10(z0, f0, z1, f1, th, h, dst):
 
 @njit(cache=True)
 def rk4(z0, h, n_steps, t_out, zlim, p, hs, toff, kq, eq, dkq, deq, ends, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en):
-    """Classical RK4 on the fixed grid h = T_m / N from t = 0, split at table kinks.
+    """Classical RK4 on the fixed grid h = T_m / N from t = 0, split at significant table kinks.
 
     (hs, toff, kq, eq, dkq, deq, ends) is one table period's schedule
     (``model.rk4_schedule``; ``table_periods`` mesh periods, one for a healthy pair):
@@ -116,18 +117,22 @@ def rk4(z0, h, n_steps, t_out, zlim, p, hs, toff, kq, eq, dkq, deq, ends, sw_tv,
         n_sub += 1
         t1 = n_per * T + toff[q]
         tol_t = tol + 8.9e-16 * t1  # 4 ulp of t: the grids are computed differently
+        have_fb = False
         while ko < n_out and t_out[ko] <= t1 + tol_t:
             if t_out[ko] >= t1 - tol_t:
                 _put(out[ko], z1, W, sw_en)
             else:
-                # inside a sub-step (the output grid is not on the sub-step grid): cubic
-                # Hermite with the exact f at both ends (k is linear inside a sub-step)
-                fB, _, _ = _rhs(z1, kc, ec, 0.0, 0.0, p, None, sw_bl, sw_cl, sw_dyn, sw_en)
-                for i in range(10):
-                    za[i] = z[i]
-                    fa[i] = d1[i]
-                    zc[i] = z1[i]
-                    fb[i] = fB[i]
+                # inside a sub-step (the output grid is not on the sub-step grid, or table
+                # nodes the schedule left inside it): cubic Hermite with the exact f at
+                # both ends, the end's f once per sub-step
+                if not have_fb:
+                    fB, _, _ = _rhs(z1, kc, ec, 0.0, 0.0, p, None, sw_bl, sw_cl, sw_dyn, sw_en)
+                    for i in range(10):
+                        za[i] = z[i]
+                        fa[i] = d1[i]
+                        zc[i] = z1[i]
+                        fb[i] = fB[i]
+                    have_fb = True
                 _hermite10(za, fa, zc, fb, max((t_out[ko] - t_prev) / hq, 0.0), hq, out[ko])
                 if sw_en is not None:
                     for i in range(4):

@@ -41,11 +41,31 @@ cubic spline, ``GearDynamics.interpolation``), at the exact time of every stage:
 * RK4 (fixed step ``h = T_m / N`` from t = 0): the step grid repeats every table
   period (``table_periods`` mesh periods; ``p[P_PER]`` is that period in rad, the mesh
   period for a one-period table), so ``table_time.rk4_schedule`` builds one table period's
-  grid (``table_periods * N`` steps) once, before integrating:
-  steps that contain table nodes are split into sub-steps ending on them (RK4 across
-  a kink of the interpolant drops to second order), and k, e are sampled exactly at
-  each sub-step's three stage times. The loop reads them by index (no interpolation
-  in the hot loop; any table length, any N; 4th order throughout).
+  grid (``table_periods * N`` steps) once, before integrating. Every stage reads k and e,
+  the interpolant, exactly at its own time (the loop reads them by index; no
+  interpolation in the hot loop). Steps are split into sub-steps ending on the table's
+  breaks only where the breaks' error would show (``table_time.split_nodes``): RK4
+  integrates the explicit time dependence of the mesh force F = c_h delta' + k(t) (delta -
+  e(t)) by Simpson's rule, so the breaks j inside a (sub-)step of h s make, to leading
+  order in h omega_max, the error of a mesh-force impulse
+
+      I = Sk (delta - e) - k Se,   Sk = sum_j h^2 E_1(theta_j) [dk/dt]_j  (N s/m),
+      Se = sum_j h^2 E_1(theta_j) [de/dt]_j  (m s),   -1/72 <= E_1 <= 1/24
+
+  (E_1 Simpson's Peano kernel for a slope jump [.] at theta_j h; cubic spline: h^4
+  E_3 [d^3 k/dt^3], |E_3| <= 1/1152): q' is off by I / m_e, the bearing velocities by
+  I cos a / m, I sin a / m (``table_time.kink_defect`` gives Sk and Se per sub-step;
+  ``tests/test_rk4_dense_tables.py`` checks the term to 5 % against a resolved step).
+  A step whose signed sums exceed SPLIT_WEIGHT = 1e-6 of its mean impulse
+  (|Sk| / (h k_m) + |Se| / (h delta_s)) is split at its breaks, and so is a step that
+  holds at most 2 breaks (the table as coarse as the steps there); the largest sums
+  first, at most 8 splits per step on average over the period. So sharp edges and jumps
+  are split and a coarse table at every kink (4th order, the schedule as before), not
+  smooth stretches sampled finer than the steps, whose kinks' Simpson errors cancel to
+  the table's own interpolation error. The cost is at most 9 sub-steps per step on
+  average, and one per step for a smooth table with more than 2 rows per step and >= 2048
+  rows per mesh period (a 4096-row user table at 256 steps: 256 sub-steps per period,
+  was 4096).
 * Dormand-Prince: every step ends on the next table node (the interpolant's kinks
   are at known times), so each step integrates a polynomial right-hand side; inside
   a step the table segment is fixed and evaluated at each stage time. Switching events

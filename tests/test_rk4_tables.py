@@ -12,6 +12,7 @@ from scipy.integrate import quad
 from gearwear.dynamics import paper_pair, simulate
 from gearwear.dynamics.analysis import fourier_amplitudes, gauss_grid
 from gearwear.dynamics.model import rk4_schedule
+from gearwear.dynamics.table_time import split_nodes
 
 NAMES = ["F_m", "delta"]
 
@@ -52,12 +53,18 @@ def test_schedule_samples_the_interpolant_at_every_stage(L, N):
         ph = ((t_start + frac * hs) * w) % P
         exact = np.interp(ph, np.r_[m.phi_table, P], np.r_[m.k_table, m.k_table[0]])
         assert np.allclose(kq[j::3], exact, rtol=1e-12, atol=0)
-    # every table node where the slope changes is a sub-step end
+    # every table node where the slope changes is a sub-step end, or lies inside a step
+    # whose kinks the policy leaves there (their Simpson errors nearly cancel: split_nodes)
     kp = np.r_[m.k_table, m.k_table[0]]
     slope = np.diff(kp) / np.diff(np.r_[m.phi_table, P])
     kink = np.abs(slope - np.roll(slope, 1)) > 1e-9 * np.abs(slope).max()
     node_t = m.phi_table[kink] / w
-    assert np.all(np.min(np.abs(node_t[:, None] - np.r_[0.0, toff][None, :]), axis=1) < 1e-9 * T / N)
+    on_end = np.min(np.abs(node_t[:, None] - np.r_[0.0, toff][None, :]), axis=1) < 1e-9 * T / N
+    split, unsplit = split_nodes(m, N)
+    assert np.all(on_end[np.isin(m.phi_table[kink], split)])
+    assert np.all(np.isin(m.phi_table[kink][~on_end], unsplit))
+    # on these sharp-edged tables kinks off the step ends are split (the order test needs them)
+    assert split.size > 0 or on_end.all()
 
 
 def test_harmonics_of_a_sampled_kinked_signal_are_exact():
