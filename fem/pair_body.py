@@ -63,6 +63,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse.linalg as spla
+from threadpoolctl import threadpool_limits
 
 from gearwear.fem.mesh import MeshSizes, mesh_full_gear
 from gearwear.geometry.crack import Crack, crack_mouth_arc
@@ -551,6 +552,40 @@ def build_cracked_body(
     )
 
 
+def _interior_order(Kii) -> np.ndarray:
+    """SuperLU's fill-reducing column order of the interior block K_II (minimum degree on
+    K_II + K_II^T, then its elimination-tree postorder), without its numerical factorization.
+
+    SuperLU computes the column order (get_perm_c and sp_preorder) before it factorizes,
+    and its incomplete factorization (spilu) uses the same two steps as splu. An ILU that
+    drops every off-diagonal entry (drop_tol = inf: every entry is below it) costs almost
+    nothing beyond the ordering and returns the same perm_c as a full splu of K_II
+    (equal arrays; asserted in tests/test_fem_pair_condense.py), at about a third of its
+    time for the pair bodies."""
+    ilu = spla.spilu(
+        Kii,
+        permc_spec="MMD_AT_PLUS_A",
+        drop_tol=np.inf,
+        fill_factor=1.0,
+        diag_pivot_thresh=0.0,
+        options={"SymmetricMode": True},
+    )
+    return ilu.perm_c
+
+
+def _trailing_block(lu, m: int) -> tuple[np.ndarray, np.ndarray]:
+    """(L_BB dense (m, m) unit lower, diag(U_BB) (m,)) of the trailing m x m block of
+    SuperLU's factors. L is lower triangular, so its last m columns (a contiguous CSC
+    slice) hold L_BB and nothing else: no sparse row slicing."""
+    L, U = lu.L, lu.U  # one conversion of SuperLU's supernodal storage gives both
+    n = L.shape[0]
+    ip = L.indptr[n - m :]
+    s = int(ip[0])
+    Lbb = np.zeros((m, m))
+    Lbb[L.indices[s:] - (n - m), np.repeat(np.arange(m), np.diff(ip))] = L.data[s:]
+    return Lbb, U.diagonal()[n - m :]
+
+
 def _condensed_flexibility(
     model, xdofs: np.ndarray, reading: np.ndarray | None = None
 ) -> tuple[np.ndarray, np.ndarray | None, dict]:
@@ -558,7 +593,13 @@ def _condensed_flexibility(
     x1, y1, ...) and the rows h = (K^-1 a)_B for the reading functionals a = ``reading``
     (rows over all dofs; None: h is None). By reciprocity (K symmetric)
     a . U = a . K^-1 f = h . f_B for any load f on B: one more solve per functional with
-    the factors, none per load."""
+    the factors, none per load.
+
+    With B ordered last and no pivoting (K is SPD), the trailing blocks of SuperLU's
+    factors give the Schur complement S = L_BB U_BB with U_BB = D L_BB^T (D = diag U_BB,
+    the LDL^T form of a symmetric factorization), so S = C C^T with the Cholesky factor
+    C = L_BB D^1/2 and G = S^-1 = C^-T C^-1 (LAPACK dpotri: 2/3 m^3 flops, against 2 m^3
+    for two triangular solves with the identity)."""
     t0 = time.perf_counter()
     B = np.column_stack([xdofs, xdofs + 1]).ravel()
     pos = np.full(model.ndofs, -1)
@@ -572,24 +613,27 @@ def _condensed_flexibility(
     interior = np.flatnonzero(~isB)
     # fill-reducing order of the interior (SuperLU's minimum degree on K_II + K_II^T),
     # then the condensed dofs last, and no further reordering
-    opts = dict(diag_pivot_thresh=0.0, options={"SymmetricMode": True})
-    order_I = spla.splu(Kff[interior][:, interior].tocsc(), permc_spec="MMD_AT_PLUS_A", **opts).perm_c
+    order_I = _interior_order(Kff[interior][:, interior].tocsc())
     order = np.concatenate([interior[np.argsort(order_I)], Bf])
     t1 = time.perf_counter()
+    opts = dict(diag_pivot_thresh=0.0, options={"SymmetricMode": True})
     lu = spla.splu(Kff[order][:, order].tocsc(), permc_spec="NATURAL", **opts)
     n = len(order)
     if not (np.array_equal(lu.perm_r, np.arange(n)) and np.array_equal(lu.perm_c, np.arange(n))):
         raise RuntimeError("SuperLU reordered the condensed system; the Schur block is not trailing")
     t2 = time.perf_counter()
     m = len(Bf)
-    Lbb = lu.L[n - m :, n - m :].toarray()
-    Ubb = lu.U[n - m :, n - m :].toarray()
-    G = sla.solve_triangular(
-        Ubb,
-        sla.solve_triangular(Lbb, np.eye(m), lower=True, unit_diagonal=True, check_finite=False),
-        check_finite=False,
-    )
-    G = 0.5 * (G + G.T)  # Maxwell-Betti; removes round-off asymmetry (~1e-12)
+    Lbb, d = _trailing_block(lu, m)
+    if not np.all(d > 0):
+        raise RuntimeError("the Schur complement of the condensed dofs is not positive definite")
+    C = Lbb * np.sqrt(d)  # column j of L_BB times sqrt(d_j): S = C C^T
+    # one BLAS thread: OpenBLAS's threaded dpotri (dtrtri + dlauum) took 6.2 s against
+    # 0.39 s on one thread for m = 2142 on the 2-core machine (best of 3 each)
+    with threadpool_limits(1, user_api="blas"):
+        Gl, info = sla.lapack.dpotri(C, lower=1, overwrite_c=1)
+    if info != 0:
+        raise RuntimeError(f"LAPACK dpotri failed (info {info})")
+    G = np.tril(Gl) + np.tril(Gl, -1).T  # dpotri fills the lower triangle: G is symmetric
     h = None
     if reading is not None:
         # the permuted system solves P K P^T (P x) = P a; B is the trailing block
