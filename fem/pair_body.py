@@ -31,11 +31,12 @@ flexibility of B is the inverse of the Schur complement
     S = K_BB - K_BI K_II^-1 K_IB,      G = S^-1 = (K^-1)_BB      (m/N)
 
 (Maxwell-Betti: G is symmetric). It is obtained from one sparse LU factorization
-of K with the interior dofs I first (SuperLU's minimum-degree order of K_II) and B
-last: the trailing blocks of the factors are S = L_BB U_BB, so G follows from two
-dense triangular inversions. This replaces one sparse solve per flank node (about
-30 ms each for 117k dofs, i.e. ~25 s for 900 nodes) by ~3 s in total, and gives the
-full 2 x 2 blocks (every force direction) at once.
+of K (SuperLU, no pivoting) with the interior dofs I first (METIS nested dissection of
+the node graph of K_II) and B last: the trailing blocks of the factors are
+S = L_BB U_BB = L_BB D L_BB^T, so G follows from one dense Cholesky inversion (LAPACK
+dpotri). This replaces one sparse solve per flank node (about 30 ms each for 117k dofs,
+i.e. ~25 s for 900 nodes), and gives the full 2 x 2 blocks (every force direction) at
+once. benchmarks/bench_fem_solvers.py compares the sparse solvers that install here.
 
 The blank's reference circle (r_ref = r_f - 2 m, not below the bore;
 :func:`blank_reference_radius_m`) is read as a least-squares rigid motion of 16 z
@@ -61,7 +62,9 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
+import pymetis
 import scipy.linalg as sla
+import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from threadpoolctl import threadpool_limits
 
@@ -553,24 +556,28 @@ def build_cracked_body(
 
 
 def _interior_order(Kii) -> np.ndarray:
-    """SuperLU's fill-reducing column order of the interior block K_II (minimum degree on
-    K_II + K_II^T, then its elimination-tree postorder), without its numerical factorization.
+    """Fill-reducing order of the interior block K_II (positions, new -> old): METIS's
+    multilevel nested dissection (METIS_NodeND through pymetis; Karypis & Kumar, SIAM J.
+    Sci. Comput. 20 (1998) 359) of the graph of the mesh nodes, each node's x and y dofs
+    kept together (2 k, 2 k + 1; the dofs of K_II come in such pairs).
 
-    SuperLU computes the column order (get_perm_c and sp_preorder) before it factorizes,
-    and its incomplete factorization (spilu) uses the same two steps as splu. An ILU that
-    drops every off-diagonal entry (drop_tol = inf: every entry is below it) costs almost
-    nothing beyond the ordering and returns the same perm_c as a full splu of K_II
-    (equal arrays; asserted in tests/test_fem_pair_condense.py), at about a third of its
-    time for the pair bodies."""
-    ilu = spla.spilu(
-        Kii,
-        permc_spec="MMD_AT_PLUS_A",
-        drop_tol=np.inf,
-        fill_factor=1.0,
-        diag_pivot_thresh=0.0,
-        options={"SymmetricMode": True},
-    )
-    return ilu.perm_c
+    Why: on a 2D mesh nested dissection leaves O(n log n) fill against the larger fill of
+    minimum degree; for the paper pinion (88k interior dofs, B = 2142 last) SuperLU's
+    factors have 15.6M nonzeros with it against 21.2M with SuperLU's own MMD order, and the
+    factorization and the read-out of L take a third less time
+    (benchmarks/bench_fem_solvers.py). The node graph is half the size of the dof graph
+    (faster ordering, same fill). METIS's default seed is fixed: the order, and so every
+    result, is the same in every run and worker process."""
+    n = Kii.shape[0]
+    if n % 2:
+        raise RuntimeError("the interior dofs do not come in (x, y) pairs")
+    A = abs(Kii)
+    to_node = sp.csr_matrix((np.ones(n), (np.arange(n), np.arange(n) // 2)), shape=(n, n // 2))
+    nodes = (to_node.T @ (A + A.T) @ to_node).tocsr()  # node i ~ node j where any dofs couple
+    nodes.setdiag(0)
+    nodes.eliminate_zeros()
+    perm = np.asarray(pymetis.nested_dissection(pymetis.CSRAdjacency(nodes.indptr, nodes.indices))[0])
+    return np.column_stack([2 * perm, 2 * perm + 1]).ravel()
 
 
 def _trailing_block(lu, m: int) -> tuple[np.ndarray, np.ndarray]:
@@ -611,10 +618,12 @@ def _condensed_flexibility(
     isB = np.zeros(Kff.shape[0], dtype=bool)
     isB[Bf] = True
     interior = np.flatnonzero(~isB)
-    # fill-reducing order of the interior (SuperLU's minimum degree on K_II + K_II^T),
-    # then the condensed dofs last, and no further reordering
-    order_I = _interior_order(Kff[interior][:, interior].tocsc())
-    order = np.concatenate([interior[np.argsort(order_I)], Bf])
+    # B's (x, y) pairs are whole nodes, so the interior's are too (_interior_order)
+    if not np.array_equal(interior[0::2] + 1, interior[1::2]):
+        raise RuntimeError("unexpected dof numbering of the interior")
+    # fill-reducing order of the interior (nested dissection), then the condensed dofs
+    # last, and no further reordering
+    order = np.concatenate([interior[_interior_order(Kff[interior][:, interior].tocsc())], Bf])
     t1 = time.perf_counter()
     opts = dict(diag_pivot_thresh=0.0, options={"SymmetricMode": True})
     lu = spla.splu(Kff[order][:, order].tocsc(), permc_spec="NATURAL", **opts)
