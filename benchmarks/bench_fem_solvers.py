@@ -9,8 +9,8 @@ On the real system of the paper pair's body (K_ff, B and a exactly as fem.pair_b
 them), each candidate that installs here as a wheel computes (G, h); the table gives its
 wall time (ordering + factorization + the solves or the Schur complement for G and h, best
 of RUNS, the direct candidates run in turns) and its accuracy max |G - G_ref| / max |G_ref|
-(and the same for h) against the current solver (fem.pair_body._condensed_flexibility: SuperLU with B last, G from the
-trailing factor blocks):
+(and the same for h) against the current solver (fem.pair_body._condensed_flexibility:
+SuperLU with B last, G from the trailing factor blocks):
 
 * scipy SuperLU, B last: the current solver (interior in METIS nested dissection of the
   node graph, pymetis), and the interior ordered by SuperLU's MMD (the order before), by
