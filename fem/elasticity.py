@@ -23,11 +23,12 @@ import scipy.sparse.linalg as spla
 import skfem
 from skfem import Basis, ElementTriP1, ElementTriP2, ElementVector, FacetBasis, asm
 from skfem.helpers import dot
-from skfem.models.elasticity import lame_parameters, linear_elasticity
+from skfem.models.elasticity import lame_parameters
 
 from gearwear.core.validation import fail
 from gearwear.geometry.spec import Material
 
+from .elasticity_blocks import isotropic_stiffness
 from .mesh import CurvedMeshTri2
 
 
@@ -108,10 +109,14 @@ def assemble(
     straight edges."""
     t0 = time.perf_counter()
     m = located(mesh)
-    elem = ElementVector(ElementTriP2() if order == 2 else ElementTriP1())
-    basis = Basis(m, elem, intorder=2 * order)
+    scalar = ElementTriP2() if order == 2 else ElementTriP1()
+    basis = Basis(m, ElementVector(scalar), intorder=2 * order)
     lam, mu = lame(material, plane)
-    K = asm(linear_elasticity(lam, mu), basis) * thickness_m
+    # skfem.models.elasticity.linear_elasticity's matrix, from three scalar blocks (fem.elasticity_blocks)
+    sbasis = Basis(m, scalar, intorder=2 * order)
+    if not np.array_equal(basis.element_dofs[0::2], 2 * sbasis.element_dofs):
+        raise RuntimeError("unexpected dof numbering of the vector basis")
+    K = isotropic_stiffness(sbasis, lam, mu) * thickness_m
     fixed = basis.get_dofs(facets=np.asarray(fixed_facets)).all()
     free = np.setdiff1d(np.arange(basis.N), fixed)
     t1 = time.perf_counter()
