@@ -40,6 +40,8 @@ INTERNAL_VALUE_ERRORS = {
     ("geometry/profile.py", "depth has shape"),  # depths computed on the profile itself
     ("analytic/energy.py", "breaks_m must be a strictly increasing"),  # breaks from the profile
     ("analytic/energy.py", "load heights must lie in"),  # the user's radii are checked first
+    # called only for the static coupling (analysis checks the model first)
+    ("dynamics/equations.py", "accelerations_from_force: the dynamic coupling"),
 }
 
 
