@@ -76,8 +76,8 @@ def compute(
     (a damaged entry being recomputed); the FE calibration of a wear phase runs only
     when one of its tables is not in the cache."""
     from gearwear.jobs.simulate import run
+    from gearwear.reports.paper_tables import calibrated_tables
     from gearwear.stiffness import tables
-    from gearwear.stiffness.calibration import Calibration, calibrated_table, run_fe
 
     tables.cache_dir()  # a bad GEARWEAR_CACHE stops here, before any FE run
     say = progress or (lambda msg: None)
@@ -85,46 +85,25 @@ def compute(
     pair = default_pair()
     T = 40.0
     wears = {p: (None if p == "unworn" else WearSpec(phase=p)) for p in PHASES}
-    fe_runs: dict[str, Calibration] = {}
-
-    def calibration(p: str) -> Callable[[], Calibration]:
-        def get() -> Calibration:
-            if p not in fe_runs:  # with the FE error estimate: it goes into the table sidecars
-                fe_runs[p] = run_fe(pair, wears[p])
-                say(f"FE single-tooth compliance ({p})")
-            return fe_runs[p]
-
-        return get
-
-    cal = {p: calibration(p) for p in PHASES}
-    # wear study: the built-in wear scenes (10 um clearance, static coupling)
-    tabs_wear, sims_wear = {}, {}
-    for p in PHASES:
-        scene = _scene(f"paper-wear-{p}", ['effects.mesh_stiffness={source = "calibrated"}'])
-        tabs_wear[p] = calibrated_table(
-            pair, wears[p], table_clearance_m(scene), T, TABLE_POINTS_PER_MESH_PERIOD, calibration=cal[p], notify=note
-        )
-        say(f"calibrated table + FE pair ({p})")
-        sims_wear[p] = run(scene)
-        say(f"simulation, wear {p}")
-    tabs_cl, sims_cl = {}, {}
+    # wear study: the built-in wear scenes (10 um clearance, static coupling); clearance study: unworn
+    scenes = {
+        ("wear", p): _scene(f"paper-wear-{p}", ['effects.mesh_stiffness={source = "calibrated"}']) for p in PHASES
+    }
     for c in CLEARANCES_UM:
-        scene = _scene(
+        scenes[("clearance", c)] = _scene(
             "paper-clearance",
             ['effects.mesh_stiffness={source = "calibrated"}', f"effects.bearing_clearance.clearance_um={c}"],
         )
-        tabs_cl[c] = calibrated_table(
-            pair,
-            None,
-            table_clearance_m(scene),
-            T,
-            TABLE_POINTS_PER_MESH_PERIOD,
-            calibration=cal["unworn"],
-            notify=note,
-        )
-        say(f"calibrated table + FE pair (clearance {c:g} um)")
-        sims_cl[c] = run(scene)
-        say(f"simulation, clearance {c:g} um")
+    requests = [(key, key[1] if key[0] == "wear" else "unworn", table_clearance_m(sc)) for key, sc in scenes.items()]
+    tabs = calibrated_tables(pair, requests, wears, T, TABLE_POINTS_PER_MESH_PERIOD, note, say)
+    sims = {}
+    for key, scene in scenes.items():  # every table is in the cache now: the simulations read it
+        sims[key] = run(scene)
+        say(f"simulation, {key[0]} {key[1] if key[0] == 'wear' else f'{key[1]:g} um'}")
+    tabs_wear = {p: tabs[("wear", p)] for p in PHASES}
+    sims_wear = {p: sims[("wear", p)] for p in PHASES}
+    tabs_cl = {c: tabs[("clearance", c)] for c in CLEARANCES_UM}
+    sims_cl = {c: sims[("clearance", c)] for c in CLEARANCES_UM}
     prefetch_harmonics(sims_wear, sims_cl)
     cl_fine = np.linspace(0.0, 100.0, 21)
     geo = [operating_geometry(pair, c * 1e-6, T, 2.6e8, 50e-6) for c in cl_fine]
@@ -136,7 +115,6 @@ def compute(
         "sims_cl": sims_cl,
         "cl_fine": cl_fine,
         "geo": geo,
-        "cal": cal,
     }
 
 
