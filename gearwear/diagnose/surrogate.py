@@ -527,6 +527,9 @@ def finish(pending: Pending) -> Surrogate:
 
 
 def _fit_and_store(spec, inputs, folder, notify, X, Y, resid, Xh, Yh, t0: float, t1: float) -> Surrogate:
+    """Fit, store, and the wall times in ``meta`` (timing.json only). They run from
+    :func:`start`: for a surrogate whose runs queued behind another's (diagnose.plan),
+    design_wall_s includes that wait."""
     t2 = time.perf_counter()
     meta = {
         "periodicity_residual_max": float(np.max(resid)),
