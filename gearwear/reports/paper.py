@@ -86,7 +86,7 @@ def compute(
     T = 40.0
     wears = {p: (None if p == "unworn" else WearSpec(phase=p)) for p in PHASES}
     # wear study: the built-in wear scenes (10 um clearance, static coupling); clearance study: unworn
-    scenes = {
+    scenes: dict[tuple[str, Any], Any] = {
         ("wear", p): _scene(f"paper-wear-{p}", ['effects.mesh_stiffness={source = "calibrated"}']) for p in PHASES
     }
     for c in CLEARANCES_UM:
@@ -96,7 +96,7 @@ def compute(
         )
     requests = [(key, key[1] if key[0] == "wear" else "unworn", table_clearance_m(sc)) for key, sc in scenes.items()]
     tabs = calibrated_tables(pair, requests, wears, T, TABLE_POINTS_PER_MESH_PERIOD, note, say)
-    sims = {}
+    sims: dict[tuple[str, Any], Any] = {}
     for key, scene in scenes.items():  # every table is in the cache now: the simulations read it
         sims[key] = run(scene)
         say(f"simulation, {key[0]} {key[1] if key[0] == 'wear' else f'{key[1]:g} um'}")

@@ -72,11 +72,11 @@ def calibrated_tables(
     """Every table of ``requests`` by its key: from the cache, the missing ones computed
     on ``workers`` local processes (default: the cores). ``say`` gets one line per FE
     stage done and per table."""
-    out = {key: cached(pair, wears[p], c, torque_Nm, points, notify) for key, p, c in requests}
-    missing = [r for r in requests if out[r[0]] is None]
-    for key, p, c in requests:
-        if out[key] is not None:
-            say(f"calibrated table from the cache ({key})")
+    found = {key: cached(pair, wears[p], c, torque_Nm, points, notify) for key, p, c in requests}
+    out = {key: tab for key, tab in found.items() if tab is not None}
+    missing = [r for r in requests if r[0] not in out]
+    for key in out:
+        say(f"calibrated table from the cache ({key})")
     if not missing:
         return out
     from gearwear.jobs.sweep import make_executor
