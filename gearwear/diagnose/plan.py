@@ -23,7 +23,7 @@ import numpy as np
 from gearwear.diagnose import posterior as dp
 from gearwear.diagnose.features import MEAN_SIGNALS, SIGNALS, Feature, all_features
 from gearwear.diagnose.job import expected_widths
-from gearwear.diagnose.surrogate import BuildSpec, Surrogate, build
+from gearwear.diagnose.surrogate import BuildSpec, Pending, Surrogate, finish, start
 
 REFERENCE_POINTS = 16
 REFERENCE_SEED = 11
@@ -95,24 +95,29 @@ def plan(
     rows = []
     builds = []
     levels: list[float | None] = list(torques) if torques else [None]
+    started = []
     for n in speeds:
         for T in levels:
             doc = copy.deepcopy(spec.raw)
             doc.setdefault("operating", {})["speed_rpm"] = float(n)
             if T is not None:
                 doc["operating"]["torque_Nm"] = float(T)
-            sur = build(replace(spec, raw=doc), executor, progress)
-            builds.append(
-                {
-                    "speed_rpm": n,
-                    "torque_Nm": T,
-                    "from_cache": sur.from_cache,
-                    "heldout_harmonic_relative_error_median": sur.heldout.get("harmonic_relative_error_median"),
-                    **{k: v for k, v in sur.meta.items() if k.endswith("wall_s")},
-                }
-            )
-            for r in assess(sur, rel, floor_frac):
-                rows.append({"speed_rpm": n, "torque_Nm": T, **r})
+            # every missing surrogate's runs are submitted before the first is fitted: the
+            # workers simulate the next operating points while this process fits
+            started.append((n, T, start(replace(spec, raw=doc), executor, progress)))
+    for n, T, got in started:
+        sur = finish(got) if isinstance(got, Pending) else got
+        builds.append(
+            {
+                "speed_rpm": n,
+                "torque_Nm": T,
+                "from_cache": sur.from_cache,
+                "heldout_harmonic_relative_error_median": sur.heldout.get("harmonic_relative_error_median"),
+                **{k: v for k, v in sur.meta.items() if k.endswith("wall_s")},
+            }
+        )
+        for r in assess(sur, rel, floor_frac):
+            rows.append({"speed_rpm": n, "torque_Nm": T, **r})
     separable = [r for r in rows if r["separable"]]
     best = min(separable, key=lambda r: max(r["width_fraction"].values()), default=None)
     return {

@@ -54,7 +54,7 @@ import hashlib
 import io as _io
 import math
 import time
-from concurrent.futures import Executor, as_completed
+from concurrent.futures import Executor, Future, as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
@@ -445,17 +445,34 @@ def _points(spec: BuildSpec, X: np.ndarray) -> list[dict[str, float]]:
     return [{u.short: float(x[j]) for j, u in enumerate(spec.unknowns)} for x in X]
 
 
-def build(
+@dataclass
+class Pending:
+    """A surrogate whose runs are submitted (:func:`start`) and not yet fitted
+    (:func:`finish`): the design's and the held-out points' futures, in design order."""
+
+    spec: BuildSpec
+    inputs: dict[str, Any]
+    folder: Path
+    X: np.ndarray
+    Xh: np.ndarray
+    design: list[Future]
+    holdout: list[Future]
+    t0: float
+    notify: tables.Notify | None
+    progress: Callable[[int], None] | None
+
+
+def start(
     spec: BuildSpec,
     executor: Executor | Callable[[], Executor | None] | None = None,
     progress: Callable[[int], None] | None = None,
     notify: tables.Notify | None = tables.to_stderr,
     refresh: bool = False,
-) -> Surrogate:
-    """The cached surrogate for ``spec``, or a new one (then stored). A damaged or stale
-    entry is reported to ``notify`` in one line and rebuilt. ``executor``: runs the
-    design (None: this process); a callable is called only when a build is needed (the
-    caller shuts down what it returns)."""
+) -> Surrogate | Pending:
+    """The cached surrogate for ``spec``; else, with an executor, every run of its design
+    and held-out points submitted at once (a :class:`Pending` for :func:`finish`), so a
+    caller with several surrogates to build keeps the workers busy while this process fits
+    the ones whose runs are done (diagnose.plan); without one, the whole build here."""
     folder = tables.cache_dir()
     inputs = spec.inputs()
     if not refresh:
@@ -466,11 +483,53 @@ def build(
             notify(tables.entry_message(tables.table_key(inputs), LABEL, reason))
     t0 = time.perf_counter()
     X, Xh = design(spec)
-    base = spec.base_scene()
     ex = executor if executor is None or isinstance(executor, Executor) else executor()
-    Y, resid = run_points(spec.raw, spec.name, _points(spec, X), training_solver(base), spec.harmonics, ex, progress)
+    if ex is None:
+        Y, resid = run_points(
+            spec.raw, spec.name, _points(spec, X), training_solver(spec.base_scene()), spec.harmonics, None, progress
+        )
+        t1 = time.perf_counter()
+        Yh, _ = run_points(spec.raw, spec.name, _points(spec, Xh), None, spec.harmonics, None, progress)
+        return _fit_and_store(spec, inputs, folder, notify, X, Y, resid, Xh, Yh, t0, t1)
+    solver = training_solver(spec.base_scene())
+    submit = lambda p, sol: ex.submit(simulate_point, spec.raw, spec.name, p, sol, spec.harmonics)  # noqa: E731
+    return Pending(
+        spec,
+        inputs,
+        folder,
+        X,
+        Xh,
+        [submit(p, solver) for p in _points(spec, X)],
+        [submit(p, None) for p in _points(spec, Xh)],
+        t0,
+        notify,
+        progress,
+    )
+
+
+def _collect(futures: list[Future], progress: Callable[[int], None] | None) -> tuple[np.ndarray, np.ndarray]:
+    """simulate_point's results in submission order (as run_points returns them)."""
+    for fut in as_completed(futures):
+        fut.result()
+        if progress:
+            progress(1)
+    out = [f.result() for f in futures]
+    return np.array([o[0] for o in out]), np.array([o[1] for o in out])
+
+
+def finish(pending: Pending) -> Surrogate:
+    """The surrogate of a :func:`start` that submitted its runs: wait for them, fit, store."""
+    pe = pending
+    Y, resid = _collect(pe.design, pe.progress)
     t1 = time.perf_counter()
-    Yh, _ = run_points(spec.raw, spec.name, _points(spec, Xh), None, spec.harmonics, ex, progress)
+    Yh, _ = _collect(pe.holdout, pe.progress)
+    return _fit_and_store(pe.spec, pe.inputs, pe.folder, pe.notify, pe.X, Y, resid, pe.Xh, Yh, pe.t0, t1)
+
+
+def _fit_and_store(spec, inputs, folder, notify, X, Y, resid, Xh, Yh, t0: float, t1: float) -> Surrogate:
+    """Fit, store, and the wall times in ``meta`` (timing.json only). They run from
+    :func:`start`: for a surrogate whose runs queued behind another's (diagnose.plan),
+    design_wall_s includes that wait."""
     t2 = time.perf_counter()
     meta = {
         "periodicity_residual_max": float(np.max(resid)),
@@ -483,6 +542,23 @@ def build(
     store(sur, inputs, folder, notify)
     sur.meta["build_wall_s"] = time.perf_counter() - t0
     return sur
+
+
+def build(
+    spec: BuildSpec,
+    executor: Executor | Callable[[], Executor | None] | None = None,
+    progress: Callable[[int], None] | None = None,
+    notify: tables.Notify | None = tables.to_stderr,
+    refresh: bool = False,
+) -> Surrogate:
+    """The cached surrogate for ``spec``, or a new one (then stored). A damaged or stale
+    entry is reported to ``notify`` in one line and rebuilt. ``executor``: runs the
+    design (None: this process); a callable is called only when a build is needed (the
+    caller shuts down what it returns). The design's and the held-out runs go to the
+    executor together (:func:`start`), so its workers do not wait for the design's last
+    run before the held-out runs start."""
+    got = start(spec, executor, progress, notify, refresh)
+    return finish(got) if isinstance(got, Pending) else got
 
 
 def store(

@@ -9,6 +9,7 @@ Figures are named after the paper's (fig06_..., fig25_...). The paper's trend cl
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 import sys
@@ -40,6 +41,34 @@ def _scene(base: str, sets: list[str]):
     return scene_from_dict(apply_overrides(builtin_scene_dict(base), sets), name=base)
 
 
+def table_clearance_m(scene) -> float:
+    """The clearance (m) under which the simulation of ``scene`` asks for its calibrated
+    table (gearwear.jobs.simulate.stiffness_input: the scene's clearance when the static
+    centre-distance coupling moves C', else 0). The report asks for its tables under the
+    same float, so they are the same cache entries: 10 * 1e-6 (the scene's um -> m) is
+    not the literal 10e-6, and a different key made every wear simulation run the FE
+    single-tooth and pair stages again (~50 s of a cold report)."""
+    from gearwear.jobs.simulate import operating_centre_distance
+
+    return scene.clearance_m if operating_centre_distance(scene) != scene.pair.centre_distance_m else 0.0
+
+
+def prefetch_harmonics(sims_wear: dict, sims_cl: dict) -> None:
+    """Fill each run's harmonics memo with every plotted signal in one window pass per
+    harmonic count (SimulationResult.harmonics_of), the counts the figures and trends ask
+    for: 4 for the wear study (and 10 of F_m for its first run, the top-harmonics row),
+    4 and 10 for the clearance study. Asked one signal at a time, as the figures and
+    trends do, each signal cost a pass of its own over the dense window (61 passes instead
+    of 16; the pass, not the signal, is the cost)."""
+    names = [s[0] for s in SIGNALS]
+    for run in sims_wear.values():
+        run.result.harmonics_of(names, 4)
+    next(iter(sims_wear.values())).result.harmonics_of(["F_m"], 10)
+    for run in sims_cl.values():
+        run.result.harmonics_of(names, 4)
+        run.result.harmonics_of(names, 10)
+
+
 def compute(
     progress: Callable[[str], None] | None = None, notify: Callable[[str], None] | None = None
 ) -> dict[str, Any]:
@@ -47,8 +76,8 @@ def compute(
     (a damaged entry being recomputed); the FE calibration of a wear phase runs only
     when one of its tables is not in the cache."""
     from gearwear.jobs.simulate import run
+    from gearwear.reports.paper_tables import calibrated_tables
     from gearwear.stiffness import tables
-    from gearwear.stiffness.calibration import Calibration, calibrated_table, run_fe
 
     tables.cache_dir()  # a bad GEARWEAR_CACHE stops here, before any FE run
     say = progress or (lambda msg: None)
@@ -56,40 +85,26 @@ def compute(
     pair = default_pair()
     T = 40.0
     wears = {p: (None if p == "unworn" else WearSpec(phase=p)) for p in PHASES}
-    fe_runs: dict[str, Calibration] = {}
-
-    def calibration(p: str) -> Callable[[], Calibration]:
-        def get() -> Calibration:
-            if p not in fe_runs:  # with the FE error estimate: it goes into the table sidecars
-                fe_runs[p] = run_fe(pair, wears[p])
-                say(f"FE single-tooth compliance ({p})")
-            return fe_runs[p]
-
-        return get
-
-    cal = {p: calibration(p) for p in PHASES}
-    # wear study: the built-in wear scenes (10 um clearance, static coupling)
-    tabs_wear, sims_wear = {}, {}
-    for p in PHASES:
-        tabs_wear[p] = calibrated_table(
-            pair, wears[p], 10e-6, T, TABLE_POINTS_PER_MESH_PERIOD, calibration=cal[p], notify=note
-        )
-        say(f"calibrated table + FE pair ({p})")
-        sims_wear[p] = run(_scene(f"paper-wear-{p}", ['effects.mesh_stiffness={source = "calibrated"}']))
-        say(f"simulation, wear {p}")
-    tabs_cl, sims_cl = {}, {}
+    # wear study: the built-in wear scenes (10 um clearance, static coupling); clearance study: unworn
+    scenes: dict[tuple[str, Any], Any] = {
+        ("wear", p): _scene(f"paper-wear-{p}", ['effects.mesh_stiffness={source = "calibrated"}']) for p in PHASES
+    }
     for c in CLEARANCES_UM:
-        tabs_cl[c] = calibrated_table(
-            pair, None, c * 1e-6, T, TABLE_POINTS_PER_MESH_PERIOD, calibration=cal["unworn"], notify=note
+        scenes[("clearance", c)] = _scene(
+            "paper-clearance",
+            ['effects.mesh_stiffness={source = "calibrated"}', f"effects.bearing_clearance.clearance_um={c}"],
         )
-        say(f"calibrated table + FE pair (clearance {c:g} um)")
-        sims_cl[c] = run(
-            _scene(
-                "paper-clearance",
-                ['effects.mesh_stiffness={source = "calibrated"}', f"effects.bearing_clearance.clearance_um={c}"],
-            )
-        )
-        say(f"simulation, clearance {c:g} um")
+    requests = [(key, key[1] if key[0] == "wear" else "unworn", table_clearance_m(sc)) for key, sc in scenes.items()]
+    tabs = calibrated_tables(pair, requests, wears, T, TABLE_POINTS_PER_MESH_PERIOD, note, say)
+    sims: dict[tuple[str, Any], Any] = {}
+    for key, scene in scenes.items():  # every table is in the cache now: the simulations read it
+        sims[key] = run(scene)
+        say(f"simulation, {key[0]} {key[1] if key[0] == 'wear' else f'{key[1]:g} um'}")
+    tabs_wear = {p: tabs[("wear", p)] for p in PHASES}
+    sims_wear = {p: sims[("wear", p)] for p in PHASES}
+    tabs_cl = {c: tabs[("clearance", c)] for c in CLEARANCES_UM}
+    sims_cl = {c: sims[("clearance", c)] for c in CLEARANCES_UM}
+    prefetch_harmonics(sims_wear, sims_cl)
     cl_fine = np.linspace(0.0, 100.0, 21)
     geo = [operating_geometry(pair, c * 1e-6, T, 2.6e8, 50e-6) for c in cl_fine]
     return {
@@ -100,7 +115,6 @@ def compute(
         "sims_cl": sims_cl,
         "cl_fine": cl_fine,
         "geo": geo,
-        "cal": cal,
     }
 
 
@@ -168,30 +182,8 @@ def _harmonics_fig(x, xlabel, H: np.ndarray, unit: str, name: str, title: str, x
     return fig
 
 
-def figures(res: dict[str, Any]) -> dict[str, Any]:
-    figs: dict[str, Any] = {}
-    figs["fig06_stiffness_wear.png"] = _stiffness_fig(
-        res["tabs_wear"],
-        lambda p: f"{p} ({PHASE_DEPTHS_M[p] * 1e6:g} um max depth)",
-        "Fig. 6: mesh stiffness per wear phase (FE-calibrated, 40 N m, 10 um clearance)",
-    )
-    xw = np.arange(3)
-    for name, unit, scale, desc in SIGNALS:
-        f1, f2 = WEAR_FIGS[name]
-        figs[f"fig{f1:02d}_{name}_wear.png"] = _response_fig(
-            res["sims_wear"], name, unit, scale, lambda p: p, f"Fig. {f1}: {desc} per wear phase"
-        )
-        H = np.array([res["sims_wear"][p].result.harmonics(name, 4) * scale for p in PHASES])
-        figs[f"fig{f2:02d}_{name}_harmonics_wear.png"] = _harmonics_fig(
-            xw,
-            "wear phase (category)",
-            H,
-            unit,
-            name,
-            f"Fig. {f2}: harmonics of {desc} versus wear phase",
-            xticklabels=list(PHASES),
-        )
-    # Fig. 15: operating geometry versus clearance
+def _geometry_fig(res: dict[str, Any]):
+    """Fig. 15: operating geometry versus clearance."""
     geo, c = res["geo"], res["cl_fine"]
     fig, axs = subplots(1, 4, figsize=(15, 3.6))
     data = [
@@ -207,31 +199,85 @@ def figures(res: dict[str, Any]) -> dict[str, Any]:
         a.grid(alpha=0.3)
     fig.suptitle("Fig. 15: operating geometry versus bearing clearance (Eq. 11 with 40 N m, k_b = 2.6e8 N/m)")
     fig.tight_layout()
-    figs["fig15_geometry_clearance.png"] = fig
-    cl = np.array(CLEARANCES_UM)
+    return fig
+
+
+def _mean_stiffness_fig(res: dict[str, Any]):
+    """Fig. 16: the calibrated tables' mean stiffness versus clearance."""
     fig, ax = subplots(figsize=(6, 4))
-    ax.plot(cl, [res["tabs_cl"][x].mean_N_per_m / 1e8 for x in CLEARANCES_UM], "o-")
+    ax.plot(np.array(CLEARANCES_UM), [res["tabs_cl"][x].mean_N_per_m / 1e8 for x in CLEARANCES_UM], "o-")
     ax.set_xlabel("bearing clearance (um)")
     ax.set_ylabel("mean mesh stiffness (1e8 N/m)")
     ax.set_title("Fig. 16: average mesh stiffness versus clearance")
     ax.grid(alpha=0.3)
     fig.tight_layout()
-    figs["fig16_mean_stiffness_clearance.png"] = fig
-    figs["fig17_stiffness_clearance.png"] = _stiffness_fig(
+    return fig
+
+
+def figure_builders(res: dict[str, Any]) -> dict[str, Callable[[], Any]]:
+    """Every figure of the report, by file name in the README's order, as a function that
+    draws it: a figure is drawn only where it is saved (gearwear.reports.paper_render
+    draws them on the local cores)."""
+    B: dict[str, Callable[[], Any]] = {}
+    B["fig06_stiffness_wear.png"] = lambda: _stiffness_fig(
+        res["tabs_wear"],
+        lambda p: f"{p} ({PHASE_DEPTHS_M[p] * 1e6:g} um max depth)",
+        "Fig. 6: mesh stiffness per wear phase (FE-calibrated, 40 N m, 10 um clearance)",
+    )
+    for name, unit, scale, desc in SIGNALS:
+        f1, f2 = WEAR_FIGS[name]
+        B[f"fig{f1:02d}_{name}_wear.png"] = functools.partial(
+            _response_fig, res["sims_wear"], name, unit, scale, lambda p: p, f"Fig. {f1}: {desc} per wear phase"
+        )
+        B[f"fig{f2:02d}_{name}_harmonics_wear.png"] = functools.partial(
+            _wear_harmonics_fig, res, name, unit, scale, f2, desc
+        )
+    B["fig15_geometry_clearance.png"] = functools.partial(_geometry_fig, res)
+    B["fig16_mean_stiffness_clearance.png"] = functools.partial(_mean_stiffness_fig, res)
+    B["fig17_stiffness_clearance.png"] = lambda: _stiffness_fig(
         res["tabs_cl"], lambda x: f"clearance {x:g} um", "Fig. 17: mesh stiffness versus bearing clearance"
     )
     sel = {x: res["sims_cl"][x] for x in (CLEARANCES_UM[0], CLEARANCES_UM[len(CLEARANCES_UM) // 2], CLEARANCES_UM[-1])}
     for name, unit, scale, desc in SIGNALS:
         f1, f2 = CLEAR_FIGS[name]
-        figs[f"fig{f1:02d}_{name}_clearance.png"] = _response_fig(
-            sel, name, unit, scale, lambda x: f"{x:g} um", f"Fig. {f1}: {desc} versus bearing clearance"
+        B[f"fig{f1:02d}_{name}_clearance.png"] = functools.partial(
+            _response_fig, sel, name, unit, scale, lambda x: f"{x:g} um", f"Fig. {f1}: {desc} versus bearing clearance"
         )
-        nh = 10 if name == "F_m" else 4
-        H = np.array([res["sims_cl"][x].result.harmonics(name, nh) * scale for x in CLEARANCES_UM])
-        figs[f"fig{f2:02d}_{name}_harmonics_clearance.png"] = _harmonics_fig(
-            cl, "bearing clearance (um)", H, unit, name, f"Fig. {f2}: harmonics of {desc} versus bearing clearance"
+        B[f"fig{f2:02d}_{name}_harmonics_clearance.png"] = functools.partial(
+            _clearance_harmonics_fig, res, name, unit, scale, f2, desc
         )
-    return figs
+    return B
+
+
+def _wear_harmonics_fig(res: dict[str, Any], name: str, unit: str, scale: float, num: int, desc: str):
+    H = np.array([res["sims_wear"][p].result.harmonics(name, 4) * scale for p in PHASES])
+    return _harmonics_fig(
+        np.arange(3),
+        "wear phase (category)",
+        H,
+        unit,
+        name,
+        f"Fig. {num}: harmonics of {desc} versus wear phase",
+        xticklabels=list(PHASES),
+    )
+
+
+def _clearance_harmonics_fig(res: dict[str, Any], name: str, unit: str, scale: float, num: int, desc: str):
+    nh = 10 if name == "F_m" else 4
+    H = np.array([res["sims_cl"][x].result.harmonics(name, nh) * scale for x in CLEARANCES_UM])
+    return _harmonics_fig(
+        np.array(CLEARANCES_UM),
+        "bearing clearance (um)",
+        H,
+        unit,
+        name,
+        f"Fig. {num}: harmonics of {desc} versus bearing clearance",
+    )
+
+
+def figures(res: dict[str, Any]) -> dict[str, Any]:
+    """Every figure of the report, drawn, by file name."""
+    return {name: draw() for name, draw in figure_builders(res).items()}
 
 
 # -- markdown ---------------------------------------------------------------------------
@@ -314,12 +360,12 @@ def provenance(res: dict[str, Any]) -> dict[str, Any]:
 
 def write(res: dict[str, Any], out: Path) -> list[Path]:
     """The figures, README.md and trends.json into the folder ``out`` (no wall times)."""
-    figs = figures(res)
+    from gearwear.reports.paper_render import render
+
+    names = list(figure_builders(res))
     rows = trends(res)
-    files = []
-    for name, fig in figs.items():
-        files.append(io.write_figure(fig, out / name, dpi=110))
-    files.append(io.write_text(out / "README.md", markdown(res, rows, list(figs))))
+    files = render(res, names, out, dpi=110)
+    files.append(io.write_text(out / "README.md", markdown(res, rows, names)))
     files.append(io.write_text(out / "trends.json", json.dumps(rows, indent=1) + "\n"))
     return files
 
