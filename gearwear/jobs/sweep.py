@@ -201,6 +201,7 @@ class LocalPool(_StopsOnError, ProcessPoolExecutor):
         """Cancel the pending tasks and end the workers: SIGTERM, then SIGKILL for any still
         running after ``timeout_s``."""
         procs = list((getattr(self, "_processes", None) or {}).values())
+        manager = getattr(self, "_executor_manager_thread", None)
         self.shutdown(wait=False, cancel_futures=True)
         for proc in procs:
             with contextlib.suppress(OSError, ValueError):
@@ -212,6 +213,12 @@ class LocalPool(_StopsOnError, ProcessPoolExecutor):
                 if proc.is_alive():
                     proc.kill()
                     proc.join(1.0)
+        # let the pool's manager thread finish closing its wakeup pipe now: left to wind down
+        # while the interpreter exits, it races CPython 3.11's exit hook, which writes to
+        # that pipe as it closes ("Exception ignored ... Bad file descriptor" on stderr
+        # after the one line of an interrupted command)
+        if manager is not None:
+            manager.join(max(0.1, deadline - time.monotonic()))
 
 
 def _worker_start(workers: int) -> None:
