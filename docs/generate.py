@@ -244,6 +244,95 @@ def stiffness_sources() -> str:
     return "\n".join(rows)
 
 
+def _s(x, fmt: str = ".1f") -> str:
+    return "n/a" if x is None else f"{x:{fmt}} s"
+
+
+def _dig(d: dict | None, *keys):
+    for k in keys:
+        if not isinstance(d, dict) or k not in d:
+            return None
+        d = d[k]
+    return d
+
+
+def cost_table() -> str:
+    """What a user waits for, before and after issue 27, with the limit or the peer beside
+    it: whole commands from benchmarks/results/bench_costs.json and bench_costs_before.json
+    (benchmarks/bench_costs.py on this machine, the same script on the checkout before
+    issue 27), the user table against the C loop from bench_user_table.json and the
+    sweep's split per scene from bench_sweep_scale.json."""
+    res = ROOT / "benchmarks" / "results"
+    after = _json("benchmarks/results/bench_costs.json")
+    before = (
+        _json("benchmarks/results/bench_costs_before.json") if (res / "bench_costs_before.json").is_file() else None
+    )
+    ut = _json("benchmarks/results/bench_user_table.json")
+    sw = _dig(_json("benchmarks/results/bench_sweep_scale.json"), "issue27", "split_ms") or {}
+    b, a = (before or {}).get("rows", {}), after["rows"]
+
+    def both(key: str, field: str, fmt: str = ".1f") -> tuple[str, str]:
+        return _s(_dig(b, key, field), fmt), _s(_dig(a, key, field), fmt)
+
+    rows = [
+        "| what the user runs | before | after | limit or peer |",
+        "|---|---|---|---|",
+    ]
+    for key, what in (
+        (
+            "simulate_default",
+            "first `gearwear simulate` (built-in default scene: dopri5, every effect), "
+            "whole process, empty numba cache (warm cache)",
+        ),
+        (
+            "simulate_paper_default",
+            "first `gearwear simulate paper-default` (RK4, stiffness only), whole "
+            "process, empty numba cache (warm cache)",
+        ),
+    ):
+        (bc, ac), (bw, aw) = both(key, "cold_s"), both(key, "warm_s")
+        rows.append(f"| {what} | {bc} ({bw}) | {ac} ({aw}) | 4 s cold |")
+    (b1, a1), (b2, a2) = both("sweep_100_workers_1", "wall_s"), both("sweep_100_workers_2", "wall_s")
+    rows.append(
+        "| `gearwear sweep paper-default --set operating.speed_rpm=1000:3000:100` (100 scenes of 0.5 s), "
+        f"whole process, warm numba cache: 1 worker / 2 workers | {b1} / {b2} | {a1} / {a2} | 4 s on 2 workers |"
+    )
+    if sw:
+        rows.append(
+            "| one sweep point in-process (ms): integration / everything else (scene, table, rest of the run, "
+            f"harmonics, indicators, transport) | | {sw['integration']:.0f} / {sw['overhead']:.0f} | "
+            "everything else at most the integration |"
+        )
+    r = ut["ratio_to_c"]
+    rows.append(
+        "| 1 s simulated, 4096-row user table, RK4 256 steps per mesh period: the kernel on the C loop's "
+        "model (every effect) / the whole `simulate` call, as multiples of the C loop in the same run | "
+        f"{r['kernel_all_effects_before']:.1f}x / {r['sim_before']:.1f}x | {r['kernel_all_effects']:.2f}x / "
+        f"{r['sim']:.2f}x | 3x the C loop (`benchmarks/c_rk4`); F_m harmonics "
+        f"{ut['accuracy']['rel_error_vs_reference']:.1e} from the converged reference (limit 1e-3) |"
+    )
+    bf, af = both("pair_fe_cycle_24", "cold_s", ".2f")
+    rows.append(
+        f"| resolved pair-FE cycle, paper pair, 24 positions, cold in one process | {bf} | {af} | 2.5 s; "
+        "a 2D CalculiX contact model of the same pair: 40-60 s per position |"
+    )
+    for key, what, limit in (
+        ("report_paper", "`gearwear report paper`", 60),
+        ("diagnose_plan", "`gearwear diagnose --plan`", 20),
+    ):
+        (bc, ac), (bw, aw) = both(key, "cold_s"), both(key, "warm_s")
+        rows.append(
+            f"| {what}, whole process, an empty `GEARWEAR_CACHE` (stiffness tables, surrogates; warm cache) "
+            f"| {bc} ({bw}) | {ac} ({aw}) | {limit} s |"
+        )
+    when = f"after: {after['date']} at {after['checkout_commit']}"
+    if before:
+        when += f"; before: {before['date']} at {before['checkout_commit']}"
+    rows.append("")
+    rows.append(f"Measured on this machine (2 cores), {when}.")
+    return "\n".join(rows)
+
+
 TABLES = {
     "stiffness-sources": stiffness_sources,
     "stiffness-peer": stiffness_peer,
@@ -251,6 +340,7 @@ TABLES = {
     "diagnose-examples": diagnose_examples,
     "diagnose-plan": diagnose_plan,
     "bore-study": bore_study,
+    "cost-table": cost_table,
 }
 
 BLOCK = re.compile(r"(<!-- generated: (?P<name>[\w-]+) -->\n)(?P<body>.*?)(<!-- end: (?P=name) -->)", re.S)
