@@ -38,7 +38,6 @@ import platform
 import shutil
 import statistics
 import subprocess
-import sys
 import tempfile
 import time
 from pathlib import Path
@@ -175,4 +174,6 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    # no sys.exit: run_all.py runs every script in its one process with runpy, and a
+    # SystemExit here ended the whole `make bench` after this script
+    main()

@@ -424,7 +424,7 @@ for name, meth, kw in speed_scenes:
     )
     log(
         f"  {name:<27}{meth + ' ' + setting:<14}{r.steps:>8d}{w:>9.4f}{call:>9.4f}{c:>11.3f}"
-        f"{r.separation_fraction:>7.3f}{fmt(bc, '.3f'):>9}"
+        f"{fmt(r.separation_fraction, '.3f'):>7}{fmt(bc, '.3f'):>9}"
     )
 rk4_all = speed_rows[0]["wall_s"]
 rk4_neutral = speed_rows[2]["wall_s"]
