@@ -135,3 +135,20 @@ def test_low_layers_name_their_own_parameters_not_flags_or_scene_keys():
         if pattern.search(line)
     ]
     assert not bad, bad
+
+
+def test_the_parser_and_help_import_no_heavy_library():
+    """``gearwear --help`` and every command's parser are built before any work: building
+    them must not import scipy, matplotlib, numba, gmsh or scikit-fem (a parser that
+    imported a job module cost 0.8 s on every command and on --help)."""
+    code = (
+        "import sys, contextlib, io\n"
+        "import gearwear.cli.app as a\n"
+        "a.build_parser()\n"
+        "with contextlib.redirect_stdout(io.StringIO()), contextlib.suppress(SystemExit):\n"
+        "    a.build_parser().parse_args(['--help'])\n"
+        "heavy = {'scipy', 'matplotlib', 'numba', 'gmsh', 'skfem', 'meshio', 'dask'}\n"
+        "bad = sorted(heavy & {m.split('.')[0] for m in sys.modules})\n"
+        "assert not bad, bad\n"
+    )
+    subprocess.run([sys.executable, "-c", code], check=True, cwd=ROOT.parent)

@@ -21,9 +21,9 @@ from gearwear.cli.common import (
 
 
 def runup_directions() -> tuple[str, ...]:
-    from gearwear.jobs.runup import DIRECTIONS
+    from gearwear.jobs import RUNUP_DIRECTIONS
 
-    return DIRECTIONS
+    return RUNUP_DIRECTIONS
 
 
 def run(args: argparse.Namespace) -> int:

@@ -42,12 +42,12 @@ import numpy as np
 
 from gearwear import io
 from gearwear.core.validation import InputError
+from gearwear.jobs import RUNUP_DIRECTIONS as DIRECTIONS
 from gearwear.jobs.sweep import Axis, csv_cell, format_value, grid, point_sets
 from gearwear.scene.model import Scene, scene_from_dict
 from gearwear.scene.overrides import apply_overrides
 
 SPEED_KEY = "operating.speed_rpm"
-DIRECTIONS = ("up", "down", "both")
 N_HARMONICS = 10
 
 
