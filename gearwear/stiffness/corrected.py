@@ -262,3 +262,48 @@ def committed() -> tuple[Fit, dict[str, Any]]:
     X = np.asarray(doc["descriptors"], dtype=float)
     f = fit(X, {t: np.asarray(doc["log_ratio"][t], dtype=float) for t in TARGETS})
     return f, doc
+
+
+def corrected_curve(rq, warn: Callable[[str], None] | None = None):
+    """The atlas-corrected curve of a stiffness Request (gearwear.stiffness.sources): the
+    base model's curve with its k_h multiplied by exp(r_hi) where n0 + 1 or more pairs carry
+    load and by exp(r_lo) elsewhere (exp(r_mean) for a zone the surrogate has no ratio
+    for), the loaded STE F / k_h (module docstring). Refuses a worn flank, unequal
+    materials or another Poisson's ratio or 2D state than the atlas's (the ratios were not
+    fitted there) and a design outside the fitted box; ``warn`` (default: stderr) hears a
+    design in a gap of the atlas. A bearing clearance moves the base curve; the ratios are
+    those of the nominal centre distance the atlas used."""
+    import dataclasses
+    import sys
+
+    from gearwear.core.validation import fail
+    from gearwear.stiffness.sources import SOURCES
+
+    f, doc = committed()
+    held = doc["fixed"]
+    if rq.wear is not None and not rq.wear.is_unworn:
+        raise fail("effects.wear", "set", "", "the corrected model is fitted on unworn flanks only")
+    m1, m2 = rq.pair.materials
+    if m1 != m2:
+        raise fail("pair.materials", "unequal", "", "the corrected model is fitted on pairs of one material")
+    if abs(m1.poisson_ratio - held["poisson_ratio"]) > 1e-9:
+        raise fail_range(
+            "pair.poisson_ratio",
+            m1.poisson_ratio,
+            Field("", held["poisson_ratio"], held["poisson_ratio"]),
+            "the Poisson's ratio of the atlas the corrected model is fitted on",
+        )
+    if rq.plane != held["plane"]:
+        raise fail("fem.plane", repr(rq.plane), "", f"the corrected model is fitted in plane {held['plane']}")
+    x = descriptors(rq.pair, rq.torque_Nm, held["plane"])
+    check_domain(f, x, warn=warn or (lambda s: print(s, file=sys.stderr)))
+    r = {t: float(v[0]) for t, v in f.predict(x).items()}
+    base = SOURCES[doc["base_model"]].curve(rq)
+    n0 = math.floor(base.mesh.contact_ratio)
+    hi = r["hi"] if math.isfinite(r["hi"]) else r["mean"]
+    lo = r["lo"] if math.isfinite(r["lo"]) else r["mean"]
+    loaded = (np.asarray(base.pair_load_N) > 0).sum(axis=1)
+    k = np.asarray(base.k_N_per_m) * np.exp(np.where(loaded >= n0 + 1, hi, lo))
+    F = rq.torque_Nm / rq.pair.gear(0).base_radius_m
+    meta = {**base.meta, "corrected": {"base_model": doc["base_model"], "log_ratio": r, "atlas": doc["atlas"]}}
+    return dataclasses.replace(base, method="corrected", k_N_per_m=k, ste_m=F / k, meta=meta)
