@@ -1,0 +1,426 @@
+"""The stiffness atlas, read: every analytic model's error against the pair FE over the design
+space, where each model can be trusted, and the atlas-corrected model (issue 28).
+
+Input: a ``gearwear atlas`` folder (atlas.csv, one row per design and model, and its sidecar;
+gearwear.jobs.atlas). The reference is the pair FE with the blanks' torsion taken out
+(model ``fem``: the mesh stiffness the analytic models describe, fem.pair "The blank's
+torsion"); the bore-fixed FE (``fem_bore_fixed``) is reported beside it as one more row.
+
+Errors per design (:func:`errors`): for the stiffness metrics (mean, plateaus, peak-to-peak,
+harmonics 1-3, loaded STE peak-to-peak) the relative error model / FE - 1; for the
+transition angles the difference model - FE in degrees of pinion rotation. A metric a model
+does not give (ISO 6336 is a constant: no STE, no transitions; a zone the pair does not have)
+is left out, never zero. Summaries: median, 95th percentile and maximum of |error|, and the
+signed median (the bias).
+
+Which model where (:func:`which_model_where`): the designs split by contact ratio
+(below 1.6, 1.6-2, 2 and above), rim (s_R / m below 3: thin; 3 and above) and load (line load
+below and above 200 N/mm); in each cell the model of least median |error| of the mean.
+
+The corrected model (gearwear.stiffness.corrected): fitted on a seeded 80 % of the designs and
+checked on the other 20 % (:func:`corrected_holdout`), beside every analytic model's error on
+the same held-out designs; then fitted on every design and exported
+(:func:`corrected_data`, gearwear/data/atlas_corrected.json).
+"""
+
+from __future__ import annotations
+
+import csv
+import io as _io
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+REFERENCE = "fem"
+BORE_FIXED = "fem_bore_fixed"
+#: metrics compared as ratios (relative error) and as differences (deg)
+RELATIVE = (
+    "mean_N_per_m",
+    "single_N_per_m",
+    "double_N_per_m",
+    "p2p_N_per_m",
+    "h1_N_per_m",
+    "h2_N_per_m",
+    "h3_N_per_m",
+    "ste_p2p_um",
+)
+ANGLES = ("entry_deg", "exit_deg")
+#: the design axes the maps show: (column, label, log axis)
+AXES = (
+    ("z1", "pinion teeth z1", False),
+    ("ratio", "ratio z2 / z1", False),
+    ("pressure_angle_deg", "pressure angle (deg)", False),
+    ("addendum_coefficient", "addendum h_a*", False),
+    ("x1", "pinion shift x1", False),
+    ("x2", "gear shift x2", False),
+    ("rim_thickness_module", "rim s_R / m", True),
+    ("line_load_N_per_mm", "line load (N/mm)", True),
+    ("contact_ratio", "contact ratio", False),
+)
+#: the base model of the corrected one: the potential-energy method obeys the similarity the
+#: corrected model's coordinates rest on (gearwear.stiffness.corrected)
+BASE_MODEL = "energy"
+HOLDOUT_FRACTION = 0.2
+HOLDOUT_SEED = 28
+CONTACT_BANDS = ((0.0, 1.6, "eps < 1.6"), (1.6, 2.0, "1.6 <= eps < 2"), (2.0, math.inf, "eps >= 2"))
+RIM_BANDS = ((0.0, 3.0, "thin rim (s_R/m < 3)"), (3.0, math.inf, "rim s_R/m >= 3"))
+LOAD_BANDS = ((0.0, 200.0, "w < 200 N/mm"), (200.0, math.inf, "w >= 200 N/mm"))
+
+
+class Table:
+    """atlas.csv by design: ``design`` (the designs' columns, one value per design) and
+    ``metric[model][metric]`` (one value per design, NaN where empty)."""
+
+    def __init__(self, text: str):
+        rows = list(csv.DictReader(_io.StringIO(text)))
+        if not rows:
+            raise ValueError("atlas.csv has no rows")
+        first_metric = list(rows[0]).index("model") + 1
+        self.metrics = list(rows[0])[first_metric:]
+        self.design_columns = list(rows[0])[: first_metric - 1]
+        order = sorted({int(r["design"]) for r in rows})
+        at = {d: i for i, d in enumerate(order)}
+        self.models = list(dict.fromkeys(r["model"] for r in rows))
+        n = len(order)
+        self.design: dict[str, np.ndarray] = {c: np.full(n, np.nan) for c in self.design_columns}
+        self.metric = {m: {k: np.full(n, np.nan) for k in self.metrics} for m in self.models}
+        for r in rows:
+            i = at[int(r["design"])]
+            for c in self.design_columns:
+                self.design[c][i] = float(r[c])
+            for k in self.metrics:
+                self.metric[r["model"]][k][i] = float(r[k]) if r[k] != "" else math.nan
+        self.design["ratio"] = self.design["z2"] / self.design["z1"]
+        self.n = n
+
+    @property
+    def analytic(self) -> list[str]:
+        return [m for m in self.models if m not in (REFERENCE, BORE_FIXED)]
+
+
+def errors(t: Table) -> dict[str, dict[str, np.ndarray]]:
+    """model -> metric -> error per design against ``fem`` (module docstring; NaN: not given)."""
+    ref = t.metric[REFERENCE]
+    out: dict[str, dict[str, np.ndarray]] = {}
+    for m in [*t.analytic, BORE_FIXED]:
+        out[m] = {}
+        for k in RELATIVE:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                out[m][k] = t.metric[m][k] / ref[k] - 1.0
+        for k in ANGLES:
+            out[m][k] = t.metric[m][k] - ref[k]
+    return out
+
+
+def stats(e: np.ndarray) -> dict[str, float]:
+    """median, p95 and max of |e|, the signed median and the count (finite values)."""
+    e = e[np.isfinite(e)]
+    if e.size == 0:
+        return {"n": 0}
+    a = np.abs(e)
+    return {
+        "n": int(e.size),
+        "median_abs": float(np.median(a)),
+        "p95_abs": float(np.percentile(a, 95)),
+        "max_abs": float(a.max()),
+        "median_signed": float(np.median(e)),
+    }
+
+
+def summary(errs: dict[str, dict[str, np.ndarray]]) -> dict[str, dict[str, dict[str, float]]]:
+    return {m: {k: stats(v) for k, v in per.items()} for m, per in errs.items()}
+
+
+def _bands(values: np.ndarray, bands) -> list[tuple[str, np.ndarray]]:
+    return [(label, (values >= lo) & (values < hi)) for lo, hi, label in bands]
+
+
+def which_model_where(t: Table, errs: dict[str, dict[str, np.ndarray]], metric: str = "mean_N_per_m") -> list[dict]:
+    """One row per cell of (contact ratio, rim, load) bands with designs: the best and the
+    second model by median |error| of ``metric``, their median and p95."""
+    rows = []
+    for c_label, c in _bands(t.design["contact_ratio"], CONTACT_BANDS):
+        for r_label, r in _bands(t.design["rim_thickness_module"], RIM_BANDS):
+            for w_label, w in _bands(t.design["line_load_N_per_mm"], LOAD_BANDS):
+                cell = c & r & w
+                if not cell.any():
+                    continue
+                ranked = []
+                for m in t.analytic:
+                    s = stats(errs[m][metric][cell])
+                    if s["n"]:
+                        ranked.append((s["median_abs"], m, s))
+                ranked.sort()
+                rows.append(
+                    {
+                        "contact": c_label,
+                        "rim": r_label,
+                        "load": w_label,
+                        "designs": int(cell.sum()),
+                        "best": ranked[0][1],
+                        "best_median_abs": ranked[0][0],
+                        "best_p95_abs": ranked[0][2]["p95_abs"],
+                        "second": ranked[1][1] if len(ranked) > 1 else "",
+                        "second_median_abs": ranked[1][0] if len(ranked) > 1 else math.nan,
+                    }
+                )
+    return rows
+
+
+def binned_error(x: np.ndarray, e: np.ndarray, edges: np.ndarray) -> np.ndarray:
+    """Median of ``e`` in each bin of ``x`` (NaN for a bin with fewer than 5 designs)."""
+    out = np.full(len(edges) - 1, np.nan)
+    for i in range(len(edges) - 1):
+        s = (x >= edges[i]) & (x <= edges[i + 1] if i == len(edges) - 2 else x < edges[i + 1]) & np.isfinite(e)
+        if s.sum() >= 5:
+            out[i] = np.median(e[s])
+    return out
+
+
+# -- the corrected model -------------------------------------------------------------------
+
+
+def pairs_of(t: Table, inputs: dict[str, Any]):
+    """The PairSpec of every design (from its columns and the atlas SPEC's material)."""
+    from gearwear.geometry.spec import Material, PairSpec
+
+    mat = Material(
+        youngs_modulus_Pa=inputs["pair.youngs_modulus_GPa"] * 1e9, poisson_ratio=inputs["pair.poisson_ratio"]
+    )
+    d = t.design
+    out = []
+    for i in range(t.n):
+        out.append(
+            PairSpec(
+                teeth=(int(d["z1"][i]), int(d["z2"][i])),
+                module_m=d["module_mm"][i] * 1e-3,
+                pressure_angle_rad=math.radians(d["pressure_angle_deg"][i]),
+                face_width_m=d["face_width_mm"][i] * 1e-3,
+                addendum_coefficient=d["addendum_coefficient"][i],
+                dedendum_coefficient=d["dedendum_coefficient"][i],
+                rack_tip_radius_coefficient=d["rack_tip_radius_coefficient"][i],
+                profile_shift=(d["x1"][i], d["x2"][i]),
+                hub_radius_m=(d["bore1_mm"][i] * 1e-3, d["bore2_mm"][i] * 1e-3),
+                materials=(mat, mat),
+            )
+        )
+    return out
+
+
+def log_ratios(t: Table, model: str) -> dict[str, np.ndarray]:
+    """ln(FE / model) of the mean and of the lo and hi zone means (corrected.zone_values)."""
+    from gearwear.stiffness.corrected import zone_values
+
+    out = {"mean": np.log(t.metric[REFERENCE]["mean_N_per_m"] / t.metric[model]["mean_N_per_m"])}
+    lo, hi = np.full(t.n, np.nan), np.full(t.n, np.nan)
+    for i in range(t.n):
+        eps = t.design["contact_ratio"][i]
+        zf = zone_values(
+            *(t.metric[REFERENCE][k][i] for k in ("mean_N_per_m", "single_N_per_m", "double_N_per_m")), eps
+        )
+        zm = zone_values(*(t.metric[model][k][i] for k in ("mean_N_per_m", "single_N_per_m", "double_N_per_m")), eps)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            lo[i], hi[i] = np.log(zf[0] / zm[0]), np.log(zf[1] / zm[1])
+    out["lo"], out["hi"] = lo, hi
+    return out
+
+
+def descriptors_of(t: Table, inputs: dict[str, Any]) -> np.ndarray:
+    from gearwear.stiffness.corrected import descriptors
+
+    return np.array([descriptors(p, T, inputs["fe.plane"]) for p, T in zip(pairs_of(t, inputs), t.design["torque_Nm"])])
+
+
+def held_out(n: int) -> np.ndarray:
+    rng = np.random.default_rng(HOLDOUT_SEED)
+    mask = np.zeros(n, bool)
+    mask[rng.permutation(n)[: int(round(HOLDOUT_FRACTION * n))]] = True
+    return mask
+
+
+def corrected_holdout(t: Table, inputs: dict[str, Any], errs: dict[str, dict[str, np.ndarray]]) -> dict[str, Any]:
+    """The corrected model fitted without the held-out designs: its relative error of the
+    mean and of the zone means there, beside each analytic model's on the same designs."""
+    from gearwear.stiffness.corrected import holdout_errors
+
+    X = descriptors_of(t, inputs)
+    Y = log_ratios(t, BASE_MODEL)
+    ok = np.isfinite(Y["mean"])
+    held = held_out(t.n) & ok
+    e = holdout_errors(X[ok], {k: v[ok] for k, v in Y.items()}, held[ok])
+    out = {
+        "base_model": BASE_MODEL,
+        "fitted_designs": int((ok & ~held).sum()),
+        "held_out_designs": int(held.sum()),
+        "corrected": {k: stats(v) for k, v in e.items()},
+        "analytic_mean_error_on_held_out": {m: stats(errs[m]["mean_N_per_m"][held]) for m in t.analytic},
+    }
+    best = min(out["analytic_mean_error_on_held_out"].items(), key=lambda kv: kv[1].get("median_abs", math.inf))
+    out["best_analytic"] = best[0]
+    return out
+
+
+def corrected_data(t: Table, inputs: dict[str, Any], atlas_name: str) -> dict[str, Any]:
+    """gearwear/data/atlas_corrected.json: the descriptors and log ratios of every design
+    with a finite FE mean, the base model, what the atlas held fixed."""
+    from gearwear.stiffness.corrected import DESCRIPTORS
+
+    X = descriptors_of(t, inputs)
+    Y = log_ratios(t, BASE_MODEL)
+    ok = np.isfinite(Y["mean"])
+    return {
+        "atlas": atlas_name,
+        "base_model": BASE_MODEL,
+        "descriptors_names": [d[0] for d in DESCRIPTORS],
+        "descriptors": X[ok].tolist(),
+        "log_ratio": {k: [None if not math.isfinite(x) else float(x) for x in v[ok]] for k, v in Y.items()},
+        "fixed": {
+            "plane": inputs["fe.plane"],
+            "poisson_ratio": inputs["pair.poisson_ratio"],
+            "dedendum_margin": inputs.get("pair.dedendum_margin"),
+            "rack_tip_radius_coefficient": inputs.get("pair.rack_tip_radius_coefficient"),
+        },
+    }
+
+
+# -- the figures -----------------------------------------------------------------------------
+
+
+def error_figure(t: Table, errs: dict[str, dict[str, np.ndarray]]):
+    """Box plots of the signed error per model, one panel per metric."""
+    from gearwear.plotting import subplots
+
+    metrics = [*RELATIVE, *ANGLES]
+    models = [*t.analytic, BORE_FIXED]
+    fig, axes = subplots(2, 5, figsize=(17, 7.5), layout="constrained", squeeze=False)
+    for ax, k in zip(axes.ravel(), metrics):
+        scale = 100.0 if k in RELATIVE else 1.0
+        data, names = [], []
+        for m in models:
+            v = errs[m][k][np.isfinite(errs[m][k])] * scale
+            if v.size:
+                data.append(v)
+                names.append(m)
+        if data:
+            ax.boxplot(data, vert=False, whis=(5, 95), showfliers=True, flierprops={"markersize": 2})
+            ax.set_yticks(range(1, len(names) + 1), names, fontsize=7)
+        ax.axvline(0.0, color="k", lw=0.6)
+        ax.set_title(k.replace("_N_per_m", "").replace("_um", "").replace("_deg", ""), fontsize=9)
+        ax.set_xlabel("model / FE - 1 (%)" if k in RELATIVE else "model - FE (deg)", fontsize=8)
+        ax.tick_params(labelsize=7)
+    fig.suptitle(
+        f"Error against the pair FE (blanks' torsion excluded), {t.n} designs: box 25-75 %, whiskers 5-95 %",
+        fontsize=10,
+    )
+    return fig
+
+
+def map_figure(t: Table, errs: dict[str, dict[str, np.ndarray]], metric: str = "mean_N_per_m"):
+    """The signed error of ``metric`` over each design axis: every design (points) and the
+    binned median (line) of each model."""
+    from gearwear.plotting import legend_outside, subplots
+
+    models = [*t.analytic, BORE_FIXED]
+    fig, axes = subplots(3, 3, figsize=(15, 11), layout="constrained", squeeze=False)
+    colors = {m: f"C{i % 10}" for i, m in enumerate(models)}
+    for ax, (col, label, log) in zip(axes.ravel(), AXES):
+        x = t.design[col]
+        edges = np.geomspace(x.min(), x.max(), 9) if log else np.linspace(x.min(), x.max(), 9)
+        mid = np.sqrt(edges[1:] * edges[:-1]) if log else 0.5 * (edges[1:] + edges[:-1])
+        for m in models:
+            e = 100.0 * errs[m][metric]
+            ax.plot(x, e, ".", ms=1.5, color=colors[m], alpha=0.25)
+            ax.plot(mid, binned_error(x, e, edges), "-", lw=1.4, color=colors[m], label=m)
+        ax.axhline(0.0, color="k", lw=0.6)
+        if log:
+            ax.set_xscale("log")
+        ax.set_xlabel(label, fontsize=8)
+        ax.set_ylabel("model / FE - 1 (%)", fontsize=8)
+        ax.tick_params(labelsize=7)
+    legend_outside(axes[0, 2], fontsize=7)
+    fig.suptitle(f"{metric}: error over the design axes (points: designs; lines: median in 8 bins)", fontsize=10)
+    return fig
+
+
+# -- the document --------------------------------------------------------------------------
+
+
+def analyse(folder: Path) -> dict[str, Any]:
+    """Everything the atlas report holds, from an atlas folder."""
+    t = Table((folder / "atlas.csv").read_text())
+    side = json.loads((folder / "atlas.csv.json").read_text())
+    errs = errors(t)
+    return {
+        "table": t,
+        "errors": errs,
+        "inputs": side["inputs"],
+        "sidecar": side,
+        "summary": summary(errs),
+        "where": which_model_where(t, errs),
+        "corrected": corrected_holdout(t, side["inputs"], errs),
+    }
+
+
+def _pct(x: float) -> str:
+    return "-" if not math.isfinite(x) else f"{100 * x:.1f}"
+
+
+def summary_markdown(doc: dict[str, Any]) -> str:
+    """The table of model errors: one row per model, median / p95 / max |error| (%) per metric."""
+    lines = [
+        "| model | "
+        + " | ".join(k.replace("_N_per_m", "").replace("_um", "") for k in RELATIVE)
+        + " | entry, exit (deg) |",
+        "|---" * (len(RELATIVE) + 2) + "|",
+    ]
+    for m, per in doc["summary"].items():
+        cells = []
+        for k in RELATIVE:
+            s = per[k]
+            cells.append(
+                "-" if not s["n"] else f"{_pct(s['median_abs'])} / {_pct(s['p95_abs'])} / {_pct(s['max_abs'])}"
+            )
+        ang = [per[k] for k in ANGLES]
+        cells.append(
+            "-"
+            if not all(a["n"] for a in ang)
+            else ", ".join(f"{a['median_abs']:.2f} / {a['p95_abs']:.2f}" for a in ang)
+        )
+        lines.append(f"| `{m}` | " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def where_markdown(doc: dict[str, Any]) -> str:
+    lines = [
+        "| contact ratio | rim | load | designs | best model (median / p95 of mean error, %) | next |",
+        "|---|---|---|---|---|---|",
+    ]
+    for r in doc["where"]:
+        lines.append(
+            f"| {r['contact']} | {r['rim']} | {r['load']} | {r['designs']} | `{r['best']}` "
+            f"({_pct(r['best_median_abs'])} / {_pct(r['best_p95_abs'])}) | `{r['second']}` ({_pct(r['second_median_abs'])}) |"
+        )
+    return "\n".join(lines) + "\n"
+
+
+def write(doc: dict[str, Any], out: Path) -> list[Path]:
+    """summary.json, errors.md, where.md, errors.png, map_mean.png, map_p2p.png in ``out``."""
+    from gearwear import io
+
+    out.mkdir(parents=True, exist_ok=True)
+    t, errs = doc["table"], doc["errors"]
+    files = [
+        io.write_json(
+            out / "summary.json",
+            {"designs": t.n, "summary": doc["summary"], "where": doc["where"], "corrected": doc["corrected"]},
+        ),
+        io.write_text(out / "errors.md", summary_markdown(doc)),
+        io.write_text(out / "where.md", where_markdown(doc)),
+        io.write_figure(error_figure(t, errs), out / "errors.png"),
+        io.write_figure(map_figure(t, errs, "mean_N_per_m"), out / "map_mean.png"),
+        io.write_figure(map_figure(t, errs, "p2p_N_per_m"), out / "map_p2p.png"),
+    ]
+    return files

@@ -1,0 +1,76 @@
+"""The atlas report (gearwear.reports.atlas) on a hand-made atlas.csv whose errors are known
+by construction: each model is the FE times a factor chosen per design, so every summary,
+the cell table and the held-out check can be worked out by hand."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from gearwear.reports import atlas as A
+
+HEAD = (
+    "design,z1,z2,pressure_angle_deg,addendum_coefficient,dedendum_coefficient,rack_tip_radius_coefficient,"
+    "x1,x2,module_mm,face_width_mm,bore1_mm,bore2_mm,rim_thickness_module,line_load_N_per_mm,torque_Nm,"
+    "contact_ratio,model,mean_N_per_m,single_N_per_m,double_N_per_m,p2p_N_per_m,h1_N_per_m,h2_N_per_m,"
+    "h3_N_per_m,ste_p2p_um,entry_deg,exit_deg"
+)
+
+
+def _csv(factors: dict[str, list[float]], eps: list[float], rims: list[float]) -> str:
+    rows = [HEAD]
+    for i, (e, r) in enumerate(zip(eps, rims)):
+        design = f"{i},23,47,20,1,1.25,0.38,0.2,-0.1,3,30,12.5,25,{r},100,120,{e}"
+        for m, f in {"fem": [1.0] * len(eps), "fem_bore_fixed": [0.9] * len(eps), **factors}.items():
+            k = 1e9 * f[i]
+            single = "" if e >= 2 else f"{0.8 * k}"
+            rows.append(
+                f"{design},{m},{k},{single},{1.2 * k},{0.3 * k},{0.1 * k},{0.05 * k},{0.02 * k},1.5,{0.1 * f[i]},0.2"
+            )
+    return "\n".join(rows) + "\n"
+
+
+def test_errors_summaries_and_cells_are_the_known_factors():
+    eps = [1.5, 1.7, 1.9, 2.1, 1.5, 1.8]
+    rims = [2.0, 2.5, 5.0, 6.0, 8.0, 2.2]
+    a = [1.10, 1.20, 1.05, 1.30, 1.02, 0.90]
+    b = [0.95, 0.97, 1.40, 1.01, 1.50, 0.99]
+    t = A.Table(_csv({"a": a, "b": b}, eps, rims))
+    assert t.n == 6 and t.analytic == ["a", "b"]
+    e = A.errors(t)
+    assert np.allclose(e["a"]["mean_N_per_m"], np.array(a) - 1, atol=1e-12)
+    assert np.allclose(e["fem_bore_fixed"]["p2p_N_per_m"], -0.1, atol=1e-12)
+    # a zone the pair does not have is left out, never an error of 0 or -100 %
+    assert np.isnan(e["a"]["single_N_per_m"][3]) and A.stats(e["a"]["single_N_per_m"])["n"] == 5
+    # the angle metrics are differences in degrees
+    assert e["b"]["entry_deg"][2] == pytest.approx(0.1 * 1.40 - 0.1)
+    s = A.stats(e["a"]["mean_N_per_m"])
+    assert s["max_abs"] == pytest.approx(0.30) and s["median_abs"] == pytest.approx(np.median(np.abs(np.array(a) - 1)))
+    assert s["p95_abs"] == pytest.approx(np.percentile(np.abs(np.array(a) - 1), 95))
+    cells = {(r["contact"], r["rim"]): r for r in A.which_model_where(t, e)}
+    # thin rims (2.0, 2.5, 2.2) at eps < 2: b is within 5 %, a is off by 10-20 %
+    thin = [r for k, r in cells.items() if k[1].startswith("thin")]
+    assert all(r["best"] == "b" for r in thin)
+    # designs 2 (eps 1.9, rim 5) and 4 (eps 1.5, rim 8): a is best there
+    solid = [r for k, r in cells.items() if not k[1].startswith("thin") and k[0] != "eps >= 2"]
+    assert solid and all(r["best"] == "a" for r in solid)
+    assert sum(r["designs"] for r in cells.values()) == 6
+
+
+def test_binned_median_and_the_held_out_split():
+    x = np.arange(100.0)
+    e = np.where(x < 50, 1.0, 3.0)
+    m = A.binned_error(x, e, np.array([0.0, 50.0, 99.0]))
+    assert m.tolist() == [1.0, 3.0]
+    h = A.held_out(500)
+    assert h.sum() == 100 and (A.held_out(500) == h).all()
+
+
+@pytest.mark.parametrize("eps", [1.4, 1.75, 2.3])
+def test_log_ratios_take_the_zone_means_of_both_curves(eps):
+    t = A.Table(_csv({"energy": [1.25, 1.25]}, [eps, eps], [3.0, 3.0]))
+    r = A.log_ratios(t, "energy")
+    assert np.allclose(r["mean"], math.log(1 / 1.25))
+    assert np.allclose(r["lo"], math.log(1 / 1.25)) and np.allclose(r["hi"], math.log(1 / 1.25))
