@@ -401,7 +401,8 @@ def where_markdown(doc: dict[str, Any]) -> str:
     for r in doc["where"]:
         lines.append(
             f"| {r['contact']} | {r['rim']} | {r['load']} | {r['designs']} | `{r['best']}` "
-            f"({_pct(r['best_median_abs'])} / {_pct(r['best_p95_abs'])}) | `{r['second']}` ({_pct(r['second_median_abs'])}) |"
+            f"({_pct(r['best_median_abs'])} / {_pct(r['best_p95_abs'])}) | "
+            f"`{r['second']}` ({_pct(r['second_median_abs'])}) |"
         )
     return "\n".join(lines) + "\n"
 
