@@ -425,3 +425,28 @@ def write(doc: dict[str, Any], out: Path) -> list[Path]:
         io.write_figure(map_figure(t, errs, "p2p_N_per_m"), out / "map_p2p.png"),
     ]
     return files
+
+
+def main(argv: list[str] | None = None) -> int:
+    """``python -m gearwear.reports.atlas ATLAS_DIR [--data PATH]``: the analysis of an atlas
+    folder into ATLAS_DIR/analysis, and the corrected model's data (default:
+    gearwear/data/atlas_corrected.json). make atlas runs it after gearwear atlas."""
+    import argparse
+
+    from gearwear import io
+    from gearwear.stiffness.corrected import DATA
+
+    ap = argparse.ArgumentParser(prog="python -m gearwear.reports.atlas", description=main.__doc__)
+    ap.add_argument("atlas", type=Path, help="a gearwear atlas output folder (atlas.csv and its sidecar)")
+    ap.add_argument("--data", type=Path, default=DATA, help=f"where the corrected model's data go (default: {DATA})")
+    args = ap.parse_args(argv)
+    doc = analyse(args.atlas)
+    for f in write(doc, args.atlas / "analysis"):
+        print(f"wrote {f}")
+    name = args.atlas.resolve().name
+    print(f"wrote {io.write_json(args.data, corrected_data(doc['table'], doc['inputs'], name))}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
