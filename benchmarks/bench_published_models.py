@@ -15,7 +15,12 @@ For every analytic method of the registry (ishikawa, energy and the published mo
     (scipy.integrate.quad on the involute written from its polar form), over the four
     gears of the two test pairs at five contact radii each;
   - kuang_yang: the pitch-point pair stiffness (two teeth in series) over ISO 6336-1's
-    c'_th (the q' polynomial) on the test pairs and a sweep of standard pairs.
+    c'_th (the q' polynomial) on the test pairs and a sweep of standard pairs;
+* robustness over the geometry's space: 200 random valid pairs (tests/pairs.py
+  ``valid_pairs``: z 12-120, m 1-10 mm, 14.5-25 deg, shifts up to 0.8; hypothesis,
+  derandomized, so the same pairs every run) at a line load of 100 N/mm: how many curves
+  are finite and positive, refused in one line (InputError) or crash, and each model's
+  mean k_h over the energy method's (median, min, max).
 
     .venv/bin/python benchmarks/bench_published_models.py
 
@@ -30,6 +35,8 @@ import statistics
 import sys
 import time
 from pathlib import Path
+
+import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
@@ -83,6 +90,49 @@ def ky_over_iso(p) -> float:
     return (1.0 / (1.0 / K[0] + 1.0 / K[1])) / _iso_c_th(g[0].teeth, g[1].teeth, g[0].profile_shift, g[1].profile_shift)
 
 
+def robustness(n: int = 200) -> dict:
+    """Counts per model (ok / refused / crash) and the mean k_h over energy's on ``n``
+    random valid pairs (hypothesis, derandomized)."""
+    from hypothesis import HealthCheck, given, settings
+
+    from gearwear.core.validation import InputError
+
+    from pairs import valid_pairs
+
+    counts = {m: {"ok": 0, "refused": 0, "crash": 0} for m in METHODS}
+    ratio: dict[str, list[float]] = {m: [] for m in METHODS}
+
+    @settings(max_examples=n, deadline=None, derandomize=True, database=None, suppress_health_check=list(HealthCheck))
+    @given(p=valid_pairs(max_shift=0.8))
+    def run(p):
+        torque = 100e3 * p.face_width_m * p.gear(0).base_radius_m  # 100 N/mm of face along the LOA
+        means = {}
+        for m in METHODS:
+            try:
+                r = mesh_stiffness(p, method=m, points=32, torque_Nm=torque)
+            except InputError:
+                counts[m]["refused"] += 1
+                continue
+            except Exception:  # noqa: BLE001 - counted, never raised: the benchmark reports it
+                counts[m]["crash"] += 1
+                continue
+            good = bool(np.all(np.isfinite(r.k_N_per_m)) and np.all(r.k_N_per_m > 0))
+            counts[m]["ok" if good else "crash"] += 1
+            means[m] = r.mean_N_per_m
+        for m, v in means.items():
+            if "energy" in means:
+                ratio[m].append(v / means["energy"])
+
+    run()
+    return {
+        m: {
+            **counts[m],
+            **({"ratio_median": float(np.median(r)), "ratio_min": min(r), "ratio_max": max(r)} if r else {}),
+        }
+        for m, r in ratio.items()
+    }
+
+
 def main() -> None:
     rows = {}
     energy_cpu = cpu_s(lambda: mesh_stiffness(UNEQUAL, method="energy", torque_Nm=120.0))
@@ -118,7 +168,11 @@ def main() -> None:
             f"cpu x{row['cpu_over_energy']:.2f}",
             row.get("check"),
         )
-    OUT.write_text(json.dumps({"methods": rows, "cpu": "time.process_time, median of 5 warm runs"}, indent=1) + "\n")
+    rob = robustness()
+    for m, r in rob.items():
+        print(m, r)
+    doc = {"methods": rows, "robustness": rob, "cpu": "time.process_time, median of 5 warm runs"}
+    OUT.write_text(json.dumps(doc, indent=1) + "\n")
     print(f"wrote {OUT.relative_to(ROOT)}")
 
 

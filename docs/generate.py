@@ -286,6 +286,19 @@ def published_models() -> str:
             f"| `{m}` | {ref} | {what} | {check} | {fig} | {mean['unequal_23_47']:.3e} | {mean['paper_30_30']:.3e} | "
             f"{r['cpu_over_energy']:.2f} |"
         )
+    rob = _json("benchmarks/results/bench_published_models.json")["robustness"]
+    n = sum(rob["energy"][k] for k in ("ok", "refused", "crash"))
+    rows += [
+        "",
+        f"Over {n} random valid pairs (z 12-120, 14.5-25 deg, shifts up to 0.8, 100 N/mm), the curves that "
+        "are finite and positive, refused in one line, or crash, and the mean k_h over `energy`'s:",
+        "",
+        "| method | finite, positive | refused | crash | mean k_h / energy's: median (min-max) |",
+        "|---|---|---|---|---|",
+    ]
+    for m, r in rob.items():
+        spread = f"{r['ratio_median']:.2f} ({r['ratio_min']:.2f}-{r['ratio_max']:.2f})" if "ratio_median" in r else "-"
+        rows.append(f"| `{m}` | {r['ok']} | {r['refused']} | {r['crash']} | {spread} |")
     return "\n".join(rows)
 
 

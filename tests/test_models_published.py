@@ -295,3 +295,19 @@ def test_any_pair_model_ordering_by_what_each_leaves_out(p):
         if g.root_radius_m <= g.base_radius_m:
             cs = involute_beam.tooth_compliance("chen_shao", g, R, p.face_width_m).total_m_per_N
             assert np.all(cs > ti)
+
+
+@pytest.mark.parametrize("gid", GEARS)
+@pytest.mark.parametrize("model", ["tian", "chen_shao"])
+def test_plane_strain_stiffens_bending_and_axial_by_one_minus_nu_squared(model, gid):
+    """Plane strain: E -> E / (1 - nu^2) in bending and axial compression, G kept in shear,
+    the foundation as published (analytic.plane)."""
+    g = GEARS[gid]
+    R = _radii(g)
+    s = involute_beam.tooth_compliance(model, g, R, 0.03, plane="stress")
+    e = involute_beam.tooth_compliance(model, g, R, 0.03, plane="strain")
+    f = 1.0 - g.material.poisson_ratio**2
+    np.testing.assert_allclose(e.bending_m_per_N, f * s.bending_m_per_N, rtol=1e-13)
+    np.testing.assert_allclose(e.axial_m_per_N, f * s.axial_m_per_N, rtol=1e-13)
+    np.testing.assert_array_equal(e.shear_m_per_N, s.shear_m_per_N)
+    np.testing.assert_array_equal(e.foundation_m_per_N, s.foundation_m_per_N)
