@@ -3,6 +3,10 @@ estimate of mesh stiffness and load sharing ratio of a spur gear pair", Proc. AS
 Int. Power Transm. Gearing Conf., DE-Vol. 43-1, 1-9; as restated by Kuang & Lin, J. Vib.
 Acoust. 123:311, 2001).
 
+(The coefficients below are the restated ones; no copy of the 1992 paper could be reached
+from this machine to compare them digit by digit. What checks them here is a second
+regression, ISO 6336-1's c'_th: tests/test_models_published.py.)
+
 A regression of finite-element results for a tooth of a steel gear with N teeth and
 addendum modification (profile shift) coefficient X, loaded at contact radius r:
 
