@@ -63,8 +63,19 @@ E / (1 - nu^2) in bending and axial compression (``analytic.plane``). The founda
 Hertz terms are kept as published.
 
 These models see the nominal involute of the gear spec: wear and flank deviations enter
-the load sharing as gaps (``analytic.tvms``), not as a thinner tooth, and a root crack is
-not modelled (the ``energy`` and ``ishikawa`` methods have it).
+the load sharing as gaps (``analytic.tvms``), not as a thinner tooth.
+
+Root crack (Chen & Shao's models only; Chen & Shao, Eng. Fail. Anal. 18:2149, 2011, after
+Tian 2004): a straight crack of depth q at angle nu to the tooth axis, its mouth on the
+model's own flank at the height y_C of the ISO 30-degree fillet point (``geometry.crack``),
+so its tip lies h_q = h(y_C) - q sin nu from the axis at y_q = y_C - q cos nu
+(:func:`crack_tip_m`). Every section at or above the tip whose half thickness exceeds h_q
+keeps only h_q on the cracked side: thickness h + h_q instead of 2 h in I and A (the
+half thickness (h + h_q) / 2 in the integrals above; on the straight segment a prismatic
+piece of its own). The integrals are cut at the tip height and where h = h_q (a jump and
+kinks), so the Gauss rule keeps its exponential convergence. The foundation is unchanged
+(the gear body's). Yang & Lin's and Tian's base-clamped teeth refuse a crack (their
+clamp lies above the fillet where this crack starts).
 """
 
 from __future__ import annotations
@@ -140,12 +151,98 @@ def _root(gear: GearSpec, clamp: str) -> tuple[float, float, float]:
     return a2, math.sqrt(rf**2 - h_b**2), h_b
 
 
+def _flank_y(rb: float, a2: float, al):
+    """Height y (m) along the tooth axis of the flank point of parameter alpha."""
+    return rb * (np.cos(al) - (a2 - al) * np.sin(al))
+
+
+def _flank_h(rb: float, a2: float, al):
+    """Half thickness h (m) of the flank point of parameter alpha."""
+    return rb * (np.sin(al) + (a2 - al) * np.cos(al))
+
+
+def _crack_breaks_rad(rb: float, a2: float, ac: float, h_q: float, y_q: float) -> np.ndarray:
+    """The alpha (rad, increasing) in (-pi/2, alpha_c) where the cracked section is not
+    smooth: the tip height y_q (a jump) and where h(alpha) = h_q above it (kinks). y is
+    monotone in alpha; h is not (it peaks at alpha = 0), so its crossings are bracketed
+    on a fine grid and refined by bisection."""
+    from scipy.optimize import brentq
+
+    lo = -0.5 * math.pi + 1e-9
+    out = []
+    if _flank_y(rb, a2, ac) < y_q < _flank_y(rb, a2, lo):
+        out.append(brentq(lambda a: _flank_y(rb, a2, a) - y_q, lo, ac, xtol=1e-15))
+    grid = np.linspace(lo, ac, 2049)
+    d = _flank_h(rb, a2, grid) - h_q
+    for k in np.flatnonzero(np.sign(d[:-1]) * np.sign(d[1:]) < 0):
+        a = brentq(lambda x: _flank_h(rb, a2, x) - h_q, grid[k], grid[k + 1], xtol=1e-15)
+        if _flank_y(rb, a2, a) > y_q:
+            out.append(a)
+    return np.unique(np.asarray(out, dtype=float))
+
+
+def half_thickness_m(gear: GearSpec, model: str, y_m: float) -> float:
+    """Half thickness (m) of ``model``'s tooth at height ``y_m`` along the axis: Chen &
+    Shao's straight segment (base thickness) below the base point when r_f < r_b, else
+    the involute (the height solved for its alpha)."""
+    from scipy.optimize import brentq
+
+    rb, a2 = gear.base_radius_m, base_half_angle_rad(gear)
+    clamp = MODELS[model][0]
+    y_b = rb * math.cos(a2)
+    if y_m <= y_b:
+        if clamp == "root" and gear.root_radius_m < rb:
+            return rb * math.sin(a2)
+        if y_m < y_b:
+            raise fail("height", y_m * 1e3, "mm", f"lies below the base point of the {model} tooth, which starts there")
+    top = -0.5 * math.pi + 1e-9  # alpha -> -pi/2: far above any tip
+    a = brentq(lambda x: float(_flank_y(rb, a2, x)) - y_m, top, a2, xtol=1e-15)
+    return float(_flank_h(rb, a2, a))
+
+
+def crack_tip_m(gear: GearSpec, model: str, mouth_height_m: float, depth_m: float, angle_rad: float):
+    """(h_q, y_q) (m) of a root crack whose mouth is on ``model``'s own flank at the height
+    of the ISO 30-degree fillet point (``geometry.crack``), running inward and down at
+    ``angle_rad`` to the axis for ``depth_m``: h_q = h(y_C) - q sin nu, y_q = y_C - q cos nu
+    (Chen & Shao 2011, Fig. 3). The mouth on the model's flank (not the true fillet's)
+    makes the crack vanish continuously as q -> 0. Refused (one line) if the tip passes
+    the tooth axis (h_q < 0: outside the reference model), or if the mouth lies below the
+    clamped root section (the crack would be in the gear body, which the model holds
+    rigid but for the foundation term)."""
+    _, y_M, _ = _root(gear, MODELS[model][0])
+    if mouth_height_m < y_M:
+        why = f"its mouth lies below {model}'s clamped root section y_M = {y_M * 1e3:.6g} mm (use energy or ishikawa)"
+        raise fail("crack depth", depth_m * 1e3, "mm", why)
+    h_c = half_thickness_m(gear, model, mouth_height_m)
+    h_q = h_c - depth_m * math.sin(angle_rad)
+    if h_q < 0:
+        why = f"its tip passes the tooth axis of the {model} tooth (<= {h_c / math.sin(angle_rad) * 1e3:.6g} mm)"
+        raise fail("crack depth", depth_m * 1e3, "mm", why)
+    return h_q, mouth_height_m - depth_m * math.cos(angle_rad)
+
+
+def _prismatic(p0, c, u1: float, u2: float, h: float):
+    """int_{u1}^{u2} (p0 + c u)^2 du / h^3 and (u2 - u1) / h for a piece of constant half
+    thickness h (m) at distances u (m) below the base point (the lever grows by c u)."""
+    lever2 = p0**2 * (u2 - u1) + p0 * c * (u2**2 - u1**2) + c**2 * (u2**3 - u1**3) / 3.0
+    return lever2 / h**3, (u2 - u1) / h
+
+
 def tooth_compliance(
-    model: str, gear: GearSpec, radius_m, face_width_m: float, plane: str = "stress", n_gauss: int = N_GAUSS
+    model: str,
+    gear: GearSpec,
+    radius_m,
+    face_width_m: float,
+    plane: str = "stress",
+    n_gauss: int = N_GAUSS,
+    crack_tip_m: tuple[float, float] | None = None,
 ) -> InvoluteToothCompliance:
     """Compliance (m/N) of ``gear``'s tooth by ``model`` (:data:`MODELS`) at contact
     radii ``radius_m`` (m); equations in the module docstring. E, nu from the gear's
-    material; ``plane``: the beam terms' 2D state."""
+    material; ``plane``: the beam terms' 2D state. ``crack_tip_m``: (h_q, y_q), the tip of
+    a root crack on the loaded flank (its distance from the tooth axis and its height, m;
+    ``geometry.crack.crack_tip_offset_m``): the reduced sections of Tian (2004) and Chen &
+    Shao (2011) (module docstring); None: the intact tooth."""
     if model not in MODELS:
         raise fail("model", repr(model), "", f"must be one of {', '.join(MODELS)}")
     clamp, with_shear, foundation = MODELS[model]
@@ -162,34 +259,53 @@ def tooth_compliance(
     ac, y_M, h_M = _root(gear, clamp)
     if np.any(-a1 >= ac):
         raise fail("contact radius", float(R.min()) * 1e3, "mm", "must lie above the clamped root section")
-    # Gauss points of [-alpha_1, alpha_c] per contact: (n_pos, n_gauss)
+    # the involute from the contact (alpha = -alpha_1) to the clamp (alpha_c), cut at the
+    # crack's breaks into pieces (none without a crack), each with n Gauss points:
+    # (n_pos, n_pieces, n_gauss); a piece outside a contact's span has zero width
+    breaks = np.empty(0) if crack_tip_m is None else _crack_breaks_rad(rb, a2, ac, *crack_tip_m)
+    lo = -a1[:, None]
+    edges = np.concatenate([lo, np.clip(breaks[None, :], lo, ac), np.full_like(lo, ac)], axis=1)
     xg, wg = _gauss_legendre(n_gauss)
-    half = 0.5 * (ac + a1)
-    al = (0.5 * (ac - a1))[:, None] + half[:, None] * xg[None, :]
+    half = 0.5 * np.diff(edges, axis=1)[:, :, None]
+    al = 0.5 * (edges[:, 1:] + edges[:, :-1])[:, :, None] + half * xg
     t = a2 - al
     ca, sa = np.cos(al), np.sin(al)
     jac = t * ca  # dy / (r_b d alpha), up to the sign absorbed by the limits
     hx = sa + t * ca  # h / r_b
-    c1 = np.cos(a1)[:, None]
+    if crack_tip_m is not None:
+        # Chen & Shao / Tian: at or above the tip the cracked side keeps h_q (where h > h_q)
+        h_q, y_q = crack_tip_m
+        cut = (rb * (ca - t * sa) >= y_q) & (hx > h_q / rb)
+        hx = np.where(cut, 0.5 * (hx + h_q / rb), hx)
+    c1 = np.cos(a1)[:, None, None]
     lever = 1.0 + c1 * (t * sa - ca)  # [cos a1 (y_F - y) - x_F sin a1] / r_b
-    w = half[:, None] * wg[None, :]
-    bending = (3.0 * lever**2 * jac / hx**3 * w).sum(axis=1) / (2.0 * E * b)
-    inv_h = (jac / hx * w).sum(axis=1)  # int dy / h, over r_b ... r_b cancels
-    shear = SHEAR_FACTOR * np.cos(a1) ** 2 * inv_h / (2.0 * G * b) if with_shear else np.zeros_like(R)
-    axial = np.sin(a1) ** 2 * inv_h / (2.0 * E * b)
+    w = half * wg
+    bending = (3.0 * lever**2 * jac / hx**3 * w).sum(axis=(1, 2)) / (2.0 * E * b)
+    inv_h = (jac / hx * w).sum(axis=(1, 2))  # int dy / h, over r_b ... r_b cancels
     # the force point and where the force line crosses the tooth axis (for the foundation)
     y_F = rb * (np.cos(a1) + (a1 + a2) * np.sin(a1))
     x_F = rb * ((a1 + a2) * np.cos(a1) - np.sin(a1))
     y_b = rb * math.cos(a2)
+    c, s = np.cos(a1), np.sin(a1)
+    lever2_h3 = np.zeros_like(R)  # the straight segment's int lever^2 / h^3 dy and int dy / h
+    len_h = np.zeros_like(R)
     if clamp == "root" and y_M < y_b * (1 - 1e-15) and ac == a2:
-        # Chen & Shao's straight segment of the base thickness from the base circle down to the root circle
+        # Chen & Shao's straight segment of the base thickness h_M from the base circle down to
+        # the root circle (u = y_b - y from 0 to L); with a crack, the part above the tip keeps
+        # h_q on the cracked side: half thickness (h_M + h_q) / 2 there
         L = y_b - y_M
-        c, s = np.cos(a1), np.sin(a1)
         p0 = c * (y_F - y_b) - s * x_F
-        bending = bending + 3.0 / (2.0 * E * b * h_M**3) * (p0**2 * L + p0 * c * L**2 + c**2 * L**3 / 3.0)
-        if with_shear:
-            shear = shear + SHEAR_FACTOR * c**2 * L / (2.0 * G * b * h_M)
-        axial = axial + s**2 * L / (2.0 * E * b * h_M)
+        pieces = [(0.0, L, h_M)]
+        if crack_tip_m is not None and crack_tip_m[0] < h_M and crack_tip_m[1] < y_b:
+            u_q = min(y_b - crack_tip_m[1], L)
+            pieces = [(0.0, u_q, 0.5 * (h_M + crack_tip_m[0])), (u_q, L, h_M)]
+        for u1, u2, hh in pieces:
+            if u2 > u1:
+                a, bb = _prismatic(p0, c, u1, u2, hh)
+                lever2_h3, len_h = lever2_h3 + a, len_h + bb
+    bending = bending + 3.0 / (2.0 * E * b) * lever2_h3
+    shear = SHEAR_FACTOR * c**2 * (inv_h + len_h) / (2.0 * G * b) if with_shear else np.zeros_like(R)
+    axial = s**2 * (inv_h + len_h) / (2.0 * E * b)
     y_c = y_F - x_F * np.tan(a1)
     if foundation == "sainsot":
         S_f = 2.0 * h_M

@@ -57,6 +57,9 @@ from .tvms_sharing import share_load
 #: profile, the published closed-form involute models (``analytic.involute_beam``) and
 #: Kuang & Yang's regression (``analytic.kuang_yang``)
 METHODS = ("ishikawa", "energy", *involute_beam.MODELS, "kuang_yang")
+#: the models that take a root crack (reduced sections): the paper's slices, the potential
+#: energy and Chen & Shao's root-clamped involute models (the crack model is theirs)
+CRACKED = ("ishikawa", "energy", "chen_shao", "chen_shao_weber")
 #: the models with the linear Hertz compliance of Yang & Lin in series (kuang_yang's
 #: regression holds the contact flexibility; ishikawa's Hertz law is nonlinear)
 LINEAR_HERTZ = ("energy", *involute_beam.MODELS)
@@ -116,12 +119,19 @@ def _tooth_compliance(
                 f"makes a slice of the {loaded.gear.name} tooth non-positive ({exc})",
             ) from None
         return c.total_m_per_N
-    if method in involute_beam.MODELS or method == "kuang_yang":
+    if method == "kuang_yang" or (crack is not None and method not in CRACKED):
         if crack is not None:
-            raise fail("method", repr(method), "", "does not model a root crack (use energy or ishikawa)")
-        if method == "kuang_yang":
-            return kuang_yang.tooth_compliance(loaded.gear, radius_m, pair.face_width_m)
-        return involute_beam.tooth_compliance(method, loaded.gear, radius_m, pair.face_width_m, plane).total_m_per_N
+            raise fail("method", repr(method), "", f"does not model a root crack (use {', '.join(CRACKED)})")
+        return kuang_yang.tooth_compliance(loaded.gear, radius_m, pair.face_width_m)
+    if method in involute_beam.MODELS:
+        tip = None
+        if crack is not None:
+            from gearwear.geometry.crack import crack_line
+
+            mouth, _ = crack_line(loaded, crack)  # the ISO 30-degree fillet point's height
+            tip = involute_beam.crack_tip_m(loaded.gear, method, float(mouth[1]), crack.depth_m, crack.angle_rad)
+        ci = involute_beam.tooth_compliance(method, loaded.gear, radius_m, pair.face_width_m, plane, crack_tip_m=tip)
+        return ci.total_m_per_N
     from . import energy
 
     ce = energy.tooth_compliance(

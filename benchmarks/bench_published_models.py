@@ -6,7 +6,7 @@ For every analytic method of the registry (ishikawa, energy and the published mo
 
 * the mean k_h (N/m) of the paper pair (40 N m) and of the unequal 23/47 pair and its
   driver-larger twin (120 N m), default tables (360 nodes per mesh period + breakpoints);
-* the CPU time of one such curve (time.process_time, median of 5 warm runs) and its ratio
+* the CPU time of one such curve (time.process_time, median of 15 warm runs) and its ratio
   to the energy method's in the same run (the machine is shared: ratios, not seconds);
 * the check of each published model against an independent truth
   (tests/test_models_published.py holds the same checks as tests):
@@ -57,7 +57,7 @@ CASES = {
 }
 
 
-def cpu_s(fn, repeat: int = 5) -> float:
+def cpu_s(fn, repeat: int = 15) -> float:
     fn()  # warm (profiles cached, imports done)
     out = []
     for _ in range(repeat):
@@ -171,7 +171,7 @@ def main() -> None:
     rob = robustness()
     for m, r in rob.items():
         print(m, r)
-    doc = {"methods": rows, "robustness": rob, "cpu": "time.process_time, median of 5 warm runs"}
+    doc = {"methods": rows, "robustness": rob, "cpu": "time.process_time, median of 15 warm runs"}
     OUT.write_text(json.dumps(doc, indent=1) + "\n")
     print(f"wrote {OUT.relative_to(ROOT)}")
 

@@ -365,14 +365,12 @@ SOURCES: dict[str, Source] = {
             "Chen & Shao 2013: clamped at the root circle, Sainsot foundation, linear Hertz",
             _analytic("chen_shao"),
             command=True,
-            faults=False,
         ),
         Source(
             "chen_shao_weber",
             "Chen & Shao 2013 with Weber's foundation (Weber & Banaschek)",
             _analytic("chen_shao_weber"),
             command=True,
-            faults=False,
         ),
         Source(
             "kuang_yang",
