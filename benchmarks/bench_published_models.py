@@ -6,8 +6,9 @@ For every analytic method of the registry (ishikawa, energy and the published mo
 
 * the mean k_h (N/m) of the paper pair (40 N m) and of the unequal 23/47 pair and its
   driver-larger twin (120 N m), default tables (360 nodes per mesh period + breakpoints);
-* the CPU time of one such curve (time.process_time, median of 15 warm runs) and its ratio
-  to the energy method's in the same run (the machine is shared: ratios, not seconds);
+* the CPU time of one such curve (time.process_time, median of 15 warm runs alternating
+  with the energy method's) and its ratio to the energy method's (the machine is shared:
+  ratios, not seconds);
 * the check of each published model against an independent truth
   (tests/test_models_published.py holds the same checks as tests):
   - yang_lin, tian, chen_shao, chen_shao_weber: the largest relative difference of the
@@ -57,14 +58,17 @@ CASES = {
 }
 
 
-def cpu_s(fn, repeat: int = 15) -> float:
-    fn()  # warm (profiles cached, imports done)
-    out = []
+def cpu_ab_s(fn, ref, repeat: int = 15) -> tuple[float, float]:
+    """Median CPU times (s) of ``fn`` and of ``ref``, run alternately (A/B in the same
+    stretch of a shared machine), after one warm run of each."""
+    fn(), ref()
+    a, b = [], []
     for _ in range(repeat):
-        t0 = time.process_time()
-        fn()
-        out.append(time.process_time() - t0)
-    return statistics.median(out)
+        for f, out in ((fn, a), (ref, b)):
+            t0 = time.process_time()
+            f()
+            out.append(time.process_time() - t0)
+    return statistics.median(a), statistics.median(b)
 
 
 def beam_check(model: str) -> float:
@@ -135,14 +139,16 @@ def robustness(n: int = 200) -> dict:
 
 def main() -> None:
     rows = {}
-    energy_cpu = cpu_s(lambda: mesh_stiffness(UNEQUAL, method="energy", torque_Nm=120.0))
+    def energy():
+        return mesh_stiffness(UNEQUAL, method="energy", torque_Nm=120.0)
+
     for m in METHODS:
         row = {
             "mean_N_per_m": {k: mesh_stiffness(p, method=m, torque_Nm=T).mean_N_per_m for k, (p, T) in CASES.items()}
         }
-        c = cpu_s(lambda m=m: mesh_stiffness(UNEQUAL, method=m, torque_Nm=120.0))
+        c, e = cpu_ab_s(lambda m=m: mesh_stiffness(UNEQUAL, method=m, torque_Nm=120.0), energy)
         row["cpu_s_unequal"] = c
-        row["cpu_over_energy"] = c / energy_cpu
+        row["cpu_over_energy"] = c / e
         if m in involute_beam.MODELS:
             row["check"] = {"kind": "quad", "max_rel_diff": beam_check(m)}
         elif m == "kuang_yang":
@@ -171,7 +177,8 @@ def main() -> None:
     rob = robustness()
     for m, r in rob.items():
         print(m, r)
-    doc = {"methods": rows, "robustness": rob, "cpu": "time.process_time, median of 15 warm runs"}
+    cpu = "time.process_time, median of 15 warm runs alternating with energy's"
+    doc = {"methods": rows, "robustness": rob, "cpu": cpu}
     OUT.write_text(json.dumps(doc, indent=1) + "\n")
     print(f"wrote {OUT.relative_to(ROOT)}")
 
