@@ -139,6 +139,7 @@ def robustness(n: int = 200) -> dict:
 
 def main() -> None:
     rows = {}
+
     def energy():
         return mesh_stiffness(UNEQUAL, method="energy", torque_Nm=120.0)
 
