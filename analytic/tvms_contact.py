@@ -6,10 +6,14 @@ For every candidate pair k at position d_k on the line of action
 
 * the linear compliance c_k = (delta_1 + delta_2)_pinion + (delta_1 + delta_2)_gear per
   unit load (m/N): Ishikawa slices (``analytic.ishikawa``) or the potential-energy method
-  (``analytic.energy``) on the true worn profiles, each tooth's term optionally times an FE
-  correction factor interpolated at its contact radius; for ``energy`` plus the linear
-  Hertz compliance 4 (1 - nu^2) / (pi E b) (Yang & Lin), while for ``ishikawa`` the Hertz
-  approach a F^0.9 (paper Eq. 5) is nonlinear and enters the load sharing;
+  (``analytic.energy``) on the true worn profiles, the published closed-form involute
+  models ``yang_lin``, ``tian``, ``chen_shao``, ``chen_shao_weber``
+  (``analytic.involute_beam``) or Kuang & Yang's regression ``kuang_yang``
+  (``analytic.kuang_yang``) on the nominal involute, each tooth's term optionally times an FE
+  correction factor interpolated at its contact radius; for ``energy`` and the involute
+  models plus the linear Hertz compliance 4 (1 - nu^2) / (pi E b) (Yang & Lin), while for
+  ``ishikawa`` the Hertz approach a F^0.9 (paper Eq. 5) is nonlinear and enters the load
+  sharing (``kuang_yang``'s regression holds the contact flexibility: no Hertz term);
 * the initial gap g_k (m) along the line of action: the depths removed from both flanks
   at the contact, h_1(d) + h_2(d) (wear, ``geometry.wear``; profile modifications and
   measured deviations, ``geometry.flank``), a spall on the faulty tooth's pair
@@ -46,10 +50,19 @@ from gearwear.geometry.profile import ToothProfile, tooth_profile
 from gearwear.geometry.spec import PairSpec
 from gearwear.geometry.wear import WearSpec, flank_depth, key_roll_angles, wear_on_line_of_action
 
-from . import ishikawa
+from . import involute_beam, ishikawa, kuang_yang
 from .tvms_sharing import share_load
 
-METHODS = ("ishikawa", "energy")
+#: the per-tooth compliance models: the paper's slices, the potential energy on the true
+#: profile, the published closed-form involute models (``analytic.involute_beam``) and
+#: Kuang & Yang's regression (``analytic.kuang_yang``)
+METHODS = ("ishikawa", "energy", *involute_beam.MODELS, "kuang_yang")
+#: the models that take a root crack (reduced sections): the paper's slices, the potential
+#: energy and Chen & Shao's root-clamped involute models (the crack model is theirs)
+CRACKED = ("ishikawa", "energy", "chen_shao", "chen_shao_weber")
+#: the models with the linear Hertz compliance of Yang & Lin in series (kuang_yang's
+#: regression holds the contact flexibility; ishikawa's Hertz law is nonlinear)
+LINEAR_HERTZ = ("energy", *involute_beam.MODELS)
 
 
 # -- profiles and compliance ---------------------------------------------------------
@@ -106,6 +119,19 @@ def _tooth_compliance(
                 f"makes a slice of the {loaded.gear.name} tooth non-positive ({exc})",
             ) from None
         return c.total_m_per_N
+    if method == "kuang_yang" or (crack is not None and method not in CRACKED):
+        if crack is not None:
+            raise fail("method", repr(method), "", f"does not model a root crack (use {', '.join(CRACKED)})")
+        return kuang_yang.tooth_compliance(loaded.gear, radius_m, pair.face_width_m)
+    if method in involute_beam.MODELS:
+        tip = None
+        if crack is not None:
+            from gearwear.geometry.crack import crack_line
+
+            mouth, _ = crack_line(loaded, crack)  # the ISO 30-degree fillet point's height
+            tip = involute_beam.crack_tip_m(loaded.gear, method, float(mouth[1]), crack.depth_m, crack.angle_rad)
+        ci = involute_beam.tooth_compliance(method, loaded.gear, radius_m, pair.face_width_m, plane, crack_tip_m=tip)
+        return ci.total_m_per_N
     from . import energy
 
     ce = energy.tooth_compliance(
@@ -217,6 +243,8 @@ def _contact(
     c_hertz = 0.0
     if method == "ishikawa":
         hertz = (ishikawa.hertz_coefficient(pair.materials, pair.face_width_m), 0.9)
+    elif method not in LINEAR_HERTZ:
+        hertz = (0.0, 1.0)
     else:
         from . import energy
 

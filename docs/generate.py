@@ -239,8 +239,66 @@ def stiffness_sources() -> str:
     for s in SOURCES.values():
         rows.append(
             f"| `{s.name}` | {s.title} | {yes(s.command)} | {yes(s.scene)} | {s.default_points} | "
-            f"{yes(s.flank and s.faults)} | {yes(s.plane)} | {yes(s.fe)} |"
+            f"{yes(s.flank and s.faults) if s.flank == s.faults else 'flank only'} | {yes(s.plane)} | {yes(s.fe)} |"
         )
+    return "\n".join(rows)
+
+
+#: the published models' rows: (reference, what the tooth compliance holds)
+_PUBLISHED = {
+    "yang_lin": ("Yang & Lin 1987", "involute from the base circle: bending, axial; linear Hertz"),
+    "tian": ("Tian 2004", "involute from the base circle: bending, shear, axial; linear Hertz"),
+    "chen_shao": (
+        "Chen & Shao 2013",
+        "clamped at the root circle (straight segment below r_b): bending, shear, axial; Sainsot foundation; "
+        "linear Hertz",
+    ),
+    "chen_shao_weber": ("Chen & Shao 2013, Weber 1949", "as chen_shao with Weber's foundation"),
+    "kuang_yang": ("Kuang & Yang 1992", "FE regression in N, x and r per tooth (all flexibilities; no Hertz term)"),
+}
+
+
+def published_models() -> str:
+    """The published analytic models, their checks and costs
+    (benchmarks/results/bench_published_models.json, benchmarks/bench_published_models.py)."""
+    d = _json("benchmarks/results/bench_published_models.json")["methods"]
+    rows = [
+        "| method | reference | what it holds | checked against | figure | mean k_h 23/47 (N/m) | "
+        "mean k_h 30/30 (N/m) | CPU / energy's |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for m, (ref, what) in _PUBLISHED.items():
+        r = d[m]
+        c = r["check"]
+        if c["kind"] == "quad":
+            check, fig = (
+                "the height integrals by adaptive quadrature (independent implementation)",
+                (f"max rel. diff. {c['max_rel_diff']:.1e}"),
+            )
+        else:
+            check = "ISO 6336-1 c'_th at the pitch point (second model)"
+            fig = (
+                f"ratio {c['ratio']['unequal_23_47']:.3f} (23/47), {c['ratio']['paper_30_30']:.3f} (30/30); "
+                f"{c['sweep_min']:.2f}-{c['sweep_max']:.2f} over z 15-100"
+            )
+        mean = r["mean_N_per_m"]
+        rows.append(
+            f"| `{m}` | {ref} | {what} | {check} | {fig} | {mean['unequal_23_47']:.3e} | {mean['paper_30_30']:.3e} | "
+            f"{r['cpu_over_energy']:.2f} |"
+        )
+    rob = _json("benchmarks/results/bench_published_models.json")["robustness"]
+    n = sum(rob["energy"][k] for k in ("ok", "refused", "crash"))
+    rows += [
+        "",
+        f"Over {n} random valid pairs (z 12-120, 14.5-25 deg, shifts up to 0.8, 100 N/mm), the curves that "
+        "are finite and positive, refused in one line, or crash, and the mean k_h over `energy`'s:",
+        "",
+        "| method | finite, positive | refused | crash | mean k_h / energy's: median (min-max) |",
+        "|---|---|---|---|---|",
+    ]
+    for m, r in rob.items():
+        spread = f"{r['ratio_median']:.2f} ({r['ratio_min']:.2f}-{r['ratio_max']:.2f})" if "ratio_median" in r else "-"
+        rows.append(f"| `{m}` | {r['ok']} | {r['refused']} | {r['crash']} | {spread} |")
     return "\n".join(rows)
 
 
@@ -335,6 +393,7 @@ def cost_table() -> str:
 
 TABLES = {
     "stiffness-sources": stiffness_sources,
+    "published-models": published_models,
     "stiffness-peer": stiffness_peer,
     "plane-study": plane_study,
     "diagnose-examples": diagnose_examples,

@@ -62,17 +62,21 @@ def test_the_api_refuses_a_name_outside_the_registry():
         gw.mesh_stiffness(method="nosuch")
 
 
-def test_a_method_that_cannot_show_a_flank_is_refused_by_its_flags():
+def test_a_method_that_cannot_show_a_flank_or_a_fault_is_refused_by_its_flags():
+    """Each flag on its own: a flank deviation is refused by a method without ``flank``, a
+    fault by one without ``faults`` (a method may show the one and not the other)."""
+    from gearwear.geometry.faults import FaultSpec, Spall
     from gearwear.geometry.flank import FlankSpec
     from gearwear.jobs.stiffness import check_method
 
-    flank = FlankSpec()
+    given = {"flank": (FlankSpec(), None), "faults": (None, FaultSpec(spall=Spall(0, 0, 150e-3, 1e-3, 20e-6)))}
     for m in METHODS:
-        if SOURCES[m].flank and SOURCES[m].faults:
-            check_method(m, flank, None)
-        else:
-            with pytest.raises(InputError, match=re.escape(f"method = '{m}': is {SOURCES[m].title}")):
-                check_method(m, flank, None)
+        for flag, (flank, faults) in given.items():
+            if getattr(SOURCES[m], flag):
+                check_method(m, flank, faults)
+            else:
+                with pytest.raises(InputError, match=re.escape(f"method = '{m}': is {SOURCES[m].title}")):
+                    check_method(m, flank, faults)
 
 
 # -- one curve type, one contract ---------------------------------------------------------------------

@@ -143,13 +143,18 @@ def check_method(method: str, flank: FlankSpec | None, faults: FaultSpec | None)
     """Refuse a method that cannot model the scene's flank deviations or faults (names
     ``method``; what each source supports: stiffness.sources.SOURCES)."""
     src = SOURCES[method]
-    if (flank is not None and not src.flank) or (faults is not None and not src.faults):
-        able = [n for n in METHODS if SOURCES[n].flank and SOURCES[n].faults]
+    missing = [
+        what
+        for what, given, can in (("flank modifications", flank, src.flank), ("faults", faults, src.faults))
+        if given is not None and not can
+    ]
+    if missing:
+        able = [n for n in METHODS if (flank is None or SOURCES[n].flank) and (faults is None or SOURCES[n].faults)]
         raise fail(
             "method",
             repr(method),
             "",
-            f"is {src.title} and cannot show flank modifications or faults; use {', '.join(able[:-1])} or {able[-1]}",
+            f"is {src.title} and cannot show {' or '.join(missing)}; use {', '.join(able[:-1])} or {able[-1]}",
         )
 
 

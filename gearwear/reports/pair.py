@@ -36,9 +36,9 @@ from gearwear.jobs import runup as runup_job
 from gearwear.jobs import stiffness as stiffness_job
 from gearwear.jobs.sweep import Axis
 from gearwear.scene.model import Scene, require_dynamics
-from gearwear.stiffness.sources import METHODS
 
-#: the methods in the order of the page; the FE is the reference of the differences
+#: the methods of the page, in its order (a subset of the registry's METHODS: the paper's
+#: models, ISO and the FE); the FE is the reference of the differences
 METHOD_LABELS = {
     "ishikawa": "Ishikawa (analytic)",
     "energy": "potential energy (analytic, Sainsot foundation)",
@@ -47,7 +47,7 @@ METHOD_LABELS = {
 }
 REFERENCE = "fem"
 #: the parts :func:`compute` announces through its ``step`` callback, in order
-PARTS = ("geometry", *(METHOD_LABELS[m].split(" (")[0] for m in METHODS), "STE against load", "run-up")
+PARTS = ("geometry", *(label.split(" (")[0] for label in METHOD_LABELS.values()), "STE against load", "run-up")
 
 
 @dataclass(frozen=True)
@@ -150,15 +150,15 @@ def stiffness(
     fe_progress: Callable[[int, int], None] | None = None,
     step: Callable[[str], None] = lambda msg: None,
 ) -> list[stiffness_job.Curve]:
-    """k_h over one mesh period by every method (METHODS) at the scene's
+    """k_h over one mesh period by every method of the page (METHOD_LABELS) at the scene's
     torque, wear, clearance and flank; ISO 6336 is one constant of the nominal flank."""
     from gearwear.scene.checks import fem_plane
 
     curves = []
     # the scene's fem.plane (auto: by b/m), for the FE and the analytic tooth beams alike
     plane = fem_plane(scene.doc, True, "gearwear report pair")
-    for method in METHODS:
-        step(PARTS[1 + METHODS.index(method)])
+    for i, method in enumerate(METHOD_LABELS):
+        step(PARTS[1 + i])
         fem = method == "fem"
         args = (
             scene.pair,

@@ -347,6 +347,40 @@ SOURCES: dict[str, Source] = {
         Source("ishikawa", "Ishikawa/Weber slice model (paper Eqs. 2-6)", _analytic("ishikawa"), command=True),
         Source("energy", "potential-energy method (Yang & Lin, Sainsot foundation)", _analytic("energy"), command=True),
         Source(
+            "yang_lin",
+            "Yang & Lin 1987: involute from the base circle, bending + axial + linear Hertz",
+            _analytic("yang_lin"),
+            command=True,
+            faults=False,
+        ),
+        Source(
+            "tian",
+            "Tian 2004: involute from the base circle, bending + shear + axial + linear Hertz",
+            _analytic("tian"),
+            command=True,
+            faults=False,
+        ),
+        Source(
+            "chen_shao",
+            "Chen & Shao 2013: clamped at the root circle, Sainsot foundation, linear Hertz",
+            _analytic("chen_shao"),
+            command=True,
+        ),
+        Source(
+            "chen_shao_weber",
+            "Chen & Shao 2013 with Weber's foundation (Weber & Banaschek)",
+            _analytic("chen_shao_weber"),
+            command=True,
+        ),
+        Source(
+            "kuang_yang",
+            "Kuang & Yang 1992: empirical tooth stiffness in N, x and the contact radius",
+            _analytic("kuang_yang"),
+            command=True,
+            faults=False,
+            plane=False,
+        ),
+        Source(
             "iso6336", "one constant (ISO 6336-1 method B)", _iso, command=True, flank=False, faults=False, plane=False
         ),
         Source("constant", "one value (default: the analytic mean)", _constant, scene=True, plane=False),
