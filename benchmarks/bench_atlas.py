@@ -11,8 +11,10 @@ contact ratio (h_a* 1.3, epsilon > 2); FE settings as the atlas's defaults (24 p
 mesh scale 1, transitions bisected) unless --coarse.
 
     .venv/bin/python benchmarks/bench_atlas.py [--coarse] [--only NAME ...]
+    .venv/bin/python benchmarks/bench_atlas.py --overhead 500
 
-writes benchmarks/results/bench_atlas.json.
+writes benchmarks/results/bench_atlas.json (bench_atlas_overhead.json: the engine's own cost per
+design, the curves replaced by a constant, cold cache and warm).
 """
 
 from __future__ import annotations
@@ -115,12 +117,56 @@ def one(name: str, coarse: bool) -> dict:
     }
 
 
+def _no_work(design, settings, models, fe):
+    """run_design's result shape without the curves (the engine's own cost alone)."""
+    from gearwear.jobs.atlas_metrics import METRICS
+
+    zero = {m: 1.0 for m in METRICS}
+    names = list(models) + (["fem", "fem_bore_fixed"] if fe else [])
+    return {"metrics": {n: zero for n in names}, "times": {"design": {"wall_s": 0.0}}, "fe_info": {}}
+
+
+def overhead(designs: int) -> dict:
+    """The engine's own cost per design: the default SPEC's designs through compute() on a local
+    pool of 2 with run_design replaced by :func:`_no_work` (forked workers inherit the
+    replacement), into an empty cache (cold: every entry written) and again (warm: every design
+    read from the cache, nothing submitted)."""
+    import tempfile
+
+    from gearwear.jobs import atlas
+    from gearwear.jobs.atlas_space import design_space
+    from gearwear.jobs.atlas_spec import parse
+    from gearwear.jobs.sweep import make_executor
+
+    spec = parse({"designs": designs})
+    t0 = time.perf_counter()
+    space = design_space(spec.values)
+    t_space = time.perf_counter() - t0
+    atlas.run_design = _no_work  # type: ignore[assignment]
+    out = {"designs": designs, "points_drawn": space.drawn, "design_space_s": t_space}
+    with tempfile.TemporaryDirectory() as tmp:
+        for phase in ("cold", "warm"):
+            with make_executor(2) as ex:
+                t0 = time.perf_counter()
+                atlas.compute(spec, space, ex, progress=False, cache=Path(tmp))
+                out[f"{phase}_s"] = time.perf_counter() - t0
+            out[f"{phase}_ms_per_design"] = 1e3 * out[f"{phase}_s"] / designs
+    return out
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--coarse", action="store_true", help="8 positions, mesh scale 2, no bisection")
     ap.add_argument("--only", nargs="+", default=list(CORNERS))
     ap.add_argument("--one", help=argparse.SUPPRESS)
+    ap.add_argument("--overhead", type=int, metavar="N", help="only the engine's cost per design on N designs")
     args = ap.parse_args()
+    if args.overhead:
+        res = overhead(args.overhead)
+        print(json.dumps(res))
+        RESULTS.parent.mkdir(exist_ok=True)
+        RESULTS.with_name("bench_atlas_overhead.json").write_text(json.dumps(res, indent=1) + "\n")
+        return
     if args.one:
         print(json.dumps(one(args.one, args.coarse)))
         return
