@@ -199,3 +199,32 @@ def test_local_pool_and_dask_write_the_same_bytes_and_a_rerun_resumes(tmp_path, 
     timing = json.loads((tmp_path / "again" / io.TIMING).read_text())["wall_s"]
     assert [k for k in timing if k.isdigit()] and len([k for k in timing if k.isdigit()]) == 1
     assert math.isfinite(timing["total_wall_s"])
+
+
+def test_a_model_that_refuses_or_fails_leaves_its_rows_empty_and_says_why(monkeypatch):
+    """One design must never end a long atlas: a model outside its validity (InputError) gets
+    NaN metrics and "refused: <its line>", one that raises anything else "failed: <type>"; the
+    other models of the design are computed as usual."""
+    import dataclasses
+
+    from gearwear.core.validation import fail
+    from gearwear.jobs import atlas
+    from gearwear.jobs.atlas_space import Design
+    from gearwear.stiffness import sources
+
+    def refuses(rq):
+        raise fail("contact_ratio", 1.6, "", "must be below 1.5 for this model")
+
+    def fails(rq):
+        return 1 / 0
+
+    monkeypatch.setitem(sources.SOURCES, "refuses", dataclasses.replace(sources.SOURCES["ishikawa"], curve=refuses))
+    monkeypatch.setitem(sources.SOURCES, "fails", dataclasses.replace(sources.SOURCES["ishikawa"], curve=fails))
+    d = Design(0, UNEQUAL, 100.0, 100.0, 4.0)
+    settings = {"points": 64, "plane": "stress"}
+    got = atlas.run_design(d, settings, ("refuses", "ishikawa", "fails"), False)["metrics"]
+    assert got["refuses"]["note"] == "refused: contact_ratio = 1.6: must be below 1.5 for this model"
+    assert got["fails"]["note"].startswith("failed: ZeroDivisionError")
+    for m in ("refuses", "fails"):
+        assert all(math.isnan(got[m][k]) for k in METRICS)
+    assert got["ishikawa"]["mean_N_per_m"] > 0 and "note" not in got["ishikawa"]

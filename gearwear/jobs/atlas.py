@@ -102,44 +102,70 @@ def cache_inputs(spec: AtlasSpec, design: Design) -> dict[str, dict[str, Any]]:
 # -- one design (a worker's task) ----------------------------------------------------------
 
 
+def _guarded(compute_rows):
+    """``compute_rows()`` (a dict model -> metrics), or, when it raises, None and one line: a
+    model that refuses the design ("refused: " + its one-line InputError: outside the model's
+    validity) or fails on it ("failed: " + the exception; a bug to report). One design never
+    ends a long atlas; its rows are empty and the sidecar lists why (``notes``)."""
+    from gearwear.core.validation import InputError
+
+    try:
+        return compute_rows(), None
+    except InputError as exc:
+        return None, f"refused: {exc}"
+    except Exception as exc:  # recorded per design: the run goes on
+        first = str(exc).splitlines()[0] if str(exc) else ""
+        return None, f"failed: {type(exc).__name__}: {first}"
+
+
+def _empty(note: str) -> dict[str, Any]:
+    return {**{m: math.nan for m in METRICS}, "note": note}
+
+
 def run_design(design: Design, settings: dict[str, Any], models: tuple[str, ...], fe: bool) -> dict[str, Any]:
     """The metrics of ``design``: each of ``models`` (analytic sources) and, with ``fe``,
     both FE rows from one pair-FE solve. Top-level so process pools and Dask can pickle it.
-    Returns {"metrics": {model: {metric: value}}, "fe_info": ..., "times": ...}."""
+    Returns {"metrics": {model: {metric: value}}, "fe_info": ..., "times": ...}; a model
+    that refuses or fails on the design gets NaN metrics and a ``note`` (:func:`_guarded`)."""
     from gearwear.jobs.sweep import single_thread_blas
     from gearwear.stiffness.sources import Request, curve
 
     single_thread_blas()
     t0, c0 = time.perf_counter(), time.process_time()
-    out: dict[str, Any] = {"metrics": {}, "times": {}}
+    out: dict[str, Any] = {"metrics": {}, "times": {}, "fe_info": {}}
+    rq = Request(design.pair, design.torque_Nm, points=settings["points"], plane=settings["plane"])
     for name in models:
         t, c = time.perf_counter(), time.process_time()
-        rq = Request(design.pair, design.torque_Nm, points=settings["points"], plane=settings["plane"])
-        out["metrics"][name] = curve_metrics(curve(name, rq))
+        rows, note = _guarded(lambda: {name: curve_metrics(curve(name, rq))})  # called at once
+        out["metrics"].update(rows or {name: _empty(note or "")})
         out["times"][name] = {"wall_s": time.perf_counter() - t, "cpu_s": time.process_time() - c}
     if fe:
         from gearwear.fem.pair import pair_contact
 
         t, c = time.perf_counter(), time.process_time()
-        r = pair_contact(
-            design.pair,
-            positions=settings["positions"],
-            torque_Nm=design.torque_Nm,
-            mesh_scale=settings["mesh_scale"],
-            contact_scale=settings["contact_scale"],
-            plane=settings["plane"],
-            extended=settings["transitions"],
-        )
-        ext = r.meta.get("extended_contact_deg")
-        # one solve: the bore-fixed curve and the mesh-only one are both in r
-        out["metrics"]["fem"] = curve_metrics(r.without_blank_torsion(), ext)
-        out["metrics"]["fem_bore_fixed"] = curve_metrics(r, ext)
-        out["fe_info"] = {
-            "ndofs": r.meta.get("ndofs"),
-            "n_elements": r.meta.get("n_elements"),
-            "condensed_dofs": r.meta.get("condensed_dofs"),
-            "blank_torsional_stiffness_Nm_per_rad": r.meta.get("blank_torsional_stiffness_Nm_per_rad"),
-        }
+
+        def both() -> dict[str, Any]:
+            r = pair_contact(
+                design.pair,
+                positions=settings["positions"],
+                torque_Nm=design.torque_Nm,
+                mesh_scale=settings["mesh_scale"],
+                contact_scale=settings["contact_scale"],
+                plane=settings["plane"],
+                extended=settings["transitions"],
+            )
+            ext = r.meta.get("extended_contact_deg")
+            out["fe_info"] = {
+                "ndofs": r.meta.get("ndofs"),
+                "n_elements": r.meta.get("n_elements"),
+                "condensed_dofs": r.meta.get("condensed_dofs"),
+                "blank_torsional_stiffness_Nm_per_rad": r.meta.get("blank_torsional_stiffness_Nm_per_rad"),
+            }
+            # one solve: the bore-fixed curve and the mesh-only one are both in r
+            return {"fem": curve_metrics(r.without_blank_torsion(), ext), "fem_bore_fixed": curve_metrics(r, ext)}
+
+        rows, note = _guarded(both)
+        out["metrics"].update(rows or {m: _empty(note or "") for m in FE_MODELS})
         out["times"]["fe"] = {"wall_s": time.perf_counter() - t, "cpu_s": time.process_time() - c}
     out["times"]["design"] = {
         "wall_s": time.perf_counter() - t0,
@@ -251,7 +277,7 @@ def compute(
                         data = _round_trip({k: got["metrics"][k] for k in FE_MODELS})
                         write_entry(folder, inputs["fe"], data)
                         results[d.index].update(data)
-                    timing[str(d.index)] = {**got["times"], **({"fe_info": got["fe_info"]} if fe else {})}
+                    timing[str(d.index)] = {**got["times"], **({"fe_info": got["fe_info"]} if got["fe_info"] else {})}
                     bar.update(1)
                     estimate.first_done(bar.write)
     timing["total_wall_s"] = time.perf_counter() - t_start
@@ -287,10 +313,22 @@ def table_csv(spec: AtlasSpec, space: DesignSpace, results: dict[int, dict[str, 
     return "\n".join(rows) + "\n"
 
 
-def sidecar_extra(spec: AtlasSpec, space: DesignSpace) -> dict[str, Any]:
+def notes(spec: AtlasSpec, space: DesignSpace, results: dict[int, dict[str, Any]]) -> dict[str, dict[str, str]]:
+    """model -> {design index: why its row is empty} (a model that refused or failed)."""
+    out: dict[str, dict[str, str]] = {}
+    for d in space.designs:
+        for m in FE_MODELS + spec.models:
+            note = results[d.index][m].get("note")
+            if note:
+                out.setdefault(m, {})[str(d.index)] = note
+    return out
+
+
+def sidecar_extra(spec: AtlasSpec, space: DesignSpace, results: dict[int, dict[str, Any]]) -> dict[str, Any]:
     from gearwear.stiffness.calibration import library_versions
 
     return {
+        "notes": notes(spec, space, results),
         "designs": len(space.designs),
         "points_drawn": space.drawn,
         "rejects": dict(space.rejects),
@@ -305,5 +343,5 @@ def sidecar_extra(spec: AtlasSpec, space: DesignSpace) -> dict[str, Any]:
 def write(spec: AtlasSpec, run: dict[str, Any], out: Path) -> list[Path]:
     """atlas.csv and its sidecar into the folder ``out``."""
     csv = io.write_text(out / "atlas.csv", table_csv(spec, run["space"], run["results"]))
-    extra = sidecar_extra(spec, run["space"])
+    extra = sidecar_extra(spec, run["space"], run["results"])
     return [csv, io.sidecar(csv, spec.as_dict(), "gearwear atlas (analytic models and pair FE per design)", extra)]
