@@ -89,7 +89,11 @@ KEYS: dict[str, Key] = {
         1_000_000, Field("", 1, 10_000_000, kind=int), "Sobol points drawn at most while looking for feasible designs"
     ),
     "fe.positions": Key(24, Field("", 2, 720, kind=int), "pair-FE positions per mesh period"),
-    "fe.mesh_scale": Key(1.0, Field("", 0.25, 8.0), "pair-FE element sizes away from the contact, x the default"),
+    "fe.mesh_scale": Key(
+        1.0,
+        Field("", 0.25, 4.0),
+        "pair-FE element sizes away from the contact, x the default (at 8 the FE fails on 14-20 teeth)",
+    ),
     "fe.contact_scale": Key(1.0, Field("", 0.25, 8.0), "pair-FE contact element size h_c, x the default"),
     "fe.plane": Key("stress", Field(""), "2D state of the FE and the analytic tooth beams: stress | strain"),
     "fe.transitions": Key(
