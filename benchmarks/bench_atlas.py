@@ -5,8 +5,8 @@ measured in the same run (the machine is shared: the ratios are the result, the 
 times are loaded).
 
 Corners (module 3 mm, face width 30 mm, 200 N/mm unless named): the reference 23/47
-(x +0.2/-0.1, rim s_R/m = 4), 14 teeth (14/28), 100 teeth at ratio 5 (100/500) with a rim
-of 4 m and with a solid blank (bores 0.2 r_f), a thin rim (s_R/m = 1.5), 25 deg, and a high
+(x +0.2/-0.1, rim s_R/m = 4), 14 teeth (14/28), 100 teeth at ratio 5 (100/500) with rims
+of 4 m and 12 m (the atlas's thickest) and with a solid blank (bores 0.2 r_f), a thin rim (s_R/m = 1.5), 25 deg, and a high
 contact ratio (h_a* 1.3, epsilon > 2); FE settings as the atlas's defaults (24 positions,
 mesh scale 1, transitions bisected) unless --coarse.
 
@@ -46,6 +46,9 @@ def corner(name: str):
         kw.update(teeth=(14, 28), profile_shift=(0.3, 0.0))
     elif name == "z100_ratio5_rim4":
         kw.update(teeth=(100, 500))
+    elif name == "z100_ratio5_rim12":
+        kw.update(teeth=(100, 500))
+        rim = 12.0
     elif name == "z100_ratio5_solid":
         kw.update(teeth=(100, 500))
         solid = True
@@ -77,6 +80,7 @@ CORNERS = (
     "alpha25",
     "high_contact",
     "z100_ratio5_rim4",
+    "z100_ratio5_rim12",
     "z100_ratio5_solid",
 )
 
