@@ -6,9 +6,9 @@ times are loaded).
 
 Corners (module 3 mm, face width 30 mm, 200 N/mm unless named): the reference 23/47
 (x +0.2/-0.1, rim s_R/m = 4), 14 teeth (14/28), 100 teeth at ratio 5 (100/500) with rims
-of 4 m and 12 m (the atlas's thickest) and with a solid blank (bores 0.2 r_f), a thin rim (s_R/m = 1.5), 25 deg, and a high
-contact ratio (h_a* 1.3, epsilon > 2); FE settings as the atlas's defaults (24 positions,
-mesh scale 1, transitions bisected) unless --coarse.
+of 4 m and 12 m (the atlas's thickest) and with a solid blank (bores 0.2 r_f), a thin rim
+(s_R/m = 1.5), 25 deg, and a high contact ratio (h_a* 1.3, epsilon > 2); FE settings as the
+atlas's defaults (24 positions, mesh scale 1, transitions bisected) unless --coarse.
 
     .venv/bin/python benchmarks/bench_atlas.py [--coarse] [--only NAME ...]
     .venv/bin/python benchmarks/bench_atlas.py --overhead 500
