@@ -13,7 +13,7 @@ OUT    ?= out/demo
 BENCH_VENV  := .venv-bench
 BENCH_STAMP := $(BENCH_VENV)/.installed-stamp
 
-.PHONY: demo test check docs bench report venv clean fe-design-space
+.PHONY: demo test check docs bench report venv clean fe-design-space atlas
 
 venv: $(STAMP)
 
@@ -53,6 +53,13 @@ docs: $(DOCS_STAMP)
 fe-design-space: $(STAMP)
 	@$(PY) -m gearwear.envcheck
 	$(PY) -m pytest -q -n 2 -m design_space tests/test_fe_design_space.py
+
+# The stiffness atlas of issue 28 (atlas.toml: 500 designs; resumable, each design cached in
+# $(GEARWEAR_CACHE) or ~/.cache/gearwear/tables/atlas; hours on 2 cores; not in make test)
+ATLAS_SCHEDULER ?= local:2
+atlas: $(STAMP)
+	@$(PY) -m gearwear.envcheck
+	$(VENV)/bin/gearwear atlas atlas.toml --scheduler $(ATLAS_SCHEDULER) --out reports/atlas
 
 # ROSS (the peer for the stiffness benchmark) lives in its own venv: it is not a
 # runtime dependency. Its install is best-effort; the benchmark notes a missing peer.

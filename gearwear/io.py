@@ -64,6 +64,7 @@ OUTPUT_NAMES: dict[str, tuple[str, ...]] = {
     "calibrate": ("calibrated_*.csv", "calibrated_*.csv.json"),
     "simulate": ("signals.npz", "signals.csv", "signals.csv.json", "response.png", "spectrum.png", "summary.json"),
     "sweep": ("sweep.csv", "sweep.csv.json", "harmonics_*.png"),
+    "atlas": ("atlas.csv", "atlas.csv.json"),
     "runup": ("runup.csv", "runup.csv.json", "runup_summary.json", "kv.png", "order_map_*.png", "campbell_*.png"),
     "report paper": ("README.md", "fig[0-9][0-9]_*.png", "trends.json"),
     "report pair": ("README.md", "report.json", "stiffness.png", "ste_load.png", "kv.png"),

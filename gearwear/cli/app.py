@@ -18,7 +18,19 @@ from gearwear.core.validation import InputError, renamed
 
 #: the commands, in the order of ``gearwear --help``: each is the module gearwear.cli.NAME with
 #: ``add_parser(sub)`` (its arguments; ``set_defaults(func=run)``) and ``run(args) -> int``
-COMMANDS = ("geometry", "stiffness", "verify", "calibrate", "simulate", "sweep", "runup", "diagnose", "scene", "report")
+COMMANDS = (
+    "geometry",
+    "stiffness",
+    "verify",
+    "calibrate",
+    "simulate",
+    "sweep",
+    "runup",
+    "diagnose",
+    "atlas",
+    "scene",
+    "report",
+)
 
 
 class _Parser(argparse.ArgumentParser):
