@@ -60,6 +60,7 @@ ATLAS_SCHEDULER ?= local:2
 atlas: $(STAMP)
 	@$(PY) -m gearwear.envcheck
 	$(VENV)/bin/gearwear atlas atlas.toml --scheduler $(ATLAS_SCHEDULER) --out reports/atlas
+	$(PY) -m gearwear.reports.atlas reports/atlas
 
 # ROSS (the peer for the stiffness benchmark) lives in its own venv: it is not a
 # runtime dependency. Its install is best-effort; the benchmark notes a missing peer.

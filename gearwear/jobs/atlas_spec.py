@@ -133,10 +133,16 @@ class AtlasSpec:
 
 def analytic_models() -> tuple[str, ...]:
     """The registry's analytic models: command sources that do not run the FE (the ones a
-    user can ask ``gearwear stiffness --method`` for whose curve is a model, not a table)."""
+    user can ask ``gearwear stiffness --method`` for whose curve is a model, not a table), without
+    the atlas-corrected model (gearwear.stiffness.corrected), which is fitted on the atlas itself."""
     from gearwear.stiffness.sources import SOURCES
 
-    return tuple(n for n, s in SOURCES.items() if s.command and not s.fe and n not in ("table", "constant"))
+    fitted_on_the_atlas = ("corrected",)
+    return tuple(
+        n
+        for n, s in SOURCES.items()
+        if s.command and not s.fe and n not in ("table", "constant", *fitted_on_the_atlas)
+    )
 
 
 def _flatten(doc: dict[str, Any]) -> dict[str, Any]:
