@@ -62,11 +62,6 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
-import pymetis
-import scipy.linalg as sla
-import scipy.sparse as sp
-import scipy.sparse.linalg as spla
-from threadpoolctl import threadpool_limits
 
 from gearwear.fem.mesh import MeshSizes, mesh_full_gear
 from gearwear.geometry.crack import Crack, crack_mouth_arc
@@ -76,6 +71,8 @@ from gearwear.geometry.profile import FILLET, INVOLUTE, ROOT_LAND, ToothProfile,
 from gearwear.geometry.sampling import profile_at, region_junctions
 from gearwear.geometry.spec import GearSpec, Material
 
+from .condensation import condensed_flexibility as _condensed_flexibility
+from .condensation import interior_order as _interior_order  # noqa: F401 (the tests' and benchmarks' name)
 from .elasticity import ElasticModel, assemble
 
 __all__ = [
@@ -552,113 +549,4 @@ def build_cracked_body(
         crack_xy=crack_xy,
         crack_tip_size_m=crack_tip_size_m,
         refined=refined,
-    )
-
-
-def _interior_order(Kii) -> np.ndarray:
-    """Fill-reducing order of the interior block K_II (positions, new -> old): METIS's
-    multilevel nested dissection (METIS_NodeND through pymetis; Karypis & Kumar, SIAM J.
-    Sci. Comput. 20 (1998) 359) of the graph of the mesh nodes, each node's x and y dofs
-    kept together (2 k, 2 k + 1; the dofs of K_II come in such pairs).
-
-    Why: on a 2D mesh nested dissection leaves O(n log n) fill against the larger fill of
-    minimum degree; for the paper pinion (88k interior dofs, B = 2142 last) SuperLU's
-    factors have 15.6M nonzeros with it against 21.2M with SuperLU's own MMD order, and the
-    factorization and the read-out of L take a third less time
-    (benchmarks/bench_fem_solvers.py). The node graph is half the size of the dof graph
-    (faster ordering, same fill). METIS's default seed is fixed: the order, and so every
-    result, is the same in every run and worker process."""
-    n = Kii.shape[0]
-    if n % 2:
-        raise RuntimeError("the interior dofs do not come in (x, y) pairs")
-    A = abs(Kii)
-    to_node = sp.csr_matrix((np.ones(n), (np.arange(n), np.arange(n) // 2)), shape=(n, n // 2))
-    nodes = (to_node.T @ (A + A.T) @ to_node).tocsr()  # node i ~ node j where any dofs couple
-    nodes.setdiag(0)
-    nodes.eliminate_zeros()
-    perm = np.asarray(pymetis.nested_dissection(pymetis.CSRAdjacency(nodes.indptr, nodes.indices))[0])
-    return np.column_stack([2 * perm, 2 * perm + 1]).ravel()
-
-
-def _trailing_block(lu, m: int) -> tuple[np.ndarray, np.ndarray]:
-    """(L_BB dense (m, m) unit lower, diag(U_BB) (m,)) of the trailing m x m block of
-    SuperLU's factors. L is lower triangular, so its last m columns (a contiguous CSC
-    slice) hold L_BB and nothing else: no sparse row slicing."""
-    L, U = lu.L, lu.U  # one conversion of SuperLU's supernodal storage gives both
-    n = L.shape[0]
-    ip = L.indptr[n - m :]
-    s = int(ip[0])
-    Lbb = np.zeros((m, m))
-    Lbb[L.indices[s:] - (n - m), np.repeat(np.arange(m), np.diff(ip))] = L.data[s:]
-    return Lbb, U.diagonal()[n - m :]
-
-
-def _condensed_flexibility(
-    model, xdofs: np.ndarray, reading: np.ndarray | None = None
-) -> tuple[np.ndarray, np.ndarray | None, dict]:
-    """(G, h, timings): G = (K^-1)_BB for B = the x and y dofs of ``xdofs`` (order x0, y0,
-    x1, y1, ...) and the rows h = (K^-1 a)_B for the reading functionals a = ``reading``
-    (rows over all dofs; None: h is None). By reciprocity (K symmetric)
-    a . U = a . K^-1 f = h . f_B for any load f on B: one more solve per functional with
-    the factors, none per load.
-
-    With B ordered last and no pivoting (K is SPD), the trailing blocks of SuperLU's
-    factors give the Schur complement S = L_BB U_BB with U_BB = D L_BB^T (D = diag U_BB,
-    the LDL^T form of a symmetric factorization), so S = C C^T with the Cholesky factor
-    C = L_BB D^1/2 and G = S^-1 = C^-T C^-1 (LAPACK dpotri: 2/3 m^3 flops, against 2 m^3
-    for two triangular solves with the identity)."""
-    t0 = time.perf_counter()
-    B = np.column_stack([xdofs, xdofs + 1]).ravel()
-    pos = np.full(model.ndofs, -1)
-    pos[model.free] = np.arange(len(model.free))
-    Bf = pos[B]
-    if np.any(Bf < 0):
-        raise RuntimeError("a condensed flank dof is fixed")
-    Kff = model.K[model.free][:, model.free].tocsc()
-    isB = np.zeros(Kff.shape[0], dtype=bool)
-    isB[Bf] = True
-    interior = np.flatnonzero(~isB)
-    # B's (x, y) pairs are whole nodes, so the interior's are too (_interior_order)
-    if not np.array_equal(interior[0::2] + 1, interior[1::2]):
-        raise RuntimeError("unexpected dof numbering of the interior")
-    # fill-reducing order of the interior (nested dissection), then the condensed dofs
-    # last, and no further reordering
-    order = np.concatenate([interior[_interior_order(Kff[interior][:, interior].tocsc())], Bf])
-    t1 = time.perf_counter()
-    opts = dict(diag_pivot_thresh=0.0, options={"SymmetricMode": True})
-    lu = spla.splu(Kff[order][:, order].tocsc(), permc_spec="NATURAL", **opts)
-    n = len(order)
-    if not (np.array_equal(lu.perm_r, np.arange(n)) and np.array_equal(lu.perm_c, np.arange(n))):
-        raise RuntimeError("SuperLU reordered the condensed system; the Schur block is not trailing")
-    t2 = time.perf_counter()
-    m = len(Bf)
-    Lbb, d = _trailing_block(lu, m)
-    if not np.all(d > 0):
-        raise RuntimeError("the Schur complement of the condensed dofs is not positive definite")
-    C = Lbb * np.sqrt(d)  # column j of L_BB times sqrt(d_j): S = C C^T
-    # one BLAS thread: OpenBLAS's threaded dpotri (dtrtri + dlauum) took 6.2 s against
-    # 0.39 s on one thread for m = 2142 on the 2-core machine (best of 3 each)
-    with threadpool_limits(1, user_api="blas"):
-        Gl, info = sla.lapack.dpotri(C, lower=1, overwrite_c=1)
-    if info != 0:
-        raise RuntimeError(f"LAPACK dpotri failed (info {info})")
-    # dpotri fills the lower triangle; the upper one is C's, exactly zero: G = Gl + Gl^T with
-    # the doubled diagonal halved is exactly symmetric (two np.tril copies cost ~0.5 s)
-    G = Gl + Gl.T
-    G[np.diag_indices(m)] *= 0.5
-    h = None
-    if reading is not None:
-        # the permuted system solves P K P^T (P x) = P a; B is the trailing block
-        h = lu.solve(np.ascontiguousarray(reading[:, model.free][:, order].T))[n - m :].T
-    t3 = time.perf_counter()
-    return (
-        G,
-        h,
-        {
-            "ordering_s": t1 - t0,
-            "factorize_s": t2 - t1,
-            "flexibility_s": t3 - t2,
-            "condensed_dofs": m,
-            "factor_nnz": int(lu.L.nnz + lu.U.nnz),
-        },
     )
