@@ -26,10 +26,11 @@ independent solve with the same factors (``lu.solve``).
 from __future__ import annotations
 
 import ctypes
+from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["trailing_block"]
+__all__ = ["SupernodalStore", "supernodal_store", "border_rows"]
 
 # enum values of SuperLU's supermatrix.h
 _SLU_NC, _SLU_SC = 0, 3  # Stype_t: column-wise, supernodal
@@ -100,41 +101,73 @@ def _store(lu):
     return _SCformat.from_address(L.Store), n
 
 
-def trailing_block(lu, m: int) -> tuple[np.ndarray, np.ndarray] | None:
-    """(T, d) of the last m columns of SuperLU's factors (scipy ``SuperLU`` of an n x n
-    matrix factorized without row or column permutation): T (m, m) C-ordered holds
-    T[j, i] = L[n - m + i, n - m + j] for i > j (the trailing block of L, transposed,
-    i.e. T read in Fortran order is L_BB's strict lower triangle), T's other entries are
-    unspecified (U's entries inside supernodes, the pivots); d (m,) the pivots
-    U[j, j] of those columns. None when the object's layout is not the expected one."""
+@dataclass(frozen=True)
+class SupernodalStore:
+    """SuperLU's L (SCformat) of an n x n factorization, as numpy views of its arrays:
+    supernode k holds columns first[k] .. first[k + 1] - 1, its row list is
+    rowind[row_start[k] : row_start[k] + nrows[k]] (its own columns first, in order), and
+    column j's nrows values start at nzval[col_ptr[j]] (a dense nrows x width block per
+    supernode: rows < j are U's, row j the pivot U[j, j], rows > j L's)."""
+
+    n: int
+    first: np.ndarray
+    row_start: np.ndarray
+    nrows: np.ndarray
+    col_ptr: np.ndarray
+    rowind: np.ndarray
+    nzval: np.ndarray
+
+    def pivots(self) -> np.ndarray:
+        """U[j, j] of every column (n,)."""
+        j = np.arange(self.n)
+        k = np.repeat(np.arange(len(self.nrows)), np.diff(self.first))
+        return self.nzval[self.col_ptr[j] + (j - self.first[k])]
+
+
+def supernodal_store(lu) -> SupernodalStore | None:
+    """The supernodal store of the SuperLU object ``lu`` (views, valid while ``lu``
+    lives), or None when its C layout or its supernode maps are not the expected ones."""
     got = _store(lu)
     if got is None:
         return None
     sc, n = got
-    if not (0 < m <= n) or sc.nsuper < 0:
-        return None
     ns = sc.nsuper + 1  # SuperLU stores the number of supernodes minus one
+    if not 0 < ns <= n:
+        return None
     col_ptr, row_ptr = _ints(sc.nzval_colptr, n + 1), _ints(sc.rowind_colptr, n + 1)
-    col_to_sup, sup_to_col = _ints(sc.col_to_sup, n), _ints(sc.sup_to_col, ns + 1)
-    if sup_to_col[0] != 0 or sup_to_col[ns] != n or col_to_sup[n - 1] != ns - 1 or col_ptr[0] != 0:
+    col_to_sup, first = _ints(sc.col_to_sup, n), _ints(sc.sup_to_col, ns + 1)
+    if first[0] != 0 or first[ns] != n or np.any(np.diff(first) <= 0) or col_ptr[0] != 0:
+        return None
+    width = np.diff(first)
+    if not np.array_equal(col_to_sup, np.repeat(np.arange(ns), width)):
+        return None
+    start = row_ptr[first[:-1]]
+    nrows = row_ptr[first[:-1] + 1] - start
+    # every column of a supernode holds nrows values; the row lists follow each other
+    if np.any(nrows < width) or not np.array_equal(np.diff(col_ptr), nrows[col_to_sup]):
+        return None
+    if start[0] != 0 or not np.array_equal(start[1:], start[:-1] + nrows[:-1]):
         return None
     nzval = np.ctypeslib.as_array(sc.nzval, shape=(int(col_ptr[n]),))
-    rowind = _ints(sc.rowind, int(row_ptr[n]))
-    o = n - m
-    T = np.zeros((m, m))
-    d = np.empty(m)
-    for k in range(int(col_to_sup[o]), ns):
-        f, last = int(sup_to_col[k]), int(sup_to_col[k + 1])  # columns f .. last - 1
-        r0, nr = int(row_ptr[f]), int(row_ptr[f + 1] - row_ptr[f])
-        # each column of a supernode holds nr values (a dense nr x (last - f) block)
-        if nr < last - f or np.any(np.diff(col_ptr[f : last + 1]) != nr) or np.any(col_to_sup[f:last] != k):
-            return None
-        rows = rowind[r0 : r0 + nr]
-        if not np.array_equal(rows[: last - f], np.arange(f, last)) or np.any(rows >= n) or np.any(rows < 0):
-            return None  # the supernode's own columns come first in its row list
-        block = nzval[col_ptr[f] : col_ptr[f] + nr * (last - f)].reshape(last - f, nr)
-        c0 = max(f, o)
-        keep = rows >= o
-        T[np.ix_(np.arange(c0, last) - o, rows[keep] - o)] = block[c0 - f :, keep]
-        d[c0 - o : last - o] = block[np.arange(c0 - f, last - f), np.arange(c0 - f, last - f)]
-    return T, d
+    rowind = _ints(sc.rowind, int(start[-1] + nrows[-1]))
+    j = np.arange(n)
+    own = rowind[np.repeat(start, width) + (j - np.repeat(first[:-1], width))]
+    if not np.array_equal(own, j) or rowind.min() < 0 or rowind.max() >= n:
+        return None  # the supernode's own columns come first in its row list
+    return SupernodalStore(n, first, start, nrows, col_ptr, rowind, nzval)
+
+
+def border_rows(store: SupernodalStore, o: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(i, j, v): every entry L[o + i, j] = v of L's rows o .. n - 1 in its columns j < o
+    (the border block L_BI of a factorization whose last n - o rows are B), each once."""
+    k_of = np.repeat(np.arange(len(store.nrows)), store.nrows)  # supernode of each row-list position
+    pos = np.flatnonzero(store.rowind >= o)
+    k = k_of[pos]
+    f = store.first[k]
+    cnt = np.minimum(store.first[k + 1], o) - f  # the supernode's columns left of o
+    keep = cnt > 0
+    pos, k, f, cnt = pos[keep], k[keep], f[keep], cnt[keep]
+    rep = np.repeat(np.arange(len(pos)), cnt)
+    j = f[rep] + (np.arange(int(cnt.sum())) - np.repeat(np.cumsum(cnt) - cnt, cnt))
+    v = store.nzval[store.col_ptr[j] + (pos - store.row_start[k])[rep]]
+    return store.rowind[pos][rep] - o, j, v
