@@ -99,28 +99,28 @@ def _border(lu, o: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
     return L.row, L.col, L.data, lu.U.diagonal()
 
 
-def schur_from_border(Kbb: np.ndarray, i, j, v, d, dense_from: int = DENSE_COLUMN_ROWS) -> np.ndarray:
-    """S = K_BB - L_BI D L_BI^T (m, m), C-ordered, both triangles, from the border entries
-    L_BI[i, j] = v and the pivots d (D = diag d over the columns j). Columns of L_BI with
-    ``dense_from`` or more rows (the separators high in the elimination tree, where the
-    contributions are dense) go through one BLAS rank-k update (dsyrk), the others through
-    a sparse product: the multiply count is sum over columns of (rows of the column)^2
-    either way (1.1e9 for the paper pinion) without a dense product over all 14k columns."""
+def schur_from_border(Kbb, i, j, v, d, dense_from: int = DENSE_COLUMN_ROWS) -> np.ndarray:
+    """S = K_BB - L_BI D L_BI^T (m, m), C-ordered, both triangles, from K_BB (sparse), the
+    border entries L_BI[i, j] = v and the pivots d (D = diag d over the columns j). Columns
+    of L_BI with ``dense_from`` or more rows (the separators high in the elimination tree,
+    where the contributions are dense) go through one BLAS rank-k update (dsyrk), the
+    others through a sparse product: the multiply count is sum over columns of (rows of
+    the column)^2 either way (1.1e9 for the paper pinion) without a dense product over all
+    14k columns."""
     m = Kbb.shape[0]
     x = v * np.sqrt(d[j])
-    cols, jj = np.unique(j, return_inverse=True)
-    count = np.bincount(jj)
-    dense = count[jj] >= dense_from
+    count = np.bincount(j)
     dc = np.flatnonzero(count >= dense_from)
-    where = np.full(len(cols), -1)
+    dense = count[j] >= dense_from
+    where = np.full(len(count), -1)
     where[dc] = np.arange(len(dc))
     Y = np.zeros((len(dc), m))  # rows: the dense columns of L_BI D^1/2
-    Y[where[jj[dense]], i[dense]] = x[dense]
-    Xs = sp.csr_matrix((x[~dense], (i[~dense], jj[~dense])), shape=(m, len(cols)))
-    S = Kbb - (Xs @ Xs.T).toarray()
+    Y[where[j[dense]], i[dense]] = x[dense]
+    Xs = sp.csr_matrix((x[~dense], (i[~dense], j[~dense])), shape=(m, len(count)))
+    S = (sp.csr_matrix(Kbb) - Xs @ Xs.T).toarray()
     with threadpool_limits(1, user_api="blas"):
-        R = sla.blas.dsyrk(1.0, Y.T, lower=1)  # Fortran order: its lower triangle is Y^T Y
-    S -= R.T  # C order: the upper triangle of S is complete
+        # in place on S's Fortran view: its lower triangle (S's upper one) -= Y^T Y
+        sla.blas.dsyrk(-1.0, Y.T, beta=1.0, c=S.T, lower=1, overwrite_c=1)
     return mirror_lower(S)
 
 
@@ -201,8 +201,7 @@ def condensed_flexibility(
     i, j, v, d = _border(lu, o)
     if not np.all(d[:o] > 0):
         raise RuntimeError("the interior stiffness is not positive definite")
-    Kbb = Kp[o:, o:].toarray()
-    S = schur_from_border(Kbb, i, j, v, d)
+    S = schur_from_border(Kp[o:, o:], i, j, v, d)
     # right-hand sides of M: the reading functionals [a_I; a_B], the check [K_IB r; K_BB r]
     r = np.random.default_rng(_CHECK_SEED).standard_normal(m)
     rhs = np.zeros((n, (0 if reading is None else len(reading)) + 1))
