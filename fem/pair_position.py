@@ -110,17 +110,21 @@ def _reps_memo(body: GearBody, cands: list, gi: int, cracked_tooth: int | None) 
     return rep
 
 
-def _body_reps(pm: PairModel, cands: list, cracked: tuple):
-    """(gear index, body, rep) per gear: the cracked body where ``cracked[gi]`` names its
-    cracked tooth, else the healthy one, with :func:`_reps_memo` of the candidates on it."""
+def _body_reps(pm: PairModel, cands: list, cracked: tuple) -> list:
+    """[(gear index, body, rep)] per gear: the cracked body where ``cracked[gi]`` names its
+    cracked tooth, else the healthy one, with :func:`_reps_memo` of the candidates on it
+    (one list serves :func:`_flexibility` and :func:`blank_rotations` of a position, so
+    each representation is computed once)."""
+    out = []
     for gi, body in enumerate(pm.bodies):
         ct = cracked[gi]
         if ct is not None:
             body = pm.cracked[gi]
-        yield gi, body, _reps_memo(body, cands, gi, None if ct is None else ct[0])
+        out.append((gi, body, _reps_memo(body, cands, gi, None if ct is None else ct[0])))
+    return out
 
 
-def _flexibility(pm: PairModel, cands: list, cracked: tuple = (None, None)) -> np.ndarray:
+def _flexibility(pm: PairModel, cands: list, cracked: tuple = (None, None), reps: list | None = None) -> np.ndarray:
     """C (n, n) of all candidates: sum over both bodies of a_i^T G a_j. On a healthy body
     the read is on tooth t_i - t_j relative to the load (rotational periodicity); on a
     cracked body (``cracked[gi]``: the body tooth of the cracked slot) each candidate sits
@@ -128,17 +132,20 @@ def _flexibility(pm: PairModel, cands: list, cracked: tuple = (None, None)) -> n
     sizes = [len(c["R"]) for c in cands]
     off = np.concatenate([[0], np.cumsum(sizes)])
     C = np.zeros((off[-1], off[-1]))
-    for gi, body, rep in _body_reps(pm, cands, cracked):
-        for a, ca in enumerate(cands):
-            for b, cb in enumerate(cands):
-                ia, wa = rep(a, ca["teeth"][gi] - cb["teeth"][gi])
-                ib, wb = rep(b, 0)
-                Gs = body.G[np.ix_(ia.ravel(), ib.ravel())].reshape(ia.shape[0], 6, ib.shape[0], 6)
-                C[off[a] : off[a + 1], off[b] : off[b + 1]] += np.einsum("ia,iajb,jb->ij", wa, Gs, wb)
+    for gi, body, rep in reps if reps is not None else _body_reps(pm, cands, cracked):
+        for b, cb in enumerate(cands):
+            # the loads of candidate b read at every candidate a: one gather from G per b
+            ras = [rep(a, ca["teeth"][gi] - cb["teeth"][gi]) for a, ca in enumerate(cands)]
+            ia, wa = np.concatenate([r[0] for r in ras]), np.concatenate([r[1] for r in ras])
+            ib, wb = rep(b, 0)
+            Gs = body.G[np.ix_(ia.ravel(), ib.ravel())].reshape(ia.shape[0], 6, ib.shape[0], 6)
+            C[:, off[b] : off[b + 1]] += np.einsum("ia,iajb,jb->ij", wa, Gs, wb)
     return 0.5 * (C + C.T)
 
 
-def blank_rotations(pm: PairModel, cands: list, cracked: tuple = (None, None)) -> tuple[tuple, tuple]:
+def blank_rotations(
+    pm: PairModel, cands: list, cracked: tuple = (None, None), reps: list | None = None
+) -> tuple[tuple, tuple]:
     """((theta_ref,1, theta_ref,2), (T_1, T_2)) under the solved candidate forces: per gear
     the rotation (rad) of the blank's reference circle, theta_ref = sum h . f over the
     loads on that body (h = GearBody.blank_h[0], the circle's reading by reciprocity), and
@@ -150,7 +157,7 @@ def blank_rotations(pm: PairModel, cands: list, cracked: tuple = (None, None)) -
     circle's reading being the same in every tooth pitch; on a cracked body each on its
     own tooth)."""
     theta, torque = [0.0, 0.0], [0.0, 0.0]
-    for gi, body, rep in _body_reps(pm, cands, cracked):
+    for gi, body, rep in reps if reps is not None else _body_reps(pm, cands, cracked):
         for k, c in enumerate(cands):
             f = c["force_N"]
             X = involute_point(body.gear, c["R"] if gi == c["slave"] else c["rF"])
@@ -181,7 +188,8 @@ def solve_position(pm: PairModel, theta: float, total_N: float, period: int | No
             slots.append(k)
     if not cands:
         raise RuntimeError(f"no tooth pair can touch at theta = {theta!r} rad")
-    C = _flexibility(pm, cands, tuple(cracked))
+    reps = _body_reps(pm, cands, tuple(cracked))
+    C = _flexibility(pm, cands, tuple(cracked), reps)
     g = np.concatenate([c["gap"] for c in cands])
     w = np.concatenate([c["w"] for c in cands])
     if np.any(w <= 0):
@@ -206,7 +214,7 @@ def solve_position(pm: PairModel, theta: float, total_N: float, period: int | No
             hw[k] = 0.5 * (s[on].max() - s[on].min() + ds)
             c["window_hit"] = bool(on[0] == 0 and s[0] > s.min() - 1) and (on[0] == 0 or on[-1] == n - 1)
         off += n
-    rot_ref, torque = blank_rotations(pm, cands, tuple(cracked))
+    rot_ref, torque = blank_rotations(pm, cands, tuple(cracked), reps)
     return PositionSolution(
         float(theta),
         d,
