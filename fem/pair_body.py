@@ -207,20 +207,31 @@ class GearBody:
         """(B positions (n, 3), weights (n, 3)) of points of tooth ``tooth``'s drive
         flank at radii R: P2 edge shape functions at the edge parameter of the
         involute point at R (its projection onto the curved edge)."""
-        r = self.flank_r[tooth]
-        xy = self.flank_xy[tooth]
-        e = self.flank_edges[tooth]
-        R = np.atleast_1d(np.asarray(radius_m, dtype=float))
-        lo, hi = r[e[:, 0]], r[e[:, 2]]
-        k = np.clip(np.searchsorted(hi, R, side="left"), 0, len(e) - 1)
-        if np.any(R < lo[0] - 1e-12) or np.any(R > hi[-1] + 1e-12):
-            raise ValueError(
-                f"flank point outside the condensed range of tooth {tooth} "
-                f"({R.min() * 1e3:.4f}..{R.max() * 1e3:.4f} mm)"
-            )
-        t = quadratic_parameter(involute_point(self.gear, R), xy[e[k, 0]], xy[e[k, 1]], xy[e[k, 2]])
+        return self.edge_weights_many([(tooth, radius_m)])[0]
+
+    def edge_weights_many(self, requests: list) -> list[tuple[np.ndarray, np.ndarray]]:
+        """:meth:`edge_weights` of every (tooth, radii) of ``requests``, the projections
+        onto the curved edges done together (they are independent per point: the same
+        numbers as one call per request, for a fraction of the calls)."""
+        parts = []
+        for tooth, radius_m in requests:
+            r = self.flank_r[tooth]
+            e = self.flank_edges[tooth]
+            R = np.atleast_1d(np.asarray(radius_m, dtype=float))
+            lo, hi = r[e[:, 0]], r[e[:, 2]]
+            k = np.clip(np.searchsorted(hi, R, side="left"), 0, len(e) - 1)
+            if np.any(R < lo[0] - 1e-12) or np.any(R > hi[-1] + 1e-12):
+                raise ValueError(
+                    f"flank point outside the condensed range of tooth {tooth} "
+                    f"({R.min() * 1e3:.4f}..{R.max() * 1e3:.4f} mm)"
+                )
+            parts.append((R, self.flank_xy[tooth][e[k]], self.flank_b[tooth][e[k]]))
+        R = np.concatenate([p[0] for p in parts])
+        ends = np.concatenate([p[1] for p in parts])  # (n, 3, 2): v0, mid, v1 of each point's edge
+        t = quadratic_parameter(involute_point(self.gear, R), ends[:, 0], ends[:, 1], ends[:, 2])
         w = np.column_stack([(1 - t) * (1 - 2 * t), 4 * t * (1 - t), t * (2 * t - 1)])
-        return self.flank_b[tooth][e[k]], w
+        cut = np.cumsum([len(p[0]) for p in parts])[:-1]
+        return [(p[2], wi) for p, wi in zip(parts, np.split(w, cut))]
 
     def node_index(self, radius_m: np.ndarray) -> np.ndarray:
         """Tooth-0 flank node positions (in flank_r[0]) nearest to the radii."""

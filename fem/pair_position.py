@@ -69,32 +69,60 @@ class PositionSolution:
     blank_torque_Nm: tuple = (0.0, 0.0)
 
 
-def _reps(body: GearBody, c: dict, gi: int, delta_tooth: int, at_nodes: bool = True):
-    """(positions (n, 6), coefficients (n, 6)) of the candidates of c on body gi,
-    read or loaded on the body's tooth ``delta_tooth`` (relative to the load tooth).
-    Slave points on the load tooth are its nodes (``at_nodes``, the healthy body whose
-    tooth 0 they were taken from); otherwise P2 edge weights at the point's radius."""
-    z = body.gear.teeth
-    ang = 2.0 * math.pi * delta_tooth / z
-    dirs = c["dirs"][gi] @ rot(ang).T
+def _rep_request(c: dict, gi: int, delta_tooth: int, at_nodes: bool = True):
+    """Where candidate c is read on body gi, tooth ``delta_tooth`` (relative to the load
+    tooth): None for the slave's own nodes (``at_nodes``: the healthy body whose tooth 0
+    they were taken from), else (tooth, radii) for P2 edge weights."""
     if at_nodes and gi == c["slave"] and delta_tooth == 0 and c["nodes"] is not None:
+        return None
+    return delta_tooth, (c["R"] if gi == c["slave"] else c["rF"])
+
+
+def _rep_of(body: GearBody, c: dict, gi: int, delta_tooth: int, weights) -> tuple:
+    """(positions (n, 6), coefficients (n, 6)) of candidate c on body gi, tooth
+    ``delta_tooth``, from its edge weights ``weights`` ((positions, weights) (n, 3) each)
+    or at its nodes (None)."""
+    z = body.gear.teeth
+    dirs = c["dirs"][gi] @ rot(2.0 * math.pi * delta_tooth / z).T
+    if weights is None:
         b = body.flank_b[0][c["nodes"]]
         idx = np.column_stack([b, b, b])
         wts = np.zeros((len(b), 3))
         wts[:, 0] = 1.0
     else:
-        R = c["R"] if gi == c["slave"] else c["rF"]
-        idx, wts = body.edge_weights(delta_tooth, R)
+        idx, wts = weights
     idx6 = np.concatenate([idx, idx + 1], axis=1)
     coef6 = np.concatenate([wts * dirs[:, :1], wts * dirs[:, 1:]], axis=1)
     return idx6, coef6
 
 
+def _reps(body: GearBody, c: dict, gi: int, delta_tooth: int, at_nodes: bool = True):
+    """(positions (n, 6), coefficients (n, 6)) of the candidates of c on body gi,
+    read or loaded on the body's tooth ``delta_tooth`` (relative to the load tooth).
+    Slave points on the load tooth are its nodes (``at_nodes``, the healthy body whose
+    tooth 0 they were taken from); otherwise P2 edge weights at the point's radius."""
+    req = _rep_request(c, gi, delta_tooth, at_nodes)
+    return _rep_of(body, c, gi, delta_tooth, None if req is None else body.edge_weights(*req))
+
+
 def _reps_memo(body: GearBody, cands: list, gi: int, cracked_tooth: int | None) -> Callable[[int, int], tuple]:
     """rep(k, dt): _reps of candidate k on body gi, each computed once. Healthy body
     (``cracked_tooth`` None): read dt teeth from the load tooth; cracked body: on the
-    candidate's own tooth relative to the cracked one, whatever dt."""
+    candidate's own tooth relative to the cracked one, whatever dt. On a healthy body
+    every (k, dt) a position needs (each candidate read on the tooth of every load, and
+    on its own) is computed up front, the edge weights in one batch
+    (GearBody.edge_weights_many)."""
     memo: dict = {}
+    if cracked_tooth is None:
+        keys = sorted(
+            {(a, ca["teeth"][gi] - cb["teeth"][gi]) for a, ca in enumerate(cands) for cb in cands}
+            | {(b, 0) for b in range(len(cands))}
+        )
+        reqs = {key: _rep_request(cands[key[0]], gi, key[1]) for key in keys}
+        edge = [key for key in keys if reqs[key] is not None]
+        weights = dict(zip(edge, body.edge_weights_many([reqs[key] for key in edge]))) if edge else {}
+        for key in keys:
+            memo[key] = _rep_of(body, cands[key[0]], gi, key[1], weights.get(key))
 
     def rep(k: int, dt: int) -> tuple:
         key = (k, dt) if cracked_tooth is None else k
