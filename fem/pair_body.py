@@ -30,13 +30,15 @@ flexibility of B is the inverse of the Schur complement
 
     S = K_BB - K_BI K_II^-1 K_IB,      G = S^-1 = (K^-1)_BB      (m/N)
 
-(Maxwell-Betti: G is symmetric). It is obtained from one sparse LU factorization
-of K (SuperLU, no pivoting) with the interior dofs I first (METIS nested dissection of
-the node graph of K_II) and B last: the trailing blocks of the factors are
-S = L_BB U_BB = L_BB D L_BB^T, so G follows from one dense Cholesky inversion (LAPACK
-dpotri). This replaces one sparse solve per flank node (about 30 ms each for 117k dofs,
-i.e. ~25 s for 900 nodes), and gives the full 2 x 2 blocks (every force direction) at
-once. benchmarks/bench_fem_solvers.py compares the sparse solvers that install here.
+(Maxwell-Betti: G is symmetric). fem.condensation computes it from one sparse LU
+factorization (SuperLU, no pivoting) of the arrowhead [[K_II, 0], [K_BI, I]] with the
+interior dofs I first (METIS nested dissection of the node graph) and B last: the border
+of the factors is L_BI = K_BI L_II^-T D^-1, so S = K_BB - L_BI D L_BI^T (read in place from
+SuperLU's supernodal store, fem.superlu_store), and G follows from one dense Cholesky
+factorization and inversion (LAPACK dpotrf, dpotri). This replaces one sparse solve per
+flank node (about 30 ms each for 117k dofs, i.e. ~25 s for 900 nodes), and gives the full
+2 x 2 blocks (every force direction) at once. benchmarks/bench_fem_solvers.py compares
+the sparse solvers that install here.
 
 The blank's reference circle (r_ref = r_f - 2 m, not below the bore;
 :func:`blank_reference_radius_m`) is read as a least-squares rigid motion of 16 z
