@@ -62,6 +62,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
+from typing import Callable
 
 import numpy as np
 
@@ -82,6 +83,7 @@ __all__ = [
     "GearBody",
     "CrackedBody",
     "build_body",
+    "body_builder",
     "build_cracked_body",
     "involute_point",
     "rot",
@@ -318,12 +320,15 @@ def _mesh_body(
     refined: int = 0,
     crack: Crack | None = None,
     crack_tip_size_m: float | None = None,
+    staged: bool = False,
 ):
     """Mesh and assemble a gear body: tooth 0's drive flank (and those of teeth
     -refined .. +refined) refined to h_c over the candidate range, teeth up to
     +-neighbours at the near size, the rest at the far size; ``crack`` cut into tooth 0.
     Returns (gmsh mesh, model, the drive-flank node sets as a function of
-    {tooth: radius range}, crack (mouth, tip) or None, timings)."""
+    {tooth: radius range}, crack (mouth, tip) or None, timings); ``staged``: meshes
+    (Gmsh, in the calling thread) and returns the rest (the assembly) as a function of
+    no arguments that returns the same tuple and may run in any thread."""
     t0 = time.perf_counter()
     g = gear
     z = g.teeth
@@ -396,6 +401,16 @@ def _mesh_body(
         crack_tip_size_m=crack_tip_size_m if crack is not None else None,
     )
     t1 = time.perf_counter()
+    rest = lambda: _assembled(gm, material, face_width_m, plane, g, sizes, refined, crack_xy, t1 - t0)  # noqa: E731
+    return rest if staged else rest()
+
+
+def _assembled(
+    gm, material: Material, face_width_m: float, plane: str, g: GearSpec, sizes, refined: int, crack_xy, mesh_s
+):
+    """The second half of :func:`_mesh_body`: the assembly of the meshed body ``gm`` and
+    its drive-flank node sets."""
+    t1 = time.perf_counter()
     model = assemble(gm.mesh, material, face_width_m, gm.boundaries["bore"], plane=plane, order=2, factorize=False)
     t2 = time.perf_counter()
     if not np.all(model.basis.nodal_dofs[1].take(0) == model.basis.nodal_dofs[0].take(0) + 1):
@@ -416,7 +431,7 @@ def _mesh_body(
             )
         return flank_r, flank_xy, flank_dofs, flank_edges
 
-    return gm, model, flanks, crack_xy, {"mesh_s": t1 - t0, "assemble_s": t2 - t1}
+    return gm, model, flanks, crack_xy, {"mesh_s": mesh_s, "assemble_s": t2 - t1}
 
 
 def blank_reference_radius_m(gear: GearSpec) -> float:
@@ -502,6 +517,31 @@ def _condensed(
     )
 
 
+def body_builder(
+    gear: GearSpec,
+    material: Material,
+    face_width_m: float,
+    nominal: ToothProfile,
+    sizes: BodySizes,
+    r_lo: float,
+    neighbours: int,
+    centre_y: tuple[float, float],
+    plane: str = "stress",
+) -> Callable[[], GearBody]:
+    """:func:`build_body` in two stages: mesh the body now (Gmsh, in the calling thread:
+    Gmsh is one per process and resets the signal handlers when it starts) and return the
+    rest (assembly and condensation) as a function of no arguments, which may run in
+    another thread (fem.pair_model overlaps it with the meshing of the other gear)."""
+    rest = _mesh_body(gear, material, face_width_m, nominal, sizes, r_lo, neighbours, plane, staged=True)
+
+    def finish() -> GearBody:
+        gm, model, flanks, _, timings = rest()
+        ranges = {t: (r_lo, gear.tip_radius_m) for t in range(-neighbours, neighbours + 1)}
+        return _condensed(GearBody, gear, sizes, r_lo, gm, model, flanks(ranges), centre_y, timings)
+
+    return finish
+
+
 def build_body(
     gear: GearSpec,
     material: Material,
@@ -520,9 +560,7 @@ def build_body(
     neighbours  teeth +-1 .. +-neighbours are condensed too (cross-tooth coupling)
     centre_y    (y_lo, y_hi) heights of tooth 0's centre line to be readable
     """
-    gm, model, flanks, _, timings = _mesh_body(gear, material, face_width_m, nominal, sizes, r_lo, neighbours, plane)
-    ranges = {t: (r_lo, gear.tip_radius_m) for t in range(-neighbours, neighbours + 1)}
-    return _condensed(GearBody, gear, sizes, r_lo, gm, model, flanks(ranges), centre_y, timings)
+    return body_builder(gear, material, face_width_m, nominal, sizes, r_lo, neighbours, centre_y, plane)()
 
 
 def build_cracked_body(
