@@ -121,3 +121,46 @@ def test_condensed_flexibility_without_the_in_place_read(model, monkeypatch):
     G2, h2, _ = _condensed_flexibility(model, xd, a)
     assert np.max(np.abs(G2 - G)) <= 1e-12 * np.max(np.abs(G))
     assert np.max(np.abs(h2 - h)) <= 1e-12 * np.max(np.abs(h))
+
+
+def test_two_bodies_built_overlapped_equal_the_serial_builds(monkeypatch):
+    """fem.pair_model builds two distinct bodies overlapped (the first one's condensation in
+    a worker thread while the second is meshed): the same bodies to the bit as built one
+    after the other (an executor that runs each task at once, in this thread).
+    DRIVER_LARGER (47/23, shifted), coarse sizes."""
+    from concurrent.futures import Future
+
+    from gearwear.fem import pair_model as pmod
+
+    from pairs import DRIVER_LARGER
+
+    class AtOnce:
+        def __init__(self, **kw):
+            pass
+
+        def __enter__(self):
+            return self
+
+        def __exit__(self, *exc):
+            return False
+
+        def submit(self, fn):
+            fut = Future()
+            fut.set_result(fn())
+            return fut
+
+    def bodies():
+        pmod._BODY_CACHE.clear()
+        pm = pmod.pair_model(DRIVER_LARGER, contact_scale=3.0, mesh_scale=2.0)
+        pmod._BODY_CACHE.clear()
+        assert pm.bodies[0] is not pm.bodies[1]
+        assert {"gear0_factorize_s", "gear1_factorize_s"} <= set(pm.timings)
+        return pm.bodies
+
+    overlapped = bodies()
+    monkeypatch.setattr(pmod, "ThreadPoolExecutor", AtOnce)
+    serial = bodies()
+    for a, b in zip(overlapped, serial):
+        assert a.gear == b.gear
+        assert np.array_equal(a.G, b.G) and np.array_equal(a.blank_h, b.blank_h)
+        assert np.array_equal(a.dofs, b.dofs)
