@@ -11,7 +11,9 @@ built once per pair, torque and clearance (SI units: m, N, rad, Pa).
   with a root crack the cracked body of that gear (fem.pair_body.build_cracked_body, the
   teeth that can be candidates together with the cracked one refined alike). Bodies are
   cached in-process (wear states, faults and worker chunks of one pair share them; one
-  build at a time per process);
+  build at a time per process); two distinct bodies are built overlapped, the first one's
+  assembly and condensation in a worker thread while the second is meshed
+  (:func:`_healthy_bodies`);
 * per gear the depth of the drive flank (wear, geometry.wear.flank_depth, plus the profile
   modifications and measured deviations of geometry.flank) along the nominal profile:
   the FE bodies keep the nominal flanks, the depths enter the contact as initial gaps
