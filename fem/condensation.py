@@ -3,12 +3,13 @@ G = (K^-1)_BB = S^-1 of the Schur complement S = K_BB - K_BI K_II^-1 K_IB (m/N),
 readings h = (K^-1 a)_B of given functionals, from one sparse factorization (SI units).
 
 The free dofs are ordered interior first (METIS nested dissection of the node graph,
-:func:`interior_order`) and B last, and factorized by SuperLU without pivoting (K is
-symmetric positive definite). The trailing blocks of the factors are then the Schur
-complement, S = L_BB U_BB = L_BB D L_BB^T, so G follows from one dense Cholesky inversion
-(LAPACK dpotri) of C = L_BB D^1/2. L_BB is read from SuperLU's supernodal store in place
-(fem.superlu_trailing: no conversion of the whole factors, which costs as much as the
-factorization); one solve with the same factors checks G on a random load on B.
+:func:`node_graph_order`) and B last. SuperLU factorizes, without pivoting (K is symmetric
+positive definite), the arrowhead M = [[K_II, 0], [K_BI, I]]: its factors carry the border
+L_BI = K_BI L_II^-T D^-1, read in place from SuperLU's supernodal store (fem.superlu_store:
+no conversion of the whole factors, which costs as much as the factorization), so
+S = K_BB - L_BI D L_BI^T (:func:`schur_from_border`) and G = S^-1 by one dense Cholesky
+factorization and inversion (LAPACK dpotrf, dpotri). One solve with the same factors
+checks S on a random vector (:func:`condensed_flexibility`).
 """
 
 from __future__ import annotations

@@ -1,26 +1,29 @@
-"""The trailing block of SuperLU's factors read in place, without converting the factors.
+"""SuperLU's L factor read in place, without converting the factors (SI-free: indices and
+the factor's values).
 
 scipy's ``SuperLU`` object gives its factors only as whole CSC matrices (``lu.L``,
 ``lu.U``): one conversion of SuperLU's supernodal storage copies every nonzero of both
-(15.6M for the paper pinion, about 1.2-1.4 s, as long as the factorization itself). The
-static condensation of fem.pair_body needs only the trailing m x m block of L (the last
-m columns, m = 2142 of 89808) and the diagonal of U there. Both lie in L's supernodal
-store (SuperLU's ``SCformat``; Demmel, Eisenstat, Gilbert, Li & Liu, SIAM J. Matrix Anal.
-Appl. 20 (1999) 720): a supernode of columns fsupc .. lsupc - 1 keeps, for each of its
-columns j, one dense column of nsupr values over the supernode's row list
+(10-16M for a paper pinion body, about 1.2-1.4 s, as long as the factorization itself).
+The static condensation of fem.condensation needs only the pivots and the border rows of
+L (its last m rows, m = 2142 of 89808). Both lie in L's supernodal store (SuperLU's
+``SCformat``; Demmel, Eisenstat, Gilbert, Li & Liu, SIAM J. Matrix Anal. Appl. 20 (1999)
+720): a supernode of columns fsupc .. lsupc - 1 keeps, for each of its columns j, one
+dense column of nsupr values over the supernode's row list
 ``rowind[rowind_colptr[fsupc] : rowind_colptr[fsupc + 1]]``, whose rows < j are U's
 entries inside the supernode, row j is U's diagonal (the pivot) and rows > j are L's
 (L's unit diagonal is implicit). This module views that store through the object's C
 layout (scipy/sparse/linalg/_dsolve/_superluobject.h: ``PyObject_HEAD; npy_intp m, n;
 SuperMatrix L, U; int *perm_r, *perm_c; ...``; ``SuperMatrix`` = three enums, nrow,
-ncol, ``void *Store``) and copies the few supernodes that cover the last m columns.
+ncol, ``void *Store``) as numpy arrays (:func:`supernodal_store`) and gathers the border
+(:func:`border_rows`).
 
 The layout is checked before anything is read (the object's sizes, L of storage type
 SLU_SC, double, lower-trapezoidal unit; U of type SLU_NC; the permutations equal the
 public ``perm_r``, ``perm_c``; the supernode maps consistent with n and with each
-column's length); on any mismatch :func:`trailing_block` returns None and the caller
-converts the factors instead. fem.pair_body also checks the condensed result against an
-independent solve with the same factors (``lu.solve``).
+column's length; every supernode's row list starting with its own columns); on any
+mismatch :func:`supernodal_store` returns None and the caller converts the factors
+instead. fem.condensation also checks the Schur complement against an independent solve
+with the same factors (``lu.solve``).
 """
 
 from __future__ import annotations
