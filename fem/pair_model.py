@@ -190,9 +190,10 @@ def _healthy_bodies(keys: list, builders: list) -> list[tuple[GearBody, bool]]:
             _BODY_CACHE[k] = body
         while len(_BODY_CACHE) > _BODY_CACHE_SIZE:
             _BODY_CACHE.popitem(last=False)
-        out, told = [], set()
+        out: list[tuple[GearBody, bool]] = []
+        told: set = set()
         for k in keys:
-            out.append((built.get(k, have.get(k)), k in built and k not in told))
+            out.append((built[k] if k in built else have[k], k in built and k not in told))
             told.add(k)
         return out
 
