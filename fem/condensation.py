@@ -88,16 +88,16 @@ def mirror_lower(A: np.ndarray, block: int = 256) -> np.ndarray:
     return A
 
 
-def _border(lu, o: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """(i, j, v, d): the border L_BI of the arrowhead factorization (:func:`condensed_flexibility`),
-    L[o + i, j] = v for j < o, and the pivots d = diag U, read in place
-    (fem.superlu_store), or through scipy's conversion of the whole factors when that store
-    is not available."""
+def _border(lu, o: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, bool]:
+    """(i, j, v, d, in_place): the border L_BI of the arrowhead factorization
+    (:func:`condensed_flexibility`), L[o + i, j] = v for j < o, and the pivots d = diag U,
+    read in place (fem.superlu_store; in_place True), or through scipy's conversion of the
+    whole factors when that store is not available."""
     store = supernodal_store(lu)
     if store is not None:
-        return (*border_rows(store, o), store.pivots())
+        return (*border_rows(store, o), store.pivots(), True)
     L = lu.L[o:, :o].tocoo()
-    return L.row, L.col, L.data, lu.U.diagonal()
+    return L.row, L.col, L.data, lu.U.diagonal(), False
 
 
 def schur_from_border(Kbb, i, j, v, d, dense_from: int = DENSE_COLUMN_ROWS) -> np.ndarray:
@@ -199,7 +199,7 @@ def condensed_flexibility(
     if not (np.array_equal(lu.perm_r, np.arange(n)) and np.array_equal(lu.perm_c, np.arange(n))):
         raise RuntimeError("SuperLU reordered the condensed system; the border is not L_BI")
     t2 = time.perf_counter()
-    i, j, v, d = _border(lu, o)
+    i, j, v, d, in_place = _border(lu, o)
     if not np.all(d[:o] > 0):
         raise RuntimeError("the interior stiffness is not positive definite")
     S = schur_from_border(Kp[o:, o:], i, j, v, d)
@@ -225,5 +225,6 @@ def condensed_flexibility(
             "flexibility_s": t3 - t2,
             "condensed_dofs": m,
             "factor_nnz": int(lu.nnz),
+            "factor_read_in_place": int(in_place),
         },
     )

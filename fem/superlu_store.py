@@ -29,6 +29,7 @@ with the same factors (``lu.solve``).
 from __future__ import annotations
 
 import ctypes
+import sys
 from dataclasses import dataclass
 
 import numpy as np
@@ -40,8 +41,7 @@ _SLU_NC, _SLU_SC = 0, 3  # Stype_t: column-wise, supernodal
 _SLU_D = 1  # Dtype_t: double
 _SLU_TRLU, _SLU_TRU = 1, 4  # Mtype_t: lower trapezoidal with unit diagonal, upper triangular
 
-_PTR = ctypes.sizeof(ctypes.c_void_p)
-_HEAD = ctypes.sizeof(ctypes.c_ssize_t) + _PTR  # PyObject_HEAD: refcount, type
+_HEAD = object.__basicsize__  # sizeof(PyObject): PyObject_HEAD of this interpreter's build
 
 
 class _SuperMatrix(ctypes.Structure):
@@ -88,8 +88,8 @@ def _store(lu):
     """(SCformat of L, n) of the SuperLU object ``lu``, or None when its C layout is not
     the expected one."""
     n = int(lu.shape[0])
-    if lu.shape != (n, n) or n == 0:
-        return None
+    if lu.shape != (n, n) or n == 0 or sys.implementation.name != "cpython":
+        return None  # id() is the object's address in CPython only
     obj = _LUObject.from_address(id(lu))
     L, U = obj.L, obj.U
     if (obj.m, obj.n) != (n, n) or (L.nrow, L.ncol, U.nrow, U.ncol) != (n, n, n, n):

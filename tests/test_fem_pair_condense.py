@@ -116,9 +116,11 @@ def test_condensed_flexibility_without_the_in_place_read(model, monkeypatch):
     xd = np.unique(model.basis.get_dofs(facets=top).all("u^1"))
     xd = xd[model.basis.doflocs[0, xd] > 0.0]
     a = np.random.default_rng(3).standard_normal((2, model.ndofs))
-    G, h, _ = _condensed_flexibility(model, xd, a)
+    G, h, tim = _condensed_flexibility(model, xd, a)
+    assert tim["factor_read_in_place"] == 1
     monkeypatch.setattr(condensation, "supernodal_store", lambda lu: None)
-    G2, h2, _ = _condensed_flexibility(model, xd, a)
+    G2, h2, tim2 = _condensed_flexibility(model, xd, a)
+    assert tim2["factor_read_in_place"] == 0
     assert np.max(np.abs(G2 - G)) <= 1e-12 * np.max(np.abs(G))
     assert np.max(np.abs(h2 - h)) <= 1e-12 * np.max(np.abs(h))
 
