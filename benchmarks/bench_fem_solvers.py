@@ -9,12 +9,14 @@ On the real system of the paper pair's body (K_ff, B and a exactly as fem.pair_b
 them), each candidate that installs here as a wheel computes (G, h); the table gives its
 wall time (ordering + factorization + the solves or the Schur complement for G and h, best
 of RUNS, the direct candidates run in turns) and its accuracy max |G - G_ref| / max |G_ref|
-(and the same for h) against the current solver (fem.pair_body._condensed_flexibility:
-SuperLU with B last, G from the trailing factor blocks):
+(and the same for h) against the current solver (fem.condensation.condensed_flexibility:
+SuperLU of the arrowhead [[K_II, 0], [K_BI, I]], S from the border L_BI read in place):
 
-* scipy SuperLU, B last: the current solver (interior in METIS nested dissection of the
-  node graph, pymetis), and the interior ordered by SuperLU's MMD (the order before), by
-  COLAMD, or by METIS on the dof graph;
+* scipy SuperLU: the current solver (the arrowhead, interior in METIS nested dissection of
+  the node graph, pymetis); K with B last and G from the trailing factor blocks of scipy's
+  converted factors (the solver before issue 27's arrowhead) with the interior ordered by
+  the same METIS node graph, by SuperLU's MMD (the order before METIS), by COLAMD, or by
+  METIS on the dof graph;
 * scipy SuperLU of K_ff (minimum degree) and m + 3 solves with the identity columns of B
   (the plain way, without the Schur complement);
 * CHOLMOD through cholespy (supernodal Cholesky, its own ordering): factorization and the
@@ -55,7 +57,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from threadpoolctl import threadpool_limits
 
-from gearwear.fem.pair_body import _condensed_flexibility, blank_reading
+from gearwear.fem.pair_body import _condensed_flexibility, _interior_order, blank_reading
 from gearwear.fem.pair_model import _BODY_CACHE, pair_model
 from gearwear.geometry.spec import default_pair
 
@@ -342,12 +344,17 @@ def main():
     # the direct candidates (G and h whole) in turns, RUNS rounds: each sees the same load
     direct = [
         (
-            "scipy SuperLU, B last, METIS node graph (current)",
+            "scipy SuperLU arrowhead, METIS node graph (current)",
             lambda: superlu_current(model, xd, a_full),
-            "fem.pair_body: Schur from the trailing factor blocks",
+            "fem.condensation: S = K_BB - L_BI D L_BI^T from the border read in place",
         )
     ]
-    variants = (("MMD (before)", mmd_order), ("COLAMD", colamd_order), ("METIS dof graph", metis_dof_order))
+    variants = (
+        ("METIS node graph (trailing blocks, before)", _interior_order),
+        ("MMD", mmd_order),
+        ("COLAMD", colamd_order),
+        ("METIS dof graph", metis_dof_order),
+    )
     for label, order in variants:
         direct.append(
             (

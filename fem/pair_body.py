@@ -30,13 +30,15 @@ flexibility of B is the inverse of the Schur complement
 
     S = K_BB - K_BI K_II^-1 K_IB,      G = S^-1 = (K^-1)_BB      (m/N)
 
-(Maxwell-Betti: G is symmetric). It is obtained from one sparse LU factorization
-of K (SuperLU, no pivoting) with the interior dofs I first (METIS nested dissection of
-the node graph of K_II) and B last: the trailing blocks of the factors are
-S = L_BB U_BB = L_BB D L_BB^T, so G follows from one dense Cholesky inversion (LAPACK
-dpotri). This replaces one sparse solve per flank node (about 30 ms each for 117k dofs,
-i.e. ~25 s for 900 nodes), and gives the full 2 x 2 blocks (every force direction) at
-once. benchmarks/bench_fem_solvers.py compares the sparse solvers that install here.
+(Maxwell-Betti: G is symmetric). fem.condensation computes it from one sparse LU
+factorization (SuperLU, no pivoting) of the arrowhead [[K_II, 0], [K_BI, I]] with the
+interior dofs I first (METIS nested dissection of the node graph) and B last: the border
+of the factors is L_BI = K_BI L_II^-T D^-1, so S = K_BB - L_BI D L_BI^T (read in place from
+SuperLU's supernodal store, fem.superlu_store), and G follows from one dense Cholesky
+factorization and inversion (LAPACK dpotrf, dpotri). This replaces one sparse solve per
+flank node (about 30 ms each for 117k dofs, i.e. ~25 s for 900 nodes), and gives the full
+2 x 2 blocks (every force direction) at once. benchmarks/bench_fem_solvers.py compares
+the sparse solvers that install here.
 
 The blank's reference circle (r_ref = r_f - 2 m, not below the bore;
 :func:`blank_reference_radius_m`) is read as a least-squares rigid motion of 16 z
@@ -60,13 +62,9 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
+from typing import Callable
 
 import numpy as np
-import pymetis
-import scipy.linalg as sla
-import scipy.sparse as sp
-import scipy.sparse.linalg as spla
-from threadpoolctl import threadpool_limits
 
 from gearwear.fem.mesh import MeshSizes, mesh_full_gear
 from gearwear.geometry.crack import Crack, crack_mouth_arc
@@ -76,6 +74,8 @@ from gearwear.geometry.profile import FILLET, INVOLUTE, ROOT_LAND, ToothProfile,
 from gearwear.geometry.sampling import profile_at, region_junctions
 from gearwear.geometry.spec import GearSpec, Material
 
+from .condensation import condensed_flexibility as _condensed_flexibility
+from .condensation import interior_order as _interior_order  # noqa: F401 (the tests' and benchmarks' name)
 from .elasticity import ElasticModel, assemble
 
 __all__ = [
@@ -83,6 +83,7 @@ __all__ = [
     "GearBody",
     "CrackedBody",
     "build_body",
+    "body_builder",
     "build_cracked_body",
     "involute_point",
     "rot",
@@ -210,20 +211,31 @@ class GearBody:
         """(B positions (n, 3), weights (n, 3)) of points of tooth ``tooth``'s drive
         flank at radii R: P2 edge shape functions at the edge parameter of the
         involute point at R (its projection onto the curved edge)."""
-        r = self.flank_r[tooth]
-        xy = self.flank_xy[tooth]
-        e = self.flank_edges[tooth]
-        R = np.atleast_1d(np.asarray(radius_m, dtype=float))
-        lo, hi = r[e[:, 0]], r[e[:, 2]]
-        k = np.clip(np.searchsorted(hi, R, side="left"), 0, len(e) - 1)
-        if np.any(R < lo[0] - 1e-12) or np.any(R > hi[-1] + 1e-12):
-            raise ValueError(
-                f"flank point outside the condensed range of tooth {tooth} "
-                f"({R.min() * 1e3:.4f}..{R.max() * 1e3:.4f} mm)"
-            )
-        t = quadratic_parameter(involute_point(self.gear, R), xy[e[k, 0]], xy[e[k, 1]], xy[e[k, 2]])
+        return self.edge_weights_many([(tooth, radius_m)])[0]
+
+    def edge_weights_many(self, requests: list) -> list[tuple[np.ndarray, np.ndarray]]:
+        """:meth:`edge_weights` of every (tooth, radii) of ``requests``, the projections
+        onto the curved edges done together (they are independent per point: the same
+        numbers as one call per request, for a fraction of the calls)."""
+        parts = []
+        for tooth, radius_m in requests:
+            r = self.flank_r[tooth]
+            e = self.flank_edges[tooth]
+            R = np.atleast_1d(np.asarray(radius_m, dtype=float))
+            lo, hi = r[e[:, 0]], r[e[:, 2]]
+            k = np.clip(np.searchsorted(hi, R, side="left"), 0, len(e) - 1)
+            if np.any(R < lo[0] - 1e-12) or np.any(R > hi[-1] + 1e-12):
+                raise ValueError(
+                    f"flank point outside the condensed range of tooth {tooth} "
+                    f"({R.min() * 1e3:.4f}..{R.max() * 1e3:.4f} mm)"
+                )
+            parts.append((R, self.flank_xy[tooth][e[k]], self.flank_b[tooth][e[k]]))
+        R = np.concatenate([p[0] for p in parts])
+        ends = np.concatenate([p[1] for p in parts])  # (n, 3, 2): v0, mid, v1 of each point's edge
+        t = quadratic_parameter(involute_point(self.gear, R), ends[:, 0], ends[:, 1], ends[:, 2])
         w = np.column_stack([(1 - t) * (1 - 2 * t), 4 * t * (1 - t), t * (2 * t - 1)])
-        return self.flank_b[tooth][e[k]], w
+        cut = np.cumsum([len(p[0]) for p in parts])[:-1]
+        return [(p[2], wi) for p, wi in zip(parts, np.split(w, cut))]
 
     def node_index(self, radius_m: np.ndarray) -> np.ndarray:
         """Tooth-0 flank node positions (in flank_r[0]) nearest to the radii."""
@@ -308,12 +320,15 @@ def _mesh_body(
     refined: int = 0,
     crack: Crack | None = None,
     crack_tip_size_m: float | None = None,
+    staged: bool = False,
 ):
     """Mesh and assemble a gear body: tooth 0's drive flank (and those of teeth
     -refined .. +refined) refined to h_c over the candidate range, teeth up to
     +-neighbours at the near size, the rest at the far size; ``crack`` cut into tooth 0.
     Returns (gmsh mesh, model, the drive-flank node sets as a function of
-    {tooth: radius range}, crack (mouth, tip) or None, timings)."""
+    {tooth: radius range}, crack (mouth, tip) or None, timings); ``staged``: meshes
+    (Gmsh, in the calling thread) and returns the rest (the assembly) as a function of
+    no arguments that returns the same tuple and may run in any thread."""
     t0 = time.perf_counter()
     g = gear
     z = g.teeth
@@ -386,6 +401,16 @@ def _mesh_body(
         crack_tip_size_m=crack_tip_size_m if crack is not None else None,
     )
     t1 = time.perf_counter()
+    rest = lambda: _assembled(gm, material, face_width_m, plane, g, sizes, refined, crack_xy, t1 - t0)  # noqa: E731
+    return rest if staged else rest()
+
+
+def _assembled(
+    gm, material: Material, face_width_m: float, plane: str, g: GearSpec, sizes, refined: int, crack_xy, mesh_s
+):
+    """The second half of :func:`_mesh_body`: the assembly of the meshed body ``gm`` and
+    its drive-flank node sets."""
+    t1 = time.perf_counter()
     model = assemble(gm.mesh, material, face_width_m, gm.boundaries["bore"], plane=plane, order=2, factorize=False)
     t2 = time.perf_counter()
     if not np.all(model.basis.nodal_dofs[1].take(0) == model.basis.nodal_dofs[0].take(0) + 1):
@@ -406,7 +431,7 @@ def _mesh_body(
             )
         return flank_r, flank_xy, flank_dofs, flank_edges
 
-    return gm, model, flanks, crack_xy, {"mesh_s": t1 - t0, "assemble_s": t2 - t1}
+    return gm, model, flanks, crack_xy, {"mesh_s": mesh_s, "assemble_s": t2 - t1}
 
 
 def blank_reference_radius_m(gear: GearSpec) -> float:
@@ -492,6 +517,31 @@ def _condensed(
     )
 
 
+def body_builder(
+    gear: GearSpec,
+    material: Material,
+    face_width_m: float,
+    nominal: ToothProfile,
+    sizes: BodySizes,
+    r_lo: float,
+    neighbours: int,
+    centre_y: tuple[float, float],
+    plane: str = "stress",
+) -> Callable[[], GearBody]:
+    """:func:`build_body` in two stages: mesh the body now (Gmsh, in the calling thread:
+    Gmsh is one per process and resets the signal handlers when it starts) and return the
+    rest (assembly and condensation) as a function of no arguments, which may run in
+    another thread (fem.pair_model overlaps it with the meshing of the other gear)."""
+    rest = _mesh_body(gear, material, face_width_m, nominal, sizes, r_lo, neighbours, plane, staged=True)
+
+    def finish() -> GearBody:
+        gm, model, flanks, _, timings = rest()
+        ranges = {t: (r_lo, gear.tip_radius_m) for t in range(-neighbours, neighbours + 1)}
+        return _condensed(GearBody, gear, sizes, r_lo, gm, model, flanks(ranges), centre_y, timings)
+
+    return finish
+
+
 def build_body(
     gear: GearSpec,
     material: Material,
@@ -510,9 +560,7 @@ def build_body(
     neighbours  teeth +-1 .. +-neighbours are condensed too (cross-tooth coupling)
     centre_y    (y_lo, y_hi) heights of tooth 0's centre line to be readable
     """
-    gm, model, flanks, _, timings = _mesh_body(gear, material, face_width_m, nominal, sizes, r_lo, neighbours, plane)
-    ranges = {t: (r_lo, gear.tip_radius_m) for t in range(-neighbours, neighbours + 1)}
-    return _condensed(GearBody, gear, sizes, r_lo, gm, model, flanks(ranges), centre_y, timings)
+    return body_builder(gear, material, face_width_m, nominal, sizes, r_lo, neighbours, centre_y, plane)()
 
 
 def build_cracked_body(
@@ -552,113 +600,4 @@ def build_cracked_body(
         crack_xy=crack_xy,
         crack_tip_size_m=crack_tip_size_m,
         refined=refined,
-    )
-
-
-def _interior_order(Kii) -> np.ndarray:
-    """Fill-reducing order of the interior block K_II (positions, new -> old): METIS's
-    multilevel nested dissection (METIS_NodeND through pymetis; Karypis & Kumar, SIAM J.
-    Sci. Comput. 20 (1998) 359) of the graph of the mesh nodes, each node's x and y dofs
-    kept together (2 k, 2 k + 1; the dofs of K_II come in such pairs).
-
-    Why: on a 2D mesh nested dissection leaves O(n log n) fill against the larger fill of
-    minimum degree; for the paper pinion (88k interior dofs, B = 2142 last) SuperLU's
-    factors have 15.6M nonzeros with it against 21.2M with SuperLU's own MMD order, and the
-    factorization and the read-out of L take a third less time
-    (benchmarks/bench_fem_solvers.py). The node graph is half the size of the dof graph
-    (faster ordering, same fill). METIS's default seed is fixed: the order, and so every
-    result, is the same in every run and worker process."""
-    n = Kii.shape[0]
-    if n % 2:
-        raise RuntimeError("the interior dofs do not come in (x, y) pairs")
-    A = abs(Kii)
-    to_node = sp.csr_matrix((np.ones(n), (np.arange(n), np.arange(n) // 2)), shape=(n, n // 2))
-    nodes = (to_node.T @ (A + A.T) @ to_node).tocsr()  # node i ~ node j where any dofs couple
-    nodes.setdiag(0)
-    nodes.eliminate_zeros()
-    perm = np.asarray(pymetis.nested_dissection(pymetis.CSRAdjacency(nodes.indptr, nodes.indices))[0])
-    return np.column_stack([2 * perm, 2 * perm + 1]).ravel()
-
-
-def _trailing_block(lu, m: int) -> tuple[np.ndarray, np.ndarray]:
-    """(L_BB dense (m, m) unit lower, diag(U_BB) (m,)) of the trailing m x m block of
-    SuperLU's factors. L is lower triangular, so its last m columns (a contiguous CSC
-    slice) hold L_BB and nothing else: no sparse row slicing."""
-    L, U = lu.L, lu.U  # one conversion of SuperLU's supernodal storage gives both
-    n = L.shape[0]
-    ip = L.indptr[n - m :]
-    s = int(ip[0])
-    Lbb = np.zeros((m, m))
-    Lbb[L.indices[s:] - (n - m), np.repeat(np.arange(m), np.diff(ip))] = L.data[s:]
-    return Lbb, U.diagonal()[n - m :]
-
-
-def _condensed_flexibility(
-    model, xdofs: np.ndarray, reading: np.ndarray | None = None
-) -> tuple[np.ndarray, np.ndarray | None, dict]:
-    """(G, h, timings): G = (K^-1)_BB for B = the x and y dofs of ``xdofs`` (order x0, y0,
-    x1, y1, ...) and the rows h = (K^-1 a)_B for the reading functionals a = ``reading``
-    (rows over all dofs; None: h is None). By reciprocity (K symmetric)
-    a . U = a . K^-1 f = h . f_B for any load f on B: one more solve per functional with
-    the factors, none per load.
-
-    With B ordered last and no pivoting (K is SPD), the trailing blocks of SuperLU's
-    factors give the Schur complement S = L_BB U_BB with U_BB = D L_BB^T (D = diag U_BB,
-    the LDL^T form of a symmetric factorization), so S = C C^T with the Cholesky factor
-    C = L_BB D^1/2 and G = S^-1 = C^-T C^-1 (LAPACK dpotri: 2/3 m^3 flops, against 2 m^3
-    for two triangular solves with the identity)."""
-    t0 = time.perf_counter()
-    B = np.column_stack([xdofs, xdofs + 1]).ravel()
-    pos = np.full(model.ndofs, -1)
-    pos[model.free] = np.arange(len(model.free))
-    Bf = pos[B]
-    if np.any(Bf < 0):
-        raise RuntimeError("a condensed flank dof is fixed")
-    Kff = model.K[model.free][:, model.free].tocsc()
-    isB = np.zeros(Kff.shape[0], dtype=bool)
-    isB[Bf] = True
-    interior = np.flatnonzero(~isB)
-    # B's (x, y) pairs are whole nodes, so the interior's are too (_interior_order)
-    if not np.array_equal(interior[0::2] + 1, interior[1::2]):
-        raise RuntimeError("unexpected dof numbering of the interior")
-    # fill-reducing order of the interior (nested dissection), then the condensed dofs
-    # last, and no further reordering
-    order = np.concatenate([interior[_interior_order(Kff[interior][:, interior].tocsc())], Bf])
-    t1 = time.perf_counter()
-    opts = dict(diag_pivot_thresh=0.0, options={"SymmetricMode": True})
-    lu = spla.splu(Kff[order][:, order].tocsc(), permc_spec="NATURAL", **opts)
-    n = len(order)
-    if not (np.array_equal(lu.perm_r, np.arange(n)) and np.array_equal(lu.perm_c, np.arange(n))):
-        raise RuntimeError("SuperLU reordered the condensed system; the Schur block is not trailing")
-    t2 = time.perf_counter()
-    m = len(Bf)
-    Lbb, d = _trailing_block(lu, m)
-    if not np.all(d > 0):
-        raise RuntimeError("the Schur complement of the condensed dofs is not positive definite")
-    C = Lbb * np.sqrt(d)  # column j of L_BB times sqrt(d_j): S = C C^T
-    # one BLAS thread: OpenBLAS's threaded dpotri (dtrtri + dlauum) took 6.2 s against
-    # 0.39 s on one thread for m = 2142 on the 2-core machine (best of 3 each)
-    with threadpool_limits(1, user_api="blas"):
-        Gl, info = sla.lapack.dpotri(C, lower=1, overwrite_c=1)
-    if info != 0:
-        raise RuntimeError(f"LAPACK dpotri failed (info {info})")
-    # dpotri fills the lower triangle; the upper one is C's, exactly zero: G = Gl + Gl^T with
-    # the doubled diagonal halved is exactly symmetric (two np.tril copies cost ~0.5 s)
-    G = Gl + Gl.T
-    G[np.diag_indices(m)] *= 0.5
-    h = None
-    if reading is not None:
-        # the permuted system solves P K P^T (P x) = P a; B is the trailing block
-        h = lu.solve(np.ascontiguousarray(reading[:, model.free][:, order].T))[n - m :].T
-    t3 = time.perf_counter()
-    return (
-        G,
-        h,
-        {
-            "ordering_s": t1 - t0,
-            "factorize_s": t2 - t1,
-            "flexibility_s": t3 - t2,
-            "condensed_dofs": m,
-            "factor_nnz": int(lu.L.nnz + lu.U.nnz),
-        },
     )

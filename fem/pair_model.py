@@ -11,7 +11,9 @@ built once per pair, torque and clearance (SI units: m, N, rad, Pa).
   with a root crack the cracked body of that gear (fem.pair_body.build_cracked_body, the
   teeth that can be candidates together with the cracked one refined alike). Bodies are
   cached in-process (wear states, faults and worker chunks of one pair share them; one
-  build at a time per process);
+  build at a time per process); two distinct bodies are built overlapped, the first one's
+  assembly and condensation in a worker thread while the second is meshed
+  (:func:`_healthy_bodies`);
 * per gear the depth of the drive flank (wear, geometry.wear.flank_depth, plus the profile
   modifications and measured deviations of geometry.flank) along the nominal profile:
   the FE bodies keep the nominal flanks, the depths enter the contact as initial gaps
@@ -24,7 +26,9 @@ import math
 import threading
 import time
 from collections import OrderedDict
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, replace
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -47,7 +51,7 @@ from gearwear.geometry.sampling import FINE_SAG_M
 from gearwear.geometry.spec import PairSpec
 from gearwear.geometry.wear import WearSpec, flank_depth, hertz_half_width, key_roll_angles
 
-from .pair_body import BodySizes, GearBody, build_body, build_cracked_body
+from .pair_body import BodySizes, GearBody, body_builder, build_cracked_body
 
 __all__ = [
     "PairModel",
@@ -151,6 +155,47 @@ def _cached(key: tuple, build):
         while len(_BODY_CACHE) > _BODY_CACHE_SIZE:
             _BODY_CACHE.popitem(last=False)
         return body, True
+
+
+def _healthy_bodies(keys: list, builders: list) -> list[tuple[GearBody, bool]]:
+    """(body, built) per gear: the bodies under ``keys`` from the in-process cache, the
+    missing ones built by ``builders`` (per gear: a function of no arguments that meshes
+    the body and returns the rest of its build, pair_body.body_builder). A body two gears
+    share is built once (``built`` True for the first gear only). With two distinct
+    bodies missing, the first one's assembly and condensation run in a worker thread
+    while this thread meshes the second: Gmsh and SuperLU's factorization, LAPACK and
+    most of METIS's graph work release the GIL, so on two cores the two builds overlap
+    (Gmsh itself stays in this thread; the result is the serial one to the bit, every
+    body being built alone from its own inputs)."""
+    with _BODY_LOCK:
+        have: dict = {}
+        missing: list = []
+        for k in keys:
+            if k in _BODY_CACHE:
+                _BODY_CACHE.move_to_end(k)
+                have[k] = _BODY_CACHE[k]
+            elif k not in missing:
+                missing.append(k)
+        built: dict = {}
+        if len(missing) == 2:
+            finish_first = builders[keys.index(missing[0])]()
+            with ThreadPoolExecutor(max_workers=1, thread_name_prefix="gearwear-body") as ex:
+                first = ex.submit(finish_first)
+                built[missing[1]] = builders[keys.index(missing[1])]()()
+                built[missing[0]] = first.result()
+        else:
+            for k in missing:
+                built[k] = builders[keys.index(k)]()()
+        for k, body in built.items():
+            _BODY_CACHE[k] = body
+        while len(_BODY_CACHE) > _BODY_CACHE_SIZE:
+            _BODY_CACHE.popitem(last=False)
+        out: list[tuple[GearBody, bool]] = []
+        told: set = set()
+        for k in keys:
+            out.append((built[k] if k in built else have[k], k in built and k not in told))
+            told.add(k)
+        return out
 
 
 def _cracked_body(
@@ -267,16 +312,22 @@ def pair_model(
     depth: list[tuple[np.ndarray, np.ndarray] | None] = []
     cracked: list = [None, None]
     tim: dict[str, float] = {}
+    per_gear = []
     for gi, g in enumerate(pair.gears):
         # the body outline is interpolated on this polyline: 1 nm sag keeps it on the curve
         nominal = tooth_profile(g, sag_m=FINE_SAG_M, extra_roll=key_roll_angles(mesh, gi))
         r_lo = lowest_contact_radius_m(mesh, gi, window, EXTENSION_PITCHES)
         lp = load_points(nominal, np.array([max(r_lo, nominal.form_radius_m), g.tip_radius_m * (1 - 1e-9)]))
         cy = (float(lp.y_axis_m.min()) - 1.0 * pair.module_m * 0.2, float(lp.y_axis_m.max()) + 0.2 * pair.module_m)
-        body, built = _cached(
-            _body_key(g, pair, sizes, r_lo, nb, cy, plane),
-            lambda: build_body(g, g.material, pair.face_width_m, nominal, sizes, r_lo, nb, cy, plane),
-        )
+        per_gear.append((g, nominal, r_lo, cy))
+    healthy = _healthy_bodies(
+        [_body_key(g, pair, sizes, r_lo, nb, cy, plane) for g, _, r_lo, cy in per_gear],
+        [
+            partial(body_builder, g, g.material, pair.face_width_m, nominal, sizes, r_lo, nb, cy, plane)
+            for g, nominal, r_lo, cy in per_gear
+        ],
+    )
+    for gi, ((g, nominal, r_lo, cy), (body, built)) in enumerate(zip(per_gear, healthy)):
         if built:
             for k2, v in body.timings.items():
                 tim[f"gear{gi}_{k2}"] = v

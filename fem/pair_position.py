@@ -69,32 +69,60 @@ class PositionSolution:
     blank_torque_Nm: tuple = (0.0, 0.0)
 
 
-def _reps(body: GearBody, c: dict, gi: int, delta_tooth: int, at_nodes: bool = True):
-    """(positions (n, 6), coefficients (n, 6)) of the candidates of c on body gi,
-    read or loaded on the body's tooth ``delta_tooth`` (relative to the load tooth).
-    Slave points on the load tooth are its nodes (``at_nodes``, the healthy body whose
-    tooth 0 they were taken from); otherwise P2 edge weights at the point's radius."""
-    z = body.gear.teeth
-    ang = 2.0 * math.pi * delta_tooth / z
-    dirs = c["dirs"][gi] @ rot(ang).T
+def _rep_request(c: dict, gi: int, delta_tooth: int, at_nodes: bool = True):
+    """Where candidate c is read on body gi, tooth ``delta_tooth`` (relative to the load
+    tooth): None for the slave's own nodes (``at_nodes``: the healthy body whose tooth 0
+    they were taken from), else (tooth, radii) for P2 edge weights."""
     if at_nodes and gi == c["slave"] and delta_tooth == 0 and c["nodes"] is not None:
+        return None
+    return delta_tooth, (c["R"] if gi == c["slave"] else c["rF"])
+
+
+def _rep_of(body: GearBody, c: dict, gi: int, delta_tooth: int, weights) -> tuple:
+    """(positions (n, 6), coefficients (n, 6)) of candidate c on body gi, tooth
+    ``delta_tooth``, from its edge weights ``weights`` ((positions, weights) (n, 3) each)
+    or at its nodes (None)."""
+    z = body.gear.teeth
+    dirs = c["dirs"][gi] @ rot(2.0 * math.pi * delta_tooth / z).T
+    if weights is None:
         b = body.flank_b[0][c["nodes"]]
         idx = np.column_stack([b, b, b])
         wts = np.zeros((len(b), 3))
         wts[:, 0] = 1.0
     else:
-        R = c["R"] if gi == c["slave"] else c["rF"]
-        idx, wts = body.edge_weights(delta_tooth, R)
+        idx, wts = weights
     idx6 = np.concatenate([idx, idx + 1], axis=1)
     coef6 = np.concatenate([wts * dirs[:, :1], wts * dirs[:, 1:]], axis=1)
     return idx6, coef6
 
 
+def _reps(body: GearBody, c: dict, gi: int, delta_tooth: int, at_nodes: bool = True):
+    """(positions (n, 6), coefficients (n, 6)) of the candidates of c on body gi,
+    read or loaded on the body's tooth ``delta_tooth`` (relative to the load tooth).
+    Slave points on the load tooth are its nodes (``at_nodes``, the healthy body whose
+    tooth 0 they were taken from); otherwise P2 edge weights at the point's radius."""
+    req = _rep_request(c, gi, delta_tooth, at_nodes)
+    return _rep_of(body, c, gi, delta_tooth, None if req is None else body.edge_weights(*req))
+
+
 def _reps_memo(body: GearBody, cands: list, gi: int, cracked_tooth: int | None) -> Callable[[int, int], tuple]:
     """rep(k, dt): _reps of candidate k on body gi, each computed once. Healthy body
     (``cracked_tooth`` None): read dt teeth from the load tooth; cracked body: on the
-    candidate's own tooth relative to the cracked one, whatever dt."""
+    candidate's own tooth relative to the cracked one, whatever dt. On a healthy body
+    every (k, dt) a position needs (each candidate read on the tooth of every load, and
+    on its own) is computed up front, the edge weights in one batch
+    (GearBody.edge_weights_many)."""
     memo: dict = {}
+    if cracked_tooth is None:
+        keys = sorted(
+            {(a, ca["teeth"][gi] - cb["teeth"][gi]) for a, ca in enumerate(cands) for cb in cands}
+            | {(b, 0) for b in range(len(cands))}
+        )
+        reqs = {key: _rep_request(cands[key[0]], gi, key[1]) for key in keys}
+        edge = [key for key in keys if reqs[key] is not None]
+        weights = dict(zip(edge, body.edge_weights_many([reqs[key] for key in edge]))) if edge else {}
+        for key in keys:
+            memo[key] = _rep_of(body, cands[key[0]], gi, key[1], weights.get(key))
 
     def rep(k: int, dt: int) -> tuple:
         key = (k, dt) if cracked_tooth is None else k
@@ -110,17 +138,21 @@ def _reps_memo(body: GearBody, cands: list, gi: int, cracked_tooth: int | None) 
     return rep
 
 
-def _body_reps(pm: PairModel, cands: list, cracked: tuple):
-    """(gear index, body, rep) per gear: the cracked body where ``cracked[gi]`` names its
-    cracked tooth, else the healthy one, with :func:`_reps_memo` of the candidates on it."""
+def _body_reps(pm: PairModel, cands: list, cracked: tuple) -> list:
+    """[(gear index, body, rep)] per gear: the cracked body where ``cracked[gi]`` names its
+    cracked tooth, else the healthy one, with :func:`_reps_memo` of the candidates on it
+    (one list serves :func:`_flexibility` and :func:`blank_rotations` of a position, so
+    each representation is computed once)."""
+    out = []
     for gi, body in enumerate(pm.bodies):
         ct = cracked[gi]
         if ct is not None:
             body = pm.cracked[gi]
-        yield gi, body, _reps_memo(body, cands, gi, None if ct is None else ct[0])
+        out.append((gi, body, _reps_memo(body, cands, gi, None if ct is None else ct[0])))
+    return out
 
 
-def _flexibility(pm: PairModel, cands: list, cracked: tuple = (None, None)) -> np.ndarray:
+def _flexibility(pm: PairModel, cands: list, cracked: tuple = (None, None), reps: list | None = None) -> np.ndarray:
     """C (n, n) of all candidates: sum over both bodies of a_i^T G a_j. On a healthy body
     the read is on tooth t_i - t_j relative to the load (rotational periodicity); on a
     cracked body (``cracked[gi]``: the body tooth of the cracked slot) each candidate sits
@@ -128,17 +160,20 @@ def _flexibility(pm: PairModel, cands: list, cracked: tuple = (None, None)) -> n
     sizes = [len(c["R"]) for c in cands]
     off = np.concatenate([[0], np.cumsum(sizes)])
     C = np.zeros((off[-1], off[-1]))
-    for gi, body, rep in _body_reps(pm, cands, cracked):
-        for a, ca in enumerate(cands):
-            for b, cb in enumerate(cands):
-                ia, wa = rep(a, ca["teeth"][gi] - cb["teeth"][gi])
-                ib, wb = rep(b, 0)
-                Gs = body.G[np.ix_(ia.ravel(), ib.ravel())].reshape(ia.shape[0], 6, ib.shape[0], 6)
-                C[off[a] : off[a + 1], off[b] : off[b + 1]] += np.einsum("ia,iajb,jb->ij", wa, Gs, wb)
+    for gi, body, rep in reps if reps is not None else _body_reps(pm, cands, cracked):
+        for b, cb in enumerate(cands):
+            # the loads of candidate b read at every candidate a: one gather from G per b
+            ras = [rep(a, ca["teeth"][gi] - cb["teeth"][gi]) for a, ca in enumerate(cands)]
+            ia, wa = np.concatenate([r[0] for r in ras]), np.concatenate([r[1] for r in ras])
+            ib, wb = rep(b, 0)
+            Gs = body.G[np.ix_(ia.ravel(), ib.ravel())].reshape(ia.shape[0], 6, ib.shape[0], 6)
+            C[:, off[b] : off[b + 1]] += np.einsum("ia,iajb,jb->ij", wa, Gs, wb)
     return 0.5 * (C + C.T)
 
 
-def blank_rotations(pm: PairModel, cands: list, cracked: tuple = (None, None)) -> tuple[tuple, tuple]:
+def blank_rotations(
+    pm: PairModel, cands: list, cracked: tuple = (None, None), reps: list | None = None
+) -> tuple[tuple, tuple]:
     """((theta_ref,1, theta_ref,2), (T_1, T_2)) under the solved candidate forces: per gear
     the rotation (rad) of the blank's reference circle, theta_ref = sum h . f over the
     loads on that body (h = GearBody.blank_h[0], the circle's reading by reciprocity), and
@@ -150,7 +185,7 @@ def blank_rotations(pm: PairModel, cands: list, cracked: tuple = (None, None)) -
     circle's reading being the same in every tooth pitch; on a cracked body each on its
     own tooth)."""
     theta, torque = [0.0, 0.0], [0.0, 0.0]
-    for gi, body, rep in _body_reps(pm, cands, cracked):
+    for gi, body, rep in reps if reps is not None else _body_reps(pm, cands, cracked):
         for k, c in enumerate(cands):
             f = c["force_N"]
             X = involute_point(body.gear, c["R"] if gi == c["slave"] else c["rF"])
@@ -181,7 +216,8 @@ def solve_position(pm: PairModel, theta: float, total_N: float, period: int | No
             slots.append(k)
     if not cands:
         raise RuntimeError(f"no tooth pair can touch at theta = {theta!r} rad")
-    C = _flexibility(pm, cands, tuple(cracked))
+    reps = _body_reps(pm, cands, tuple(cracked))
+    C = _flexibility(pm, cands, tuple(cracked), reps)
     g = np.concatenate([c["gap"] for c in cands])
     w = np.concatenate([c["w"] for c in cands])
     if np.any(w <= 0):
@@ -206,7 +242,7 @@ def solve_position(pm: PairModel, theta: float, total_N: float, period: int | No
             hw[k] = 0.5 * (s[on].max() - s[on].min() + ds)
             c["window_hit"] = bool(on[0] == 0 and s[0] > s.min() - 1) and (on[0] == 0 or on[-1] == n - 1)
         off += n
-    rot_ref, torque = blank_rotations(pm, cands, tuple(cracked))
+    rot_ref, torque = blank_rotations(pm, cands, tuple(cracked), reps)
     return PositionSolution(
         float(theta),
         d,

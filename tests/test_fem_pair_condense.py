@@ -61,3 +61,108 @@ def test_condensed_flexibility_equals_the_dense_inverse(model):
     assert np.array_equal(G, G.T)
     assert np.max(np.abs(G - G_ref)) <= 1e-10 * np.max(np.abs(G_ref))
     assert np.max(np.abs(h - h_ref)) <= 1e-10 * np.max(np.abs(h_ref))
+
+
+def _arrowhead(model, n_b: int):
+    """(M, Kp, o): the free stiffness with its last n_b dofs as B, and the arrowhead
+    [[K_II, 0], [K_BI, I]] of fem.condensation (Kp's first o columns, then I)."""
+    import scipy.sparse as sp
+
+    Kp = model.K[model.free][:, model.free].tocsc()
+    n = Kp.shape[0]
+    o = n - n_b
+    M = sp.bmat([[Kp[:o, :o], None], [Kp[o:, :o], sp.identity(n_b)]]).tocsc()
+    return M, Kp, o
+
+
+def test_border_read_in_place_equals_scipys_factors(model):
+    """fem.superlu_store reads L_BI and diag U from SuperLU's supernodal store in place:
+    the same entries as scipy's conversion of the whole factors (lu.L, lu.U)."""
+    from gearwear.fem.superlu_store import border_rows, supernodal_store
+
+    M, _, o = _arrowhead(model, 40)
+    lu = spla.splu(M, permc_spec="NATURAL", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+    store = supernodal_store(lu)
+    assert store is not None
+    assert np.array_equal(store.pivots(), lu.U.diagonal())
+    i, j, v = border_rows(store, o)
+    n = M.shape[0]
+    mine = np.zeros((n - o, o))
+    mine[i, j] = v
+    assert np.array_equal(mine, lu.L[o:, :o].toarray())
+
+
+@pytest.mark.parametrize("dense_from", [1, 10**9, 6])  # all columns through dsyrk, none, a split
+def test_schur_from_border_equals_the_dense_schur_complement(model, dense_from):
+    from gearwear.fem.condensation import schur_from_border
+    from gearwear.fem.superlu_store import border_rows, supernodal_store
+
+    M, Kp, o = _arrowhead(model, 40)
+    lu = spla.splu(M, permc_spec="NATURAL", diag_pivot_thresh=0.0, options={"SymmetricMode": True})
+    store = supernodal_store(lu)
+    S = schur_from_border(Kp[o:, o:], *border_rows(store, o), store.pivots(), dense_from=dense_from)
+    K = Kp.toarray()
+    S_ref = K[o:, o:] - K[o:, :o] @ np.linalg.solve(K[:o, :o], K[:o, o:])
+    assert np.array_equal(S, S.T)
+    assert np.max(np.abs(S - S_ref)) <= 1e-10 * np.max(np.abs(S_ref))
+
+
+def test_condensed_flexibility_without_the_in_place_read(model, monkeypatch):
+    """When SuperLU's layout is not the expected one (supernodal_store gives None) the
+    border comes from scipy's conversion of the factors: the same G and h."""
+    from gearwear.fem import condensation
+
+    top = model.mesh.facets_satisfying(lambda x: np.isclose(x[1], 1.0))
+    xd = np.unique(model.basis.get_dofs(facets=top).all("u^1"))
+    xd = xd[model.basis.doflocs[0, xd] > 0.0]
+    a = np.random.default_rng(3).standard_normal((2, model.ndofs))
+    G, h, tim = _condensed_flexibility(model, xd, a)
+    assert tim["factor_read_in_place"] == 1
+    monkeypatch.setattr(condensation, "supernodal_store", lambda lu: None)
+    G2, h2, tim2 = _condensed_flexibility(model, xd, a)
+    assert tim2["factor_read_in_place"] == 0
+    assert np.max(np.abs(G2 - G)) <= 1e-12 * np.max(np.abs(G))
+    assert np.max(np.abs(h2 - h)) <= 1e-12 * np.max(np.abs(h))
+
+
+def test_two_bodies_built_overlapped_equal_the_serial_builds(monkeypatch):
+    """fem.pair_model builds two distinct bodies overlapped (the first one's condensation in
+    a worker thread while the second is meshed): the same bodies to the bit as built one
+    after the other (an executor that runs each task at once, in this thread).
+    DRIVER_LARGER (47/23, shifted), coarse sizes."""
+    from concurrent.futures import Future
+
+    from gearwear.fem import pair_model as pmod
+
+    from pairs import DRIVER_LARGER
+
+    class AtOnce:
+        def __init__(self, **kw):
+            pass
+
+        def __enter__(self):
+            return self
+
+        def __exit__(self, *exc):
+            return False
+
+        def submit(self, fn):
+            fut = Future()
+            fut.set_result(fn())
+            return fut
+
+    def bodies():
+        pmod._BODY_CACHE.clear()
+        pm = pmod.pair_model(DRIVER_LARGER, contact_scale=3.0, mesh_scale=2.0)
+        pmod._BODY_CACHE.clear()
+        assert pm.bodies[0] is not pm.bodies[1]
+        assert {"gear0_factorize_s", "gear1_factorize_s"} <= set(pm.timings)
+        return pm.bodies
+
+    overlapped = bodies()
+    monkeypatch.setattr(pmod, "ThreadPoolExecutor", AtOnce)
+    serial = bodies()
+    for a, b in zip(overlapped, serial):
+        assert a.gear == b.gear
+        assert np.array_equal(a.G, b.G) and np.array_equal(a.blank_h, b.blank_h)
+        assert np.array_equal(a.dofs, b.dofs)
