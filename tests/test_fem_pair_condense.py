@@ -166,3 +166,38 @@ def test_two_bodies_built_overlapped_equal_the_serial_builds(monkeypatch):
         assert a.gear == b.gear
         assert np.array_equal(a.G, b.G) and np.array_equal(a.blank_h, b.blank_h)
         assert np.array_equal(a.dofs, b.dofs)
+
+
+@pytest.mark.parametrize("corrupt", ["values", "pivots"])
+def test_a_wrong_in_place_read_falls_back_to_scipys_factors(model, monkeypatch, corrupt):
+    """A scipy whose private layout passes fem.superlu_store's checks but reads wrong values
+    (or wrong pivots) must not give a wrong G or a false 'not positive definite': the
+    solve check catches it and scipy's public conversion of the factors decides."""
+    from gearwear.fem import condensation
+
+    top = model.mesh.facets_satisfying(lambda x: np.isclose(x[1], 1.0))
+    xd = np.unique(model.basis.get_dofs(facets=top).all("u^1"))
+    xd = xd[model.basis.doflocs[0, xd] > 0.0]
+    a = np.random.default_rng(3).standard_normal((2, model.ndofs))
+    G, h, _ = _condensed_flexibility(model, xd, a)
+    real_rows = condensation.border_rows
+
+    class Wrong:
+        def __init__(self, store):
+            self.store = store
+
+        def pivots(self):
+            d = self.store.pivots()
+            return -d if corrupt == "pivots" else d
+
+    def rows(store, o):
+        i, j, v = real_rows(store.store, o)
+        return i, j, (1.5 * v if corrupt == "values" else v)
+
+    real_store = condensation.supernodal_store
+    monkeypatch.setattr(condensation, "supernodal_store", lambda lu: Wrong(real_store(lu)))
+    monkeypatch.setattr(condensation, "border_rows", rows)
+    G2, h2, tim2 = _condensed_flexibility(model, xd, a)
+    assert tim2["factor_read_in_place"] == 0
+    assert np.max(np.abs(G2 - G)) <= 1e-12 * np.max(np.abs(G))
+    assert np.max(np.abs(h2 - h)) <= 1e-12 * np.max(np.abs(h))
