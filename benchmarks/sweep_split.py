@@ -140,6 +140,7 @@ def command_timeline(args: list[str], workers: int, out: str, python: str | None
     import sys
     import tempfile
     from collections import defaultdict
+    from pathlib import Path
 
     with tempfile.TemporaryDirectory() as tmp:
         log = os.path.join(tmp, "log")
@@ -147,7 +148,10 @@ def command_timeline(args: list[str], workers: int, out: str, python: str | None
         cmd = [python or sys.executable, "-c", TIMELINE_DRIVER, "sweep", *args, "--workers", str(workers), "--out", out]
         env["SPLIT_T0"] = repr(time.time())
         t0 = time.perf_counter()
-        subprocess.run(cmd, env=env, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        # run in the interpreter's checkout: with -c the current folder comes first on sys.path,
+        # and another checkout's gearwear/ there would be imported instead of the venv's own
+        cwd = Path(python).absolute().parents[2] if python else Path(__file__).resolve().parents[1]
+        subprocess.run(cmd, env=env, cwd=cwd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         total = time.perf_counter() - t0
         rows = [json.loads(x) for x in open(log)]
     by: dict[str, list] = defaultdict(list)
