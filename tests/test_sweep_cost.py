@@ -264,8 +264,7 @@ def test_console_script_sweep_prints_and_writes_everything(tmp_path):
     for got, want in zip(out["points"], rows):
         for key in ("harmonics", "mean", "ac_rms", "peak_to_peak", "steps"):
             assert got[key] == json.loads(json.dumps(want[key])), key
-    # its figures came from workers forked after the command warmed the plotting stack on a
-    # thread (sweep.forks_warm): the bytes rendered here
+    # its figures (rendered on its workers, the largest first) are the bytes rendered here
     (tmp_path / "here").mkdir()
     for f in sweep.write(axes, rows, tmp_path / "here", {}):
         if f.suffix == ".png":

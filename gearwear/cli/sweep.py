@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import contextlib
 import math
 
 from gearwear import io
@@ -37,26 +36,11 @@ def run(args: argparse.Namespace) -> int:
     base = scene_from_dict(apply_overrides(data, fixed), name=name)  # the scene every point starts from
     inputs = {**io.scene_inputs(base), "axes": {a.key: list(a.values) for a in axes}}
     labels = {**io.scene_labels(base), "fixed": fixed}
-    # the files are written while workers are up: they render the figures (local forked
-    # workers: new ones, forked once this process has warmed the plotting stack during the
-    # points; any other executor: its own, warmed behind the points)
-    with contextlib.ExitStack() as stack:
-        executor = stack.enter_context(sweep.make_executor(worker_count(args), args.scheduler))
-        here = out is not None and sweep.forks_warm(executor)
+    # the files are written while the workers are still up: they render the figures
+    with sweep.make_executor(worker_count(args), args.scheduler) as executor:
         results = sweep.sweep(
-            data,
-            name,
-            axes,
-            fixed,
-            executor=executor,
-            progress=not args.json,
-            warm_figures_after=out is not None and not here,
-            warm_figures_here=here,
+            data, name, axes, fixed, executor=executor, progress=not args.json, warm_figures_after=out is not None
         )
-        if here:
-            n = min(sweep.workers_of(executor), len(results[0]["harmonics"]))  # one figure per signal
-            executor.shutdown(wait=True)  # its workers are idle; none of its threads is left at the fork
-            executor = stack.enter_context(sweep.figure_pool(n))
         files = write_output(
             out,
             "sweep",

@@ -414,15 +414,11 @@ def sweep(
     executor: Executor | None = None,
     progress: bool = True,
     warm_figures_after: bool = False,
-    warm_figures_here: bool = False,
 ) -> list[dict[str, Any]]:
     """Run every grid point; results in grid order (deterministic whatever the executor).
     A run estimated to take longer than LONG_RUN_S says so on stderr once its first point
     is done (:class:`Estimate`). ``warm_figures_after``: queue one :func:`warm_figures`
-    per worker behind the points (the caller renders the figures on the same executor).
-    ``warm_figures_here``: run :func:`warm_figures` in this process, on a thread, while the
-    workers run the points (it is done when this returns; the caller renders the figures on
-    workers forked from this process afterwards, :func:`figure_pool`)."""
+    per worker behind the points (the caller renders the figures on the same executor)."""
     from tqdm import tqdm
 
     points = grid(axes)
@@ -438,47 +434,12 @@ def sweep(
         if warm_figures_after:
             for _ in range(parallel):
                 ex.submit(warm_figures)
-        # started once the workers are forked (the first submit forks them all), joined
-        # before this returns: no fork happens while it imports
-        warm = threading.Thread(target=_warm_quietly, name="gearwear figure warm-up", daemon=True)
-        if warm_figures_here:
-            warm.start()
         with tqdm(total=len(points), desc="sweep", unit="point", disable=not progress, file=sys.stderr) as bar:
             for fut in as_completed(futures):
                 results[futures[fut]] = fut.result()
                 bar.update(1)
                 estimate.first_done(bar.write)
-        if warm_figures_here:  # not on an error or interrupt: nothing is forked then
-            warm.join()
     return results  # type: ignore[return-value]
-
-
-def _warm_quietly() -> None:
-    """:func:`warm_figures` on a thread: a failure here says nothing (no thread traceback
-    reaches the user); the figures themselves then fail, or not, where they are rendered."""
-    with contextlib.suppress(Exception):
-        warm_figures()
-
-
-def forks_warm(executor: Executor) -> bool:
-    """Whether a sweep on ``executor`` should warm the plotting stack in this process and
-    render its figures on workers forked afterwards (:func:`figure_pool`) rather than on
-    its own workers: a local pool whose workers are forked (they inherit the imports).
-
-    Why: the plotting imports (matplotlib builds its artists' docstrings on import) and the
-    first drawing's fonts take ~0.4 s per process. Each worker paid them after its last
-    point, on both cores at once; this process pays them once, on a thread, while the
-    workers run the points (the one idle core with one worker; a share of the two with two),
-    and the figure workers forked from it start warm."""
-    import multiprocessing
-
-    return isinstance(executor, LocalPool) and multiprocessing.get_start_method() == "fork"
-
-
-def figure_pool(workers: int) -> LocalPool:
-    """Workers for a sweep's figures, forked from this process once it has the plotting
-    stack (:func:`forks_warm`)."""
-    return LocalPool(workers)
 
 
 #: a sweep or run-up estimated to take longer than this states its estimate (stderr, once)
