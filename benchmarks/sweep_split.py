@@ -131,9 +131,7 @@ def command_timeline(args: list[str], workers: int, out: str, python: str | None
     * ``points``: the rest of the points, to the last one's end;
     * ``figures``: from there to the files written (figure rendering, its warm-up where it is
       not overlapped, writing);
-    * ``exit``: to the process's end; ``total``: the whole wall time.
-    ``warm_figures_overlapped``: the plotting warm-up that ran while the points did (this
-    process's thread, sweep.forks_warm), not on the critical path."""
+    * ``exit``: to the process's end; ``total``: the whole wall time."""
     import json
     import os
     import subprocess
@@ -163,8 +161,6 @@ def command_timeline(args: list[str], workers: int, out: str, python: str | None
     first_start = points[0][1]
     last_end = max(r[2] for r in points)
     first_mean = sum(r[2] - r[1] for r in firsts) / len(firsts)
-    parent = run[0]
-    overlapped = sum(b - a for pid, a, b in by["warm_figures"] if pid == parent and b <= last_end)
     return {
         "startup": run[1],
         "before_points": first_start - run[1],
@@ -173,7 +169,6 @@ def command_timeline(args: list[str], workers: int, out: str, python: str | None
         "figures": run[2] - last_end,
         "exit": total - run[2],
         "total": total,
-        "warm_figures_overlapped": overlapped,
         "points_run": len(points),
     }
 
