@@ -68,13 +68,19 @@ def mesh_geometry(model: GearDynamics, z):
         Gb = sa[..., None] * dC
         delta = z[..., 4] + Y * ca
     else:
-        sa = np.full(shape, math.sin(model.alpha))
-        ca = np.full(shape, math.cos(model.alpha))
-        G = np.zeros(shape + (5,))
-        G[..., 0], G[..., 1], G[..., 2], G[..., 3], G[..., 4] = ca, sa, -ca, -sa, 1.0
-        Gb = np.zeros(shape + (4,))
+        s_, c_ = math.sin(model.alpha), math.cos(model.alpha)
+        sa = np.full(shape, s_)
+        ca = np.full(shape, c_)
+        # G and Gb are constants here: read-only broadcast views, no (N, 5) arrays to fill
+        G = np.broadcast_to(np.array([c_, s_, -c_, -s_, 1.0]), shape + (5,))
+        Gb = np.broadcast_to(np.zeros(4), shape + (4,))
         b = np.full(shape, model.backlash_half_m or 0.0)
         delta = z[..., 4] + (z[..., 1] - z[..., 3]) * sa + Y * ca
+        # G . z' added left to right as np.sum(G * z', axis=-1) adds a row of five (the same
+        # numbers to the bit) without the (N, 5) product: ~2x faster on a sweep point's samples
+        v = z[..., 5:10]
+        ddelta = c_ * v[..., 0] + s_ * v[..., 1] + -c_ * v[..., 2] + -s_ * v[..., 3] + v[..., 4]
+        return delta, ddelta, b, G, Gb, sa, ca
     ddelta = np.sum(G * z[..., 5:10], axis=-1)
     return delta, ddelta, b, G, Gb, sa, ca
 

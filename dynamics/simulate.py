@@ -289,10 +289,20 @@ def _diagnose(method, counters, t_stop, t_end, max_steps, zlim) -> str:
     )
 
 
+def _all_finite(a: np.ndarray) -> bool:
+    """Every value of ``a`` is finite. A finite sum says so in one pass without a boolean
+    array (a NaN or an infinity anywhere makes the sum NaN or infinite); only a non-finite
+    sum, which finite values give on overflow alone, is checked value by value."""
+    return math.isfinite(float(np.sum(a))) or bool(np.all(np.isfinite(a)))
+
+
 def compute_signals(model: GearDynamics, t: np.ndarray, Z: np.ndarray) -> dict:
     """Signals from sampled states: displacements, velocities, delta, delta', s, k_h, F_m."""
     ms = mesh_state(model, t, Z[:, :10])
-    sig = {name: Z[:, i].copy() for i, name in enumerate(STATE_NAMES)}
+    # the state columns as the rows of one transposed copy: one pass over Z instead of ten
+    # strided ones (each column copy reads every cache line of Z)
+    cols = np.ascontiguousarray(Z[:, :10].T)
+    sig = {name: cols[i] for i, name in enumerate(STATE_NAMES)}
     sig.update(
         delta=ms["delta"],
         delta_dot=ms["delta_dot"],
@@ -588,7 +598,7 @@ def simulate(
     )
     wall = time.perf_counter() - tw
     ko = int(counters[3])
-    if int(counters[4]) != kernels.ST_OK or ko < n_out or not np.all(np.isfinite(out)):
+    if int(counters[4]) != kernels.ST_OK or ko < n_out or not _all_finite(out):
         if int(counters[4]) == kernels.ST_OK:
             if np.all(np.isfinite(out[:ko])):
                 raise RuntimeError(
@@ -597,7 +607,9 @@ def simulate(
                 )
             counters[4] = kernels.ST_DIVERGED
         raise SolverError(_diagnose(method, counters, t_stop, t_end, max_steps, zlim))
-    t_win, Z_win = t_uni[:-1], out[uni[:-1]]
+    # np.take gathers whole rows (memcpy each); out[index] took ~3x as long for the 51 200
+    # rows of a 0.5 s scene (the same rows either way)
+    t_win, Z_win = t_uni[:-1], np.take(out, uni[:-1], axis=0)
     sig = compute_signals(model, t_win, Z_win)
     mode = sig["mode"]
     sep: float | None
@@ -635,7 +647,7 @@ def simulate(
         backside_fraction=back,
         bearing_contact_fraction=bc,
         method=method,
-        states=Z_win if nz == 10 else Z_win[:, :10].copy(),  # Z_win is a fresh array (fancy index)
+        states=Z_win if nz == 10 else Z_win[:, :10].copy(),  # Z_win is a fresh array (np.take)
         energy=energy,
         n_periods=M,
         stats=stats,

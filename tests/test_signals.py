@@ -199,6 +199,14 @@ class Terminal:
     def text(self) -> str:
         return bytes(self.buf).decode("utf-8", errors="replace")
 
+    def drained(self, timeout_s: float = 10.0) -> str:
+        """Everything the child wrote: the reader ends when the last holder of the terminal
+        has exited. Read right after the child's exit, the last lines could still be in the
+        terminal (the console script exits within a millisecond of its last line, without the
+        interpreter's teardown; a loaded machine had not run the reader yet)."""
+        self.reader.join(timeout_s)
+        return self.text()
+
 
 def _message_lines(text: str) -> list[str]:
     """stderr without the progress bars' own text (tqdm redraws its line with \\r)."""
@@ -236,7 +244,7 @@ def test_a_signal_ends_the_command_cleanly(command, moment, sig, tmp_path, previ
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
             proc.wait()
-    text = err.text()
+    text = err.drained()
     lines = _message_lines(text)
     assert rc == (130 if sig == "SIGINT" else 143), text[-3000:]
     assert len(lines) == 1 and lines[0].startswith(f"gearwear: interrupted by {sig}"), text[-3000:]

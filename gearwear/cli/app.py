@@ -8,10 +8,13 @@ nothing is written before all inputs are validated, and files are written atomic
 from __future__ import annotations
 
 import argparse
+import atexit
 import contextlib
 import importlib
+import os
 import sys
 from pathlib import Path
+from typing import NoReturn
 
 from gearwear import __version__, io
 from gearwear.core.validation import InputError, renamed
@@ -63,7 +66,36 @@ def main(argv: list[str] | None = None) -> int:
     (one line; nothing half-written, worker processes stopped).
 
     The signal handlers come first (core.interrupts.handled): a signal during the imports
-    of a command is handled like one during its computation."""
+    of a command is handled like one during its computation. Called without ``argv`` (the
+    console script, ``python -m gearwear.cli``) the process ends here (:func:`quick_exit`);
+    with ``argv`` (tests, other programs) it returns the status."""
+    status = _main(argv)
+    if argv is None:
+        quick_exit(status)
+    return status
+
+
+def quick_exit(status: int) -> NoReturn:
+    """End the process with ``status`` once the command is done, as the interpreter would
+    but without its teardown: the non-daemon threads are waited for and the exit handlers
+    run (threading's and atexit's: executors, Dask, multiprocessing), the standard streams
+    are flushed, then ``os._exit``. Freeing every module and object of numpy, scipy,
+    numba, pydantic and matplotlib one by one took 0.2-0.4 s after every command
+    (``gearwear sweep``: 0.21-0.28 s after its last line; an import of the sweep's modules
+    alone: 0.43 s to exit normally, 0.02 s this way; measured on 2 shared cores). Every
+    file a command writes is closed (and renamed into place) before it returns."""
+    import threading
+
+    with contextlib.suppress(Exception):
+        threading._shutdown()  # type: ignore[attr-defined]  # what Py_Finalize does first
+    atexit._run_exitfuncs()
+    for stream in (sys.stdout, sys.stderr):
+        with contextlib.suppress(Exception):  # a closed pipe (| head): nothing more to say
+            stream.flush()
+    os._exit(status)
+
+
+def _main(argv: list[str] | None) -> int:
     from gearwear.core import interrupts
 
     argv = list(sys.argv[1:] if argv is None else argv)
