@@ -139,9 +139,7 @@ def analytic_models() -> tuple[str, ...]:
 
     fitted_on_the_atlas = ("corrected",)
     return tuple(
-        n
-        for n, s in SOURCES.items()
-        if s.command and not s.fe and n not in ("table", "constant", *fitted_on_the_atlas)
+        n for n, s in SOURCES.items() if s.command and not s.fe and n not in ("table", "constant", *fitted_on_the_atlas)
     )
 
 
