@@ -218,10 +218,9 @@ def log_ratios(t: Table, model: str) -> dict[str, np.ndarray]:
     lo, hi = np.full(t.n, np.nan), np.full(t.n, np.nan)
     for i in range(t.n):
         eps = t.design["contact_ratio"][i]
-        zf = zone_values(
-            *(t.metric[REFERENCE][k][i] for k in ("mean_N_per_m", "single_N_per_m", "double_N_per_m")), eps
-        )
-        zm = zone_values(*(t.metric[model][k][i] for k in ("mean_N_per_m", "single_N_per_m", "double_N_per_m")), eps)
+        f, b = t.metric[REFERENCE], t.metric[model]
+        zf = zone_values(f["mean_N_per_m"][i], f["single_N_per_m"][i], f["double_N_per_m"][i], eps)
+        zm = zone_values(b["mean_N_per_m"][i], b["single_N_per_m"][i], b["double_N_per_m"][i], eps)
         with np.errstate(divide="ignore", invalid="ignore"):
             lo[i], hi[i] = np.log(zf[0] / zm[0]), np.log(zf[1] / zm[1])
     out["lo"], out["hi"] = lo, hi
@@ -251,16 +250,16 @@ def corrected_holdout(t: Table, inputs: dict[str, Any], errs: dict[str, dict[str
     ok = np.isfinite(Y["mean"])
     held = held_out(t.n) & ok
     e = holdout_errors(X[ok], {k: v[ok] for k, v in Y.items()}, held[ok])
-    out = {
+    analytic = {m: stats(errs[m]["mean_N_per_m"][held]) for m in t.analytic}
+    best = min(analytic, key=lambda m: analytic[m].get("median_abs", math.inf))
+    return {
         "base_model": BASE_MODEL,
         "fitted_designs": int((ok & ~held).sum()),
         "held_out_designs": int(held.sum()),
         "corrected": {k: stats(v) for k, v in e.items()},
-        "analytic_mean_error_on_held_out": {m: stats(errs[m]["mean_N_per_m"][held]) for m in t.analytic},
+        "analytic_mean_error_on_held_out": analytic,
+        "best_analytic": best,
     }
-    best = min(out["analytic_mean_error_on_held_out"].items(), key=lambda kv: kv[1].get("median_abs", math.inf))
-    out["best_analytic"] = best[0]
-    return out
 
 
 def corrected_data(t: Table, inputs: dict[str, Any], atlas_name: str) -> dict[str, Any]:
