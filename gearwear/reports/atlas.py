@@ -34,20 +34,14 @@ from typing import Any
 
 import numpy as np
 
+from gearwear.jobs.atlas_metrics import METRICS
+
 REFERENCE = "fem"
 BORE_FIXED = "fem_bore_fixed"
-#: metrics compared as ratios (relative error) and as differences (deg)
-RELATIVE = (
-    "mean_N_per_m",
-    "single_N_per_m",
-    "double_N_per_m",
-    "p2p_N_per_m",
-    "h1_N_per_m",
-    "h2_N_per_m",
-    "h3_N_per_m",
-    "ste_p2p_um",
-)
-ANGLES = ("entry_deg", "exit_deg")
+#: the atlas's metrics (gearwear.jobs.atlas_metrics) compared as differences (the transition
+#: angles, deg) and as ratios (relative error: every other one)
+ANGLES = tuple(m for m in METRICS if m.endswith("_deg"))
+RELATIVE = tuple(m for m in METRICS if m not in ANGLES)
 #: the design axes the maps show: (column, label, log axis)
 AXES = (
     ("z1", "pinion teeth z1", False),
