@@ -298,11 +298,14 @@ def error_figure(t: Table, errs: dict[str, dict[str, np.ndarray]]):
                 data.append(v)
                 names.append(m)
         if data:
-            ax.boxplot(data, vert=False, whis=(5, 95), showfliers=True, flierprops={"markersize": 2})
-            ax.set_yticks(range(1, len(names) + 1), names, fontsize=7)
-        ax.axvline(0.0, color="k", lw=0.6)
+            # vertical boxes: matplotlib >= 3.11 deprecates vert=, < 3.10 has no orientation=
+            ax.boxplot(data, whis=(5, 95), showfliers=True, flierprops={"markersize": 2})
+            ax.set_xticks(range(1, len(names) + 1), names, fontsize=7, rotation=60, ha="right")
+        ax.axhline(0.0, color="k", lw=0.6)
+        if k in RELATIVE:  # errors of a few % next to several hundred %: linear within 10 %
+            ax.set_yscale("symlog", linthresh=10.0)
         ax.set_title(k.replace("_N_per_m", "").replace("_um", "").replace("_deg", ""), fontsize=9)
-        ax.set_xlabel("model / FE - 1 (%)" if k in RELATIVE else "model - FE (deg)", fontsize=8)
+        ax.set_ylabel("model / FE - 1 (%)" if k in RELATIVE else "model - FE (deg)", fontsize=8)
         ax.tick_params(labelsize=7)
     fig.suptitle(
         f"Error against the pair FE (blanks' torsion excluded), {t.n} designs: box 25-75 %, whiskers 5-95 %",
@@ -328,8 +331,13 @@ def map_figure(t: Table, errs: dict[str, dict[str, np.ndarray]], metric: str = "
             ax.plot(x, e, ".", ms=1.5, color=colors[m], alpha=0.25)
             ax.plot(mid, binned_error(x, e, edges), "-", lw=1.4, color=colors[m], label=m)
         ax.axhline(0.0, color="k", lw=0.6)
+        ax.set_yscale("symlog", linthresh=10.0)  # a few % next to several hundred %
         if log:
+            from matplotlib.ticker import NullFormatter, ScalarFormatter
+
             ax.set_xscale("log")
+            ax.xaxis.set_major_formatter(ScalarFormatter())
+            ax.xaxis.set_minor_formatter(NullFormatter())
         ax.set_xlabel(label, fontsize=8)
         ax.set_ylabel("model / FE - 1 (%)", fontsize=8)
         ax.tick_params(labelsize=7)
