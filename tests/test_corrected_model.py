@@ -117,8 +117,15 @@ def test_the_domain_is_enforced():
     assert msg.startswith("pair.teeth[0] = 140") and "must be in [" in msg and "\n" not in msg
     thin = inside.copy()
     thin[6] = math.log(1.2)
-    with pytest.raises(InputError, match=r"^pinion rim \(r_f1 - bore_1\) / m = 1.2: must be in \[1.5"):
+    with pytest.raises(InputError, match=r"^gear 0 rim \(r_f - bore\) / m = 1.2: must be in \[1.5"):
         cm.check_domain(f, thin)
+    # the keys name the smaller gear's index: 1 when the larger gear drives
+    with pytest.raises(InputError, match=r"^pair.teeth\[1\] = 140"):
+        cm.check_domain(f, out, small=1)
+    # the atlas's axes widen the box to the design space the samples fill the inside of
+    box_lo, box_hi = f.lo.copy(), f.hi.copy()
+    box_lo[0], box_hi[0] = 10.0, 150.0
+    cm.check_domain(f, out, box=(box_lo, box_hi))
     # inside the box but off the designs: the atlas gives both gears one rim thickness, so a
     # pair with a thin pinion rim and a solid gear rim lies in a gap of the design
     rng = np.random.default_rng(4)
@@ -133,3 +140,42 @@ def test_the_domain_is_enforced():
     off[6], off[7] = D[:, 6].min(), D[:, 6].max()
     cm.check_domain(g, off, warn=said.append)
     assert len(said) == 1 and "from the nearest atlas design" in said[0] and "\n" not in said[0]
+
+
+@pytest.mark.parametrize("pair", [UNEQUAL, DRIVER_LARGER], ids=["unequal", "driver_larger"])
+def test_the_descriptors_do_not_depend_on_which_gear_drives(pair):
+    """The mean and zone means of k_h are a property of the two flanks in contact, so the
+    descriptors take the smaller gear as "1" whichever drives; the line load is the
+    normal force over the face width from either gear (T1 / r_b1 = T2 / r_b2)."""
+    swapped = dataclasses.replace(
+        pair,
+        teeth=pair.teeth[::-1],
+        profile_shift=pair.profile_shift[::-1],
+        hub_radius_m=pair.hub_radius_m[::-1],
+    )
+    T1 = 150.0
+    T2 = T1 * pair.gear(1).base_radius_m / pair.gear(0).base_radius_m
+    np.testing.assert_allclose(cm.descriptors(pair, T1), cm.descriptors(swapped, T2), rtol=1e-14)
+    d = cm.descriptors(pair, T1)
+    assert d[0] == min(pair.teeth) and d[1] == max(pair.teeth) / min(pair.teeth)
+
+
+def test_design_box_is_the_atlas_axes():
+    inputs = {
+        "axes.pinion_teeth": [14, 100],
+        "axes.ratio": [1.0, 5.0],
+        "axes.pressure_angle_deg": [14.5, 25.0],
+        "axes.addendum_coefficient": [1.0, 1.4],
+        "axes.profile_shift": [-0.5, 1.0],
+        "axes.rim_thickness_module": [1.5, 12.0],
+        "axes.line_load_N_per_mm": [20.0, 1000.0],
+        "pair.youngs_modulus_GPa": 200.0,
+        "pair.poisson_ratio": 0.3,
+        "pair.module_mm": 2.0,
+        "fe.plane": "strain",
+    }
+    lo, hi = cm.design_box(inputs)
+    assert lo[:6] == [14, 1.0, 14.5, 1.0, -0.5, -0.5] and hi[:6] == [100, 5.0, 25.0, 1.4, 1.0, 1.0]
+    assert lo[6] == lo[7] == pytest.approx(math.log(1.5)) and hi[7] == pytest.approx(math.log(12.0))
+    # w / (E' m) with E' = E / (1 - nu^2) in plane strain: 20 N/mm = 2e4 N/m
+    assert lo[8] == pytest.approx(math.log(2e4 * (1 - 0.09) / (200e9 * 2e-3)))

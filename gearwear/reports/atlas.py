@@ -6,12 +6,17 @@ gearwear.jobs.atlas). The reference is the pair FE with the blanks' torsion take
 (model ``fem``: the mesh stiffness the analytic models describe, fem.pair "The blank's
 torsion"); the bore-fixed FE (``fem_bore_fixed``) is reported beside it as one more row.
 
-Errors per design (:func:`errors`): for the stiffness metrics (mean, plateaus, peak-to-peak,
-harmonics 1-3, loaded STE peak-to-peak) the relative error model / FE - 1; for the
-transition angles the difference model - FE in degrees of pinion rotation. A metric a model
-does not give (ISO 6336 is a constant: no STE, no transitions; a zone the pair does not have)
-is left out, never zero. Summaries: median, 95th percentile and maximum of |error|, and the
-signed median (the bias).
+Errors per design (:func:`errors`): for the mean, the plateaus and the loaded STE
+peak-to-peak the relative error model / FE - 1; for the fluctuation (the peak-to-peak and
+the harmonics 1-3 of k_h) the difference over the FE *mean*, (model - FE) / FE mean: near an
+integer contact ratio the FE's own fluctuation tends to zero and an error relative to it
+says nothing (hundreds of % on a harmonic of 1 % of the mean), while the fluctuation over
+the mean is the parametric excitation depth the dynamics see; for the transition angles the
+difference model - FE in degrees of pinion rotation. A metric a model does not give is left
+out, never zero: a zone the pair does not have, and every fluctuation metric of a model
+whose curve is a constant over the whole atlas (ISO 6336's c_gamma: its peak-to-peak is
+zero on every design, :func:`constant_models`). Summaries: median, 95th percentile and
+maximum of |error|, and the signed median (the bias).
 
 Which model where (:func:`which_model_where`): the designs split by contact ratio
 (below 1.6, 1.6-2, 2 and above), rim (s_R / m below 3: thin; 3 and above) and load (line load
@@ -42,6 +47,10 @@ BORE_FIXED = "fem_bore_fixed"
 #: angles, deg) and as ratios (relative error: every other one)
 ANGLES = tuple(m for m in METRICS if m.endswith("_deg"))
 RELATIVE = tuple(m for m in METRICS if m not in ANGLES)
+#: the fluctuation of k_h: compared over the FE mean (module docstring)
+BY_MEAN = ("p2p_N_per_m", "h1_N_per_m", "h2_N_per_m", "h3_N_per_m")
+#: what a constant curve does not give (module docstring)
+FLUCTUATION = (*BY_MEAN, "ste_p2p_um", *ANGLES)
 #: the design axes the maps show: (column, label, log axis)
 AXES = (
     ("z1", "pinion teeth z1", False),
@@ -95,17 +104,35 @@ class Table:
         return [m for m in self.models if m not in (REFERENCE, BORE_FIXED)]
 
 
+def constant_models(t: Table) -> list[str]:
+    """The models whose k_h peak-to-peak is zero on every design they give (a constant)."""
+    out = []
+    for m in t.models:
+        p2p = t.metric[m]["p2p_N_per_m"]
+        p2p = p2p[np.isfinite(p2p)]
+        if p2p.size and not np.any(p2p):
+            out.append(m)
+    return out
+
+
 def errors(t: Table) -> dict[str, dict[str, np.ndarray]]:
     """model -> metric -> error per design against ``fem`` (module docstring; NaN: not given)."""
     ref = t.metric[REFERENCE]
+    constant = constant_models(t)
     out: dict[str, dict[str, np.ndarray]] = {}
     for m in [*t.analytic, BORE_FIXED]:
         out[m] = {}
         for k in RELATIVE:
             with np.errstate(divide="ignore", invalid="ignore"):
-                out[m][k] = t.metric[m][k] / ref[k] - 1.0
+                if k in BY_MEAN:
+                    out[m][k] = (t.metric[m][k] - ref[k]) / ref["mean_N_per_m"]
+                else:
+                    out[m][k] = t.metric[m][k] / ref[k] - 1.0
         for k in ANGLES:
             out[m][k] = t.metric[m][k] - ref[k]
+        if m in constant:
+            for k in FLUCTUATION:
+                out[m][k] = np.full(t.n, np.nan)
     return out
 
 
@@ -171,6 +198,105 @@ def binned_error(x: np.ndarray, e: np.ndarray, edges: np.ndarray) -> np.ndarray:
         s = (x >= edges[i]) & (x <= edges[i + 1] if i == len(edges) - 2 else x < edges[i + 1]) & np.isfinite(e)
         if s.sum() >= 5:
             out[i] = np.median(e[s])
+    return out
+
+
+def refusals(side: dict[str, Any]) -> dict[str, dict[str, int]]:
+    """Per model, how many designs it refused (outside its stated validity) and failed on,
+    from the sidecar's notes (gearwear.jobs.atlas: "refused: ..." / "failed: ...")."""
+    out: dict[str, dict[str, int]] = {}
+    for model, per in (side.get("notes") or {}).items():
+        lines = list(per.values()) if isinstance(per, dict) else list(per)
+        out[model] = {
+            "refused": sum(str(x).startswith("refused") for x in lines),
+            "failed": sum(str(x).startswith("failed") for x in lines),
+        }
+    return out
+
+
+# -- failure modes ---------------------------------------------------------------------------
+
+#: what each model leaves out or assumes, from its definition (docs/models.md); the atlas
+#: measures what that costs (:func:`failure_modes`)
+MECHANISMS = {
+    "ishikawa": "a sliced cantilever of the true tooth clamped at the root circle, Weber's foundation, "
+    "Weber's Hertz term; the bore and rim are not seen",
+    "energy": "the potential energy of the true tooth (fillet included) clamped at the root circle, Sainsot's "
+    "foundation (which sees the bore only through r_f / r_bore), linear Hertz",
+    "yang_lin": "the involute alone, clamped at the base circle: no material between the base and root "
+    "circles, no shear, no foundation",
+    "tian": "as Yang & Lin with shear: no material between the base and root circles, no foundation",
+    "chen_shao": "the involute clamped at the root circle (a straight segment below the base circle, no "
+    "fillet), Sainsot's foundation, linear Hertz",
+    "chen_shao_weber": "as Chen & Shao with Weber's foundation instead of Sainsot's (Weber's ignores the bore)",
+    "kuang_yang": "a regression of FE teeth in the tooth count, the shift and the contact radius, for "
+    "12-100 teeth (it refuses a gear outside); no pressure angle, addendum, rim or load term",
+    "iso6336": "one constant: c_gamma of ISO 6336-1 method B (the basic rack and webs enter through C_B and "
+    "C_R; a solid disc with a bore has C_R = 1); no fluctuation",
+    BORE_FIXED: "not a model: the same FE with the bores held fixed, so the blanks' torsion between "
+    "bore and teeth adds in series (the value a test rig with rigid shafts would measure)",
+}
+
+
+def explanatory_axes(t: Table, inputs: dict[str, Any]) -> dict[str, tuple[str, np.ndarray]]:
+    """The design axes a failure mode is sought along: the atlas's axes (:data:`AXES`) and the
+    height of the base circle above the root circle, max over both gears of (r_b - r_f) / m
+    (the material a base-clamped model leaves out; negative where r_f > r_b)."""
+    out = {col: (label, t.design[col]) for col, label, _ in AXES}
+    gap = np.array(
+        [max((g.base_radius_m - g.root_radius_m) / p.module_m for g in p.gears) for p in pairs_of(t, inputs)]
+    )
+    out["base_above_root_module"] = ("base circle above root circle (r_b - r_f) / m, max of both gears", gap)
+    return out
+
+
+def failure_modes(
+    t: Table, inputs: dict[str, Any], errs: dict[str, dict[str, np.ndarray]], metric: str = "mean_N_per_m"
+) -> list[dict[str, Any]]:
+    """Per model: its bias (signed median of ``metric``'s error), the design axis its error
+    follows most closely (largest |Spearman rank correlation|), and the median error in the
+    lowest and highest quarter of that axis. The numbers only: the mechanism is
+    :data:`MECHANISMS`, written from each model's definition, not fitted."""
+    from scipy.stats import spearmanr
+
+    axes = explanatory_axes(t, inputs)
+    out = []
+    for m in [*t.analytic, BORE_FIXED]:
+        e = errs[m][metric]
+        ok = np.isfinite(e)
+        if ok.sum() < 8:
+            continue
+        ranked = []
+        for col, (label, x) in axes.items():
+            if np.ptp(x[ok]) > 0 and np.ptp(e[ok]) > 0:  # a constant has no rank correlation
+                rho = float(spearmanr(x[ok], e[ok]).statistic)
+                ranked.append((abs(rho), col, label, rho))
+        row = {
+            "model": m,
+            "designs": int(ok.sum()),
+            "median_signed": float(np.median(e[ok])),
+            "p95_abs": float(np.percentile(np.abs(e[ok]), 95)),
+            "mechanism": MECHANISMS.get(m, ""),
+        }
+        if not ranked:
+            out.append({**row, "axis": None})
+            continue
+        ranked.sort(reverse=True)
+        _, col, label, rho = ranked[0]
+        x = axes[col][1][ok]
+        q1, q3 = np.percentile(x, [25, 75])
+        out.append(
+            {
+                **row,
+                "axis": col,
+                "axis_label": label,
+                "spearman": rho,
+                "q1": float(q1),
+                "q3": float(q3),
+                "median_low": float(np.median(e[ok][x <= q1])),
+                "median_high": float(np.median(e[ok][x >= q3])),
+            }
+        )
     return out
 
 
@@ -259,7 +385,7 @@ def corrected_holdout(t: Table, inputs: dict[str, Any], errs: dict[str, dict[str
 def corrected_data(t: Table, inputs: dict[str, Any], atlas_name: str) -> dict[str, Any]:
     """gearwear/data/atlas_corrected.json: the descriptors and log ratios of every design
     with a finite FE mean, the base model, what the atlas held fixed."""
-    from gearwear.stiffness.corrected import DESCRIPTORS
+    from gearwear.stiffness.corrected import DESCRIPTORS, design_box
 
     X = descriptors_of(t, inputs)
     Y = log_ratios(t, BASE_MODEL)
@@ -269,6 +395,7 @@ def corrected_data(t: Table, inputs: dict[str, Any], atlas_name: str) -> dict[st
         "base_model": BASE_MODEL,
         "descriptors_names": [d[0] for d in DESCRIPTORS],
         "descriptors": X[ok].tolist(),
+        "domain": dict(zip(("lo", "hi"), design_box(inputs))),
         "log_ratio": {k: [None if not math.isfinite(x) else float(x) for x in v[ok]] for k, v in Y.items()},
         "fixed": {
             "plane": inputs["fe.plane"],
@@ -280,6 +407,12 @@ def corrected_data(t: Table, inputs: dict[str, Any], atlas_name: str) -> dict[st
 
 
 # -- the figures -----------------------------------------------------------------------------
+
+
+def _error_label(metric: str) -> str:
+    if metric in ANGLES:
+        return "model - FE (deg)"
+    return "(model - FE) / FE mean (%)" if metric in BY_MEAN else "model / FE - 1 (%)"
 
 
 def error_figure(t: Table, errs: dict[str, dict[str, np.ndarray]]):
@@ -305,7 +438,7 @@ def error_figure(t: Table, errs: dict[str, dict[str, np.ndarray]]):
         if k in RELATIVE:  # errors of a few % next to several hundred %: linear within 10 %
             ax.set_yscale("symlog", linthresh=10.0)
         ax.set_title(k.replace("_N_per_m", "").replace("_um", "").replace("_deg", ""), fontsize=9)
-        ax.set_ylabel("model / FE - 1 (%)" if k in RELATIVE else "model - FE (deg)", fontsize=8)
+        ax.set_ylabel(_error_label(k), fontsize=8)
         ax.tick_params(labelsize=7)
     fig.suptitle(
         f"Error against the pair FE (blanks' torsion excluded), {t.n} designs: box 25-75 %, whiskers 5-95 %",
@@ -339,7 +472,7 @@ def map_figure(t: Table, errs: dict[str, dict[str, np.ndarray]], metric: str = "
             ax.xaxis.set_major_formatter(ScalarFormatter())
             ax.xaxis.set_minor_formatter(NullFormatter())
         ax.set_xlabel(label, fontsize=8)
-        ax.set_ylabel("model / FE - 1 (%)", fontsize=8)
+        ax.set_ylabel(_error_label(metric), fontsize=8)
         ax.tick_params(labelsize=7)
     legend_outside(axes[0, 2], fontsize=7)
     fig.suptitle(f"{metric}: error over the design axes (points: designs; lines: median in 8 bins)", fontsize=10)
@@ -362,6 +495,9 @@ def analyse(folder: Path) -> dict[str, Any]:
         "summary": summary(errs),
         "where": which_model_where(t, errs),
         "corrected": corrected_holdout(t, side["inputs"], errs),
+        "failures": failure_modes(t, side["inputs"], errs),
+        "refusals": refusals(side),
+        "constant": constant_models(t),
     }
 
 
@@ -373,7 +509,7 @@ def summary_markdown(doc: dict[str, Any]) -> str:
     """The table of model errors: one row per model, median / p95 / max |error| (%) per metric."""
     lines = [
         "| model | "
-        + " | ".join(k.replace("_N_per_m", "").replace("_um", "") for k in RELATIVE)
+        + " | ".join(k.replace("_N_per_m", "").replace("_um", "") + ("\\*" if k in BY_MEAN else "") for k in RELATIVE)
         + " | entry, exit (deg) |",
         "|---" * (len(RELATIVE) + 2) + "|",
     ]
@@ -391,7 +527,81 @@ def summary_markdown(doc: dict[str, Any]) -> str:
             else ", ".join(f"{a['median_abs']:.2f} / {a['p95_abs']:.2f}" for a in ang)
         )
         lines.append(f"| `{m}` | " + " | ".join(cells) + " |")
+    n = doc["table"].n
+    lines += [
+        "",
+        f"Median / p95 / max of |error| in % over the {n} designs (entry, exit: median / p95 of |model - FE| in "
+        "degrees of pinion rotation). \\* the peak-to-peak and the harmonics of k_h as (model - FE) / FE mean. "
+        "The reference is the pair FE with the blanks' torsion taken out; `fem_bore_fixed` is the same FE with "
+        "the bores fixed, for scale. \"-\": not given"
+        + (f" (`{'`, `'.join(doc['constant'])}` is a constant: no fluctuation)" if doc["constant"] else "")
+        + ".",
+    ]
+    ref = doc.get("refusals") or {}
+    said = [
+        f"`{m}` refused {r['refused']} and failed on {r['failed']}"
+        for m, r in ref.items()
+        if r["refused"] or r["failed"]
+    ]
+    if said:
+        lines += ["", "Designs a model did not give (outside its stated validity): " + "; ".join(said) + "."]
     return "\n".join(lines) + "\n"
+
+
+def failures_markdown(doc: dict[str, Any]) -> str:
+    """The failure modes in words: each model's mechanism and what the atlas measures it costs."""
+    lines = []
+    for f in doc["failures"]:
+        if f["axis"] is None:
+            lines.append(
+                f"- **`{f['model']}`** ({f['mechanism']}). Over {f['designs']} designs its mean k_h is off by "
+                f"{_pct(f['median_signed'])} % on every design alike."
+            )
+            continue
+        trend = "rises" if f["median_high"] > f["median_low"] else "falls"
+        lines.append(
+            f"- **`{f['model']}`** ({f['mechanism']}). Over {f['designs']} designs its mean k_h is "
+            f"{'too stiff' if f['median_signed'] > 0 else 'too soft'} by {_pct(abs(f['median_signed']))} % "
+            f"(median; p95 of |error| {_pct(f['p95_abs'])} %). The error follows {f['axis_label']} most closely "
+            f"(Spearman {f['spearman']:+.2f}): it {trend} from {_pct(f['median_low'])} % where that axis is at or "
+            f"below {f['q1']:.3g} to {_pct(f['median_high'])} % at or above {f['q3']:.3g} (medians of the lowest "
+            "and highest quarter)."
+        )
+    return "\n".join(lines) + "\n"
+
+
+def corrected_markdown(doc: dict[str, Any]) -> str:
+    """The corrected model's held-out error beside every analytic model's on the same designs."""
+    c = doc["corrected"]
+    rows = [
+        f"Fitted on {c['fitted_designs']} designs, checked on the {c['held_out_designs']} held out of the fit "
+        f"(a seeded {round(100 * HOLDOUT_FRACTION)} %); |error| of the mean k_h against the FE, in %:",
+        "",
+        "| model | median | p95 | max | bias (signed median) |",
+        "|---|---|---|---|---|",
+    ]
+    s = c["corrected"]["mean"]
+    rows.append(
+        f"| **corrected** (on `{c['base_model']}`) | {_pct(s['median_abs'])} | {_pct(s['p95_abs'])} | "
+        f"{_pct(s['max_abs'])} | {_pct(s['median_signed'])} |"
+    )
+    for m, s in sorted(c["analytic_mean_error_on_held_out"].items(), key=lambda kv: kv[1].get("median_abs", 9e9)):
+        if not s["n"]:
+            continue
+        best = " (best analytic)" if m == c["best_analytic"] else ""
+        few = "" if s["n"] == c["held_out_designs"] else f" (on the {s['n']} it gives)"
+        rows.append(
+            f"| `{m}`{best}{few} | {_pct(s['median_abs'])} | {_pct(s['p95_abs'])} | {_pct(s['max_abs'])} | "
+            f"{_pct(s['median_signed'])} |"
+        )
+    z = c["corrected"]
+    rows += [
+        "",
+        f"The zone means on the same held-out designs: fewer pairs (lo) {_pct(z['lo']['median_abs'])} / "
+        f"{_pct(z['lo']['p95_abs'])} %, more pairs (hi) {_pct(z['hi']['median_abs'])} / {_pct(z['hi']['p95_abs'])} % "
+        "(median / p95 of |error|).",
+    ]
+    return "\n".join(rows) + "\n"
 
 
 def where_markdown(doc: dict[str, Any]) -> str:
@@ -417,10 +627,20 @@ def write(doc: dict[str, Any], out: Path) -> list[Path]:
     files = [
         io.write_json(
             out / "summary.json",
-            {"designs": t.n, "summary": doc["summary"], "where": doc["where"], "corrected": doc["corrected"]},
+            {
+                "designs": t.n,
+                "summary": doc["summary"],
+                "where": doc["where"],
+                "corrected": doc["corrected"],
+                "failures": doc["failures"],
+                "refusals": doc["refusals"],
+                "constant_models": doc["constant"],
+            },
         ),
         io.write_text(out / "errors.md", summary_markdown(doc)),
         io.write_text(out / "where.md", where_markdown(doc)),
+        io.write_text(out / "failures.md", failures_markdown(doc)),
+        io.write_text(out / "corrected.md", corrected_markdown(doc)),
         io.write_figure(error_figure(t, errs), out / "errors.png"),
         io.write_figure(map_figure(t, errs, "mean_N_per_m"), out / "map_mean.png"),
         io.write_figure(map_figure(t, errs, "p2p_N_per_m"), out / "map_p2p.png"),

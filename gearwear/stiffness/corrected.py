@@ -64,15 +64,16 @@ from gearwear.core.validation import Field, fail_range
 
 #: the surrogate's coordinates: (name, unit, what a refusal names); a name ``ln_*`` is the
 #: logarithm of the quantity the refusal names and prints
+#: ({s}, {l}: the index of the smaller and the larger gear in the pair, :func:`descriptors`)
 DESCRIPTORS = (
-    ("z1", "", "pair.teeth[0]"),
-    ("ratio", "", "pair.teeth[1] / pair.teeth[0]"),
+    ("z1", "", "pair.teeth[{s}]"),
+    ("ratio", "", "pair.teeth[{l}] / pair.teeth[{s}]"),
     ("pressure_angle_deg", "deg", "pair.pressure_angle_deg"),
     ("addendum_coefficient", "", "pair.addendum_coefficient"),
-    ("x1", "", "pair.profile_shift[0]"),
-    ("x2", "", "pair.profile_shift[1]"),
-    ("ln_rim1_module", "", "pinion rim (r_f1 - bore_1) / m"),
-    ("ln_rim2_module", "", "gear rim (r_f2 - bore_2) / m"),
+    ("x1", "", "pair.profile_shift[{s}]"),
+    ("x2", "", "pair.profile_shift[{l}]"),
+    ("ln_rim1_module", "", "gear {s} rim (r_f - bore) / m"),
+    ("ln_rim2_module", "", "gear {l} rim (r_f - bore) / m"),
     ("ln_load_number", "", "load number w / (E' m), w = T / (r_b1 b)"),
 )
 #: the log ratios the surrogate interpolates (module docstring)
@@ -89,20 +90,28 @@ AXIS_TOLERANCE = 1e-6
 
 
 def descriptors(pair, torque_Nm: float, plane: str = "stress") -> np.ndarray:
-    """The :data:`DESCRIPTORS` of a pair at a pinion torque (SI inputs, module docstring)."""
-    g1, g2 = pair.gears
+    """The :data:`DESCRIPTORS` of a pair at a driver torque (SI inputs, module docstring).
+
+    "1" is the smaller gear whichever drives: the atlas samples a driving pinion (ratio
+    >= 1), and the quantities the surrogate predicts, the mean and the zone means of k_h
+    over a mesh period, are the same when the other gear drives (the same two flanks touch
+    along the same path, run the other way; frictionless statics has no preferred sense).
+    The line load w = T / (r_b b) is the same from either gear (the normal force over the
+    face width)."""
+    small, large = (0, 1) if pair.teeth[0] <= pair.teeth[1] else (1, 0)
+    g1, g2 = pair.gear(small), pair.gear(large)
     m = pair.module_m
     mat = pair.materials[0]
     E = mat.youngs_modulus_Pa / (1.0 - mat.poisson_ratio**2) if plane == "strain" else mat.youngs_modulus_Pa
-    w = torque_Nm / (g1.base_radius_m * pair.face_width_m)
+    w = torque_Nm / (pair.gear(0).base_radius_m * pair.face_width_m)
     return np.array(
         [
-            float(pair.teeth[0]),
-            pair.teeth[1] / pair.teeth[0],
+            float(g1.teeth),
+            g2.teeth / g1.teeth,
             math.degrees(pair.pressure_angle_rad),
             pair.addendum_coefficient,
-            pair.profile_shift[0],
-            pair.profile_shift[1],
+            pair.profile_shift[small],
+            pair.profile_shift[large],
             math.log((g1.root_radius_m - g1.hub_radius_m) / m),
             math.log((g2.root_radius_m - g2.hub_radius_m) / m),
             math.log(w / (E * m)),
@@ -221,21 +230,33 @@ def holdout_errors(X, Y: Mapping[str, np.ndarray], held: np.ndarray) -> dict[str
     return out
 
 
-def check_domain(f: Fit, x: np.ndarray, warn: Callable[[str], None] | None = None) -> None:
-    """Refuse a design outside the fitted box (one line naming the descriptor, its value and
-    the fitted range); warn through ``warn`` when it lies in a gap of the fitted designs
-    (module docstring)."""
+def check_domain(
+    f: Fit,
+    x: np.ndarray,
+    warn: Callable[[str], None] | None = None,
+    box: tuple[Any, Any] | None = None,
+    small: int = 0,
+) -> None:
+    """Refuse a design outside the box (one line naming the descriptor, its value and the
+    range); warn through ``warn`` when it lies in a gap of the fitted designs (module
+    docstring). The box is the fitted designs' range, widened to ``box`` (lo, hi per
+    descriptor: the atlas's design space, of which the sampled designs fill the inside
+    only; a standard h_a* = 1 is at the edge of an axis [1, 1.4] no sample hits exactly) where given.
+    ``small``: the index of the smaller gear in the pair (the keys a refusal names)."""
     x = np.asarray(x, dtype=float)
-    span = f.hi - f.lo
+    lo, hi = f.lo.copy(), f.hi.copy()
+    if box is not None:
+        lo, hi = np.minimum(lo, np.asarray(box[0], dtype=float)), np.maximum(hi, np.asarray(box[1], dtype=float))
+    span = hi - lo
     for i, (name, unit, key) in enumerate(DESCRIPTORS):
-        tol = BOX_TOLERANCE * (span[i] if f.active[i] else max(abs(f.lo[i]), 1.0))
-        if not (f.lo[i] - tol <= x[i] <= f.hi[i] + tol):
+        tol = BOX_TOLERANCE * (span[i] if span[i] > 0 else max(abs(lo[i]), 1.0))
+        if not (lo[i] - tol <= x[i] <= hi[i] + tol):
             show = np.exp if name.startswith("ln_") else float  # what the key names
             raise fail_range(
-                key,
+                key.format(s=small, l=1 - small),
                 float(show(x[i])),
-                Field(unit, float(show(f.lo[i])), float(show(f.hi[i]))),
-                f"the range of the atlas designs the corrected model was fitted on ({name})",
+                Field(unit, float(show(lo[i])), float(show(hi[i]))),
+                f"the range of the atlas the corrected model was fitted on ({name})",
             )
     if warn is not None:
         from scipy.spatial import cKDTree
@@ -246,6 +267,31 @@ def check_domain(f: Fit, x: np.ndarray, warn: Callable[[str], None] | None = Non
                 f"warning: this pair is {d:.3g} from the nearest atlas design (unit-cube distance; the "
                 f"largest spacing among the fitted designs is {f.gap:.3g}): the corrected model extrapolates"
             )
+
+
+def design_box(inputs: Mapping[str, Any]) -> tuple[list[float], list[float]]:
+    """(lo, hi) of each descriptor over an atlas SPEC's axes (gearwear.jobs.atlas_spec keys
+    ``axes.*``, ``pair.module_mm``, ``pair.youngs_modulus_GPa``, ``pair.poisson_ratio``,
+    ``fe.plane``): the design space the sampled designs fill."""
+    a = {k[len("axes.") :]: v for k, v in inputs.items() if k.startswith("axes.")}
+    E = inputs["pair.youngs_modulus_GPa"] * 1e9
+    if inputs["fe.plane"] == "strain":
+        E /= 1.0 - inputs["pair.poisson_ratio"] ** 2
+    m = inputs["pair.module_mm"] * 1e-3
+    rim = [math.log(v) for v in a["rim_thickness_module"]]
+    load = [math.log(v * 1e3 / (E * m)) for v in a["line_load_N_per_mm"]]
+    cols = [
+        a["pinion_teeth"],
+        a["ratio"],
+        a["pressure_angle_deg"],
+        a["addendum_coefficient"],
+        a["profile_shift"],
+        a["profile_shift"],
+        rim,
+        rim,
+        load,
+    ]
+    return [float(c[0]) for c in cols], [float(c[1]) for c in cols]
 
 
 # -- the committed surrogate ----------------------------------------------------------------
@@ -296,7 +342,9 @@ def corrected_curve(rq, warn: Callable[[str], None] | None = None):
     if rq.plane != held["plane"]:
         raise fail("fem.plane", repr(rq.plane), "", f"the corrected model is fitted in plane {held['plane']}")
     x = descriptors(rq.pair, rq.torque_Nm, held["plane"])
-    check_domain(f, x, warn=warn or (lambda s: print(s, file=sys.stderr)))
+    box = (doc["domain"]["lo"], doc["domain"]["hi"]) if "domain" in doc else None
+    small = 0 if rq.pair.teeth[0] <= rq.pair.teeth[1] else 1
+    check_domain(f, x, warn=warn or (lambda s: print(s, file=sys.stderr)), box=box, small=small)
     r = {t: float(v[0]) for t, v in f.predict(x).items()}
     base = SOURCES[doc["base_model"]].curve(rq)
     n0 = math.floor(base.mesh.contact_ratio)
