@@ -340,7 +340,11 @@ def corrected_curve(rq, warn: Callable[[str], None] | None = None):
             "the Poisson's ratio of the atlas the corrected model is fitted on",
         )
     if rq.plane != held["plane"]:
-        raise fail("fem.plane", repr(rq.plane), "", f"the corrected model is fitted in plane {held['plane']}")
+        why = (
+            f"the corrected model is fitted in plane {held['plane']} only (the atlas's FE): set "
+            f"fem.plane = \"{held['plane']}\", or use --method fem"
+        )
+        raise fail("fem.plane", repr(rq.plane), "", why)
     x = descriptors(rq.pair, rq.torque_Nm, held["plane"])
     box = (doc["domain"]["lo"], doc["domain"]["hi"]) if "domain" in doc else None
     small = 0 if rq.pair.teeth[0] <= rq.pair.teeth[1] else 1

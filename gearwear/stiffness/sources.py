@@ -98,6 +98,14 @@ class Source:
 # -- the curve functions -------------------------------------------------------------------
 
 
+def _corrected(rq: Request) -> "MeshStiffness":
+    """gearwear.stiffness.corrected.corrected_curve: the energy method's curve times the FE /
+    energy ratios the atlas surrogate predicts for the pair (refuses outside the atlas)."""
+    from gearwear.stiffness.corrected import corrected_curve
+
+    return corrected_curve(rq)
+
+
 def _analytic(method: str, name: str | None = None) -> Callable[[Request], "MeshStiffness"]:
     """The curve of analytic.tvms.mesh_stiffness (load sharing over the slice or energy
     compliances) with ``method``, at the default points of source ``name`` (default: the method's)."""
@@ -382,6 +390,14 @@ SOURCES: dict[str, Source] = {
         ),
         Source(
             "iso6336", "one constant (ISO 6336-1 method B)", _iso, command=True, flank=False, faults=False, plane=False
+        ),
+        Source(
+            "corrected",
+            "atlas-corrected energy method: a surrogate of the pair FE over the atlas's design space",
+            _corrected,
+            command=True,
+            flank=False,
+            faults=False,
         ),
         Source("constant", "one value (default: the analytic mean)", _constant, scene=True, plane=False),
         Source("analytic", "Ishikawa/Weber slice model, as a table for the dynamics", _scene_analytic, scene=True),
