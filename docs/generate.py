@@ -391,7 +391,155 @@ def cost_table() -> str:
     return "\n".join(rows)
 
 
+# -- the atlas (issue 28): reports/atlas, written by make atlas ------------------------------
+
+ATLAS = ROOT / "reports" / "atlas"
+
+
+def _atlas_md(name: str) -> str:
+    """A table python -m gearwear.reports.atlas wrote into reports/atlas/analysis."""
+    return (ATLAS / "analysis" / name).read_text().rstrip("\n")
+
+
+def atlas_facts() -> str:
+    """What the committed atlas holds: designs, Sobol points drawn, rejects, the axes and what
+    was held fixed (reports/atlas/atlas.csv.json, the sidecar gearwear atlas wrote)."""
+    side = json.loads((ATLAS / "atlas.csv.json").read_text())
+    inp = side["inputs"]
+    rejects = ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in side["rejects"].items())
+    axes = "; ".join(
+        f"{k[len('axes.') :].replace('_', ' ')} {v[0]:g}-{v[1]:g}"
+        for k, v in sorted(inp.items())
+        if k.startswith("axes.")
+    )
+    return (
+        f"{side['designs']} feasible designs of {side['points_drawn']} scrambled Sobol points (seed {inp['seed']}; "
+        f"rejected: {rejects}). Axes: {axes}. Held fixed: module {inp['pair.module_mm']:g} mm, face width "
+        f"{inp['pair.face_width_mm']:g} mm, E {inp['pair.youngs_modulus_GPa']:g} GPa, "
+        f"nu {inp['pair.poisson_ratio']:g}, "
+        f"plane {inp['fe.plane']}, rack tip radius {inp['pair.rack_tip_radius_coefficient']:g} m_n, dedendum h_a* + "
+        f"{inp['pair.dedendum_margin']:g}, solid blanks held at their bores (no webs); the pair FE at "
+        f"{inp['fe.positions']} positions per mesh period, mesh scale {inp['fe.mesh_scale']:g}, the transitions "
+        f"bisected: {'yes' if inp['fe.transitions'] else 'no'}. Models: {', '.join(f'`{m}`' for m in side['models'])}."
+    )
+
+
+def atlas_headline() -> str:
+    """The atlas in three lines, from reports/atlas/analysis/summary.json."""
+    d = json.loads((ATLAS / "analysis" / "summary.json").read_text())
+    mean = {m: v["mean_N_per_m"] for m, v in d["summary"].items() if m != "fem_bore_fixed" and v["mean_N_per_m"]["n"]}
+    ranked = sorted(mean, key=lambda m: mean[m]["median_abs"])
+    c = d["corrected"]
+    cm, best = c["corrected"]["mean"], c["analytic_mean_error_on_held_out"][c["best_analytic"]]
+    bf = d["summary"]["fem_bore_fixed"]["mean_N_per_m"]
+
+    def pct(x: float) -> str:
+        return f"{100 * x:.1f} %"
+
+    return "\n".join(
+        [
+            f"- **Over {d['designs']} designs the best analytic model's mean k_h is off the FE by "
+            f"{pct(mean[ranked[0]]['median_abs'])} on the median.** The closest: "
+            + ", ".join(
+                f"`{m}` {pct(mean[m]['median_abs'])} (p95 {pct(mean[m]['p95_abs'])}, on {mean[m]['n']} designs)"
+                for m in ranked[:3]
+            )
+            + "; the farthest: "
+            + ", ".join(f"`{m}` {pct(mean[m]['median_abs'])} (p95 {pct(mean[m]['p95_abs'])})" for m in ranked[-2:])
+            + ".",
+            f"- **The corrected model** (the energy method times a surrogate of the FE ratio) is off by "
+            f"{pct(cm['median_abs'])} on the median and {pct(cm['p95_abs'])} at p95 on {c['held_out_designs']} designs "
+            f"held out of its fit, against {pct(best['median_abs'])} and {pct(best['p95_abs'])} for the best analytic "
+            f"model on the same designs (`{c['best_analytic']}`).",
+            f"- **The definition moves the number too:** the bore-fixed FE differs from the mesh-only one by "
+            f"{pct(bf['median_abs'])} on the median, {pct(bf['p95_abs'])} at p95 and up to {pct(bf['max_abs'])} "
+            "(the blanks' torsion, largest for a small bore under a thick rim).",
+        ]
+    )
+
+
+def atlas_errors() -> str:
+    return _atlas_md("errors.md")
+
+
+def atlas_where() -> str:
+    return _atlas_md("where.md")
+
+
+def atlas_failures() -> str:
+    return _atlas_md("failures.md")
+
+
+def atlas_corrected() -> str:
+    return _atlas_md("corrected.md")
+
+
+def atlas_corrected_pairs() -> str:
+    """The corrected model on pairs that are not atlas designs
+    (benchmarks/results/bench_corrected_pairs.json, benchmarks/bench_corrected_pairs.py)."""
+    d = _json("benchmarks/results/bench_corrected_pairs.json")
+    models = list(d["rows"][0]["models"])
+    rows = [
+        "| pair | FE mean k_h (N/m) | FE wall (s) | " + " | ".join(f"`{m}`" for m in models) + " |",
+        "|---" * (len(models) + 3) + "|",
+    ]
+    for r in d["rows"]:
+        cells = [f"{100 * r['models'][m]['error']:+.1f} %" for m in models]
+        rows.append(
+            f"| {r['pair']} | {r['fem_mean_N_per_m']:.3e} | {r['fem_wall_s']:.1f} | " + " | ".join(cells) + " |"
+        )
+    rows += [
+        "",
+        f"Error of each model's mean k_h against the pair FE (blanks' torsion taken out, plane stress), {d['when']}.",
+    ]
+    return "\n".join(rows)
+
+
+def atlas_scale() -> str:
+    """The atlas's wall time and cost per design (benchmarks/results/bench_atlas_scale.json,
+    benchmarks/bench_atlas_scale.py) and the committed run's own timing."""
+    d = _json("benchmarks/results/bench_atlas_scale.json")
+    rows = [
+        f"`gearwear atlas` on the first {d['designs']} designs of atlas.toml, empty cache, whole process "
+        f"({d['when']}, load average at the start {d['load_average_start'][0]:.1f}; "
+        "`python benchmarks/bench_atlas_scale.py`):",
+        "",
+        "| executor | wall (s) | designs' CPU, sum (s) | per design, median CPU (s) | overhead (s) | atlas.csv |",
+        "|---|---|---|---|---|---|",
+    ]
+    first = d["runs"][0]["atlas_csv_sha256"]
+    for r in d["runs"]:
+        same = "the same bytes" if r["atlas_csv_sha256"] == first else "DIFFERENT bytes"
+        rows.append(
+            f"| {r['executor']} (`{' '.join(r['command'].split()[3:-3])}`) | {r['wall_s']:.1f} | "
+            f"{r['designs_cpu_s_sum']:.1f} | {r['design_cpu_s_median']:.1f} | {r['overhead_s']:.1f} | {same} |"
+        )
+    pr = d.get("projection")
+    if pr:
+        c = pr["design_cpu_s"]
+        rows += [
+            "",
+            f"Per design over the committed atlas ({pr['designs_timed']} designs timed in the run that computed "
+            f"them): CPU mean {c['mean']:.1f} s, median {c['median']:.1f} s, p95 {c['p95']:.1f} s, "
+            f"max {c['max']:.1f} s. "
+            f"Projected wall time of {pr['designs']} designs, overhead + max(sum of CPU / N, the longest design):",
+            "",
+            "| workers | " + " | ".join(pr["wall_s_by_workers"]) + " |",
+            "|---" * (len(pr["wall_s_by_workers"]) + 1) + "|",
+            "| wall (min) | " + " | ".join(f"{t / 60:.0f}" for t in pr["wall_s_by_workers"].values()) + " |",
+        ]
+    return "\n".join(rows)
+
+
 TABLES = {
+    "atlas-facts": atlas_facts,
+    "atlas-headline": atlas_headline,
+    "atlas-errors": atlas_errors,
+    "atlas-where": atlas_where,
+    "atlas-failures": atlas_failures,
+    "atlas-corrected": atlas_corrected,
+    "atlas-corrected-pairs": atlas_corrected_pairs,
+    "atlas-scale": atlas_scale,
     "stiffness-sources": stiffness_sources,
     "published-models": published_models,
     "stiffness-peer": stiffness_peer,
