@@ -42,14 +42,19 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 OUT_JSON = HERE / "results" / "bench_compile.json"
+SUMMARY_KEYS = ("compile_cpu_s", "process_cpu_s", "process_warm_cpu_s")
 
 #: the cases: (method, paper_pair keywords)
 CASES = {
-    "dopri5-all": ("dopri5", dict(backlash_total_m=50e-6, clearance_total_m=20e-6, te_amplitude_m=2e-6,
-                                  centre_distance="dynamic")),
+    "dopri5-all": (
+        "dopri5",
+        dict(backlash_total_m=50e-6, clearance_total_m=20e-6, te_amplitude_m=2e-6, centre_distance="dynamic"),
+    ),
     "rk4-stiffness": ("rk4", {}),
-    "rk4-all": ("rk4", dict(backlash_total_m=50e-6, clearance_total_m=20e-6, te_amplitude_m=2e-6,
-                            centre_distance="dynamic")),
+    "rk4-all": (
+        "rk4",
+        dict(backlash_total_m=50e-6, clearance_total_m=20e-6, te_amplitude_m=2e-6, centre_distance="dynamic"),
+    ),
     "dopri5-stiffness": ("dopri5", {}),
 }
 
@@ -129,7 +134,10 @@ def main(argv: list[str] | None = None) -> int:
                     )
     summary = {
         c: {
-            case: {k: statistics.median(r[k] for r in runs) for k in ("compile_cpu_s", "process_cpu_s", "process_warm_cpu_s")}
+            case: {
+                k: statistics.median(r[k] for r in runs)
+                for k in ("compile_cpu_s", "process_cpu_s", "process_warm_cpu_s")
+            }
             for case, runs in per.items()
         }
         for c, per in rows.items()

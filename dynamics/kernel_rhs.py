@@ -13,9 +13,10 @@ while in contact:
 The parameters ``p`` are the vector of ``dynamics.params`` (SI). The effect switches
 ``sw_bl`` (backlash / flank law), ``sw_cl`` (bearing clearance), ``sw_dyn`` (dynamic centre
 distance), ``sw_en`` (energy rates) are ``None`` or ``True``: one specialisation per effect
-set (``dynamics.kernels``). ``_rhs`` is inlined at numba's IR level (``inline="always"``):
-left to LLVM it stayed a call that copied the 23-value parameter tuple four times per step
-(1.33x a plain C loop; inlined 0.95x, ``benchmarks/bench_rk4_vs_c.py``).
+set (``dynamics.kernels``). ``_rhs`` is inlined at numba's IR level (``inline="always"``)
+into RK4: left to LLVM it stayed a call that copied the 23-value parameter tuple four times
+per step (1.33x a plain C loop; inlined 0.95x, ``benchmarks/bench_rk4_vs_c.py``). Dormand-
+Prince calls the single compiled ``_rhs_frozen`` instead (a cold compile of 8 inlined copies).
 """
 
 from __future__ import annotations
@@ -25,7 +26,6 @@ import math
 from numba import njit
 
 from .kernel_state import INNER
-
 from .params import P_B, P_BB, P_C0, P_CA, P_CBG, P_CBP, P_CH, P_FS, P_INV0, P_KB, P_ME, P_MG, P_MP, P_PAPER, P_RS, P_SA
 
 NG = 10  # switching functions: s-b, -s-b, then +-u_j - b_b for y_p, x_p, y_g, x_g

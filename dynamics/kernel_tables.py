@@ -21,7 +21,6 @@ import math
 from numba import njit
 
 from .kernel_state import INNER
-
 from .params import P_DPHI, P_KC, P_OM, P_PER, P_PHI0, P_UNI
 
 
