@@ -16,6 +16,8 @@ exhausted, ``ST_HMIN`` 2 step size below the minimum, ``ST_DIVERGED`` 3 diverged
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from numba import njit
 
@@ -26,7 +28,8 @@ ST_OK, ST_BUDGET, ST_HMIN, ST_DIVERGED = 0, 1, 2, 3
 #: generates for each compiled function (unboxing code for every argument, a few tenths
 #: of a second of a cold first run per function of tuple arguments; they are never called
 #: from Python). Cached on disk like the entry points.
-INNER = dict(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+#: (``Any`` values: numba's type stubs do not list the two wrapper options)
+INNER: dict[str, Any] = dict(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 
 
 @njit(**INNER)
