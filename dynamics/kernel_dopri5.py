@@ -113,7 +113,9 @@ def dopri5(
     n_rej = 0
     n_ev = 0
     ev = np.empty((64, EV_COLS))
-    n_rec = 0
+    # np.int64, not a literal 0: numba types the first call of _ev_put with Literal[int](0)
+    # before the loop unifies the count to int64, and compiled _ev_put and _first_rows twice
+    n_rec = np.int64(0)
     t_lo = t_out[0] if n_out > 0 else 0.0
     t_hi = t_out[n_out - 1] if n_out > 0 else -1.0
     n_zero = 0

@@ -17,29 +17,29 @@ from __future__ import annotations
 from numba import njit
 
 from .dormand_prince import A2, A3, A4, A5, A6, B, C, E
-from .kernel_rhs import _rhs
-from .kernel_state import _lc1, _lc2, _lc3, _lc4, _lc5, _lc6, _put, _tup
+from .kernel_rhs import _rhs_frozen
+from .kernel_state import INNER, _lc1, _lc2, _lc3, _lc4, _lc5, _lc6, _put, _tup
 from .kernel_tables import _table_at
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _dp_stages(t, h, i, m, z, k1, w1, p, modes, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en):
     """Stages 2-7 of Dormand-Prince 5(4) on tuples (k1 = f(t, z) given, FSAL).
     Returns (z_new, (k2..k7), (w2..w7), error estimate tuple h sum E_s k_s)."""
     kt, et, dkt, det = _table_at(t + C[1] * h, i, m, p, phx, kx, ex, sw_tv, sw_te)
-    k2, F, w2 = _rhs(_lc1(z, h, A2[0], k1), kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
+    k2, F, w2 = _rhs_frozen(_lc1(z, h, A2[0], k1), kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
     kt, et, dkt, det = _table_at(t + C[2] * h, i, m, p, phx, kx, ex, sw_tv, sw_te)
-    k3, F, w3 = _rhs(_lc2(z, h, A3[0], k1, A3[1], k2), kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
+    k3, F, w3 = _rhs_frozen(_lc2(z, h, A3[0], k1, A3[1], k2), kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
     kt, et, dkt, det = _table_at(t + C[3] * h, i, m, p, phx, kx, ex, sw_tv, sw_te)
-    k4, F, w4 = _rhs(
+    k4, F, w4 = _rhs_frozen(
         _lc3(z, h, A4[0], k1, A4[1], k2, A4[2], k3), kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en
     )
     kt, et, dkt, det = _table_at(t + C[4] * h, i, m, p, phx, kx, ex, sw_tv, sw_te)
-    k5, F, w5 = _rhs(
+    k5, F, w5 = _rhs_frozen(
         _lc4(z, h, A5[0], k1, A5[1], k2, A5[2], k3, A5[3], k4), kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en
     )
     kt, et, dkt, det = _table_at(t + h, i, m, p, phx, kx, ex, sw_tv, sw_te)
-    k6, F, w6 = _rhs(
+    k6, F, w6 = _rhs_frozen(
         _lc5(z, h, A6[0], k1, A6[1], k2, A6[2], k3, A6[3], k4, A6[4], k5),
         kt,
         et,
@@ -53,21 +53,21 @@ def _dp_stages(t, h, i, m, z, k1, w1, p, modes, phx, kx, ex, sw_tv, sw_bl, sw_cl
         sw_en,
     )
     zn = _lc5(z, h, B[0], k1, B[2], k3, B[3], k4, B[4], k5, B[5], k6)
-    k7, F, w7 = _rhs(zn, kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
+    k7, F, w7 = _rhs_frozen(zn, kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
     zero = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
     err = _lc6(zero, h, E[0], k1, E[2], k3, E[3], k4, E[4], k5, E[5], k6, E[6], k7)
     return zn, (k2, k3, k4, k5, k6, k7), (w2, w3, w4, w5, w6, w7), err
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _f_first(t, i, m, z, p, modes, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn, sw_en):
     """f(t, z) and the energy rates at a (re)start of the adaptive integration."""
     kt, et, dkt, det = _table_at(t, i, m, p, phx, kx, ex, sw_tv, sw_te)
-    k1, F1, w1 = _rhs(_tup(z), kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
+    k1, F1, w1 = _rhs_frozen(_tup(z), kt, et, dkt, det, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
     return k1, w1
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _dp_store(K, k1, w1, ks, ws, zn, znew, sw_en):
     """Stage derivatives into K (dense output, event location), z_new into znew[:10]."""
     _put(K[0], k1, w1, sw_en)
@@ -77,14 +77,14 @@ def _dp_store(K, k1, w1, ks, ws, zn, znew, sw_en):
         znew[r] = zn[r]
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _dp_energy(z, K, h, znew):
     """Energy quadratures: the 5th-order weights of the states (A[6]) on their rates."""
     for r in range(10, z.shape[0]):
         znew[r] = z[r] + h * (B[0] * K[0, r] + B[2] * K[2, r] + B[3] * K[3, r] + B[4] * K[4, r] + B[5] * K[5, r])
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _dense(z, K, h, th, PD, out, nz):
     """Dormand-Prince continuous extension at theta in [0, 1]."""
     t2 = th * th

@@ -20,14 +20,14 @@ from numba import njit
 
 from .kernel_dp_step import _dense
 from .kernel_rhs import NG, _gvals
-from .kernel_state import _tup
+from .kernel_state import INNER, _tup
 from .kernel_tables import _table_at
 
 # one row per located event in the output window: t, the state, f before (old mode), f after
 EV_T, EV_Z, EV_F0, EV_F1, EV_COLS = 0, 1, 11, 21, 31
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _g_arr(t, i, m, za, g, p, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn):
     k, e, dk, de = _table_at(t, i, m, p, phx, kx, ex, sw_tv, sw_te)
     gv = _gvals(_tup(za), e, p, sw_bl, sw_cl, sw_dyn)
@@ -35,12 +35,12 @@ def _g_arr(t, i, m, za, g, p, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn):
         g[q] = gv[q]
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _bmode(up, down):
     return 1 if up else (-1 if down else 0)
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _modes_tuple(act):
     return (
         1 if act[0] else 0,
@@ -52,7 +52,7 @@ def _modes_tuple(act):
     )
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _illinois(
     t, h, i, m, z, K, PD, gi, act_i, a, fa, bq, fb, zs, gs, p, phx, kx, ex, sw_tv, sw_bl, sw_cl, sw_te, sw_dyn
 ):
@@ -90,7 +90,7 @@ def _illinois(
     return bq
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _first_rows(ev, n, rows):
     """A new (rows, EV_COLS) buffer holding the first n rows of ev (rows >= n). Element
     loops, not ``new[:n] = ev[:n]``: numba's slice assignment compiles its broadcasting and
@@ -102,7 +102,7 @@ def _first_rows(ev, n, rows):
     return new
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _ev_put(ev, n, t, z, f0, f1):
     """Row n of the event record (grown by doubling when full): time, state, one-sided
     derivatives. Returns the (possibly new) buffer."""

@@ -13,9 +13,10 @@ while in contact:
 The parameters ``p`` are the vector of ``dynamics.params`` (SI). The effect switches
 ``sw_bl`` (backlash / flank law), ``sw_cl`` (bearing clearance), ``sw_dyn`` (dynamic centre
 distance), ``sw_en`` (energy rates) are ``None`` or ``True``: one specialisation per effect
-set (``dynamics.kernels``). ``_rhs`` is inlined at numba's IR level (``inline="always"``):
-left to LLVM it stayed a call that copied the 23-value parameter tuple four times per step
-(1.33x a plain C loop; inlined 0.95x, ``benchmarks/bench_rk4_vs_c.py``).
+set (``dynamics.kernels``). ``_rhs`` is inlined at numba's IR level (``inline="always"``)
+into RK4: left to LLVM it stayed a call that copied the 23-value parameter tuple four times
+per step (1.33x a plain C loop; inlined 0.95x, ``benchmarks/bench_rk4_vs_c.py``). Dormand-
+Prince calls the single compiled ``_rhs_frozen`` instead (a cold compile of 8 inlined copies).
 """
 
 from __future__ import annotations
@@ -24,12 +25,13 @@ import math
 
 from numba import njit
 
+from .kernel_state import INNER
 from .params import P_B, P_BB, P_C0, P_CA, P_CBG, P_CBP, P_CH, P_FS, P_INV0, P_KB, P_ME, P_MG, P_MP, P_PAPER, P_RS, P_SA
 
 NG = 10  # switching functions: s-b, -s-b, then +-u_j - b_b for y_p, x_p, y_g, x_g
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _kin(z, p, sw_dyn):
     """Mesh kinematics: (delta, delta', b, G0..G3, Gb0..Gb3), G = d delta/d(y_p, x_p,
     y_g, x_g) (d delta/dq = 1), Gb = d b/d(...) (dynamic coupling only)."""
@@ -69,7 +71,7 @@ def _kin(z, p, sw_dyn):
     return delta, dd, b, G0, G1, G2, G3, Gb0, Gb1
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _dead(u, bb):
     if u > bb:
         return u - bb
@@ -78,7 +80,7 @@ def _dead(u, bb):
     return 0.0
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _dead_mode(u, m, bb):
     if m == 1:
         return u - bb
@@ -87,7 +89,7 @@ def _dead_mode(u, m, bb):
     return 0.0
 
 
-@njit(cache=True, inline="always")
+@njit(inline="always", **INNER)
 def _rhs(z, k, e, dk, de, p, modes, sw_bl, sw_cl, sw_dyn, sw_en):
     """Right-hand side of the reduced 5-DOF model (``dynamics.model``).
 
@@ -167,7 +169,17 @@ def _rhs(z, k, e, dk, de, p, modes, sw_bl, sw_cl, sw_dyn, sw_en):
     return dz, F, w
 
 
-@njit(cache=True)
+@njit(**INNER)
+def _rhs_frozen(z, k, e, dk, de, p, modes, sw_bl, sw_cl, sw_dyn, sw_en):
+    """``_rhs`` as one compiled function (its IR inlined here once), for Dormand-Prince's
+    7 stages and restarts: inlining ``_rhs`` at each of those 8 call sites made numba type,
+    lower and optimise 8 copies of it, the larger part of a cold dopri5 compile. The
+    adaptive step is dominated by its error control, dense output and event checks, where a
+    call per stage costs little (``benchmarks/bench_dynamics.py``, the compile rows)."""
+    return _rhs(z, k, e, dk, de, p, modes, sw_bl, sw_cl, sw_dyn, sw_en)
+
+
+@njit(**INNER)
 def _gvals(z, e, p, sw_bl, sw_cl, sw_dyn):
     """Switching functions (a function is 'active', in contact, when > 0)."""
     g0 = 0.0

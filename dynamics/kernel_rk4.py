@@ -22,16 +22,16 @@ import numpy as np
 from numba import njit
 
 from .kernel_rhs import _rhs
-from .kernel_state import ST_DIVERGED, ST_OK, _counters, _lc1, _lc4, _put, _tup
+from .kernel_state import INNER, ST_DIVERGED, ST_OK, _counters, _lc1, _lc4, _put, _tup
 from .params import P_KC
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _bounded(z, zlim):
     return abs(z[4]) < zlim and abs(z[0]) < zlim and abs(z[2]) < zlim
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _hermite10(z0, f0, z1, f1, th, h, dst):
     t2 = th * th
     t3 = t2 * th

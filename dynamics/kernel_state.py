@@ -16,13 +16,23 @@ exhausted, ``ST_HMIN`` 2 step size below the minimum, ``ST_DIVERGED`` 3 diverged
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from numba import njit
 
 ST_OK, ST_BUDGET, ST_HMIN, ST_DIVERGED = 0, 1, 2, 3
 
+#: njit options of every kernel function that only other kernels call (all but ``rk4``,
+#: ``dopri5`` and ``rhs_at``): no CPython or C-callable wrapper, which numba otherwise
+#: generates for each compiled function (unboxing code for every argument, a few tenths
+#: of a second of a cold first run per function of tuple arguments; they are never called
+#: from Python). Cached on disk like the entry points.
+#: (``Any`` values: numba's type stubs do not list the two wrapper options)
+INNER: dict[str, Any] = dict(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 
-@njit(cache=True)
+
+@njit(**INNER)
 def _counters(a, b, c, d, e, f):
     """The integrators' int64 counter array. Element stores, not ``np.array([...])``:
     numba compiles list-to-array conversion with its reflection machinery (slow first run)."""
@@ -36,12 +46,12 @@ def _counters(a, b, c, d, e, f):
     return out
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _tup(a):
     return (a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7], a[8], a[9])
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _put(dst, z, w, sw_en):
     for i in range(10):
         dst[i] = z[i]
@@ -50,7 +60,7 @@ def _put(dst, z, w, sw_en):
             dst[10 + i] = w[i]
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _lc1(z, h, a0, k0):
     return (
         z[0] + h * (a0 * k0[0]),
@@ -66,7 +76,7 @@ def _lc1(z, h, a0, k0):
     )
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _lc2(z, h, a0, k0, a1, k1):
     return (
         z[0] + h * (a0 * k0[0] + a1 * k1[0]),
@@ -82,7 +92,7 @@ def _lc2(z, h, a0, k0, a1, k1):
     )
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _lc3(z, h, a0, k0, a1, k1, a2, k2):
     return (
         z[0] + h * (a0 * k0[0] + a1 * k1[0] + a2 * k2[0]),
@@ -98,7 +108,7 @@ def _lc3(z, h, a0, k0, a1, k1, a2, k2):
     )
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _lc4(z, h, a0, k0, a1, k1, a2, k2, a3, k3):
     return (
         z[0] + h * (a0 * k0[0] + a1 * k1[0] + a2 * k2[0] + a3 * k3[0]),
@@ -114,7 +124,7 @@ def _lc4(z, h, a0, k0, a1, k1, a2, k2, a3, k3):
     )
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _lc5(z, h, a0, k0, a1, k1, a2, k2, a3, k3, a4, k4):
     return (
         z[0] + h * (a0 * k0[0] + a1 * k1[0] + a2 * k2[0] + a3 * k3[0] + a4 * k4[0]),
@@ -130,7 +140,7 @@ def _lc5(z, h, a0, k0, a1, k1, a2, k2, a3, k3, a4, k4):
     )
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _lc6(z, h, a0, k0, a1, k1, a2, k2, a3, k3, a4, k4, a5, k5):
     return (
         z[0] + h * (a0 * k0[0] + a1 * k1[0] + a2 * k2[0] + a3 * k3[0] + a4 * k4[0] + a5 * k5[0]),

@@ -20,10 +20,11 @@ import math
 
 from numba import njit
 
+from .kernel_state import INNER
 from .params import P_DPHI, P_KC, P_OM, P_PER, P_PHI0, P_UNI
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _bisect_right(a, x):
     """The index j with a[j-1] <= x < a[j] in the sorted array a (0 .. len(a)), as
     ``np.searchsorted(a, x, side="right")``. Written out because numba's searchsorted
@@ -39,7 +40,7 @@ def _bisect_right(a, x):
     return lo
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _segment(tseg, p, phx):
     """Table segment index (in the periodic-extended table) and table-period count at
     tseg (``p[P_PER]`` is the table period, ``GearDynamics.table_period_rad``)."""
@@ -59,7 +60,7 @@ def _segment(tseg, p, phx):
     return i, m
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _table_at(t, i, m, p, phx, kx, ex, sw_tv, sw_te):
     """(k, e, dk/dt, de/dt) at time t on the held table segment i of period m; kx, ex are
     the segments' polynomial coefficients (``model.segment_coefficients``)."""
@@ -78,7 +79,7 @@ def _table_at(t, i, m, p, phx, kx, ex, sw_tv, sw_te):
     return k, e, dk, de
 
 
-@njit(cache=True)
+@njit(**INNER)
 def _next_node_time(t, p, phi):
     """Time of the first table node strictly after t (the linear table's kinks)."""
     P = p[P_PER]

@@ -29,9 +29,23 @@ Speed structure
 ---------------
 The right-hand side works on scalars: the state is a 10-tuple, the parameters a
 tuple of floats, and the result a tuple. Tuples are values in numba (no reference
-counting, no heap). ``_rhs`` (``kernel_rhs``) is inlined at numba's IR level (``inline="always"``):
-left to LLVM it stayed a call that copied the 23-value parameter tuple four times per
-step (1.33x a plain C loop; inlined 0.95x, ``benchmarks/bench_rk4_vs_c.py``).
+counting, no heap). ``_rhs`` (``kernel_rhs``) is inlined at numba's IR level (``inline="always"``)
+into RK4's four stages: left to LLVM it stayed a call that copied the 23-value parameter
+tuple four times per step (1.33x a plain C loop; inlined 0.95x, ``benchmarks/bench_rk4_vs_c.py``).
+Dormand-Prince calls it through ``_rhs_frozen``, one compiled copy for its 7 stages and
+restarts: 8 inlined copies were most of a cold dopri5 compile, and its step is dominated by
+error control, dense output and event checks.
+
+Compile cost (issue 27)
+-----------------------
+A first run compiles every kernel function of its effect set (from an empty numba cache).
+Most of that is numba's own typing and lowering, not LLVM's optimisation (``NUMBA_OPT=0``
+saved a quarter of it: 13.5 -> 10.2 s CPU for dopri5 with every effect), so the cost
+follows the amount of code numba processes: the functions only kernels call carry no
+CPython or C wrapper (``kernel_state.INNER``), ``_rhs`` is compiled once for dopri5, and
+numpy helpers that compile their own overloads on a first call (slice stores, ``np.zeros``,
+``searchsorted``) are written as loops. ``benchmarks/bench_compile.py``
+measures the cold compile per effect set in CPU seconds.
 
 The stiffness contract
 ----------------------
