@@ -93,11 +93,13 @@ def _by_quadrature(g: GearSpec, R: float, clamp: str, b: float) -> tuple[float, 
     y0 = _clamp_height(g, clamp)
     y_b = _flank_point(g, g.base_radius_m)[1]
     pts = [y_b] if y0 < y_b < y_F else None
-
-    def t(y):
-        return 2.0 * _half_thickness(g, y)
-
     kw = dict(points=pts, limit=200, epsabs=0.0, epsrel=1e-11)
+    return _height_integrals(lambda y: 2.0 * _half_thickness(g, y), y0, y_F, x_F, w, E, G, b, kw)
+
+
+def _height_integrals(t, y0: float, y_F: float, x_F: float, w: float, E: float, G: float, b: float, kw: dict):
+    """(int M^2 12/(E b t^3), int 1.2 cos^2 w/(G b t), int sin^2 w/(E b t)) dy over [y0, y_F]
+    for the section thickness t(y) (m), by scipy's adaptive quad with options ``kw``."""
 
     def moment(y):
         return math.cos(w) * (y_F - y) - math.sin(w) * x_F  # per unit load
@@ -331,14 +333,7 @@ def _cracked_by_quadrature(g: GearSpec, R: float, b: float, h_q: float, y_q: flo
 
     pts = sorted({p for p in (y_b, y_q) if y0 < p < y_F})
     kw = dict(points=pts or None, limit=400, epsabs=0.0, epsrel=1e-10)
-
-    def moment(y):
-        return math.cos(w) * (y_F - y) - math.sin(w) * x_F  # per unit load
-
-    bend = quad(lambda y: moment(y) ** 2 * 12.0 / (E * b * t(y) ** 3), y0, y_F, **kw)
-    shear = quad(lambda y: 1.2 * math.cos(w) ** 2 / (G * b * t(y)), y0, y_F, **kw)
-    axial = quad(lambda y: math.sin(w) ** 2 / (E * b * t(y)), y0, y_F, **kw)
-    return bend[0], shear[0], axial[0]
+    return _height_integrals(t, y0, y_F, x_F, w, E, G, b, kw)
 
 
 @pytest.mark.parametrize("gid", GEARS)
