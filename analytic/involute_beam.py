@@ -1,7 +1,7 @@
 """The published potential-energy models of an involute tooth in closed angular form:
-Yang & Lin (1987), Tian (2004) and Chen & Shao (2013).
+Yang & Lin (1987), Tian (2004), Wu, Zuo & Parey (2008) and Chen & Shao (2013).
 
-All three take the tooth as a cantilever whose flank is the ideal involute of the gear
+All of them take the tooth as a cantilever whose flank is the ideal involute of the gear
 (the fillet is not drawn) and integrate the strain energy of the mesh force F over the
 tooth in the involute's own angle alpha (Tian's variable). For a tooth of base radius
 r_b and base half angle
@@ -36,6 +36,13 @@ and the linear Hertz compliance of the pair 1/k_h = 4 (1 - nu^2) / (pi E b) (Yan
   compression, clamped at the base circle (alpha_c = alpha_2); no shear, no foundation.
 * **Tian** (MSc thesis, University of Alberta, 2004): bending, shear and axial
   compression, clamped at the base circle; no foundation.
+* **Wu, Zuo & Parey** (J. Sound Vib. 317:608-624, 2008): Tian's tooth (bending, shear and
+  axial compression, clamped at the base circle) on the fillet foundation of Sainsot,
+  Velex & Duverger (2004), linear Hertz. The foundation acts at the clamped section, as in
+  the paper, which takes the root circle at the base circle: S_f = 2 r_b sin alpha_2 (the
+  base chord), u_f measured from the base point y_b = r_b cos alpha_2, and Sainsot's
+  h_fi = r_b / r_bore and theta_f = S_f / (2 r_b). (Where r_f differs from r_b this is the
+  paper's approximation, kept as published; Chen & Shao's model below clamps at r_f.)
 * **Chen & Shao** (Mech. Mach. Theory 62:63-74, 2013; after Chen & Shao, Eng. Fail.
   Anal. 18:2149, 2011): the tooth is clamped at the root circle r_f. When r_f < r_b the
   flank below the base circle is a straight segment of the base thickness
@@ -95,6 +102,7 @@ from .plane import beam_modulus_Pa
 MODELS = {
     "yang_lin": ("base", False, "none"),
     "tian": ("base", True, "none"),
+    "wu_zuo_parey": ("base", True, "sainsot"),
     "chen_shao": ("root", True, "sainsot"),
     "chen_shao_weber": ("root", True, "weber"),
 }
@@ -309,7 +317,9 @@ def tooth_compliance(
     y_c = y_F - x_F * np.tan(a1)
     if foundation == "sainsot":
         S_f = 2.0 * h_M
-        rf = gear.root_radius_m
+        # the circle of the clamped section: the root circle, or the base circle of a
+        # base-clamped tooth (Wu, Zuo & Parey take the root circle at the base circle)
+        rf = gear.root_radius_m if clamp == "root" else rb
         found = foundation_compliance(a1, y_c - y_M, S_f, rf / gear.hub_radius_m, S_f / (2.0 * rf), mat, b)
     elif foundation == "weber":
         from .ishikawa import _weber

@@ -7,7 +7,7 @@ For every candidate pair k at position d_k on the line of action
 * the linear compliance c_k = (delta_1 + delta_2)_pinion + (delta_1 + delta_2)_gear per
   unit load (m/N): Ishikawa slices (``analytic.ishikawa``) or the potential-energy method
   (``analytic.energy``) on the true worn profiles, the published closed-form involute
-  models ``yang_lin``, ``tian``, ``chen_shao``, ``chen_shao_weber``
+  models ``yang_lin``, ``tian``, ``wu_zuo_parey``, ``chen_shao``, ``chen_shao_weber``
   (``analytic.involute_beam``) or Kuang & Yang's regression ``kuang_yang``
   (``analytic.kuang_yang``) on the nominal involute, each tooth's term optionally times an FE
   correction factor interpolated at its contact radius; for ``energy`` and the involute

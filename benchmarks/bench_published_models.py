@@ -11,10 +11,11 @@ For every analytic method of the registry (ishikawa, energy and the published mo
   ratios, not seconds);
 * the check of each published model against an independent truth
   (tests/test_models_published.py holds the same checks as tests):
-  - yang_lin, tian, chen_shao, chen_shao_weber: the largest relative difference of the
-    beam terms (bending, shear, axial) from the height integrals by adaptive quadrature
-    (scipy.integrate.quad on the involute written from its polar form), over the four
-    gears of the two test pairs at five contact radii each;
+  - yang_lin, tian, wu_zuo_parey, chen_shao, chen_shao_weber: the largest relative
+    difference of the beam terms (bending, shear, axial) from the height integrals by
+    adaptive quadrature (scipy.integrate.quad on the involute written from its polar form),
+    and of the foundation term from the published formula at the clamped section of the
+    hand geometry, over the four gears of the two test pairs at five contact radii each;
   - kuang_yang: the pitch-point pair stiffness (two teeth in series) over ISO 6336-1's
     c'_th (the q' polynomial) on the test pairs and a sweep of standard pairs;
 * robustness over the geometry's space: 200 random valid pairs (tests/pairs.py
@@ -42,7 +43,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
 
-from test_models_published import _by_quadrature, _iso_c_th, _radii  # noqa: E402
+from test_models_published import _by_quadrature, _hand_foundation, _iso_c_th, _radii  # noqa: E402
 
 from gearwear.analytic import involute_beam, kuang_yang  # noqa: E402
 from gearwear.analytic.tvms import METHODS, mesh_stiffness  # noqa: E402
@@ -72,16 +73,20 @@ def cpu_ab_s(fn, ref, repeat: int = 15) -> tuple[float, float]:
 
 
 def beam_check(model: str) -> float:
-    """Largest relative difference of the closed angular integrals from quad."""
-    clamp, with_shear, _ = involute_beam.MODELS[model]
+    """Largest relative difference of the closed angular integrals from quad, and of the
+    foundation term from the published formula at the hand geometry's clamped section."""
+    clamp, with_shear, kind = involute_beam.MODELS[model]
     worst = 0.0
     for p in (UNEQUAL, DRIVER_LARGER):
         for g in p.gears:
             R = _radii(g, 5)
             c = involute_beam.tooth_compliance(model, g, R, p.face_width_m)
             for i, r in enumerate(R):
-                q = _by_quadrature(g, float(r), clamp, p.face_width_m)
-                ours = (c.bending_m_per_N[i], c.shear_m_per_N[i], c.axial_m_per_N[i])
+                q = (
+                    *_by_quadrature(g, float(r), clamp, p.face_width_m),
+                    _hand_foundation(g, float(r), model, p.face_width_m),
+                )
+                ours = (c.bending_m_per_N[i], c.shear_m_per_N[i], c.axial_m_per_N[i], c.foundation_m_per_N[i])
                 for a, b in zip(ours, q):
                     if b > 0 and (with_shear or a > 0):
                         worst = max(worst, abs(a / b - 1))

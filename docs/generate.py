@@ -248,6 +248,10 @@ def stiffness_sources() -> str:
 _PUBLISHED = {
     "yang_lin": ("Yang & Lin 1987", "involute from the base circle: bending, axial; linear Hertz"),
     "tian": ("Tian 2004", "involute from the base circle: bending, shear, axial; linear Hertz"),
+    "wu_zuo_parey": (
+        "Wu, Zuo & Parey 2008",
+        "Tian's tooth from the base circle; Sainsot foundation at the base circle; linear Hertz",
+    ),
     "chen_shao": (
         "Chen & Shao 2013",
         "clamped at the root circle (straight segment below r_b): bending, shear, axial; Sainsot foundation; "
@@ -272,7 +276,8 @@ def published_models() -> str:
         c = r["check"]
         if c["kind"] == "quad":
             check, fig = (
-                "the height integrals by adaptive quadrature (independent implementation)",
+                "the height integrals by adaptive quadrature, the foundation by its formula from the hand geometry "
+                "(independent implementation)",
                 (f"max rel. diff. {c['max_rel_diff']:.1e}"),
             )
         else:

@@ -65,8 +65,8 @@ def mesh_stiffness(
 ):
     """k_h over one mesh period: ``method`` ishikawa (paper Eqs. 2-6), energy, iso6336
     (constant, ISO 6336-1 method B), fem (resolved FE pair contact, ~10 s for 24
-    positions) or a published analytic model (yang_lin, tian, chen_shao, chen_shao_weber,
-    kuang_yang: docs/models.md); ``gearwear.METHODS`` lists them all. ``torque_Nm``: the
+    positions) or a published analytic model (yang_lin, tian, wu_zuo_parey, chen_shao,
+    chen_shao_weber, kuang_yang: docs/models.md); ``gearwear.METHODS`` lists them all. ``torque_Nm``: the
     pinion torque, required with your own pair (without a pair: the paper pair at its
     40 N m). Returns an object with ``angle_rad``,
     ``k_N_per_m``, ``excitation_m``, ``mean_N_per_m``, ``contact_ratio`` and more

@@ -1,11 +1,13 @@
 """The published analytic mesh-stiffness models (issue 28): Yang & Lin 1987, Tian 2004,
-Chen & Shao 2013 (Sainsot or Weber foundation) and Kuang & Yang 1992, each checked against
-an independent truth:
+Wu, Zuo & Parey 2008, Chen & Shao 2013 (Sainsot or Weber foundation) and Kuang & Yang 1992,
+each checked against an independent truth:
 
 * the closed angular integrals of ``analytic.involute_beam`` against the cantilever
   energy integrals over the tooth height, written here from the involute's polar form and
   integrated by adaptive quadrature (scipy.integrate.quad, the half thickness found by
   root-finding): another variable, another quadrature, the same physics;
+* Wu, Zuo & Parey's foundation: Sainsot's formula at the base section (its chord, the
+  base point, r_b in h_fi and theta_f) from the hand geometry;
 * Chen & Shao's straight segment below the base circle (a prismatic beam) and the cut
   involute above the root circle, both in the same height integral, and their continuity
   where the root circle crosses the base circle;
@@ -39,7 +41,7 @@ from pairs import DRIVER_LARGER, UNEQUAL, valid_pairs
 
 PAIRS = {"unequal_23_47": UNEQUAL, "driver_larger_47_23": DRIVER_LARGER}
 GEARS = {f"{pid}_{g}": PAIRS[pid].gear(g) for pid in PAIRS for g in (0, 1)}
-NEW = ("yang_lin", "tian", "chen_shao", "chen_shao_weber", "kuang_yang")
+NEW = ("yang_lin", "tian", "wu_zuo_parey", "chen_shao", "chen_shao_weber", "kuang_yang")
 
 
 # -- an independent involute cantilever, by hand -----------------------------------------------
@@ -117,7 +119,7 @@ def _radii(g: GearSpec, n: int = 3) -> np.ndarray:
 
 
 @pytest.mark.parametrize("gid", GEARS)
-@pytest.mark.parametrize("model", ["yang_lin", "tian", "chen_shao"])
+@pytest.mark.parametrize("model", ["yang_lin", "tian", "wu_zuo_parey", "chen_shao"])
 def test_angular_integrals_equal_the_height_integrals(model, gid):
     """Tian's / Yang & Lin's alpha-integrals and Chen & Shao's segment equal the beam
     energies integrated over the height by quad (1e-9 relative: 24 Gauss points)."""
@@ -133,31 +135,57 @@ def test_angular_integrals_equal_the_height_integrals(model, gid):
         assert c.axial_m_per_N[i] == pytest.approx(axial, rel=1e-9)
 
 
-@pytest.mark.parametrize("gid", GEARS)
-@pytest.mark.parametrize("model", ["chen_shao", "chen_shao_weber"])
-def test_chen_shao_foundation_is_the_published_formula_at_the_root_section(model, gid):
-    """The foundation of Chen & Shao: Sainsot's formula (or Weber's) with S_f the clamped
-    section's thickness and u_f from it to where the force line crosses the axis, both
-    from the hand geometry above; the Sainsot coefficients themselves are tested in
-    tests/test_energy.py."""
+def _hand_foundation(g: GearSpec, R: float, model: str, b: float) -> float:
+    """The model's foundation compliance (m/N) at contact radius R from the hand geometry:
+    Sainsot's formula (or Weber's) at the clamped section, S_f its thickness and u_f from it
+    to where the force line crosses the axis; a base-clamped tooth (Wu, Zuo & Parey) takes
+    the root circle at the base circle (r_b in h_fi and theta_f). 0 without a foundation."""
     from gearwear.analytic.ishikawa import _weber
 
+    clamp, _, kind = involute_beam.MODELS[model]
+    x_F, y_F, w = _flank_point(g, R)
+    y_c = y_F - x_F * math.tan(w)
+    y_M = _clamp_height(g, clamp)
+    if clamp == "base":
+        S_f, rf = 2.0 * _flank_point(g, g.base_radius_m)[0], g.base_radius_m
+    else:
+        below = g.root_radius_m < g.base_radius_m
+        S_f = 2.0 * (_half_thickness(g, y_M) if below else _flank_point(g, g.root_radius_m)[0])
+        rf = g.root_radius_m
+    if kind == "sainsot":
+        return float(foundation_compliance(w, y_c - y_M, S_f, rf / g.hub_radius_m, S_f / (2 * rf), g.material, b))
+    if kind == "weber":
+        return float(_weber(y_c, w, y_M, S_f, g.material, b))
+    return 0.0
+
+
+@pytest.mark.parametrize("gid", GEARS)
+@pytest.mark.parametrize("model", ["wu_zuo_parey", "chen_shao", "chen_shao_weber"])
+def test_the_foundation_is_the_published_formula_at_the_clamped_section(model, gid):
+    """The foundation of Wu, Zuo & Parey and of Chen & Shao: Sainsot's formula (or Weber's)
+    at the clamped section, from the hand geometry (:func:`_hand_foundation`); the Sainsot
+    coefficients themselves are tested in tests/test_energy.py."""
     g = GEARS[gid]
     b = g.face_width_m
-    y_M = _clamp_height(g, "root")
-    below = g.root_radius_m < g.base_radius_m
-    S_f = 2.0 * (_half_thickness(g, y_M) if below else _flank_point(g, g.root_radius_m)[0])
     R = _radii(g)
     c = involute_beam.tooth_compliance(model, g, R, b)
     for i, r in enumerate(R):
-        x_F, y_F, w = _flank_point(g, float(r))
-        y_c = y_F - x_F * math.tan(w)
-        if model == "chen_shao":
-            rf = g.root_radius_m
-            want = foundation_compliance(w, y_c - y_M, S_f, rf / g.hub_radius_m, S_f / (2 * rf), g.material, b)
-        else:
-            want = _weber(y_c, w, y_M, S_f, g.material, b)
-        assert c.foundation_m_per_N[i] == pytest.approx(float(want), rel=1e-9)
+        assert c.foundation_m_per_N[i] == pytest.approx(_hand_foundation(g, float(r), model, b), rel=1e-9)
+    assert np.all(c.foundation_m_per_N > 0)
+
+
+@pytest.mark.parametrize("gid", GEARS)
+def test_wu_zuo_parey_is_tians_tooth_on_a_foundation(gid):
+    """Wu, Zuo & Parey's beam terms are Tian's (the same base-clamped tooth); the base chord
+    used for S_f is 2 r_b sin(alpha_2), alpha_2 from the reference-circle arc thickness."""
+    g = GEARS[gid]
+    b, rb = g.face_width_m, g.base_radius_m
+    assert _flank_point(g, rb)[0] == pytest.approx(rb * math.sin(_alpha2(g)), rel=1e-12)
+    R = _radii(g)
+    wu = involute_beam.tooth_compliance("wu_zuo_parey", g, R, b)
+    ti = involute_beam.tooth_compliance("tian", g, R, b)
+    for part in ("bending_m_per_N", "shear_m_per_N", "axial_m_per_N"):
+        np.testing.assert_array_equal(getattr(wu, part), getattr(ti, part))
 
 
 def test_chen_shao_is_continuous_where_the_root_circle_crosses_the_base_circle():
@@ -287,13 +315,16 @@ def test_any_pair_positive_and_symmetric_under_the_driver_swap(p):
 @given(p=valid_pairs(max_shift=0.5))
 def test_any_pair_model_ordering_by_what_each_leaves_out(p):
     """Each added flexibility lowers the stiffness, for any pair and position: Tian
-    (+ shear) <= Yang & Lin, and Chen & Shao (clamped lower, + foundation) <= Tian when
-    r_f <= r_b (the tooth is then longer than Tian's)."""
+    (+ shear) <= Yang & Lin, Wu, Zuo & Parey (+ foundation) <= Tian, and Chen & Shao
+    (clamped lower, + foundation) <= Tian when r_f <= r_b (the tooth is then longer than
+    Tian's)."""
     for g in p.gears:
         R = _radii(g, 4)
         yl = involute_beam.tooth_compliance("yang_lin", g, R, p.face_width_m).total_m_per_N
         ti = involute_beam.tooth_compliance("tian", g, R, p.face_width_m).total_m_per_N
         assert np.all(ti > yl)
+        wu = involute_beam.tooth_compliance("wu_zuo_parey", g, R, p.face_width_m).total_m_per_N
+        assert np.all(wu > ti)
         if g.root_radius_m <= g.base_radius_m:
             cs = involute_beam.tooth_compliance("chen_shao", g, R, p.face_width_m).total_m_per_N
             assert np.all(cs > ti)

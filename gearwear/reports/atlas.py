@@ -226,6 +226,8 @@ MECHANISMS = {
     "yang_lin": "the involute alone, clamped at the base circle: no material between the base and root "
     "circles, no shear, no foundation",
     "tian": "as Yang & Lin with shear: no material between the base and root circles, no foundation",
+    "wu_zuo_parey": "Tian's tooth clamped at the base circle on Sainsot's foundation (taken at the base "
+    "circle): no material between the base and root circles",
     "chen_shao": "the involute clamped at the root circle (a straight segment below the base circle, no "
     "fillet), Sainsot's foundation, linear Hertz",
     "chen_shao_weber": "as Chen & Shao with Weber's foundation instead of Sainsot's (Weber's ignores the bore)",

@@ -369,6 +369,13 @@ SOURCES: dict[str, Source] = {
             faults=False,
         ),
         Source(
+            "wu_zuo_parey",
+            "Wu, Zuo & Parey 2008: Tian's tooth from the base circle, Sainsot foundation, linear Hertz",
+            _analytic("wu_zuo_parey"),
+            command=True,
+            faults=False,
+        ),
+        Source(
             "chen_shao",
             "Chen & Shao 2013: clamped at the root circle, Sainsot foundation, linear Hertz",
             _analytic("chen_shao"),
