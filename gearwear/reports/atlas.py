@@ -223,11 +223,14 @@ MECHANISMS = {
     "Weber's Hertz term; the bore and rim are not seen",
     "energy": "the potential energy of the true tooth (fillet included) clamped at the root circle, Sainsot's "
     "foundation (which sees the bore only through r_f / r_bore), linear Hertz",
-    "yang_lin": "the involute alone, clamped at the base circle: no material between the base and root "
-    "circles, no shear, no foundation",
-    "tian": "as Yang & Lin with shear: no material between the base and root circles, no foundation",
-    "wu_zuo_parey": "Tian's tooth clamped at the base circle on Sainsot's foundation (taken at the base "
-    "circle): no material between the base and root circles",
+    "yang_lin": "the involute alone, clamped at the base circle, no shear, no foundation: where r_b > r_f "
+    "(few teeth) the material between the circles is missing and the tooth is short and stiff; where r_f > r_b "
+    "(many teeth) it hangs on a slender involute neck reaching r_f - r_b into the body",
+    "tian": "as Yang & Lin with shear: clamped at the base circle (too short where r_b > r_f, on an involute "
+    "neck through the body where r_f > r_b), no foundation",
+    "wu_zuo_parey": "Tian's tooth clamped at the base circle on Sainsot's foundation, taken there (the paper "
+    "puts the root circle on the base circle): where r_f > r_b (many teeth: the wheels of high ratios) the "
+    "tooth hangs on a slender involute neck reaching r_f - r_b into the body, and the foundation acts below it",
     "chen_shao": "the involute clamped at the root circle (a straight segment below the base circle, no "
     "fillet), Sainsot's foundation, linear Hertz",
     "chen_shao_weber": "as Chen & Shao with Weber's foundation instead of Sainsot's (Weber's ignores the bore)",
