@@ -159,6 +159,15 @@ def _root(gear: GearSpec, clamp: str) -> tuple[float, float, float]:
     return a2, math.sqrt(rf**2 - h_b**2), h_b
 
 
+def clamped_section_m(gear: GearSpec, model: str) -> tuple[float, float, float]:
+    """(y_M, h_M, r_c) (m) of ``model``'s clamped section: its height along the tooth axis,
+    its half thickness, and the radius of the circle the foundation takes it on (the root
+    circle r_f, or the base circle r_b for a base-clamped tooth)."""
+    clamp = MODELS[model][0]
+    _, y_M, h_M = _root(gear, clamp)
+    return y_M, h_M, gear.root_radius_m if clamp == "root" else gear.base_radius_m
+
+
 def _flank_y(rb: float, a2: float, al):
     """Height y (m) along the tooth axis of the flank point of parameter alpha."""
     return rb * (np.cos(al) - (a2 - al) * np.sin(al))

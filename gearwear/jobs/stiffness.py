@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from gearwear import io
+from gearwear.analytic.model_warnings import assumption_warnings
 from gearwear.analytic.tvms import DEFAULT_POINTS, MeshStiffness
 from gearwear.core.validation import fail
 from gearwear.geometry.faults import FaultSpec
@@ -61,7 +62,8 @@ class Curve:
         are the "2" and "1" entries; means are integrals of the piecewise-linear curve
         (geometry.curves). ``points``: the table's nodes (the analytic tables add the
         breakpoints, ``breakpoints_deg``, to the uniform ones). ``warnings``: one-line
-        notes (contact ratio below 1, wear beyond the severe phase). The pair FE adds
+        notes (contact ratio below 1, wear beyond the severe phase, flank modifications,
+        a pair outside the model's own assumptions: ``analytic.model_warnings``). The pair FE adds
         ``bore_fixed_mean_N_per_m`` (the bodies held at their bores: ``mean_N_per_m`` unless
         ``blank_torsion`` is "excluded"), ``mesh_only_mean_N_per_m`` (the blanks' torsion below
         their reference circles taken out: the one to compare with ishikawa, energy and
@@ -119,7 +121,8 @@ class Curve:
             "operating_pressure_angle_deg": math.degrees(r.mesh.pressure_angle_rad),
             "warnings": r.mesh.contact_ratio_warnings()
             + wear_warnings(r.mesh, self.wear)
-            + flank_warnings(r.pair, r.flank),
+            + flank_warnings(r.pair, r.flank)
+            + assumption_warnings(self.method, r.pair),
             **extra,
         }
 
