@@ -124,3 +124,25 @@ class _Gear:
 
 class _Pair:
     module_m, gears = 0.003, (_Gear(), _Gear())
+
+
+def test_the_clamp_axes_are_the_largest_gaps_of_either_sign(monkeypatch):
+    """explanatory_axes' two derived axes, per design: the largest (r_b - r_f) / m over the two
+    gears (material a base-clamped model leaves out) and the largest (r_f - r_b) / m (body it
+    counts as tooth), from radii set by hand: a pinion 1 m base-above-root with a wheel 2 m
+    root-above-base gives 1 and 2; two gears 0.5 m and 0.25 m base-above-root give 0.5 and -0.25."""
+    m = 0.003
+
+    class G:
+        def __init__(self, rb_minus_rf_modules):
+            self.base_radius_m, self.root_radius_m = 0.05 + rb_minus_rf_modules * m, 0.05
+
+    class P:
+        def __init__(self, *gaps):
+            self.module_m, self.gears = m, tuple(G(x) for x in gaps)
+
+    t = A.Table(_csv({"a": [1.0, 1.1]}, [1.5, 1.6], [3.0, 4.0]))
+    monkeypatch.setattr(A, "pairs_of", lambda t, inputs: [P(1.0, -2.0), P(0.5, 0.25)])
+    ax = A.explanatory_axes(t, {})
+    np.testing.assert_allclose(ax["base_above_root_module"][1], [1.0, 0.5], rtol=1e-12)
+    np.testing.assert_allclose(ax["root_above_base_module"][1], [2.0, -0.25], rtol=1e-12)

@@ -244,14 +244,16 @@ MECHANISMS = {
 
 
 def explanatory_axes(t: Table, inputs: dict[str, Any]) -> dict[str, tuple[str, np.ndarray]]:
-    """The design axes a failure mode is sought along: the atlas's axes (:data:`AXES`) and the
+    """The design axes a failure mode is sought along: the atlas's axes (:data:`AXES`), the
     height of the base circle above the root circle, max over both gears of (r_b - r_f) / m
-    (the material a base-clamped model leaves out; negative where r_f > r_b)."""
+    (the material a base-clamped model leaves out; negative where r_f > r_b), and the height
+    of the root circle above the base circle, max over both gears of (r_f - r_b) / m (the
+    gear body a base-clamped model counts as an involute neck of the tooth: the wheel's,
+    in most pairs)."""
     out = {col: (label, t.design[col]) for col, label, _ in AXES}
-    gap = np.array(
-        [max((g.base_radius_m - g.root_radius_m) / p.module_m for g in p.gears) for p in pairs_of(t, inputs)]
-    )
-    out["base_above_root_module"] = ("base circle above root circle (r_b - r_f) / m, max of both gears", gap)
+    gaps = np.array([[(g.base_radius_m - g.root_radius_m) / p.module_m for g in p.gears] for p in pairs_of(t, inputs)])
+    out["base_above_root_module"] = ("base circle above root circle (r_b - r_f) / m, max of both gears", gaps.max(1))
+    out["root_above_base_module"] = ("root circle above base circle (r_f - r_b) / m, max of both gears", -gaps.min(1))
     return out
 
 
