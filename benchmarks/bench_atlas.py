@@ -104,6 +104,8 @@ def one(name: str, coarse: bool) -> dict:
     }
     c0, t0 = time.process_time(), time.perf_counter()
     r = run_design(d, settings, spec.models, True)
+    if not r["fe_info"]:  # the FE refused or failed on the corner: its one-line note is the result
+        raise RuntimeError(f"the pair FE gave no curve ({r['metrics']['fem'].get('note', '?')})")
     return {
         "corner": name,
         "teeth": list(d.pair.teeth),
@@ -183,7 +185,7 @@ def main() -> None:
             row = {"corner": name, "error": (p.stderr.strip().splitlines() or ["?"])[-1]}
         else:
             row = json.loads(p.stdout.strip().splitlines()[-1])
-            row["process_wall_s"] = time.perf_counter() - t0
+        row["process_wall_s"] = time.perf_counter() - t0
         rows.append(row)
         print(json.dumps(row), flush=True)
     ref = next((r for r in rows if r["corner"] == "reference_23_47" and "cpu_s" in r), None)
