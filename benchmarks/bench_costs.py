@@ -174,6 +174,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    # no sys.exit: run_all.py runs every script in its one process with runpy, and a
-    # SystemExit here ended the whole `make bench` after this script
     main()
