@@ -159,13 +159,19 @@ def _root(gear: GearSpec, clamp: str) -> tuple[float, float, float]:
     return a2, math.sqrt(rf**2 - h_b**2), h_b
 
 
+def _clamp_radius_m(gear: GearSpec, clamp: str) -> float:
+    """The circle the foundation takes the clamped section on (m): the root circle, or the
+    base circle of a base-clamped tooth (Wu, Zuo & Parey take the root circle there)."""
+    return gear.root_radius_m if clamp == "root" else gear.base_radius_m
+
+
 def clamped_section_m(gear: GearSpec, model: str) -> tuple[float, float, float]:
     """(y_M, h_M, r_c) (m) of ``model``'s clamped section: its height along the tooth axis,
-    its half thickness, and the radius of the circle the foundation takes it on (the root
-    circle r_f, or the base circle r_b for a base-clamped tooth)."""
+    its half thickness, and the radius of the circle the foundation takes it on
+    (:func:`_clamp_radius_m`)."""
     clamp = MODELS[model][0]
     _, y_M, h_M = _root(gear, clamp)
-    return y_M, h_M, gear.root_radius_m if clamp == "root" else gear.base_radius_m
+    return y_M, h_M, _clamp_radius_m(gear, clamp)
 
 
 def _flank_y(rb: float, a2: float, al):
@@ -326,9 +332,7 @@ def tooth_compliance(
     y_c = y_F - x_F * np.tan(a1)
     if foundation == "sainsot":
         S_f = 2.0 * h_M
-        # the circle of the clamped section: the root circle, or the base circle of a
-        # base-clamped tooth (Wu, Zuo & Parey take the root circle at the base circle)
-        rf = gear.root_radius_m if clamp == "root" else rb
+        rf = _clamp_radius_m(gear, clamp)
         found = foundation_compliance(a1, y_c - y_M, S_f, rf / gear.hub_radius_m, S_f / (2.0 * rf), mat, b)
     elif foundation == "weber":
         from .ishikawa import _weber
