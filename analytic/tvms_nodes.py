@@ -78,18 +78,36 @@ def _edge_roots(
     The pair carries load exactly where Delta_k(theta) > g_k(theta), Delta_k the approach
     of the other pairs without it (with it unloaded the load sharing is theirs; the
     complementarity solution is unique), so the breakpoint is the root of the smooth
-    f = Delta_k - g_k (the full Delta has a kink there). Illinois false position on every
-    bracket at once (one load sharing per iteration for all of them), bisection if it has
-    not converged in 40 steps. Returns the end of the final bracket (width <= tol) on the
-    unloaded side: the table's node there holds the one-sided value without that pair."""
-    a, b = np.array(a, dtype=float), np.array(b, dtype=float)
+    f = Delta_k - g_k (the full Delta has a kink there), found by :func:`bracket_roots`
+    (one load sharing per iteration for all the brackets). Returns the end of the final
+    bracket (width <= tol) on the unloaded side: the table's node there holds the
+    one-sided value without that pair."""
 
     def f(x: np.ndarray, i: np.ndarray) -> np.ndarray:
         _, delta, _, gap, *_ = _solve(s, x, period[i], without=col[i])
         return delta - gap[np.arange(i.size), col[i]]
 
+    return bracket_roots(f, a, b, tol)[0]
+
+
+def bracket_roots(f, a, b, tol: float) -> tuple[np.ndarray, int]:
+    """Roots of f(x, i) (the values at x of the functions of rows i) bracketed by a and b
+    (f changes sign between them), all rows at once: (for every row the end of its final
+    bracket, of width <= tol, where f <= 0; the number of calls of f).
+
+    Illinois false position (the secant of the bracket's ends, an end kept twice in a row
+    has its value halved), bisection if it has not converged in 40 steps. An f that is the
+    difference of two nearly equal quantities (here Delta_k - g_k, two approaches of
+    ~1e-5 m) resolves its root only to an ulp of them (~1e-21 m): near the root it is noise
+    of that size, or exactly 0. Two rules keep that noise from stalling the search, where
+    bisection used to narrow the bracket to tol for ~20 more calls (most of a worn table's
+    cost): an x where f is exactly 0 is the root (its bracket closes on it), and a step
+    never lands closer than tol / 2 to an end (Brent's minimum step), so where the secant
+    falls on an end whose f is noise the next step brackets the root to tol."""
+    a, b = np.array(a, dtype=float), np.array(b, dtype=float)
     rows = np.arange(a.size)
     fa, fb = f(a, rows), f(b, rows)
+    calls = 2
     kept_b = np.zeros(a.size, dtype=bool)  # the last step replaced a, keeping b
     for it in range(200):
         act = np.abs(b - a) > tol
@@ -97,11 +115,17 @@ def _edge_roots(
             break
         i = rows[act]
         x = 0.5 * (a[i] + b[i])
+        lo, hi = np.minimum(a[i], b[i]), np.maximum(a[i], b[i])
         if it < 40:
             secant = (a[i] * fb[i] - b[i] * fa[i]) / np.where(fb[i] != fa[i], fb[i] - fa[i], 1.0)
-            inside = (secant > np.minimum(a[i], b[i])) & (secant < np.maximum(a[i], b[i]))
-            x = np.where(inside, secant, x)
+            on = (secant >= lo) & (secant <= hi)  # NaN is not
+            x = np.where(on, np.clip(secant, lo + 0.5 * tol, hi - 0.5 * tol), x)
         fx = f(x, i)
+        calls += 1
+        zero = fx == 0.0  # the root, to the resolution of f
+        if zero.any():
+            a[i[zero]], b[i[zero]] = x[zero], x[zero]
+            fa[i[zero]], fb[i[zero]] = 0.0, 0.0
         same = (fx > 0) == (fa[i] > 0)
         # Illinois: an end kept twice in a row has its value halved, so it cannot stall
         ia, ib = i[same], i[~same]
@@ -110,7 +134,7 @@ def _edge_roots(
         a[ia], fa[ia] = x[same], fx[same]
         b[ib], fb[ib] = x[~same], fx[~same]
         kept_b[ia], kept_b[ib] = True, False
-    return np.where(fa > 0, b, a)
+    return np.where(fa > 0, b, a), calls
 
 
 def _table_nodes(s: _Contact, points: int) -> tuple[np.ndarray, ...]:
