@@ -70,13 +70,22 @@ from gearwear.fem.mesh import MeshSizes, mesh_full_gear
 from gearwear.geometry.crack import Crack, crack_mouth_arc
 from gearwear.geometry.pair_positions import involute_point, rot  # re-exported (the pair geometry's home)
 from gearwear.geometry.polyline import cumulative_length, quadratic_parameter, with_midpoints
-from gearwear.geometry.profile import FILLET, INVOLUTE, ROOT_LAND, ToothProfile, ring_outline, tooth_outline
+from gearwear.geometry.profile import (
+    FILLET,
+    INVOLUTE,
+    ROOT_LAND,
+    ToothProfile,
+    polygon_area,
+    ring_outline,
+    tooth_outline,
+)
 from gearwear.geometry.sampling import profile_at, region_junctions
 from gearwear.geometry.spec import GearSpec, Material
 
 from .condensation import condensed_flexibility as _condensed_flexibility
 from .condensation import interior_order as _interior_order  # noqa: F401 (the tests' and benchmarks' name)
 from .elasticity import ElasticModel, assemble
+from .memory import body_dofs
 
 __all__ = [
     "BodySizes",
@@ -306,6 +315,14 @@ def _centre_line_nodes(mesh, basis, y_lo: float, y_hi: float) -> np.ndarray:
     ymin, ymax = pt[1].min(axis=0), pt[1].max(axis=0)
     el = np.flatnonzero((xmin <= 0) & (xmax >= 0) & (ymax >= y_lo) & (ymin <= y_hi))
     return np.unique(basis.element_dofs[0::2, el])
+
+
+def estimated_dofs(gear: GearSpec, nominal: ToothProfile, sizes: BodySizes) -> float:
+    """The dofs :func:`build_body` would give ``gear``'s body, estimated before meshing from
+    its outline (every tooth sampled at the far size) and the element sizes (fem.memory)."""
+    far = _sample_flank(nominal, lambda s: sizes.far_m)
+    outline = ring_outline(lambda k: tooth_outline(far), gear.teeth)
+    return body_dofs(polygon_area(outline[0::2]), gear.root_radius_m, gear.hub_radius_m, sizes.global_m, sizes.far_m)
 
 
 def _mesh_body(

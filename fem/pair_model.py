@@ -51,7 +51,8 @@ from gearwear.geometry.sampling import FINE_SAG_M
 from gearwear.geometry.spec import PairSpec
 from gearwear.geometry.wear import WearSpec, flank_depth, hertz_half_width, key_roll_angles
 
-from .pair_body import BodySizes, GearBody, body_builder, build_cracked_body
+from .memory import check_body
+from .pair_body import BodySizes, GearBody, body_builder, build_cracked_body, estimated_dofs
 
 __all__ = [
     "PairModel",
@@ -320,6 +321,9 @@ def pair_model(
         lp = load_points(nominal, np.array([max(r_lo, nominal.form_radius_m), g.tip_radius_m * (1 - 1e-9)]))
         cy = (float(lp.y_axis_m.min()) - 1.0 * pair.module_m * 0.2, float(lp.y_axis_m.max()) + 0.2 * pair.module_m)
         per_gear.append((g, nominal, r_lo, cy))
+    # a body too large for this machine is refused before any is meshed (fem.memory)
+    for gi, (g, nominal, _, _) in enumerate(per_gear):
+        check_body(gi, g.name, g.teeth, g.hub_radius_m, estimated_dofs(g, nominal, sizes))
     healthy = _healthy_bodies(
         [_body_key(g, pair, sizes, r_lo, nb, cy, plane) for g, _, r_lo, cy in per_gear],
         [

@@ -187,21 +187,24 @@ def fem_curve(
     circles taken out, fem.pair "The blank's torsion"); meta["fe"] holds both means and
     the blanks' torsional stiffnesses either way."""
     from gearwear.analytic.tvms import MeshStiffness
-    from gearwear.core.validation import fail
+    from gearwear.core.validation import InputError, fail, renamed
     from gearwear.fem.pair import pair_contact
 
     if blank_torsion not in BLANK_TORSION:
         raise fail("blank_torsion", repr(blank_torsion), "", f"must be one of {', '.join(BLANK_TORSION)}")
-    fe = pair_contact(
-        pair,
-        wear=wear,
-        positions=points,
-        torque_Nm=torque_Nm,
-        clearance_m=clearance_m,
-        flank=flank,
-        faults=faults,
-        **fe_options,
-    )
+    try:
+        fe = pair_contact(
+            pair,
+            wear=wear,
+            positions=points,
+            torque_Nm=torque_Nm,
+            clearance_m=clearance_m,
+            flank=flank,
+            faults=faults,
+            **fe_options,
+        )
+    except InputError as exc:  # a body too large for this machine names its bore (fem.memory)
+        raise renamed(exc, {"hub_radius_m": ("pair.hub_radius_mm", 1e3, "mm")}) from None
     meta = {
         **{k: v for k, v in fe.meta.items() if k != "pair_gap_m"},
         "blank_torsion": blank_torsion,

@@ -1,0 +1,103 @@
+"""Whether a pair-FE body fits in this machine's memory, decided before it is meshed.
+
+Why: the pair FE meshes the whole gear, its blank at the interior size h_g = 0.4 m
+(``fem.pair_model.body_sizes``), so a large solid blank is millions of dofs. The
+100/500-tooth solid-blank corner of the atlas (m 3 mm, bores 0.2 r_f) meshed for minutes,
+held 16 GB and was stopped after 33 min without a result (benchmarks/bench_atlas.py). Such
+a body is now refused in one line, before Gmsh runs, with the estimate and what to change.
+
+The estimate (fitted on this machine by benchmarks/bench_fem_memory.py, which writes the
+data and the fit to benchmarks/results/bench_fem_memory.json):
+
+    elements   N_e = A_body / (a h_g^2) + C_TEETH A_teeth / (a h_far^2) + N_TOOTH0,  a = sqrt(3) / 4
+    dofs       n = DOFS_PER_ELEMENT N_e
+    memory     M = M0 + C_FILL n log2 n                                            [bytes]
+
+A_body = pi (r_f^2 - r_bore^2) is the blank (bore to root circle), meshed at h_g (an
+equilateral triangle of side h has area a h^2); A_teeth is the outline's area outside the
+root circle, at the far-tooth size h_far and finer near the fillets and the near teeth
+(C_TEETH); N_TOOTH0 is tooth 0's refined contact zone. Quadratic (P2) triangles have about
+two nodes per element, two dofs each. The memory is the peak of the process: interpreter
+and libraries (M0) plus the sparse factors of the largest body, whose fill under nested
+dissection grows like n log n on a 2D mesh (George, SIAM J. Numer. Anal. 10, 1973).
+Fitted on the 14 bodies of the seven atlas corners that mesh here (0.05 to 1.6 M dofs):
+the estimated dofs within 9 % of the real meshes'; the peak within 15 % of the FE runs'
+recorded by bench_atlas.py. The 100/500 solid-blank corner is estimated at 11.8 M dofs and
+about 48 GB.
+
+The budget is ``GEARWEAR_FE_MEMORY_GB`` (GB = 1e9 bytes) if set, else BUDGET_FRACTION of
+the machine's physical memory. It is per process: FE designs running side by side (an
+atlas on N workers) each get the whole budget, so give N workers a budget of about
+1/N of the memory.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+from gearwear.core.validation import InputError, fail
+
+#: elements per equilateral-triangle area of the far-tooth size in the teeth region
+C_TEETH = 2.2
+#: elements of tooth 0's refined contact zone (and the near teeth's extra refinement)
+N_TOOTH0 = 6400
+#: dofs per P2 triangle (2 per node, ~2.1 nodes per element; 4.09-4.23 on the 14 bodies)
+DOFS_PER_ELEMENT = 4.2
+#: peak memory of a process with a body of n dofs: M0 + C_FILL n log2 n (bytes)
+M0_BYTES = 317 * 2**20
+C_FILL_BYTES = 171.0
+#: the share of physical memory one FE process may use when GEARWEAR_FE_MEMORY_GB is unset
+BUDGET_FRACTION = 0.8
+ENV = "GEARWEAR_FE_MEMORY_GB"
+
+
+def body_dofs(
+    outline_area_m2: float, root_radius_m: float, bore_radius_m: float, global_m: float, far_m: float
+) -> float:
+    """Estimated dofs of a pair-FE body (see the module docstring): the outline's polygon
+    area (m^2, the whole toothed disc), the root circle and the bore (m), the interior and
+    far-tooth element sizes (m)."""
+    a = math.sqrt(3.0) / 4.0
+    body = math.pi * (root_radius_m**2 - bore_radius_m**2)
+    teeth = max(outline_area_m2 - math.pi * root_radius_m**2, 0.0)
+    elements = body / (a * global_m**2) + C_TEETH * teeth / (a * far_m**2) + N_TOOTH0
+    return DOFS_PER_ELEMENT * elements
+
+
+def peak_bytes(dofs: float) -> float:
+    """Estimated peak memory (bytes) of the pair FE with a body of ``dofs`` dofs."""
+    n = max(float(dofs), 2.0)
+    return M0_BYTES + C_FILL_BYTES * n * math.log2(n)
+
+
+def budget_bytes() -> float:
+    """The memory one FE process may use (bytes): ``GEARWEAR_FE_MEMORY_GB`` x 1e9, else
+    BUDGET_FRACTION of the physical memory. A bad value of the variable is an InputError."""
+    raw = os.environ.get(ENV)
+    if raw is not None and raw.strip():
+        try:
+            gb = float(raw)
+        except ValueError:
+            gb = math.nan
+        if not (math.isfinite(gb) and gb > 0):
+            raise InputError(f"{ENV} = {raw!r}: must be a number of GB > 0 (the memory one FE process may use)")
+        return gb * 1e9
+    return BUDGET_FRACTION * os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+
+
+def check_body(gear_index: int, gear_name: str, teeth: int, bore_radius_m: float, dofs: float) -> None:
+    """A one-line InputError naming the bore of gear ``gear_index`` if a body of ``dofs``
+    estimated dofs would need more than :func:`budget_bytes`."""
+    need, have = peak_bytes(dofs), budget_bytes()
+    if need <= have:
+        return
+    source = f"{ENV}" if os.environ.get(ENV, "").strip() else f"{BUDGET_FRACTION:.0%} of this machine's memory"
+    raise fail(
+        f"hub_radius_m[{gear_index}]",
+        bore_radius_m,
+        "m",
+        f"the pair FE's body of the {gear_name} ({teeth} teeth, its blank meshed at 0.4 module) would have about "
+        f"{dofs / 1e6:.1f} M dofs and need about {need / 1e9:.0f} GB, more than the {have / 1e9:.0f} GB it may "
+        f"use ({source}); a larger bore (a rim) shrinks it, or use an analytic stiffness method",
+    )
