@@ -26,12 +26,28 @@ HERE = Path(__file__).resolve().parent
 RESULTS = HERE / "results" / "bench_fem_memory.json"
 #: corners too large to mesh here (fem.memory refuses them: the estimate only)
 ESTIMATE_ONLY = ("z100_ratio5_solid",)
+#: light loads (a finer contact zone, h_c = a_ref / 2.5) besides the corners' 200 N/mm
+LIGHT = ("paper_40Nm", "reference_23_47_20Nmm")
+
+
+def case(name: str):
+    """(pair, torque N m) of a corner of bench_atlas.py or of a light-load case."""
+    from bench_atlas import corner
+
+    from gearwear.geometry.spec import default_pair
+
+    if name == "paper_40Nm":
+        return default_pair(), 40.0
+    if name == "reference_23_47_20Nmm":
+        d = corner("reference_23_47")
+        return d.pair, 20e3 * d.pair.face_width_m * d.pair.gear(0).base_radius_m
+    d = corner(name)
+    return d.pair, d.torque_Nm
 
 
 def measure(name: str) -> list[dict]:
     """Per body of corner ``name``: the estimate, and the real mesh's elements and dofs (the
     FE stopped at its first condensation), in this process."""
-    from bench_atlas import corner
 
     import gearwear.fem.pair_body as pb
     import gearwear.fem.pair_model as pmod
@@ -40,10 +56,15 @@ def measure(name: str) -> list[dict]:
 
     rows: list[dict] = []
     meshes: list[dict] = []
-    orig_mesh, orig_check = pb.mesh_full_gear, pmod.check_body
+    orig_mesh, orig_check, orig_dofs = pb.mesh_full_gear, pmod.check_body, pb.body_dofs
+    terms: list[dict] = []
+
+    def spy_dofs(area, rf, bore, global_m, far_m, flank_m=0.0, contact_m=1.0, growth=0.25):
+        terms.append({"flank_m": flank_m, "contact_m": contact_m, "growth": growth})
+        return orig_dofs(area, rf, bore, global_m, far_m, flank_m, contact_m, growth)
 
     def spy_check(gi, gear_name, teeth, bore, dofs):
-        rows.append({"corner": name, "gear": gi, "teeth": teeth, "bore_m": bore, "dofs_estimate": dofs})
+        rows.append({"corner": name, "gear": gi, "teeth": teeth, "bore_m": bore, "dofs_estimate": dofs, **terms[-1]})
         orig_check(gi, gear_name, teeth, bore, dofs)
 
     def spy_mesh(outline, hub, msz, **kw):
@@ -55,20 +76,23 @@ def measure(name: str) -> list[dict]:
         for m in meshes:
             if m["elements"] == gm.n_elements:
                 m.update(dofs=int(model.basis.N), root_m=gear.root_radius_m, global_m=sizes.global_m, far_m=sizes.far_m)
-        if all("dofs" in m for m in meshes) and len(meshes) == 2:
-            raise _Done
+        if all("dofs" in m for m in meshes) and len(meshes) == len({(r["teeth"], r["bore_m"]) for r in rows}):
+            raise _Done  # every distinct body meshed (two equal gears share one)
         return None
 
-    pmod.check_body, pb.mesh_full_gear, pb._condensed = spy_check, spy_mesh, stop
-    d = corner(name)
+    pmod.check_body, pb.mesh_full_gear, pb._condensed, pb.body_dofs = spy_check, spy_mesh, stop, spy_dofs
+    pair, torque = case(name)
     try:
-        pair_contact(d.pair, torque_Nm=d.torque_Nm, positions=4)
+        pair_contact(pair, torque_Nm=torque, positions=4)
     except _Done:
         pass
     for r in rows:
         for m in meshes:
-            if abs(m["bore_m"] - r["bore_m"]) < 1e-12 and "dofs" in m:
+            if abs(m["bore_m"] - r["bore_m"]) < 1e-12 and "dofs" in m and not m.get("used"):
                 r.update(m)
+                m["used"] = True
+    for r in rows:
+        r.pop("used", None)
     return rows
 
 
@@ -113,7 +137,7 @@ def main() -> None:
     from gearwear.fem import memory
 
     bodies = []
-    for name in CORNERS:
+    for name in (*CORNERS, *LIGHT):
         p = subprocess.run([sys.executable, __file__, "--one", name], capture_output=True, text=True)
         if p.returncode != 0:
             raise SystemExit(f"{name}: {p.stderr.strip().splitlines()[-1]}")
@@ -136,6 +160,7 @@ def main() -> None:
             [
                 math.pi * (b["root_m"] ** 2 - b["bore_m"] ** 2) / (a * b["global_m"] ** 2),
                 max(b["outline_area_m2"] - math.pi * b["root_m"] ** 2, 0.0) / (a * b["far_m"] ** 2),
+                b["flank_m"] / (a * b["growth"] * b["contact_m"]),
                 1.0,
             ]
             for b in meshed
@@ -160,7 +185,7 @@ def main() -> None:
         p["model_MB"] = memory.peak_bytes(p["dofs"]) / 2**20
     out = {
         "bodies": bodies,
-        "elements_fit": {"body": coef[0], "teeth": coef[1], "tooth0": coef[2]},
+        "elements_fit": {"body": coef[0], "teeth": coef[1], "contact": coef[2], "tooth0": coef[3]},
         "elements_fit_max_rel_error": float(np.max(np.abs(X @ coef / el - 1))),
         "dofs_per_element": [min(dpe), max(dpe)],
         "estimate_max_rel_error": max(abs(b["dofs_estimate"] / b["dofs"] - 1) for b in meshed),

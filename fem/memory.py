@@ -9,19 +9,24 @@ a body is now refused in one line, before Gmsh runs, with the estimate and what 
 The estimate (fitted on this machine by benchmarks/bench_fem_memory.py, which writes the
 data and the fit to benchmarks/results/bench_fem_memory.json):
 
-    elements   N_e = A_body / (a h_g^2) + C_TEETH A_teeth / (a h_far^2) + N_TOOTH0,  a = sqrt(3) / 4
+    elements   N_e = A_body / (a h_g^2) + C_TEETH A_teeth / (a h_far^2)
+                     + C_CONTACT L / (a g h_c) + N_TOOTH0,                     a = sqrt(3) / 4
     dofs       n = DOFS_PER_ELEMENT N_e
     memory     M = M0 + C_FILL n log2 n                                            [bytes]
 
 A_body = pi (r_f^2 - r_bore^2) is the blank (bore to root circle), meshed at h_g (an
 equilateral triangle of side h has area a h^2); A_teeth is the outline's area outside the
 root circle, at the far-tooth size h_far and finer near the fillets and the near teeth
-(C_TEETH); N_TOOTH0 is tooth 0's refined contact zone. Quadratic (P2) triangles have about
+(C_TEETH); along tooth 0's refined flank (length L, size h_c = a_ref / 2.5, which falls with
+the load) the size grows as h_c + g d away from it, so that band holds
+int L / (a (h_c + g d)^2) dd ~ L / (a g h_c) elements (C_CONTACT); N_TOOTH0 is the rest of
+the near teeth's refinement. Quadratic (P2) triangles have about
 two nodes per element, two dofs each. The memory is the peak of the process: interpreter
 and libraries (M0) plus the sparse factors of the largest body, whose fill under nested
 dissection grows like n log n on a 2D mesh (George, SIAM J. Numer. Anal. 10, 1973).
-Fitted on the 14 bodies of the seven atlas corners that mesh here (0.05 to 1.6 M dofs):
-the estimated dofs within 9 % of the real meshes'; the peak within 15 % of the FE runs'
+Fitted on the 17 bodies that mesh here of the seven atlas corners (200 N/mm) and of two
+light loads (the paper pair at 40 N m, the 23/47 corner at 20 N/mm), 0.05 to 1.6 M dofs:
+the estimated dofs within 6 % of the real meshes'; the peak within 12 % of the FE runs
 recorded by bench_atlas.py. The 100/500 solid-blank corner is estimated at 11.8 M dofs and
 about 48 GB.
 
@@ -40,8 +45,10 @@ from gearwear.core.validation import InputError, fail
 
 #: elements per equilateral-triangle area of the far-tooth size in the teeth region
 C_TEETH = 2.2
-#: elements of tooth 0's refined contact zone (and the near teeth's extra refinement)
-N_TOOTH0 = 6400
+#: elements of the graded band along tooth 0's refined flank, per L / (a g h_c)
+C_CONTACT = 1.6
+#: elements of the near teeth's extra refinement (fillets, near size)
+N_TOOTH0 = 4800
 #: dofs per P2 triangle (2 per node, ~2.1 nodes per element; 4.09-4.23 on the 14 bodies)
 DOFS_PER_ELEMENT = 4.2
 #: peak memory of a process with a body of n dofs: M0 + C_FILL n log2 n (bytes)
@@ -53,15 +60,24 @@ ENV = "GEARWEAR_FE_MEMORY_GB"
 
 
 def body_dofs(
-    outline_area_m2: float, root_radius_m: float, bore_radius_m: float, global_m: float, far_m: float
+    outline_area_m2: float,
+    root_radius_m: float,
+    bore_radius_m: float,
+    global_m: float,
+    far_m: float,
+    flank_m: float = 0.0,
+    contact_m: float = 1.0,
+    growth: float = 0.25,
 ) -> float:
     """Estimated dofs of a pair-FE body (see the module docstring): the outline's polygon
     area (m^2, the whole toothed disc), the root circle and the bore (m), the interior and
-    far-tooth element sizes (m)."""
+    far-tooth element sizes (m), and tooth 0's refined flank: its length (m), its element
+    size h_c (m) and the size gradient away from it."""
     a = math.sqrt(3.0) / 4.0
     body = math.pi * (root_radius_m**2 - bore_radius_m**2)
     teeth = max(outline_area_m2 - math.pi * root_radius_m**2, 0.0)
-    elements = body / (a * global_m**2) + C_TEETH * teeth / (a * far_m**2) + N_TOOTH0
+    contact = flank_m / (a * growth * contact_m)
+    elements = body / (a * global_m**2) + C_TEETH * teeth / (a * far_m**2) + C_CONTACT * contact + N_TOOTH0
     return DOFS_PER_ELEMENT * elements
 
 
@@ -98,6 +114,6 @@ def check_body(gear_index: int, gear_name: str, teeth: int, bore_radius_m: float
         bore_radius_m,
         "m",
         f"the pair FE's body of the {gear_name} ({teeth} teeth, its blank meshed at 0.4 module) would have about "
-        f"{dofs / 1e6:.1f} M dofs and need about {need / 1e9:.0f} GB, more than the {have / 1e9:.0f} GB it may "
+        f"{dofs / 1e6:.3g} M dofs and need about {need / 1e9:.2g} GB, more than the {have / 1e9:.2g} GB it may "
         f"use ({source}); a larger bore (a rim) shrinks it, or use an analytic stiffness method",
     )

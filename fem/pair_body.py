@@ -317,12 +317,25 @@ def _centre_line_nodes(mesh, basis, y_lo: float, y_hi: float) -> np.ndarray:
     return np.unique(basis.element_dofs[0::2, el])
 
 
-def estimated_dofs(gear: GearSpec, nominal: ToothProfile, sizes: BodySizes) -> float:
+def estimated_dofs(gear: GearSpec, nominal: ToothProfile, sizes: BodySizes, r_lo: float) -> float:
     """The dofs :func:`build_body` would give ``gear``'s body, estimated before meshing from
-    its outline (every tooth sampled at the far size) and the element sizes (fem.memory)."""
+    its outline (every tooth sampled at the far size), the length of tooth 0's refined
+    flank (``r_lo`` to the tip) and the element sizes (fem.memory)."""
     far = _sample_flank(nominal, lambda s: sizes.far_m)
     outline = ring_outline(lambda k: tooth_outline(far), gear.teeth)
-    return body_dofs(polygon_area(outline[0::2]), gear.root_radius_m, gear.hub_radius_m, sizes.global_m, sizes.far_m)
+    inv = np.flatnonzero(nominal.region == INVOLUTE)
+    s_inv = nominal.s[inv]
+    flank = float(s_inv[-1] - np.interp(r_lo, nominal.radius[inv], s_inv))
+    return body_dofs(
+        polygon_area(outline[0::2]),
+        gear.root_radius_m,
+        gear.hub_radius_m,
+        sizes.global_m,
+        sizes.far_m,
+        flank_m=flank,
+        contact_m=sizes.contact_m,
+        growth=GROWTH,
+    )
 
 
 def _mesh_body(

@@ -322,8 +322,8 @@ def pair_model(
         cy = (float(lp.y_axis_m.min()) - 1.0 * pair.module_m * 0.2, float(lp.y_axis_m.max()) + 0.2 * pair.module_m)
         per_gear.append((g, nominal, r_lo, cy))
     # a body too large for this machine is refused before any is meshed (fem.memory)
-    for gi, (g, nominal, _, _) in enumerate(per_gear):
-        check_body(gi, g.name, g.teeth, g.hub_radius_m, estimated_dofs(g, nominal, sizes))
+    for gi, (g, nominal, r_lo, _) in enumerate(per_gear):
+        check_body(gi, g.name, g.teeth, g.hub_radius_m, estimated_dofs(g, nominal, sizes, r_lo))
     healthy = _healthy_bodies(
         [_body_key(g, pair, sizes, r_lo, nb, cy, plane) for g, _, r_lo, cy in per_gear],
         [

@@ -87,7 +87,7 @@ def test_a_body_too_large_is_refused_in_one_line_before_gmsh(tmp_path, monkeypat
 
 def test_the_budget_variable(monkeypatch):
     monkeypatch.setenv(memory.ENV, "0.05")  # 50 MB: less than any body
-    with pytest.raises(InputError, match=r"^hub_radius_m\[0\] = .* more than the 0 GB it may use"):
+    with pytest.raises(InputError, match=r"^hub_radius_m\[0\] = .* more than the 0.05 GB it may use"):
         memory.check_body(0, "pinion", 23, UNEQUAL.hub_radius_m[0], 6e4)
     for bad in ("abc", "-1", "0", "nan", "inf"):
         monkeypatch.setenv(memory.ENV, bad)
@@ -104,12 +104,18 @@ def _physical_bytes() -> float:
 
 
 def test_more_blank_more_dofs_and_memory():
-    """A smaller bore adds blank area at the interior size; the peak grows with n log n."""
-    areas = [memory.body_dofs(0.02, 0.07, b, 1.2e-3, 0.9e-3) for b in (0.06, 0.04, 0.02, 0.005)]
+    """A smaller bore adds blank area at the interior size, a finer contact zone adds its graded
+    band; the peak grows with n log n."""
+    areas = [memory.body_dofs(0.02, 0.07, b, 1.2e-3, 0.9e-3, 0.01, 3e-5) for b in (0.06, 0.04, 0.02, 0.005)]
     assert all(a < b for a, b in zip(areas, areas[1:]))
     # the blank's share by hand: pi (r_f^2 - r_b^2) / (sqrt(3)/4 h^2) elements, 4.2 dofs each
     d = memory.body_dofs(0.02, 0.07, 0.02, 1.2e-3, 0.9e-3) - memory.body_dofs(0.02, 0.07, 0.06, 1.2e-3, 0.9e-3)
     assert d == pytest.approx(4.2 * math.pi * (0.06**2 - 0.02**2) / (math.sqrt(3) / 4 * 1.2e-3**2), rel=1e-12)
+    # the graded band by hand: int_0^inf L / (a (h_c + g d)^2) dd = L / (a g h_c), times C_CONTACT
+    band = memory.body_dofs(0.02, 0.07, 0.06, 1.2e-3, 0.9e-3, 0.01, 2e-5) - memory.body_dofs(
+        0.02, 0.07, 0.06, 1.2e-3, 0.9e-3, 0.0, 2e-5
+    )
+    assert band == pytest.approx(4.2 * memory.C_CONTACT * 0.01 / (math.sqrt(3) / 4 * 0.25 * 2e-5), rel=1e-12)
     n = [1e4, 1e5, 1e6]
     assert [memory.peak_bytes(x) for x in n] == sorted(memory.peak_bytes(x) for x in n)
 
@@ -120,9 +126,10 @@ def test_regression_the_constants_are_the_committed_fit():
     fit = json.loads((ROOT / "benchmarks/results/bench_fem_memory.json").read_text())
     assert fit["elements_fit"]["body"] == pytest.approx(1.0, rel=0.05)
     assert fit["elements_fit"]["teeth"] == pytest.approx(memory.C_TEETH, rel=0.05)
+    assert fit["elements_fit"]["contact"] == pytest.approx(memory.C_CONTACT, rel=0.05)
     assert fit["elements_fit"]["tooth0"] == pytest.approx(memory.N_TOOTH0, rel=0.1)
     lo, hi = fit["dofs_per_element"]
     assert lo <= memory.DOFS_PER_ELEMENT <= hi * 1.01
     assert fit["memory_fit"]["M0_MiB"] * 2**20 == pytest.approx(memory.M0_BYTES, rel=0.1)
     assert fit["memory_fit"]["c_bytes"] == pytest.approx(memory.C_FILL_BYTES, rel=0.05)
-    assert fit["estimate_max_rel_error"] < 0.15 and fit["memory_model_max_rel_error"] < 0.15
+    assert fit["estimate_max_rel_error"] < 0.1 and fit["memory_model_max_rel_error"] < 0.15
