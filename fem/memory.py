@@ -52,7 +52,7 @@ N_TOOTH0 = 4800
 #: dofs per P2 triangle (2 per node, ~2.1 nodes per element; 4.09-4.23 on the 14 bodies)
 DOFS_PER_ELEMENT = 4.2
 #: peak memory of a process with a body of n dofs: M0 + C_FILL n log2 n (bytes)
-M0_BYTES = 317 * 2**20
+M0_BYTES = 326 * 2**20
 C_FILL_BYTES = 171.0
 #: the share of physical memory one FE process may use when GEARWEAR_FE_MEMORY_GB is unset
 BUDGET_FRACTION = 0.8
