@@ -224,7 +224,11 @@ def condensed_flexibility(
     if not err <= CHECK_RTOL:
         raise RuntimeError(f"the Schur complement of the condensed dofs does not match a solve ({err:.1e} relative)")
     G = _inverse(S)
-    h = (G @ y[:, :-1]).T if reading is not None else None
+    # h = G y_B by numpy's own loops, not BLAS: the thread count of a threaded BLAS product
+    # sets its summation order, and threadpool_limits is process-wide, so two bodies
+    # condensed at once (fem.pair_model overlaps them) could set it for each other and h
+    # differed from the serial build in its last bits (~20 ms for the paper pinion)
+    h = np.einsum("ij,jk->ki", G, y[:, :-1], optimize=False) if reading is not None else None
     t3 = time.perf_counter()
     return (
         G,
