@@ -77,8 +77,9 @@ class WearSpec:
     """How much wear: a named phase, an explicit maximum depth, or running hours.
 
     Exactly one of phase / max_depth_m / hours is set. The model gives the shape
-    (and, for ``hours``, the magnitude). Loads and cycles use torque_Nm and
-    speed_rpm of the pinion (driver).
+    (and, for ``hours``, the magnitude). Loads use torque_Nm (N m) of the pinion
+    (driver); speed_rpm (rpm) counts the contacts of ``hours`` only (:func:`cycles`): a
+    phase or a depth fixes the magnitude, and the profile is the same at any speed.
     """
 
     phase: str | None = None

@@ -14,8 +14,9 @@ widths stay below gearwear.diagnose.posterior.RESOLVED_FRACTION.
 
 from __future__ import annotations
 
+import functools
 import math
-from concurrent.futures import Executor
+from concurrent.futures import Executor, Future
 from typing import Any, Callable
 
 import numpy as np
@@ -23,7 +24,7 @@ import numpy as np
 from gearwear.diagnose import posterior as dp
 from gearwear.diagnose.features import MEAN_SIGNALS, SIGNALS, Feature, all_features
 from gearwear.diagnose.job import expected_widths
-from gearwear.diagnose.surrogate import BuildSpec, Pending, Surrogate, finish, start
+from gearwear.diagnose.surrogate import BuildSpec, Pending, Surrogate, finish, simulate_point, simulate_runs, start
 
 REFERENCE_POINTS = 16
 REFERENCE_SEED = 11
@@ -76,6 +77,71 @@ def assess(sur: Surrogate, rel: float, floor_frac: float) -> list[dict[str, Any]
     return rows
 
 
+def _table_key(raw: dict[str, Any]) -> str:
+    """The scene document without its speed: runs whose documents agree here (and in the
+    unknowns' values) have the same stiffness tables."""
+    import json
+
+    doc = {k: v for k, v in raw.items() if k != "operating"}
+    doc["operating"] = {k: v for k, v in raw.get("operating", {}).items() if k != "speed_rpm"}
+    return json.dumps(doc, sort_keys=True, default=repr)
+
+
+class SpeedGroups(Executor):
+    """The plan's runs, one task per design point and torque for all candidate speeds.
+
+    The plan's surrogates share their design and held-out points (fixed seeds, the same
+    prior), and the stiffness tables depend on the torque and the unknowns' values, not on
+    the speed (nor on the bearing clearance or the solver's window). :func:`plan` hands
+    this front to :func:`gearwear.diagnose.surrogate.start` in place of the executor: it
+    records each :func:`simulate_point` as a future of its own, and :meth:`flush` submits
+    the runs that differ only in the speed as one :func:`simulate_runs` task, which
+    computes their table once (3 speeds: 2 of every 3 tables saved, about a third of a
+    training run's cost) and sets each run's future from its own result. Every result is
+    the one its own task would give, to the bit; only the grouping of work changes. Without
+    a real executor (one worker) the groups run in this process at :meth:`flush`.
+    ``progress(1)`` is called as each run's result arrives."""
+
+    def __init__(self, executor: Executor | Callable[[], Executor | None] | None, progress=None):
+        self.inner = executor
+        self.progress = progress
+        self.groups: dict[tuple, list[tuple[tuple, Future]]] = {}
+
+    def submit(self, fn, /, *args, **kwargs):  # type: ignore[override]
+        if fn is not simulate_point or kwargs or len(args) != 5:
+            raise TypeError("SpeedGroups runs simulate_point(raw, name, values, solver, harmonics) only")
+        raw, name, values, solver, harmonics = args
+        key = (name, harmonics, tuple(sorted(values.items())), _table_key(raw))
+        fut: Future = Future()
+        self.groups.setdefault(key, []).append(((raw, name, values, solver), fut))
+        return fut
+
+    def _deliver(self, members: list[tuple[tuple, Future]], task: Future) -> None:
+        try:
+            results = task.result()
+        except BaseException as exc:  # the group failed or was cancelled: so did each of its runs
+            for _, fut in members:
+                fut.set_exception(exc)
+            return
+        for (_, fut), res in zip(members, results):
+            fut.set_result(res)
+            if self.progress:
+                self.progress(1)
+
+    def flush(self) -> None:
+        """Submit every group recorded so far (in the order of their first run)."""
+        groups, self.groups = self.groups, {}
+        ex = self.inner if self.inner is None or isinstance(self.inner, Executor) else self.inner()
+        for (_, harmonics, _, _), members in groups.items():
+            runs = [m for m, _ in members]
+            if ex is None:
+                task: Future = Future()
+                task.set_result(simulate_runs(runs, harmonics))
+            else:
+                task = ex.submit(simulate_runs, runs, harmonics)
+            task.add_done_callback(functools.partial(self._deliver, members))
+
+
 def plan(
     spec: BuildSpec,
     speeds: list[float],
@@ -96,6 +162,7 @@ def plan(
     builds = []
     levels: list[float | None] = list(torques) if torques else [None]
     started = []
+    groups = SpeedGroups(executor, progress)
     for n in speeds:
         for T in levels:
             doc = copy.deepcopy(spec.raw)
@@ -104,7 +171,8 @@ def plan(
                 doc["operating"]["torque_Nm"] = float(T)
             # every missing surrogate's runs are submitted before the first is fitted: the
             # workers simulate the next operating points while this process fits
-            started.append((n, T, start(replace(spec, raw=doc), executor, progress)))
+            started.append((n, T, start(replace(spec, raw=doc), groups, None)))
+    groups.flush()
     for n, T, got in started:
         sur = finish(got) if isinstance(got, Pending) else got
         builds.append(

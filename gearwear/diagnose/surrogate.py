@@ -164,15 +164,23 @@ def periodicity_residual(x: np.ndarray, S: int) -> float:
 
 
 def simulate_point(
-    raw: dict[str, Any], name: str, values: dict[str, float], solver: dict[str, float] | None, harmonics: int
+    raw: dict[str, Any],
+    name: str,
+    values: dict[str, float],
+    solver: dict[str, float] | None,
+    harmonics: int,
+    tables: Callable | None = None,
 ) -> tuple[np.ndarray, float]:
     """One forward run: ([Re c, Im c, means], periodicity residual). c: the complex
     harmonics 1..K of every signal of SIGNALS in its unit; means of MEAN_SIGNALS.
+    ``tables``: where the stiffness curve comes from (a :class:`gearwear.jobs.table_memo.TableMemo`
+    shared by runs whose tables are equal, :func:`simulate_runs`; default: computed here).
     Top-level, so process and Dask executors can pickle it."""
     from gearwear.dynamics.analysis import window_fourier
-    from gearwear.jobs.simulate import run
+    from gearwear.jobs.simulate import run, stiffness_input
 
-    r = run(scene_at(raw, name, values, solver)).result
+    scene = scene_at(raw, name, values, solver)
+    r = run(scene, stiffness=stiffness_input(scene, tables=tables)).result
     models = [m for m, _ in SIGNALS.values()]
     c = window_fourier(r, models, harmonics)
     harm = np.concatenate([c[m] * f for m, f in SIGNALS.values()])
@@ -180,6 +188,21 @@ def simulate_point(
     S = int(round(r.fs_Hz / r.fm_Hz))
     resid = max(periodicity_residual(r.signals[m], S) for m in models)
     return np.concatenate([harm.real, harm.imag, means]), resid
+
+
+def simulate_runs(
+    runs: list[tuple[dict[str, Any], str, dict[str, float], dict[str, float] | None]], harmonics: int
+) -> list[tuple[np.ndarray, float]]:
+    """:func:`simulate_point` of every (raw, name, values, solver) of ``runs``, in order, with
+    one :class:`gearwear.jobs.table_memo.TableMemo` for them all: runs that differ only in
+    what the stiffness tables do not depend on (the speed, the solver's window, the
+    bearing clearance) compute their tables once. Each result equals its own
+    :func:`simulate_point` to the bit (the memo hands on the curve the same request gives).
+    Top-level, so process and Dask executors can pickle it."""
+    from gearwear.jobs.table_memo import TableMemo
+
+    memo = TableMemo()
+    return [simulate_point(raw, name, values, solver, harmonics, tables=memo) for raw, name, values, solver in runs]
 
 
 def run_points(

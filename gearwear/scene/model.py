@@ -289,13 +289,17 @@ def wear_spec(w: WearDoc, operating: OperatingDoc, pair: PairSpec | None = None)
         "phase": w.phase,
         "model": w.model,
         "torque_Nm": operating.torque_Nm,
-        "speed_rpm": operating.speed_rpm,
         "taper_m": w.taper_mm * 1e-3,
     }
     if w.max_depth_um is not None:
         kw["max_depth_m"] = w.max_depth_um * 1e-6
     if w.hours is not None:
+        # the speed counts the contacts of the running time (geometry.wear.cycles); a depth
+        # or a phase fixes the magnitude and the profile is the same at every speed, so the
+        # spec leaves it at its default there: two scenes that differ only in the speed
+        # then have equal specs and share one stiffness table (a speed sweep, the plan)
         kw["hours"] = w.hours
+        kw["speed_rpm"] = operating.speed_rpm
     if w.archard_k_m2_per_N is not None:
         kw["archard_k_m2_per_N"] = w.archard_k_m2_per_N
     if w.wear_intensity is not None:
