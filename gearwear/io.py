@@ -103,17 +103,21 @@ def _strict(o: Any) -> Any:
     return o
 
 
+#: dots per inch of a saved figure, and of every figure gearwear.plotting.subplots draws
+FIGURE_DPI = 130
+
+
 def write_json(path: str | Path, obj: Any, indent: int | None = 2) -> Path:
     """Strict JSON (:func:`json_text`) and a final newline: the same object gives the same bytes."""
     return write_text(path, json_text(obj, indent) + "\n")
 
 
-def write_figure(fig, path: str | Path, dpi: int = 130) -> Path:
+def write_figure(fig, path: str | Path, dpi: int = FIGURE_DPI) -> Path:
     """Save a matplotlib figure atomically (PNG, deterministic metadata)."""
     return write_bytes(path, figure_bytes(fig, dpi))
 
 
-def figure_bytes(fig, dpi: int = 130) -> bytes:
+def figure_bytes(fig, dpi: int = FIGURE_DPI) -> bytes:
     """The PNG bytes :func:`write_figure` writes (a figure rendered in another process, e.g. a
     sweep's worker, comes back as bytes)."""
     buf = io.BytesIO()

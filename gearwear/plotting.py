@@ -25,6 +25,8 @@ from typing import Literal, Sequence
 import numpy as np
 from matplotlib.figure import Figure
 
+from gearwear.io import FIGURE_DPI
+
 #: a log spectrum's axis ends this far below its largest line (amplitude dB, 20 log10)
 FLOOR_DB = 100.0
 
@@ -38,8 +40,12 @@ def subplots(
     **subplot_kw,
 ):
     """(Figure, axes) like ``pyplot.subplots``; ``figsize`` in inches, ``subplot_kw``
-    (sharex, squeeze, ...) go to :meth:`Figure.subplots`."""
-    fig = Figure(figsize=figsize, layout=layout)
+    (sharex, squeeze, ...) go to :meth:`Figure.subplots`. The figure's dpi is the one
+    :func:`gearwear.io.write_figure` saves at (:data:`FIGURE_DPI`): matplotlib keeps each
+    text's layout per dpi, so a layout engine's pass (``tight_layout``) and the saving
+    passes then measure the tick labels once instead of twice (a sweep's ten-panel figure:
+    1.13 -> 0.86 s)."""
+    fig = Figure(figsize=figsize, layout=layout, dpi=FIGURE_DPI)
     return fig, fig.subplots(nrows, ncols, **subplot_kw)
 
 
