@@ -12,7 +12,9 @@ on the checkout before issue 27, on the same machine). Rows:
   2 runs, each with its own empty folder) and *warm* (the same folder again; median of 3).
   Limit: 4 s cold.
 * ``sweep paper-default --set operating.speed_rpm=1000:3000:100`` (100 scenes of 0.5 s)
-  on 1 and 2 workers, whole process, numba cache warm (median of 2). Limit: 4 s on 2.
+  on 1 and 2 workers, whole process, numba cache warm (median of 2), writing its files
+  (``--out``: the CSV and four figures); and on 2 workers as the issue states the command,
+  without ``--out`` (the summary on stdout; median of 3). Limit: 4 s on 2.
 * the pair-FE 24-position cycle of the paper pair, cold in one process (``fem.pair.
   pair_contact`` after ``_BODY_CACHE.clear()``: mesh, assembly, factorization and
   condensation of both bodies; imports excluded; the best of 2 fresh processes). Limit
@@ -128,6 +130,10 @@ def main(argv: list[str] | None = None) -> int:
                 ]
                 rows[f"sweep_100_workers_{w}"] = {"wall_s": statistics.median(runs), "runs_s": runs}
                 print(f"sweep 100 scenes, {w} worker(s): {statistics.median(runs):.2f} s (limit 4 s on 2)", flush=True)
+            # the issue's own command: no --out (the summary table on stdout, no files, no figures)
+            runs = [whole([*cmd, "--workers", "2"], env, co) for _ in range(3)]
+            rows["sweep_100_workers_2_stdout"] = {"wall_s": statistics.median(runs), "runs_s": runs}
+            print(f"sweep 100 scenes, 2 workers, no --out: {statistics.median(runs):.2f} s (limit 4 s)", flush=True)
         if "fe" not in skip:
             runs, mean = [], None
             for _ in range(2):

@@ -360,6 +360,11 @@ def cost_table() -> str:
         "| `gearwear sweep paper-default --set operating.speed_rpm=1000:3000:100` (100 scenes of 0.5 s), "
         f"whole process, warm numba cache: 1 worker / 2 workers | {b1} / {b2} | {a1} / {a2} | 4 s on 2 workers |"
     )
+    if _dig(a, "sweep_100_workers_2_stdout", "wall_s") is not None:
+        rows.append(
+            "| the same sweep on 2 workers without `--out` (the summary on stdout; no CSV, no figures) | | "
+            f"{_s(_dig(a, 'sweep_100_workers_2_stdout', 'wall_s'), '.1f')} | 4 s on 2 workers |"
+        )
     if sw:
         rows.append(
             "| one sweep point in-process (ms): integration / everything else (scene, table, rest of the run, "
