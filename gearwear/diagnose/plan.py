@@ -92,7 +92,7 @@ class SpeedGroups(Executor):
 
     The plan's surrogates share their design and held-out points (fixed seeds, the same
     prior), and the stiffness tables depend on the torque and the unknowns' values, not on
-    the speed (nor on the bearing clearance or the solver's window). :func:`plan` hands
+    the speed or the solver's window. :func:`plan` hands
     this front to :func:`gearwear.diagnose.surrogate.start` in place of the executor: it
     records each :func:`simulate_point` as a future of its own, and :meth:`flush` submits
     the runs that differ only in the speed as one :func:`simulate_runs` task, which

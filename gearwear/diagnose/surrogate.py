@@ -195,8 +195,8 @@ def simulate_runs(
 ) -> list[tuple[np.ndarray, float]]:
     """:func:`simulate_point` of every (raw, name, values, solver) of ``runs``, in order, with
     one :class:`gearwear.jobs.table_memo.TableMemo` for them all: runs that differ only in
-    what the stiffness tables do not depend on (the speed, the solver's window, the
-    bearing clearance) compute their tables once. Each result equals its own
+    what the stiffness tables do not depend on (the speed, the solver's window; the
+    bearing clearance unless it moves the centre distance) compute their tables once. Each result equals its own
     :func:`simulate_point` to the bit (the memo hands on the curve the same request gives).
     Top-level, so process and Dask executors can pickle it."""
     from gearwear.jobs.table_memo import TableMemo
