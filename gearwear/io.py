@@ -103,25 +103,22 @@ def _strict(o: Any) -> Any:
     return o
 
 
-#: dots per inch of a saved figure, and of every figure gearwear.plotting.subplots draws
-FIGURE_DPI = 130
-
-
 def write_json(path: str | Path, obj: Any, indent: int | None = 2) -> Path:
     """Strict JSON (:func:`json_text`) and a final newline: the same object gives the same bytes."""
     return write_text(path, json_text(obj, indent) + "\n")
 
 
-def write_figure(fig, path: str | Path, dpi: int = FIGURE_DPI) -> Path:
-    """Save a matplotlib figure atomically (PNG, deterministic metadata)."""
+def write_figure(fig, path: str | Path, dpi: float | None = None) -> Path:
+    """Save a matplotlib figure atomically (PNG, deterministic metadata) at ``dpi``, by
+    default the figure's own (gearwear.plotting.FIGURE_DPI for its figures)."""
     return write_bytes(path, figure_bytes(fig, dpi))
 
 
-def figure_bytes(fig, dpi: int = FIGURE_DPI) -> bytes:
+def figure_bytes(fig, dpi: float | None = None) -> bytes:
     """The PNG bytes :func:`write_figure` writes (a figure rendered in another process, e.g. a
-    sweep's worker, comes back as bytes)."""
+    sweep's worker, comes back as bytes); ``dpi`` None: the figure's own."""
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=dpi, metadata={"Software": None}, bbox_inches="tight")
+    fig.savefig(buf, format="png", dpi=dpi or fig.dpi, metadata={"Software": None}, bbox_inches="tight")
     return buf.getvalue()
 
 

@@ -25,7 +25,9 @@ from typing import Literal, Sequence
 import numpy as np
 from matplotlib.figure import Figure
 
-from gearwear.io import FIGURE_DPI
+#: dots per inch of every figure drawn here, and so of its PNG (gearwear.io.write_figure
+#: saves a figure at its own dpi unless told otherwise)
+FIGURE_DPI = 130
 
 #: a log spectrum's axis ends this far below its largest line (amplitude dB, 20 log10)
 FLOOR_DB = 100.0
