@@ -20,6 +20,7 @@ import math
 import numpy as np
 import pytest
 from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from gearwear.geometry.kinematics import MeshGeometry
 from gearwear.geometry.profile import INVOLUTE, tooth_profile
@@ -176,3 +177,26 @@ def test_flank_depth_maps_each_flank_to_its_own_contact_point(name):
                 continue
             order = np.argsort(np.abs(d[sel] - dC))
             assert np.all(np.diff(h[inv_pts][sel][order]) > 0), (i, lo, hi)
+
+
+@settings(max_examples=25, deadline=None)
+@given(pair=valid_pairs(), n1=st.floats(100.0, 6000.0), ratio=st.floats(1.1, 5.0), depth_um=st.floats(1.0, 20.0))
+def test_a_scene_wear_spec_carries_the_speed_only_for_running_hours(pair, n1, ratio, depth_um):
+    """A depth (or a phase) fixes the magnitude and the profile is the same at any speed, so
+    the scene's wear spec is the same object at two speeds (what lets scenes that differ in
+    the speed share a stiffness table); running hours count the contacts, so there the spec
+    differs and the depth is in proportion to the speed (N1 = n1 t: Archard's depth is linear
+    in the passages), on random valid pairs."""
+    from gearwear.geometry.wear import max_depths_m
+    from gearwear.scene.model import wear_from_dict
+
+    n2 = n1 * ratio
+    mesh = MeshGeometry(pair, pair.centre_distance_m)
+    a, b = (wear_from_dict({"max_depth_um": depth_um}, 50.0, n, None) for n in (n1, n2))
+    assert a == b
+    ha, hb = (wear_on_line_of_action(mesh, s, np.linspace(mesh.path_start_m, mesh.path_end_m, 21)) for s in (a, b))
+    assert all(np.array_equal(x, y) for x, y in zip(ha, hb))
+    a, b = (wear_from_dict({"hours": 1.0}, 50.0, n, None) for n in (n1, n2))
+    assert a != b
+    for da, db in zip(max_depths_m(mesh, a), max_depths_m(mesh, b)):
+        assert db == pytest.approx(ratio * da, rel=1e-12)
