@@ -401,6 +401,35 @@ def cost_table() -> str:
     return "\n".join(rows)
 
 
+def user_table() -> str:
+    """The long user table against the C loop (benchmarks/results/bench_user_table.json): the
+    run's load, the ratios now and before issue 27, and dopri5's."""
+    ut = _json("benchmarks/results/bench_user_table.json")
+    r, d = ut["ratio_to_c"], ut["dopri5"]
+    agree = ut["all_effects_agreement_numba_vs_c"]["max_component_rel"]
+    rows = [
+        f"Long user tables (`benchmarks/bench_user_table.py`, one run, {ut['date'][:10]}, load average "
+        f"{ut['load_avg'][0]:.1f} at its start; minimum of {len(ut['rounds_s']['c'])} interleaved rounds, so "
+        "the in-run ratios are what to read): the user-table example (4096 rows of a smooth closed-form k and e "
+        "per mesh period), 256 RK4 steps per mesh period, 1 s simulated. The schedule now holds "
+        f"{ut['substeps_per_period']['now']} sub-steps per period ({ut['substeps_per_period']['before']} before: "
+        "every step split at its 16 nodes); the C loop (`c_rk4/rk4.c`, all effects) over 256 sub-steps per "
+        "period is the unit:",
+        "",
+        "| 1 s simulated, 4096-row table, 256 steps per period | now, x C | before, x C |",
+        "|---|---|---|",
+        f"| RK4 kernel, the table's own model (TVMS and TE) | {r['kernel']:.2f} | {r['kernel_before']:.1f} |",
+        "| RK4 kernel, the same table with every effect of the C loop (its model; final states agree to "
+        f"{agree:.0e}) | {r['kernel_all_effects']:.2f} | {r['kernel_all_effects_before']:.1f} |",
+        f"| `simulate(..., dense=False)`, end to end | {r['sim']:.2f} | {r['sim_before']:.1f} |",
+        "| `simulate(...)` with the dense output at every table node of the kept window (for the exact window "
+        f"harmonics) | {r['sim_dense']:.1f} | {r['sim_dense_before']:.1f} |",
+        f"| dopri5, rtol {d['rtol']:g} (kernel; steps end on every table node: {d['steps_per_mesh_period']:.0f} "
+        f"steps per mesh period) | {d['ratio_to_c']:.1f} | - |",
+    ]
+    return "\n".join(rows)
+
+
 # -- the atlas (issue 28): reports/atlas, written by make atlas ------------------------------
 
 ATLAS = ROOT / "reports" / "atlas"
@@ -570,6 +599,7 @@ TABLES = {
     "diagnose-plan": diagnose_plan,
     "bore-study": bore_study,
     "cost-table": cost_table,
+    "user-table": user_table,
 }
 
 BLOCK = re.compile(r"(<!-- generated: (?P<name>[\w-]+) -->\n)(?P<body>.*?)(<!-- end: (?P=name) -->)", re.S)
