@@ -4,9 +4,10 @@ For every body of benchmarks/bench_atlas.py's corners: the dofs fem.memory estim
 meshing (fem.pair_body.estimated_dofs), and for every corner whose bodies this machine can
 mesh, the element count and dofs of the real mesh (fem.pair_body, meshed and assembled in a
 process of its own, the condensation skipped). The element model's coefficients are fitted
-by least squares over those bodies; the memory model M = M0 + c n log2 n on the peak
-resident memory of the whole FE run that bench_atlas.py recorded per corner (its max_rss_MB,
-against the larger body's dofs). Writes benchmarks/results/bench_fem_memory.json; fem.memory's
+by least squares over those bodies; the memory model M = M0 + c sum_b n_b log2 n_b on the
+peak resident memory of the whole FE run that bench_atlas.py recorded per corner (its
+max_rss_MB, against the dofs n_b of the corner's distinct bodies: fem.pair_model builds two
+at the same time). Writes benchmarks/results/bench_fem_memory.json; fem.memory's
 constants are these fits, rounded (tests/test_fem_memory.py checks they agree).
 
     .venv/bin/python benchmarks/bench_fem_memory.py
@@ -56,16 +57,19 @@ def measure(name: str) -> list[dict]:
 
     rows: list[dict] = []
     meshes: list[dict] = []
-    orig_mesh, orig_check, orig_dofs = pb.mesh_full_gear, pmod.check_body, pb.body_dofs
+    orig_mesh, orig_check, orig_dofs = pb.mesh_full_gear, pmod.check_bodies, pb.body_dofs
     terms: list[dict] = []
 
     def spy_dofs(area, rf, bore, global_m, far_m, flank_m=0.0, contact_m=1.0, growth=0.25):
         terms.append({"flank_m": flank_m, "contact_m": contact_m, "growth": growth})
         return orig_dofs(area, rf, bore, global_m, far_m, flank_m, contact_m, growth)
 
-    def spy_check(gi, gear_name, teeth, bore, dofs):
-        rows.append({"corner": name, "gear": gi, "teeth": teeth, "bore_m": bore, "dofs_estimate": dofs, **terms[-1]})
-        orig_check(gi, gear_name, teeth, bore, dofs)
+    def spy_check(bodies):
+        # body_dofs runs once per gear, in gear order; two equal gears check one body
+        for gi, _, teeth, bore, dofs in bodies:
+            row = {"corner": name, "gear": gi, "teeth": teeth, "bore_m": bore, "dofs_estimate": dofs}
+            rows.append({**row, **terms[gi]})
+        orig_check(bodies)
 
     def spy_mesh(outline, hub, msz, **kw):
         gm = orig_mesh(outline, hub, msz, **kw)
@@ -80,7 +84,7 @@ def measure(name: str) -> list[dict]:
             raise _Done  # every distinct body meshed (two equal gears share one)
         return None
 
-    pmod.check_body, pb.mesh_full_gear, pb._condensed, pb.body_dofs = spy_check, spy_mesh, stop, spy_dofs
+    pmod.check_bodies, pb.mesh_full_gear, pb._condensed, pb.body_dofs = spy_check, spy_mesh, stop, spy_dofs
     pair, torque = case(name)
     try:
         pair_contact(pair, torque_Nm=torque, positions=4)
@@ -115,12 +119,12 @@ def main() -> None:
 
             rows = []
 
-            def spy_check(gi, name_, teeth, bore, dofs):
-                rows.append({"corner": name, "gear": gi, "teeth": teeth, "bore_m": bore, "dofs_estimate": dofs})
-                if gi == 1:
-                    raise _Stop
+            def spy_check(bodies):
+                for gi, _, teeth, bore, dofs in bodies:
+                    rows.append({"corner": name, "gear": gi, "teeth": teeth, "bore_m": bore, "dofs_estimate": dofs})
+                raise _Stop
 
-            pmod.check_body = spy_check
+            pmod.check_bodies = spy_check
             d = corner(name)
             try:
                 pmod.pair_model(d.pair, None, d.torque_Nm, 0.0)
@@ -169,17 +173,18 @@ def main() -> None:
     el = np.array([b["elements"] for b in meshed], float)
     coef = np.linalg.lstsq(X, el, rcond=None)[0]
     dpe = [b["dofs"] / b["elements"] for b in meshed]
-    # the peak memory of the whole FE run per corner (bench_atlas.py), against its larger body
+    # the peak memory of the whole FE run per corner (bench_atlas.py), against its distinct
+    # bodies (both built at the same time; fem.memory)
     atlas = json.loads((HERE / "results" / "bench_atlas.json").read_text())
     peaks = []
     for row in atlas["rows"]:
         if "max_rss_MB" not in row:
             continue
-        dofs = max((b["dofs"] for b in meshed if b["corner"] == row["corner"]), default=None)
-        if dofs is not None:
+        dofs = [b["dofs"] for b in meshed if b["corner"] == row["corner"]]
+        if dofs:
             peaks.append({"corner": row["corner"], "dofs": dofs, "peak_MB": row["max_rss_MB"]})
-    n = np.array([p["dofs"] for p in peaks], float)
-    A = np.column_stack([np.ones_like(n), n * np.log2(n)])
+    fill = np.array([sum(n * math.log2(n) for n in p["dofs"]) for p in peaks])
+    A = np.column_stack([np.ones_like(fill), fill])
     mem = np.linalg.lstsq(A, np.array([p["peak_MB"] for p in peaks]) * 2**20, rcond=None)[0]
     for p in peaks:
         p["model_MB"] = memory.peak_bytes(p["dofs"]) / 2**20

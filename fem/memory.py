@@ -12,7 +12,7 @@ data and the fit to benchmarks/results/bench_fem_memory.json):
     elements   N_e = A_body / (a h_g^2) + C_TEETH A_teeth / (a h_far^2)
                      + C_CONTACT L / (a g h_c) + N_TOOTH0,                     a = sqrt(3) / 4
     dofs       n = DOFS_PER_ELEMENT N_e
-    memory     M = M0 + C_FILL n log2 n                                            [bytes]
+    memory     M = M0 + C_FILL sum_b n_b log2 n_b                                 [bytes]
 
 A_body = pi (r_f^2 - r_bore^2) is the blank (bore to root circle), meshed at h_g (an
 equilateral triangle of side h has area a h^2); A_teeth is the outline's area outside the
@@ -22,13 +22,19 @@ the load) the size grows as h_c + g d away from it, so that band holds
 int L / (a (h_c + g d)^2) dd ~ L / (a g h_c) elements (C_CONTACT); N_TOOTH0 is the rest of
 the near teeth's refinement. Quadratic (P2) triangles have about
 two nodes per element, two dofs each. The memory is the peak of the process: interpreter
-and libraries (M0) plus the sparse factors of the largest body, whose fill under nested
-dissection grows like n log n on a 2D mesh (George, SIAM J. Numer. Anal. 10, 1973).
-Fitted on the 17 bodies that mesh here of the seven atlas corners (200 N/mm) and of two
-light loads (the paper pair at 40 N m, the 23/47 corner at 20 N/mm), 0.05 to 1.6 M dofs:
-the estimated dofs within 6 % of the real meshes'; the peak within 12 % of the FE runs
-recorded by bench_atlas.py. The 100/500 solid-blank corner is estimated at 11.8 M dofs and
-about 48 GB.
+and libraries (M0) plus the sparse factors of the bodies b the run builds, each of whose
+fill under nested dissection grows like n log n on a 2D mesh (George, SIAM J. Numer. Anal.
+10, 1973). The sum, not the largest body: two distinct bodies are built at the same time
+(fem.pair_model overlaps the first one's factorization with the second one's build), so
+both factors can be resident at once; how much they overlap depends on the timing (the
+40/80 high-contact-ratio corner peaked at 884 and 929 MB in two runs of the same code), so
+the model counts both.
+A pair of equal gears builds one body. Fitted on the 17 bodies that mesh here of the seven
+atlas corners (200 N/mm) and of two light loads (the paper pair at 40 N m, the 23/47 corner
+at 20 N/mm), 0.05 to 1.6 M dofs: the estimated dofs within 6 % of the real meshes'; the
+peak within 9 % of the FE runs recorded by bench_atlas.py (with the larger body alone in
+the model, 15.5 %: the 40/80 corner's 929 MB against 785 MB). The 100/500 solid-blank
+corner is estimated at 11.8 M dofs and about 43 GB.
 
 The budget is ``GEARWEAR_FE_MEMORY_GB`` (GB = 1e9 bytes) if set, else BUDGET_FRACTION of
 the machine's physical memory. It is per process: FE designs running side by side (an
@@ -40,6 +46,7 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Sequence
 
 from gearwear.core.validation import InputError, fail
 
@@ -51,9 +58,9 @@ C_CONTACT = 1.6
 N_TOOTH0 = 4800
 #: dofs per P2 triangle (2 per node, ~2.1 nodes per element; 4.09-4.23 on the 14 bodies)
 DOFS_PER_ELEMENT = 4.2
-#: peak memory of a process with a body of n dofs: M0 + C_FILL n log2 n (bytes)
-M0_BYTES = 326 * 2**20
-C_FILL_BYTES = 171.0
+#: peak memory of a process that builds bodies of n_b dofs: M0 + C_FILL sum_b n_b log2 n_b (bytes)
+M0_BYTES = 219 * 2**20
+C_FILL_BYTES = 149.0
 #: the share of physical memory one FE process may use when GEARWEAR_FE_MEMORY_GB is unset
 BUDGET_FRACTION = 0.8
 ENV = "GEARWEAR_FE_MEMORY_GB"
@@ -81,10 +88,12 @@ def body_dofs(
     return DOFS_PER_ELEMENT * elements
 
 
-def peak_bytes(dofs: float) -> float:
-    """Estimated peak memory (bytes) of the pair FE with a body of ``dofs`` dofs."""
-    n = max(float(dofs), 2.0)
-    return M0_BYTES + C_FILL_BYTES * n * math.log2(n)
+def peak_bytes(dofs: float | Sequence[float]) -> float:
+    """Estimated peak memory (bytes) of a pair-FE run that builds bodies of ``dofs`` dofs
+    (one number: one body; a sequence: the distinct bodies built together, see the module
+    docstring)."""
+    ns = [dofs] if isinstance(dofs, (int, float)) else list(dofs)
+    return M0_BYTES + C_FILL_BYTES * sum(max(float(n), 2.0) * math.log2(max(float(n), 2.0)) for n in ns)
 
 
 def budget_bytes() -> float:
@@ -102,18 +111,22 @@ def budget_bytes() -> float:
     return BUDGET_FRACTION * os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
 
 
-def check_body(gear_index: int, gear_name: str, teeth: int, bore_radius_m: float, dofs: float) -> None:
-    """A one-line InputError naming the bore of gear ``gear_index`` if a body of ``dofs``
-    estimated dofs would need more than :func:`budget_bytes`."""
-    need, have = peak_bytes(dofs), budget_bytes()
+def check_bodies(bodies: Sequence[tuple[int, str, int, float, float]]) -> None:
+    """A one-line InputError if the distinct bodies a pair-FE run builds, ``bodies`` =
+    (gear index, gear name, teeth, bore radius m, estimated dofs) each, would need more than
+    :func:`budget_bytes` together (:func:`peak_bytes` of all their dofs). The line names the
+    bore of the largest body: the one a larger bore shrinks most."""
+    need, have = peak_bytes([b[4] for b in bodies]), budget_bytes()
     if need <= have:
         return
+    gear_index, gear_name, teeth, bore_radius_m, dofs = max(bodies, key=lambda b: b[4])
     source = f"{ENV}" if os.environ.get(ENV, "").strip() else f"{BUDGET_FRACTION:.0%} of this machine's memory"
+    both = " (with the other gear's body, built at the same time)" if len(bodies) > 1 else ""
     raise fail(
         f"hub_radius_m[{gear_index}]",
         bore_radius_m,
         "m",
         f"the pair FE's body of the {gear_name} ({teeth} teeth, its blank meshed at 0.4 module) would have about "
-        f"{dofs / 1e6:.3g} M dofs and need about {need / 1e9:.2g} GB, more than the {have / 1e9:.2g} GB it may "
-        f"use ({source}); a larger bore (a rim) shrinks it, or use an analytic stiffness method",
+        f"{dofs / 1e6:.3g} M dofs and need about {need / 1e9:.2g} GB{both}, more than the {have / 1e9:.2g} GB it "
+        f"may use ({source}); a larger bore (a rim) shrinks it, or use an analytic stiffness method",
     )

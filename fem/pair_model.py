@@ -51,7 +51,7 @@ from gearwear.geometry.sampling import FINE_SAG_M
 from gearwear.geometry.spec import PairSpec
 from gearwear.geometry.wear import WearSpec, flank_depth, hertz_half_width, key_roll_angles
 
-from .memory import check_body
+from .memory import check_bodies
 from .pair_body import BodySizes, GearBody, body_builder, build_cracked_body, estimated_dofs
 
 __all__ = [
@@ -321,11 +321,18 @@ def pair_model(
         lp = load_points(nominal, np.array([max(r_lo, nominal.form_radius_m), g.tip_radius_m * (1 - 1e-9)]))
         cy = (float(lp.y_axis_m.min()) - 1.0 * pair.module_m * 0.2, float(lp.y_axis_m.max()) + 0.2 * pair.module_m)
         per_gear.append((g, nominal, r_lo, cy))
-    # a body too large for this machine is refused before any is meshed (fem.memory)
-    for gi, (g, nominal, r_lo, _) in enumerate(per_gear):
-        check_body(gi, g.name, g.teeth, g.hub_radius_m, estimated_dofs(g, nominal, sizes, r_lo))
+    keys = [_body_key(g, pair, sizes, r_lo, nb, cy, plane) for g, _, r_lo, cy in per_gear]
+    # bodies too large for this machine together are refused before any is meshed
+    # (fem.memory); two equal gears build one body
+    check_bodies(
+        [
+            (gi, g.name, g.teeth, g.hub_radius_m, estimated_dofs(g, nominal, sizes, r_lo))
+            for gi, (g, nominal, r_lo, _) in enumerate(per_gear)
+            if keys[gi] not in keys[:gi]
+        ]
+    )
     healthy = _healthy_bodies(
-        [_body_key(g, pair, sizes, r_lo, nb, cy, plane) for g, _, r_lo, cy in per_gear],
+        keys,
         [
             partial(body_builder, g, g.material, pair.face_width_m, nominal, sizes, r_lo, nb, cy, plane)
             for g, nominal, r_lo, cy in per_gear

@@ -46,18 +46,19 @@ def _real_bodies(pair: PairSpec, monkeypatch) -> list[tuple[float, int]]:
     """(estimated dofs, dofs of the real mesh) of both bodies of ``pair``: the pair FE run up
     to its condensation (not run)."""
     estimates, real = {}, {}
-    check = pmod.check_body
+    check = pmod.check_bodies
 
-    def spy_check(gi, name, teeth, bore, dofs):
-        estimates[round(bore, 12)] = dofs
-        check(gi, name, teeth, bore, dofs)
+    def spy_check(bodies):
+        for _, _, _, bore, dofs in bodies:
+            estimates[round(bore, 12)] = dofs
+        check(bodies)
 
     def stop(cls, gear, sizes, r_lo, gm, model, *a, **k):
         real[round(gear.hub_radius_m, 12)] = int(model.basis.N)
         if len(real) == 2:
             raise _Meshed
 
-    monkeypatch.setattr(pmod, "check_body", spy_check)
+    monkeypatch.setattr(pmod, "check_bodies", spy_check)
     monkeypatch.setattr(pb, "_condensed", stop)
     with pytest.raises(_Meshed):
         pair_contact(pair, torque_Nm=100.0, positions=4)
@@ -88,7 +89,7 @@ def test_a_body_too_large_is_refused_in_one_line_before_gmsh(tmp_path, monkeypat
 def test_the_budget_variable(monkeypatch):
     monkeypatch.setenv(memory.ENV, "0.05")  # 50 MB: less than any body
     with pytest.raises(InputError, match=r"^hub_radius_m\[0\] = .* more than the 0.05 GB it may use"):
-        memory.check_body(0, "pinion", 23, UNEQUAL.hub_radius_m[0], 6e4)
+        memory.check_bodies([(0, "pinion", 23, UNEQUAL.hub_radius_m[0], 6e4)])
     for bad in ("abc", "-1", "0", "nan", "inf"):
         monkeypatch.setenv(memory.ENV, bad)
         with pytest.raises(InputError, match=rf"^GEARWEAR_FE_MEMORY_GB = '{bad}': must be a number of GB > 0"):
@@ -133,3 +134,51 @@ def test_regression_the_constants_are_the_committed_fit():
     assert fit["memory_fit"]["M0_MiB"] * 2**20 == pytest.approx(memory.M0_BYTES, rel=0.1)
     assert fit["memory_fit"]["c_bytes"] == pytest.approx(memory.C_FILL_BYTES, rel=0.05)
     assert fit["estimate_max_rel_error"] < 0.1 and fit["memory_model_max_rel_error"] < 0.15
+    # the model is the committed code's: every peak's model_MB is fem.memory.peak_bytes of its bodies
+    for p in fit["peaks"]:
+        assert p["model_MB"] == pytest.approx(memory.peak_bytes(p["dofs"]) / 2**20, rel=1e-9)
+
+
+def _checked(pair: PairSpec, monkeypatch) -> list[tuple]:
+    """The bodies pair_model hands to the memory check (stopped there: nothing is meshed)."""
+    seen: list[tuple] = []
+
+    def spy(bodies):
+        seen.extend(bodies)
+        raise _Meshed
+
+    monkeypatch.setattr(pmod, "check_bodies", spy)
+    with pytest.raises(_Meshed):
+        pmod.pair_model(pair, None, 40.0)
+    return seen
+
+
+@pytest.mark.parametrize("pair", [UNEQUAL, DRIVER_LARGER], ids=["unequal_23_47", "driver_larger_47_23"])
+def test_bodies_built_together_are_checked_together(pair, monkeypatch):
+    """The bug's class: a check per body passed two bodies that each fit but are built at the
+    same time (fem.pair_model overlaps them), so their factors can be resident together: the
+    40/80 high-contact-ratio corner peaked at 929 MB against 785 MB for its larger body
+    alone. Both bodies of an unequal pair are checked at once, and the budget they need is
+    M0 plus both fills: a budget between one body's need and the pair's is refused, naming
+    the larger body."""
+    bodies = _checked(pair, monkeypatch)
+    assert sorted(b[0] for b in bodies) == [0, 1]
+    monkeypatch.undo()
+    n = [b[4] for b in bodies]
+    fill = [memory.C_FILL_BYTES * x * math.log2(x) for x in n]
+    assert memory.peak_bytes(n) == pytest.approx(memory.M0_BYTES + sum(fill), rel=1e-12)
+    # a budget above the larger body's need alone, below the pair's
+    between = memory.M0_BYTES + max(fill) + 0.5 * min(fill)
+    monkeypatch.setenv(memory.ENV, repr(between / 1e9))
+    memory.check_bodies([max(bodies, key=lambda b: b[4])])  # the old per-body check passed
+    big = max(range(2), key=lambda i: n[i])
+    with pytest.raises(InputError, match=rf"^hub_radius_m\[{bodies[big][0]}\] = .*built at the same time"):
+        memory.check_bodies(bodies)
+
+
+def test_two_equal_gears_check_one_body(monkeypatch):
+    """Equal gears share one body (fem.pair_model's cache key): it is counted once."""
+    from gearwear.geometry.spec import default_pair
+
+    bodies = _checked(default_pair(), monkeypatch)
+    assert [b[0] for b in bodies] == [0]
