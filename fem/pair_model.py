@@ -52,6 +52,7 @@ from gearwear.geometry.spec import PairSpec
 from gearwear.geometry.wear import WearSpec, flank_depth, hertz_half_width, key_roll_angles
 
 from .memory import check_bodies
+from .page_advice import small_pages
 from .pair_body import BodySizes, GearBody, body_builder, build_cracked_body, estimated_dofs
 
 __all__ = [
@@ -331,20 +332,22 @@ def pair_model(
             if keys[gi] not in keys[:gi]
         ]
     )
-    healthy = _healthy_bodies(
-        keys,
-        [
-            partial(body_builder, g, g.material, pair.face_width_m, nominal, sizes, r_lo, nb, cy, plane)
-            for g, nominal, r_lo, cy in per_gear
-        ],
-    )
+    with small_pages():  # no huge-page stalls on the bodies' fresh arrays (fem.page_advice)
+        healthy = _healthy_bodies(
+            keys,
+            [
+                partial(body_builder, g, g.material, pair.face_width_m, nominal, sizes, r_lo, nb, cy, plane)
+                for g, nominal, r_lo, cy in per_gear
+            ],
+        )
     for gi, ((g, nominal, r_lo, cy), (body, built)) in enumerate(zip(per_gear, healthy)):
         if built:
             for k2, v in body.timings.items():
                 tim[f"gear{gi}_{k2}"] = v
         bodies.append(body)
         if faults is not None and faults.crack is not None and faults.crack.gear_index == gi:
-            cracked[gi], built = _cracked_body(pair, mesh, faults, nominal, sizes, r_lo, nb, cy, window, plane)
+            with small_pages():
+                cracked[gi], built = _cracked_body(pair, mesh, faults, nominal, sizes, r_lo, nb, cy, window, plane)
             if built:
                 for k2, v in cracked[gi].timings.items():
                     tim[f"cracked{gi}_{k2}"] = v
