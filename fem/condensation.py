@@ -22,8 +22,8 @@ import pymetis
 import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
-from threadpoolctl import threadpool_limits
 
+from .process_settings import one_blas_thread
 from .superlu_store import border_rows, supernodal_store
 
 __all__ = ["condensed_flexibility", "interior_order", "node_graph_order", "mirror_lower", "schur_from_border"]
@@ -120,7 +120,7 @@ def schur_from_border(Kbb, i, j, v, d, dense_from: int = DENSE_COLUMN_ROWS) -> n
     Y[where[j[dense]], i[dense]] = x[dense]
     Xs = sp.csr_matrix((x[~dense], (i[~dense], j[~dense])), shape=(m, len(count)))
     S = (sp.csr_matrix(Kbb) - Xs @ Xs.T).toarray()
-    with threadpool_limits(1, user_api="blas"):
+    with one_blas_thread():
         # in place on S's Fortran view: its lower triangle (S's upper one) -= Y^T Y
         sla.blas.dsyrk(-1.0, Y.T, beta=1.0, c=S.T, lower=1, overwrite_c=1)
     return mirror_lower(S)
@@ -130,8 +130,9 @@ def _inverse(S: np.ndarray) -> np.ndarray:
     """G = S^-1 (m, m) C-ordered, exactly symmetric, of the symmetric positive definite S
     (overwritten): LAPACK dpotrf and dpotri in place on its Fortran view."""
     # one BLAS thread: OpenBLAS's threaded dpotri (dtrtri + dlauum) took 6.2 s against
-    # 0.39 s on one thread for m = 2142 on the 2-core machine (best of 3 each)
-    with threadpool_limits(1, user_api="blas"):
+    # 0.39 s on one thread for m = 2142 on the 2-core machine (best of 3 each), and the
+    # thread count sets dpotrf's rounding; held for overlapping bodies (fem.process_settings)
+    with one_blas_thread():
         C, info = sla.lapack.dpotrf(S.T, lower=1, overwrite_a=1, clean=0)
         if info != 0:
             raise RuntimeError(f"the Schur complement of the condensed dofs is not positive definite (dpotrf {info})")

@@ -52,8 +52,8 @@ from gearwear.geometry.spec import PairSpec
 from gearwear.geometry.wear import WearSpec, flank_depth, hertz_half_width, key_roll_angles
 
 from .memory import check_bodies
-from .page_advice import small_pages
 from .pair_body import BodySizes, GearBody, body_builder, build_cracked_body, estimated_dofs
+from .process_settings import one_blas_thread, small_pages
 
 __all__ = [
     "PairModel",
@@ -332,7 +332,10 @@ def pair_model(
             if keys[gi] not in keys[:gi]
         ]
     )
-    with small_pages():  # no huge-page stalls on the bodies' fresh arrays (fem.page_advice)
+    # held here, in the calling thread, for both builds (the worker thread's holds only nest):
+    # one BLAS thread, the same rounding in both bodies; no huge-page stalls on their fresh
+    # arrays (fem.process_settings)
+    with one_blas_thread(), small_pages():
         healthy = _healthy_bodies(
             keys,
             [
@@ -346,7 +349,7 @@ def pair_model(
                 tim[f"gear{gi}_{k2}"] = v
         bodies.append(body)
         if faults is not None and faults.crack is not None and faults.crack.gear_index == gi:
-            with small_pages():
+            with one_blas_thread(), small_pages():
                 cracked[gi], built = _cracked_body(pair, mesh, faults, nominal, sizes, r_lo, nb, cy, window, plane)
             if built:
                 for k2, v in cracked[gi].timings.items():

@@ -168,6 +168,81 @@ def test_two_bodies_built_overlapped_equal_the_serial_builds(monkeypatch):
         assert np.array_equal(a.dofs, b.dofs)
 
 
+def test_overlapped_bodies_round_alike_whatever_the_interleaving(monkeypatch):
+    """The bug's class: a process-wide setting (the BLAS thread count) held by each body's own
+    ``with`` block, undone under the other body. Forced here: the worker thread's body enters
+    its Cholesky first, the main thread's body enters its own, the worker's body leaves its
+    block before the main one factorizes. Per-block limits left the main body on two BLAS
+    threads (dpotrf rounds differently there), so its flexibility differed from the serial
+    build; held by pair_model's caller (fem.process_settings) both bodies are the serial ones
+    to the bit. DRIVER_LARGER (47/23, shifted), coarse sizes."""
+    import threading
+    import types
+    from concurrent.futures import Future
+
+    from gearwear.fem import condensation
+    from gearwear.fem import pair_model as pmod
+
+    from pairs import DRIVER_LARGER
+
+    def worker() -> bool:
+        return threading.current_thread().name.startswith("gearwear-body")
+
+    def bodies():
+        pmod._BODY_CACHE.clear()
+        pm = pmod.pair_model(DRIVER_LARGER, contact_scale=3.0, mesh_scale=2.0)
+        pmod._BODY_CACHE.clear()
+        assert pm.bodies[0] is not pm.bodies[1]
+        return pm.bodies
+
+    class AtOnce:
+        def __init__(self, **kw):
+            pass
+
+        def __enter__(self):
+            return self
+
+        def __exit__(self, *exc):
+            return False
+
+        def submit(self, fn):
+            fut = Future()
+            fut.set_result(fn())
+            return fut
+
+    with monkeypatch.context() as m:
+        m.setattr(pmod, "ThreadPoolExecutor", AtOnce)
+        serial = bodies()
+
+    worker_inside, main_inside, worker_left = threading.Event(), threading.Event(), threading.Event()
+    real_sla, real_inverse = condensation.sla, condensation._inverse
+
+    def dpotrf(*a, **k):
+        if worker():
+            worker_inside.set()
+            assert main_inside.wait(60)
+        else:
+            assert worker_inside.wait(60)
+            main_inside.set()
+            assert worker_left.wait(60)
+        return real_sla.lapack.dpotrf(*a, **k)
+
+    def inverse(S):
+        try:
+            return real_inverse(S)
+        finally:
+            if worker():
+                worker_left.set()
+
+    lapack = types.SimpleNamespace(dpotrf=dpotrf, dpotri=real_sla.lapack.dpotri)
+    monkeypatch.setattr(condensation, "sla", types.SimpleNamespace(lapack=lapack, blas=real_sla.blas))
+    monkeypatch.setattr(condensation, "_inverse", inverse)
+    overlapped = bodies()
+    assert worker_left.is_set() and main_inside.is_set()  # the interleaving happened
+    for a, b in zip(overlapped, serial):
+        assert np.array_equal(a.G, b.G) and np.array_equal(a.blank_h, b.blank_h)
+
+
 @pytest.mark.parametrize("corrupt", ["values", "pivots"])
 def test_a_wrong_in_place_read_falls_back_to_scipys_factors(model, monkeypatch, corrupt):
     """A scipy whose private layout passes fem.superlu_store's checks but reads wrong values
