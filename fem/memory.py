@@ -92,8 +92,11 @@ def peak_bytes(dofs: float | Sequence[float]) -> float:
     """Estimated peak memory (bytes) of a pair-FE run that builds bodies of ``dofs`` dofs
     (one number: one body; a sequence: the distinct bodies built together, see the module
     docstring)."""
-    ns = [dofs] if isinstance(dofs, (int, float)) else list(dofs)
-    return M0_BYTES + C_FILL_BYTES * sum(max(float(n), 2.0) * math.log2(max(float(n), 2.0)) for n in ns)
+    try:
+        ns = [max(float(dofs), 2.0)]  # type: ignore[arg-type]
+    except TypeError:  # a sequence
+        ns = [max(float(n), 2.0) for n in dofs]  # type: ignore[union-attr]
+    return M0_BYTES + C_FILL_BYTES * sum(n * math.log2(n) for n in ns)
 
 
 def budget_bytes() -> float:
