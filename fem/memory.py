@@ -27,14 +27,17 @@ fill under nested dissection grows like n log n on a 2D mesh (George, SIAM J. Nu
 10, 1973). The sum, not the largest body: two distinct bodies are built at the same time
 (fem.pair_model overlaps the first one's factorization with the second one's build), so
 both factors can be resident at once; how much they overlap depends on the timing (the
-40/80 high-contact-ratio corner peaked at 884 and 929 MB in two runs of the same code), so
-the model counts both.
+40/80 high-contact-ratio corner peaked at 875 to 929 MB in three runs of the same code),
+so the model counts both.
 A pair of equal gears builds one body. Fitted on the 17 bodies that mesh here of the seven
 atlas corners (200 N/mm) and of two light loads (the paper pair at 40 N m, the 23/47 corner
 at 20 N/mm), 0.05 to 1.6 M dofs: the estimated dofs within 6 % of the real meshes'; the
-peak within 9 % of the FE runs recorded by bench_atlas.py (with the larger body alone in
-the model, 15.5 %: the 40/80 corner's 929 MB against 785 MB). The 100/500 solid-blank
-corner is estimated at 11.8 M dofs and about 43 GB.
+peak, by least squares on the relative error, within 6.4 % of the 7 FE runs of the last
+bench_atlas.py run and 10.6 % of the run before, whose 40/80 corner peaked at 929 MB (the
+peaks move by a few % from run to run). The former model, the larger body alone (M0 326
+MiB, c 171 B), missed the run before's peaks by up to 15.5 % (the 40/80 corner: 785 MB
+modelled) and the last run's by 10.3 %. The 100/500 solid-blank corner is estimated at
+11.8 M dofs and about 42 GB.
 
 The budget is ``GEARWEAR_FE_MEMORY_GB`` (GB = 1e9 bytes) if set, else BUDGET_FRACTION of
 the machine's physical memory. It is per process: FE designs running side by side (an
@@ -59,8 +62,8 @@ N_TOOTH0 = 4800
 #: dofs per P2 triangle (2 per node, ~2.1 nodes per element; 4.09-4.23 on the 14 bodies)
 DOFS_PER_ELEMENT = 4.2
 #: peak memory of a process that builds bodies of n_b dofs: M0 + C_FILL sum_b n_b log2 n_b (bytes)
-M0_BYTES = 219 * 2**20
-C_FILL_BYTES = 149.0
+M0_BYTES = 216 * 2**20
+C_FILL_BYTES = 146.0
 #: the share of physical memory one FE process may use when GEARWEAR_FE_MEMORY_GB is unset
 BUDGET_FRACTION = 0.8
 ENV = "GEARWEAR_FE_MEMORY_GB"
