@@ -27,7 +27,8 @@ The settings:
   compact memory synchronously until 2 MB pages are free. A body build touches a few
   hundred MB of fresh arrays once each (the assembly's triplets, the condensation's dense
   border and Schur complement, the flexibility): the first touch of a 288 MB array took
-  1.99 s with the advice and 0.13-0.17 s without, and the paper pair's cold 24-position
+  1.99 s with the advice (0.02-0.03 s for the next two in the same process: the stalls are
+  erratic) and 0.13-0.17 s without, and the paper pair's cold 24-position
   cycle took 4.07 s (median of 11 fresh processes, alternating) with it against 3.67 s
   without, on this machine. Small pages change no number (arrays are values, not
   addresses); they cost some TLB misses in the dense products, fewer than the stalls here.
