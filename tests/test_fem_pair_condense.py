@@ -125,43 +125,50 @@ def test_condensed_flexibility_without_the_in_place_read(model, monkeypatch):
     assert np.max(np.abs(h2 - h)) <= 1e-12 * np.max(np.abs(h))
 
 
+class _AtOnce:
+    """An executor that runs each task at once, in this thread (the serial build)."""
+
+    def __init__(self, **kw):
+        pass
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return False
+
+    def submit(self, fn):
+        from concurrent.futures import Future
+
+        fut = Future()
+        fut.set_result(fn())
+        return fut
+
+
+def _driver_larger_bodies():
+    """Both bodies of DRIVER_LARGER (47/23, shifted) at coarse sizes, built afresh."""
+    from gearwear.fem import pair_model as pmod
+
+    from pairs import DRIVER_LARGER
+
+    pmod._BODY_CACHE.clear()
+    pm = pmod.pair_model(DRIVER_LARGER, contact_scale=3.0, mesh_scale=2.0)
+    pmod._BODY_CACHE.clear()
+    assert pm.bodies[0] is not pm.bodies[1]
+    assert {"gear0_factorize_s", "gear1_factorize_s"} <= set(pm.timings)
+    return pm.bodies
+
+
 def test_two_bodies_built_overlapped_equal_the_serial_builds(monkeypatch):
     """fem.pair_model builds two distinct bodies overlapped (the first one's condensation in
     a worker thread while the second is meshed): the same bodies to the bit as built one
     after the other (an executor that runs each task at once, in this thread).
     DRIVER_LARGER (47/23, shifted), coarse sizes."""
-    from concurrent.futures import Future
-
     from gearwear.fem import pair_model as pmod
 
-    from pairs import DRIVER_LARGER
-
-    class AtOnce:
-        def __init__(self, **kw):
-            pass
-
-        def __enter__(self):
-            return self
-
-        def __exit__(self, *exc):
-            return False
-
-        def submit(self, fn):
-            fut = Future()
-            fut.set_result(fn())
-            return fut
-
-    def bodies():
-        pmod._BODY_CACHE.clear()
-        pm = pmod.pair_model(DRIVER_LARGER, contact_scale=3.0, mesh_scale=2.0)
-        pmod._BODY_CACHE.clear()
-        assert pm.bodies[0] is not pm.bodies[1]
-        assert {"gear0_factorize_s", "gear1_factorize_s"} <= set(pm.timings)
-        return pm.bodies
-
-    overlapped = bodies()
-    monkeypatch.setattr(pmod, "ThreadPoolExecutor", AtOnce)
-    serial = bodies()
+    overlapped = _driver_larger_bodies()
+    monkeypatch.setattr(pmod, "ThreadPoolExecutor", _AtOnce)
+    serial = _driver_larger_bodies()
     for a, b in zip(overlapped, serial):
         assert a.gear == b.gear
         assert np.array_equal(a.G, b.G) and np.array_equal(a.blank_h, b.blank_h)
@@ -178,41 +185,16 @@ def test_overlapped_bodies_round_alike_whatever_the_interleaving(monkeypatch):
     to the bit. DRIVER_LARGER (47/23, shifted), coarse sizes."""
     import threading
     import types
-    from concurrent.futures import Future
 
     from gearwear.fem import condensation
     from gearwear.fem import pair_model as pmod
 
-    from pairs import DRIVER_LARGER
-
     def worker() -> bool:
         return threading.current_thread().name.startswith("gearwear-body")
 
-    def bodies():
-        pmod._BODY_CACHE.clear()
-        pm = pmod.pair_model(DRIVER_LARGER, contact_scale=3.0, mesh_scale=2.0)
-        pmod._BODY_CACHE.clear()
-        assert pm.bodies[0] is not pm.bodies[1]
-        return pm.bodies
-
-    class AtOnce:
-        def __init__(self, **kw):
-            pass
-
-        def __enter__(self):
-            return self
-
-        def __exit__(self, *exc):
-            return False
-
-        def submit(self, fn):
-            fut = Future()
-            fut.set_result(fn())
-            return fut
-
     with monkeypatch.context() as m:
-        m.setattr(pmod, "ThreadPoolExecutor", AtOnce)
-        serial = bodies()
+        m.setattr(pmod, "ThreadPoolExecutor", _AtOnce)
+        serial = _driver_larger_bodies()
 
     worker_inside, main_inside, worker_left = threading.Event(), threading.Event(), threading.Event()
     real_sla, real_inverse = condensation.sla, condensation._inverse
@@ -237,7 +219,7 @@ def test_overlapped_bodies_round_alike_whatever_the_interleaving(monkeypatch):
     lapack = types.SimpleNamespace(dpotrf=dpotrf, dpotri=real_sla.lapack.dpotri)
     monkeypatch.setattr(condensation, "sla", types.SimpleNamespace(lapack=lapack, blas=real_sla.blas))
     monkeypatch.setattr(condensation, "_inverse", inverse)
-    overlapped = bodies()
+    overlapped = _driver_larger_bodies()
     assert worker_left.is_set() and main_inside.is_set()  # the interleaving happened
     for a, b in zip(overlapped, serial):
         assert np.array_equal(a.G, b.G) and np.array_equal(a.blank_h, b.blank_h)
