@@ -40,8 +40,8 @@ ONE, TWO = _cholesky(1), _cholesky(2)
 
 def _blas_threads() -> str:
     """How many BLAS threads the process computes on, read from the rounding of a Cholesky
-    factorization (threadpoolctl's own report is unreliable outside the main thread: it
-    read 2 in a worker thread under a limit of 1 that the computation obeyed)."""
+    factorization: the effect the setting is for, whichever thread set it (threadpoolctl
+    3.8 lets one thread at a time set OpenBLAS's count; the others' calls do nothing)."""
     c = _cholesky()
     return "one" if np.array_equal(c, ONE) else "two" if np.array_equal(c, TWO) else "other"
 
