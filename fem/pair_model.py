@@ -26,7 +26,9 @@ import math
 import threading
 import time
 from collections import OrderedDict
+from collections.abc import Iterator
 from concurrent.futures import ThreadPoolExecutor
+from contextlib import contextmanager
 from dataclasses import dataclass, replace
 from functools import partial
 from typing import Any
@@ -144,6 +146,16 @@ def _body_key(g, pair, sizes, r_lo, nb, cy, plane):
     )
 
 
+@contextmanager
+def _building() -> Iterator[None]:
+    """The process-wide settings of a body build, held by this (the calling) thread around
+    it, so that a worker thread's holds only nest (fem.process_settings): one BLAS thread,
+    the same rounding in overlapped and serial builds; no huge-page stalls on the bodies'
+    fresh arrays. Held only while something is built."""
+    with one_blas_thread(), small_pages():
+        yield
+
+
 def _cached(key: tuple, build):
     """The body under ``key`` from the in-process cache, or ``build()`` stored there;
     (body, built). One build at a time: threads of one worker process (a Dask worker)
@@ -152,7 +164,8 @@ def _cached(key: tuple, build):
         if key in _BODY_CACHE:  # identical gears, another wear state or fault of the same pair
             _BODY_CACHE.move_to_end(key)
             return _BODY_CACHE[key], False
-        body = build()
+        with _building():
+            body = build()
         _BODY_CACHE[key] = body
         while len(_BODY_CACHE) > _BODY_CACHE_SIZE:
             _BODY_CACHE.popitem(last=False)
@@ -180,14 +193,15 @@ def _healthy_bodies(keys: list, builders: list) -> list[tuple[GearBody, bool]]:
                 missing.append(k)
         built: dict = {}
         if len(missing) == 2:
-            finish_first = builders[keys.index(missing[0])]()
-            with ThreadPoolExecutor(max_workers=1, thread_name_prefix="gearwear-body") as ex:
-                first = ex.submit(finish_first)
-                built[missing[1]] = builders[keys.index(missing[1])]()()
-                built[missing[0]] = first.result()
-        else:
-            for k in missing:
-                built[k] = builders[keys.index(k)]()()
+            with _building():
+                finish_first = builders[keys.index(missing[0])]()
+                with ThreadPoolExecutor(max_workers=1, thread_name_prefix="gearwear-body") as ex:
+                    first = ex.submit(finish_first)
+                    built[missing[1]] = builders[keys.index(missing[1])]()()
+                    built[missing[0]] = first.result()
+        elif missing:
+            with _building():
+                built[missing[0]] = builders[keys.index(missing[0])]()()
         for k, body in built.items():
             _BODY_CACHE[k] = body
         while len(_BODY_CACHE) > _BODY_CACHE_SIZE:
@@ -332,25 +346,20 @@ def pair_model(
             if keys[gi] not in keys[:gi]
         ]
     )
-    # held here, in the calling thread, for both builds (the worker thread's holds only nest):
-    # one BLAS thread, the same rounding in both bodies; no huge-page stalls on their fresh
-    # arrays (fem.process_settings)
-    with one_blas_thread(), small_pages():
-        healthy = _healthy_bodies(
-            keys,
-            [
-                partial(body_builder, g, g.material, pair.face_width_m, nominal, sizes, r_lo, nb, cy, plane)
-                for g, nominal, r_lo, cy in per_gear
-            ],
-        )
+    healthy = _healthy_bodies(
+        keys,
+        [
+            partial(body_builder, g, g.material, pair.face_width_m, nominal, sizes, r_lo, nb, cy, plane)
+            for g, nominal, r_lo, cy in per_gear
+        ],
+    )
     for gi, ((g, nominal, r_lo, cy), (body, built)) in enumerate(zip(per_gear, healthy)):
         if built:
             for k2, v in body.timings.items():
                 tim[f"gear{gi}_{k2}"] = v
         bodies.append(body)
         if faults is not None and faults.crack is not None and faults.crack.gear_index == gi:
-            with one_blas_thread(), small_pages():
-                cracked[gi], built = _cracked_body(pair, mesh, faults, nominal, sizes, r_lo, nb, cy, window, plane)
+            cracked[gi], built = _cracked_body(pair, mesh, faults, nominal, sizes, r_lo, nb, cy, window, plane)
             if built:
                 for k2, v in cracked[gi].timings.items():
                     tim[f"cracked{gi}_{k2}"] = v

@@ -54,9 +54,9 @@ def _advice() -> bool:
     return prev
 
 
-def _overlap(hold) -> dict[str, object]:
+def _overlap(hold, read) -> dict[str, object]:
     """Two threads in ``hold()`` at once; the first leaves while the second is inside: what
-    the second sees after that, read by ``hold.read``."""
+    the second sees after that, by ``read()``."""
     inside = threading.Barrier(2)
     first_left = threading.Event()
     seen: dict[str, object] = {}
@@ -70,7 +70,7 @@ def _overlap(hold) -> dict[str, object]:
         with hold():
             inside.wait()
             first_left.wait(10)
-            seen["after the other left"] = hold.read()
+            seen["after the other left"] = read()
 
     threads = [threading.Thread(target=short), threading.Thread(target=long)]
     for t in threads:
@@ -78,13 +78,6 @@ def _overlap(hold) -> dict[str, object]:
     for t in threads:
         t.join(10)
     return seen
-
-
-class _HeldLimits:
-    read = staticmethod(_blas_threads)
-
-    def __call__(self):
-        return one_blas_thread()
 
 
 needs_two = pytest.mark.skipif(
@@ -97,7 +90,7 @@ def test_one_blas_thread_holds_for_overlapping_threads_and_restores():
     """As fem.pair_model holds it: in the calling thread, around two worker threads whose own
     holds nest; each computes on one thread even after the other left."""
     with one_blas_thread():
-        assert _overlap(_HeldLimits()) == {"after the other left": "one"}
+        assert _overlap(one_blas_thread, _blas_threads) == {"after the other left": "one"}
         assert _blas_threads() == "one"
     assert _blas_threads() == "two"
 
@@ -134,13 +127,6 @@ def test_held_applies_once_and_undoes_once():
 pages = pytest.mark.skipif(SWITCH is None, reason="this NumPy has no huge-page switch")
 
 
-class _HeldPages:
-    read = staticmethod(_advice)
-
-    def __call__(self):
-        return small_pages()
-
-
 @pages
 @pytest.mark.parametrize("before", [True, False])
 def test_small_pages_off_inside_and_restored_after(before):
@@ -153,7 +139,7 @@ def test_small_pages_off_inside_and_restored_after(before):
             assert a.sum() == 1024 * 1024
         assert _advice() is before
         SWITCH(True)
-        assert _overlap(_HeldPages()) == {"after the other left": False}
+        assert _overlap(small_pages, _advice) == {"after the other left": False}
         assert _advice() is True
     finally:
         SWITCH(True)
